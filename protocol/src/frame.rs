@@ -1,0 +1,530 @@
+//! The `ss…ss` frame: what goes on air between two robots.
+//!
+//! ```text
+//!  byte:  0    1    2 ............................. n-3  n-2  n-1
+//!       +----+----+-----------------------------------+----+----+
+//!       | 's'| 's'|  body = COBS(payload ‖ crc) ^ 's' | 's'| 's'|
+//!       +----+----+-----------------------------------+----+----+
+//!
+//!  payload = postcard(Message) = len:varint  { reading:u8  pref:u8 } × len
+//!  crc     = CRC-16/IBM-3740 (poly 0x1021, init 0xFFFF) of payload, little-endian
+//!  n       ≤ FRAME_MAX = 32 bytes on air, both delimiters included
+//! ```
+//!
+//! **Stuffing.** The payload and its CRC may hold any byte, `s` (0x73) included. They are
+//! COBS-encoded (the `cobs` crate) and every encoded byte is XOR-ed with `s`: COBS output never
+//! holds 0x00, so the body never holds `s`, and a run of two or more `s` can only be a
+//! delimiter. COBS costs one byte per 254, so the worst case is known exactly:
+//! 25 payload + 2 CRC + 1 COBS + 4 delimiter bytes = 32 for a message of [`MAX_HOPS`] hops.
+//! A compile-time assertion below proves it, and that one more hop would not fit.
+//!
+//! **Deframing.** [`Deframer`] takes bytes as a receiver delivers them and keeps at most one
+//! body ([`BODY_MAX`] bytes) in memory. Any run of `s` bytes of length two or more is one
+//! delimiter (so the `ssss` between back-to-back frames is too); what lies between two
+//! delimiters is a candidate body. Bytes before the first delimiter are skipped, a lone `s`
+//! inside a body, an over-long body, a bad COBS code, a bad CRC and an undecodable payload are
+//! each reported once as a typed [`FrameError`] and counted in [`DeframerStats`], and the
+//! deframer carries on at the next delimiter. It never panics, whatever the input.
+
+use crate::message::{MAX_HOPS, Message};
+use heapless::Vec;
+
+/// The delimiter byte; two or more in a row delimit a frame.
+pub const DELIMITER: u8 = b's';
+/// Largest frame on air, both `ss` delimiters included.
+pub const FRAME_MAX: usize = 32;
+/// Largest encoded hop: the reading byte and the preference byte.
+pub const HOP_MAX: usize = 2;
+/// Largest postcard payload: a one-byte length (≤ 127) and [`MAX_HOPS`] hops.
+pub const PAYLOAD_MAX: usize = payload_max(MAX_HOPS);
+/// Bytes of frame check.
+pub const CRC_LEN: usize = 2;
+/// Largest body (stuffed payload and CRC) between the delimiters.
+pub const BODY_MAX: usize = cobs::max_encoding_length(PAYLOAD_MAX + CRC_LEN);
+
+const fn payload_max(hops: usize) -> usize {
+    1 + hops * HOP_MAX
+}
+
+const fn frame_len_for(hops: usize) -> usize {
+    4 + cobs::max_encoding_length(payload_max(hops) + CRC_LEN)
+}
+
+// The largest message fits the 32-byte frame in the worst case, and one more hop would not:
+// MAX_HOPS is exactly "whatever fits".
+const _: () = assert!(frame_len_for(MAX_HOPS) <= FRAME_MAX);
+const _: () = assert!(frame_len_for(MAX_HOPS + 1) > FRAME_MAX);
+const _: () = assert!(MAX_HOPS <= 127, "the length varint must stay one byte");
+const _: () = assert!(BODY_MAX == FRAME_MAX - 4);
+
+/// The frame check: CRC-16/IBM-3740 (also known as CCITT-FALSE), Hamming distance 4 over
+/// frames this short, so every 1-, 2- and 3-bit error and every burst up to 16 bits is caught.
+const CRC16: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_3740);
+
+/// An encoded frame, ready to send: `ss`, body, `ss`.
+pub type Frame = Vec<u8, FRAME_MAX>;
+
+/// Why a message could not be framed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum EncodeError {
+    /// The message has no hop; every wave message has at least its initiator's.
+    Empty,
+}
+
+/// Why bytes between two delimiters were not a message. Each kind is counted in
+/// [`DeframerStats`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum FrameError {
+    /// The body grew past [`BODY_MAX`] before a delimiter (a lost end delimiter, or noise).
+    TooLong,
+    /// A single `s` inside a body: a damaged delimiter or a corrupted byte.
+    LoneDelimiter,
+    /// The body is not valid COBS.
+    BadStuffing,
+    /// The unstuffed body is too short to hold a payload and its CRC.
+    TooShort,
+    /// The CRC does not match: bytes were corrupted (or two frames collided).
+    BadCheck,
+    /// The CRC matches but the payload is not a message (bad length, bad preference byte,
+    /// trailing bytes, no hop).
+    Undecodable,
+    /// [`decode_frame`] only: the input held no complete frame.
+    Incomplete,
+}
+
+/// Frames `msg`: `ss` + stuffed payload and CRC + `ss`.
+///
+/// # Errors
+/// [`EncodeError::Empty`] for a message without hops. Every other message fits by
+/// construction (see the module's compile-time assertion).
+pub fn encode(msg: &Message) -> Result<Frame, EncodeError> {
+    if msg.is_empty() {
+        return Err(EncodeError::Empty);
+    }
+    let mut raw = [0u8; PAYLOAD_MAX + CRC_LEN];
+    // Cannot fail: a message of at most MAX_HOPS hops is at most PAYLOAD_MAX bytes.
+    let n = match postcard::to_slice(msg, &mut raw[..PAYLOAD_MAX]) {
+        Ok(used) => used.len(),
+        Err(_) => return Err(EncodeError::Empty),
+    };
+    let crc = CRC16.checksum(&raw[..n]).to_le_bytes();
+    raw[n..n + CRC_LEN].copy_from_slice(&crc);
+
+    let mut body = [0u8; BODY_MAX];
+    let b = cobs::try_encode(&raw[..n + CRC_LEN], &mut body).unwrap_or(0);
+    let mut frame = Frame::new();
+    // Cannot fail: 2 + b + 2 <= FRAME_MAX by the assertions above.
+    let _ = frame.extend_from_slice(&[DELIMITER, DELIMITER]);
+    for &x in &body[..b] {
+        let _ = frame.push(x ^ DELIMITER);
+    }
+    let _ = frame.extend_from_slice(&[DELIMITER, DELIMITER]);
+    Ok(frame)
+}
+
+/// Decodes one body (the bytes between two delimiters), in place.
+fn decode_body(body: &mut [u8]) -> Result<Message, FrameError> {
+    for x in body.iter_mut() {
+        *x ^= DELIMITER;
+    }
+    let n = cobs::decode_in_place(body).map_err(|_| FrameError::BadStuffing)?;
+    let raw = body.get(..n).ok_or(FrameError::BadStuffing)?;
+    if raw.len() <= CRC_LEN {
+        return Err(FrameError::TooShort);
+    }
+    let (payload, crc) = raw.split_at(raw.len() - CRC_LEN);
+    if CRC16.checksum(payload).to_le_bytes() != crc {
+        return Err(FrameError::BadCheck);
+    }
+    match postcard::take_from_bytes::<Message>(payload) {
+        Ok((msg, rest)) if rest.is_empty() && !msg.is_empty() => Ok(msg),
+        _ => Err(FrameError::Undecodable),
+    }
+}
+
+/// Decodes the first complete frame in `bytes` (delimiters included).
+///
+/// # Errors
+/// The first [`FrameError`] met, or [`FrameError::Incomplete`] if no frame was closed.
+pub fn decode_frame(bytes: &[u8]) -> Result<Message, FrameError> {
+    let mut d = Deframer::new();
+    d.feed(bytes).0.unwrap_or(Err(FrameError::Incomplete))
+}
+
+/// Counters kept by a [`Deframer`], one per outcome. They wrap after 2³² events.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct DeframerStats {
+    /// Messages decoded.
+    pub frames: u32,
+    /// Bytes skipped while not synchronised (before the first delimiter, after a lone `s`).
+    pub skipped_bytes: u32,
+    /// [`FrameError::TooLong`] events.
+    pub too_long: u32,
+    /// [`FrameError::LoneDelimiter`] events.
+    pub lone_delimiter: u32,
+    /// [`FrameError::BadStuffing`] events.
+    pub bad_stuffing: u32,
+    /// [`FrameError::TooShort`] events.
+    pub too_short: u32,
+    /// [`FrameError::BadCheck`] events.
+    pub bad_check: u32,
+    /// [`FrameError::Undecodable`] events.
+    pub undecodable: u32,
+}
+
+impl DeframerStats {
+    /// All errors together.
+    pub fn errors(&self) -> u32 {
+        self.too_long
+            .wrapping_add(self.lone_delimiter)
+            .wrapping_add(self.bad_stuffing)
+            .wrapping_add(self.too_short)
+            .wrapping_add(self.bad_check)
+            .wrapping_add(self.undecodable)
+    }
+
+    fn count(&mut self, r: &Result<Message, FrameError>) {
+        let c = match r {
+            Ok(_) => &mut self.frames,
+            Err(FrameError::TooLong) => &mut self.too_long,
+            Err(FrameError::LoneDelimiter) => &mut self.lone_delimiter,
+            Err(FrameError::BadStuffing) => &mut self.bad_stuffing,
+            Err(FrameError::TooShort) => &mut self.too_short,
+            Err(FrameError::BadCheck) => &mut self.bad_check,
+            Err(FrameError::Undecodable) | Err(FrameError::Incomplete) => &mut self.undecodable,
+        };
+        *c = c.wrapping_add(1);
+    }
+}
+
+/// A streaming deframer in fixed memory ([`BODY_MAX`] bytes of buffer). One per receiver.
+///
+/// Feed it bytes one at a time ([`push`](Self::push)) or in slices ([`feed`](Self::feed),
+/// [`frames`](Self::frames)); it yields each decoded message or typed error once, as soon as
+/// the closing delimiter arrives (an over-long body is reported as soon as it overflows).
+#[derive(Clone, Debug)]
+pub struct Deframer {
+    buf: [u8; BODY_MAX],
+    len: usize,
+    /// Consecutive `s` bytes just seen (saturating).
+    s_run: u8,
+    /// A delimiter was seen and nothing since has broken sync: bytes are a candidate body.
+    synced: bool,
+    /// The current body overflowed (already reported); discard until the next delimiter.
+    overflow: bool,
+    stats: DeframerStats,
+}
+
+impl Default for Deframer {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Deframer {
+    /// A deframer waiting for its first delimiter.
+    pub const fn new() -> Self {
+        Deframer {
+            buf: [0; BODY_MAX],
+            len: 0,
+            s_run: 0,
+            synced: false,
+            overflow: false,
+            stats: DeframerStats {
+                frames: 0,
+                skipped_bytes: 0,
+                too_long: 0,
+                lone_delimiter: 0,
+                bad_stuffing: 0,
+                too_short: 0,
+                bad_check: 0,
+                undecodable: 0,
+            },
+        }
+    }
+
+    /// The counters so far.
+    pub fn stats(&self) -> &DeframerStats {
+        &self.stats
+    }
+
+    /// Forgets any partial body and waits for the next delimiter (e.g. after a receiver
+    /// error). Counters are kept.
+    pub fn resync(&mut self) {
+        self.len = 0;
+        self.s_run = 0;
+        self.synced = false;
+        self.overflow = false;
+    }
+
+    /// Takes one byte; returns a message or an error when one is complete.
+    pub fn push(&mut self, byte: u8) -> Option<Result<Message, FrameError>> {
+        let out = self.step(byte);
+        if let Some(r) = &out {
+            self.stats.count(r);
+        }
+        out
+    }
+
+    fn step(&mut self, byte: u8) -> Option<Result<Message, FrameError>> {
+        if byte == DELIMITER {
+            self.s_run = self.s_run.saturating_add(1);
+            if self.s_run == 2 {
+                let out = self.close();
+                self.synced = true;
+                return out;
+            }
+            return None;
+        }
+        let lone = self.s_run == 1;
+        self.s_run = 0;
+        if lone {
+            let was_synced = self.synced;
+            self.resync();
+            self.skip();
+            return was_synced.then_some(Err(FrameError::LoneDelimiter));
+        }
+        if !self.synced {
+            self.skip();
+            return None;
+        }
+        if self.overflow {
+            return None;
+        }
+        match self.buf.get_mut(self.len) {
+            Some(slot) => {
+                *slot = byte;
+                self.len += 1;
+                None
+            }
+            None => {
+                self.overflow = true;
+                Some(Err(FrameError::TooLong))
+            }
+        }
+    }
+
+    fn skip(&mut self) {
+        self.stats.skipped_bytes = self.stats.skipped_bytes.wrapping_add(1);
+    }
+
+    /// A delimiter closed the current field.
+    fn close(&mut self) -> Option<Result<Message, FrameError>> {
+        let len = core::mem::take(&mut self.len);
+        let overflow = core::mem::take(&mut self.overflow);
+        if !self.synced || overflow || len == 0 {
+            return None;
+        }
+        Some(decode_body(&mut self.buf[..len]))
+    }
+
+    /// Feeds bytes until the first complete result; returns it and the bytes not yet read.
+    pub fn feed<'a>(&mut self, input: &'a [u8]) -> (Option<Result<Message, FrameError>>, &'a [u8]) {
+        for (i, &b) in input.iter().enumerate() {
+            if let Some(r) = self.push(b) {
+                return (Some(r), &input[i + 1..]);
+            }
+        }
+        (None, &[])
+    }
+
+    /// Every result in `input`, in order, as an iterator.
+    pub fn frames<'d, 'a>(&'d mut self, input: &'a [u8]) -> Frames<'d, 'a> {
+        Frames {
+            deframer: self,
+            rest: input,
+        }
+    }
+}
+
+/// Iterator over the results in a slice of received bytes; see [`Deframer::frames`].
+#[derive(Debug)]
+pub struct Frames<'d, 'a> {
+    deframer: &'d mut Deframer,
+    rest: &'a [u8],
+}
+
+impl Iterator for Frames<'_, '_> {
+    type Item = Result<Message, FrameError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        let (r, rest) = self.deframer.feed(self.rest);
+        self.rest = rest;
+        r
+    }
+}
+
+#[cfg(test)]
+mod tests {
+
+    use std::vec::Vec as StdVec;
+
+    use super::*;
+    use crate::direction::Sector;
+    use crate::message::{Hop, Level};
+
+    fn hop(r: u8, pref: Option<Sector>) -> Hop {
+        Hop {
+            reading: Level(r),
+            pref,
+        }
+    }
+
+    fn all(d: &mut Deframer, bytes: &[u8]) -> StdVec<Result<Message, FrameError>> {
+        d.frames(bytes).collect()
+    }
+
+    /// Golden vectors, checked both ways. They are also printed in docs/protocol.md.
+    /// Computed independently (a 20-line Python CRC-16 + COBS), not by this encoder.
+    const GOLDEN_ONE_HOP: &[u8] = b"ss\x70\x72\x72\x70\xee\xbbss";
+    const GOLDEN_FOUR_HOPS: &[u8] = b"ss\x77\x77\x72\x72\x71\x71\x71\x71\x72\x70\xbf\x22ss";
+    const GOLDEN_S_BYTES: &[u8] = b"ss\x70\x71\x00\x71\x00\x70\x5f\xa2ss";
+
+    fn one_hop() -> Message {
+        Message::initiate(hop(1, None))
+    }
+
+    fn four_hops() -> Message {
+        Message::from_hops(&[
+            hop(1, Some(Sector::RIGHT)),
+            hop(0, Some(Sector::LEFT)),
+            hop(0, Some(Sector::LEFT)),
+            hop(0, None),
+        ])
+        .unwrap()
+    }
+
+    fn s_bytes() -> Message {
+        // Readings equal to 's', preferences 0: the payload holds `s` pairs.
+        Message::from_hops(&[hop(b's', None), hop(b's', None)]).unwrap()
+    }
+
+    #[test]
+    fn crc_is_the_catalogued_ibm_3740() {
+        assert_eq!(CRC16.checksum(b"123456789"), 0x29B1);
+    }
+
+    #[test]
+    fn golden_vectors_encode() {
+        assert_eq!(encode(&one_hop()).unwrap().as_slice(), GOLDEN_ONE_HOP);
+        assert_eq!(encode(&four_hops()).unwrap().as_slice(), GOLDEN_FOUR_HOPS);
+        assert_eq!(encode(&s_bytes()).unwrap().as_slice(), GOLDEN_S_BYTES);
+    }
+
+    #[test]
+    fn golden_vectors_decode() {
+        assert_eq!(decode_frame(GOLDEN_ONE_HOP), Ok(one_hop()));
+        assert_eq!(decode_frame(GOLDEN_FOUR_HOPS), Ok(four_hops()));
+        assert_eq!(decode_frame(GOLDEN_S_BYTES), Ok(s_bytes()));
+    }
+
+    #[test]
+    fn largest_message_fills_the_frame_exactly() {
+        let m = Message::from_hops(&[hop(0xFF, Some(Sector::new(7).unwrap())); MAX_HOPS]).unwrap();
+        let f = encode(&m).unwrap();
+        assert_eq!(f.len(), FRAME_MAX);
+        assert_eq!(decode_frame(&f), Ok(m));
+        let body = &f[2..f.len() - 2];
+        assert!(!body.contains(&DELIMITER));
+    }
+
+    #[test]
+    fn empty_message_is_refused() {
+        assert_eq!(encode(&Message::default()), Err(EncodeError::Empty));
+    }
+
+    #[test]
+    fn frames_split_across_pushes_and_back_to_back() {
+        let mut stream = StdVec::new();
+        stream.extend_from_slice(GOLDEN_ONE_HOP);
+        stream.extend_from_slice(GOLDEN_FOUR_HOPS);
+        let mut d = Deframer::new();
+        let mut got = StdVec::new();
+        for &b in &stream {
+            if let Some(r) = d.push(b) {
+                got.push(r);
+            }
+        }
+        assert_eq!(got, [Ok(one_hop()), Ok(four_hops())]);
+        assert_eq!(d.stats().frames, 2);
+        assert_eq!(d.stats().errors(), 0);
+    }
+
+    #[test]
+    fn garbage_before_a_frame_is_skipped() {
+        let mut stream = StdVec::from(&b"\x00\xffabc"[..]);
+        stream.extend_from_slice(GOLDEN_ONE_HOP);
+        let mut d = Deframer::new();
+        assert_eq!(all(&mut d, &stream), [Ok(one_hop())]);
+        assert_eq!(d.stats().skipped_bytes, 5);
+    }
+
+    #[test]
+    fn truncated_frame_is_reported_and_the_next_recovered() {
+        // A frame cut after 5 bytes, then a whole one: the cut body is closed by the next
+        // frame's opening delimiter and fails its check; the next frame still decodes.
+        let mut stream = StdVec::from(&GOLDEN_FOUR_HOPS[..5]);
+        stream.extend_from_slice(GOLDEN_ONE_HOP);
+        let mut d = Deframer::new();
+        let got = all(&mut d, &stream);
+        assert_eq!(got.len(), 2, "{got:?}");
+        assert!(got[0].is_err());
+        assert_eq!(got[1], Ok(one_hop()));
+    }
+
+    #[test]
+    fn missing_end_delimiter_overflows_once_then_recovers() {
+        let mut stream = StdVec::from(&GOLDEN_FOUR_HOPS[..GOLDEN_FOUR_HOPS.len() - 2]);
+        stream.extend_from_slice(&[0x42; 40]);
+        stream.extend_from_slice(GOLDEN_ONE_HOP);
+        let mut d = Deframer::new();
+        assert_eq!(all(&mut d, &stream), [Err(FrameError::TooLong), Ok(one_hop())]);
+        assert_eq!(d.stats().too_long, 1);
+    }
+
+    #[test]
+    fn corrupted_byte_fails_the_check() {
+        let mut f = StdVec::from(GOLDEN_FOUR_HOPS);
+        f[12] ^= 0x01; // a bit of the CRC
+        assert_eq!(decode_frame(&f), Err(FrameError::BadCheck));
+        let mut d = Deframer::new();
+        all(&mut d, &f);
+        assert_eq!(d.stats().bad_check, 1);
+    }
+
+    #[test]
+    fn lone_delimiter_inside_a_body_is_reported() {
+        let mut f = StdVec::from(GOLDEN_FOUR_HOPS);
+        f[6] = DELIMITER;
+        let mut stream = f.clone();
+        stream.extend_from_slice(GOLDEN_ONE_HOP);
+        let mut d = Deframer::new();
+        assert_eq!(all(&mut d, &stream), [Err(FrameError::LoneDelimiter), Ok(one_hop())]);
+    }
+
+    #[test]
+    fn valid_check_but_bad_payload_is_undecodable() {
+        // A payload claiming two hops but holding one, with a correct CRC.
+        for payload in [&[2u8, 1, 0][..], &[1, 1, 9], &[0], &[1, 1, 0, 0]] {
+            let mut raw = StdVec::from(payload);
+            raw.extend_from_slice(&CRC16.checksum(payload).to_le_bytes());
+            let mut body = [0u8; 64];
+            let n = cobs::encode(&raw, &mut body);
+            let mut f = StdVec::from(&b"ss"[..]);
+            f.extend(body[..n].iter().map(|b| b ^ DELIMITER));
+            f.extend_from_slice(b"ss");
+            assert_eq!(decode_frame(&f), Err(FrameError::Undecodable), "{payload:?}");
+        }
+    }
+
+    #[test]
+    fn short_and_empty_bodies() {
+        assert_eq!(decode_frame(b"ssss"), Err(FrameError::Incomplete));
+        assert_eq!(decode_frame(b"ss\x72ss"), Err(FrameError::TooShort));
+        assert_eq!(decode_frame(b"ss\x00ss"), Err(FrameError::BadStuffing));
+        assert_eq!(decode_frame(b""), Err(FrameError::Incomplete));
+    }
+}

@@ -1,0 +1,534 @@
+//! The fused CIMAX variant the aMussels ran (paper section 4).
+//!
+//! Gathering and negotiation are one phase. Every hop of a message carries the relaying robot's
+//! (reading, preferred direction). A robot that is activated by a message from sector `d`:
+//!
+//! 1. scores it: the diversity of the message's readings plus its own (Alg. 1 appends its own
+//!    reading before computing the variance), added to `d`'s running average;
+//! 2. notes the preferences it carries (see *Counting* below);
+//! 3. re-evaluates its preference at once: the sector with the strictly largest average
+//!    diversity, if any (no evidence, uniform readings or an exact tie keep the preference);
+//! 4. after the relay delay appends `(reading, preference)` as they are then and relays
+//!    (a full message first drops its oldest hop, see [`crate::message`]).
+//!
+//! At the end of every negotiation period (`negotiation_cycles` of its own cycles, 10 on the
+//! robots: "every aMussel initiated at least 10 messages") it decides by majority, emits
+//! [`Event::Decided`] for the top-cap LEDs, and starts the next period from empty storage, so the
+//! swarm re-decides when the environment changes. The preference itself carries over.
+//!
+//! # Counting: one vote per robot
+//! A robot far away rides in many messages; counting every hop of every stored message would
+//! count it many times and can tip a tie the wrong way (`shared/paper-notes.md`). Instead a robot
+//! keeps, for each sector and each hop distance (the hop `k` places from a message's end was
+//! relayed `k` hops away), the **latest** preference heard in this period: in a line each other
+//! robot fills exactly one slot, so each robot counts once, with its most recent preference.
+//! The decision is the plurality of those slots plus the robot's own preference.
+//!
+//! **Tie rule**: if several sectors share the most votes, the robot keeps its own preference if
+//! it is one of them, else its previous decision if that is one of them, else it is undecided.
+//! In the lab's `1100` pattern every robot sees two votes each way and so moves toward the
+//! border, as the paper reports; an odd swarm or a plane swarm rarely ties.
+
+use heapless::Deque;
+use rand_core::RngCore;
+
+use crate::direction::{MAX_SECTORS, Sector};
+use crate::diversity::{Diversity, Variance};
+use crate::message::{Hop, Level, MAX_HOPS, Message};
+use crate::params::{ParamError, Params};
+use crate::time::Instant;
+use crate::wave::{WaveAction, WaveNode, WaveState, WaveStats};
+use crate::weights::DirectionWeights;
+
+/// Events are queued here until polled; the oldest is dropped (and counted) when full.
+const EVENT_QUEUE: usize = 8;
+/// Transmissions waiting to be polled; at most two can fall in one late `handle_timeout`.
+const OUTBOX: usize = 2;
+
+/// Votes per sector at a decision.
+pub type Votes = [u16; MAX_SECTORS];
+
+/// Something the robot program should know about (LEDs, logs, traces).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Event {
+    /// The wave state changed.
+    State(WaveState),
+    /// The preferred direction changed.
+    Preference(Option<Sector>),
+    /// A negotiation period ended with this decision: show it on the LEDs.
+    Decided {
+        /// Periods completed so far (1 for the first decision).
+        period: u32,
+        /// The decision; `None` if undecided.
+        decision: Option<Sector>,
+        /// True if it differs from the previous decision.
+        changed: bool,
+        /// The votes counted, per sector.
+        votes: Votes,
+    },
+}
+
+/// What became of a received message.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Reception {
+    /// The robot was inactive: the message was scored and will be relayed.
+    Accepted,
+    /// The robot was active or refractory and ignored it (normal wave behaviour).
+    Ignored,
+    /// The sector is not one of this robot's K receivers; dropped and counted.
+    UnknownSector,
+}
+
+/// Counters kept by a [`FusedNode`] beyond its wave node's.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct NodeStats {
+    /// Messages scored.
+    pub accepted: u32,
+    /// Messages from a sector outside `0..K`.
+    pub unknown_sector: u32,
+    /// Hops dropped because a relayed message was full.
+    pub hops_evicted: u32,
+    /// Transmissions dropped because `poll_transmit` was not called in time.
+    pub transmits_lost: u32,
+    /// Events dropped because `poll_event` was not called in time.
+    pub events_lost: u32,
+}
+
+/// One robot running fused CIMAX. Sans-IO: no clock, no radio, no globals.
+///
+/// Call order, as with quinn-proto or smoltcp:
+/// 1. [`handle_reading`](Self::handle_reading) whenever the sensor gives a new value;
+/// 2. [`handle_message`](Self::handle_message) for every message a receiver delivered (the
+///    firmware deframes with [`crate::frame::Deframer`]), with its sector;
+/// 3. [`handle_timeout`](Self::handle_timeout) when [`poll_timeout`](Self::poll_timeout) is
+///    reached;
+/// 4. after each of those, drain [`poll_transmit`](Self::poll_transmit) (frame and send it at
+///    once) and [`poll_event`](Self::poll_event).
+#[derive(Clone, Debug)]
+pub struct FusedNode<D: Diversity = Variance> {
+    params: Params,
+    diversity: D,
+    wave: WaveNode,
+    reading: Level,
+    pref: Option<Sector>,
+    decision: Option<Sector>,
+    weights: DirectionWeights<Sector, MAX_SECTORS>,
+    /// Latest preference heard this period, per sector and hop distance.
+    views: [[Option<Sector>; MAX_HOPS]; MAX_SECTORS],
+    period_cycles: u16,
+    periods: u32,
+    pending: Option<Message>,
+    outbox: Deque<Message, OUTBOX>,
+    events: Deque<Event, EVENT_QUEUE>,
+    stats: NodeStats,
+}
+
+impl FusedNode<Variance> {
+    /// A robot with the variance as diversity measure, starting its first cycle at `now`.
+    ///
+    /// # Errors
+    /// The [`ParamError`] if `params` do not validate.
+    pub fn new(params: Params, now: Instant, rng: &mut impl RngCore) -> Result<Self, ParamError> {
+        Self::with_diversity(params, Variance, now, rng)
+    }
+}
+
+impl<D: Diversity> FusedNode<D> {
+    /// A robot with a custom diversity measure.
+    ///
+    /// # Errors
+    /// The [`ParamError`] if `params` do not validate.
+    pub fn with_diversity(
+        params: Params,
+        diversity: D,
+        now: Instant,
+        rng: &mut impl RngCore,
+    ) -> Result<Self, ParamError> {
+        params.validate()?;
+        Ok(FusedNode {
+            params,
+            diversity,
+            wave: WaveNode::new(params.wave, now, rng),
+            reading: Level::default(),
+            pref: None,
+            decision: None,
+            weights: DirectionWeights::default(),
+            views: [[None; MAX_HOPS]; MAX_SECTORS],
+            period_cycles: 0,
+            periods: 0,
+            pending: None,
+            outbox: Deque::new(),
+            events: Deque::new(),
+            stats: NodeStats::default(),
+        })
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    /// The latest sensor reading.
+    pub fn reading(&self) -> Level {
+        self.reading
+    }
+
+    /// The current preferred direction.
+    pub fn preference(&self) -> Option<Sector> {
+        self.pref
+    }
+
+    /// The decision of the last completed negotiation period (what the LEDs show).
+    pub fn decision(&self) -> Option<Sector> {
+        self.decision
+    }
+
+    /// Negotiation periods completed.
+    pub fn periods(&self) -> u32 {
+        self.periods
+    }
+
+    /// The wave state.
+    pub fn state(&self) -> WaveState {
+        self.wave.state()
+    }
+
+    /// Average diversity heard from `sector` this period, if anything was heard from it.
+    pub fn weight(&self, sector: Sector) -> Option<f32> {
+        self.weights.weight(sector)
+    }
+
+    /// This node's counters.
+    pub fn stats(&self) -> &NodeStats {
+        &self.stats
+    }
+
+    /// The wave node's counters.
+    pub fn wave_stats(&self) -> &WaveStats {
+        self.wave.stats()
+    }
+
+    /// A new sensor reading; it goes into every hop this robot adds from now on.
+    pub fn handle_reading(&mut self, reading: Level) {
+        self.reading = reading;
+    }
+
+    /// A message arrived at `now` on the receiver facing `from`.
+    ///
+    /// Whatever was due up to `now` is done first (as by
+    /// [`handle_timeout`](Self::handle_timeout)), so a message that arrives just as the
+    /// refractory time ends is heard, whichever of the two the caller learnt of first.
+    pub fn handle_message(
+        &mut self,
+        now: Instant,
+        from: Sector,
+        msg: &Message,
+        rng: &mut impl RngCore,
+    ) -> Reception {
+        self.handle_timeout(now, rng);
+        if from.index() >= self.params.sectors {
+            self.stats.unknown_sector = self.stats.unknown_sector.wrapping_add(1);
+            return Reception::UnknownSector;
+        }
+        if msg.is_empty() || !self.wave.on_receive(now) {
+            return Reception::Ignored;
+        }
+        self.stats.accepted = self.stats.accepted.wrapping_add(1);
+        self.push_event(Event::State(WaveState::Active));
+
+        let own = f32::from(self.reading);
+        let v = self
+            .diversity
+            .measure(msg.readings().chain(core::iter::once(own)));
+        self.weights.add(from, v);
+
+        let slots = &mut self.views[usize::from(from.index())];
+        for (slot, hop) in slots.iter_mut().zip(msg.hops().iter().rev()) {
+            *slot = hop.pref;
+        }
+
+        if let Some(best) = self.weights.heaviest()
+            && self.pref != Some(best)
+        {
+            self.pref = Some(best);
+            self.push_event(Event::Preference(self.pref));
+        }
+        self.pending = Some(msg.clone());
+        Reception::Accepted
+    }
+
+    /// Does whatever is due at `now`: relays, initiations, the end of the refractory time,
+    /// cycle and period ends.
+    pub fn handle_timeout(&mut self, now: Instant, rng: &mut impl RngCore) {
+        while let Some(action) = self.wave.poll(now, rng) {
+            match action {
+                WaveAction::Initiate => {
+                    let m = Message::initiate(self.own_hop());
+                    self.transmit(m);
+                }
+                WaveAction::Relay => {
+                    if let Some(mut m) = self.pending.take() {
+                        if m.push_evicting(self.own_hop()).is_some() {
+                            self.stats.hops_evicted = self.stats.hops_evicted.wrapping_add(1);
+                        }
+                        self.transmit(m);
+                    }
+                }
+                WaveAction::Rested => self.push_event(Event::State(WaveState::Inactive)),
+                WaveAction::CycleEnded(_) => {
+                    self.period_cycles = self.period_cycles.saturating_add(1);
+                    if self.period_cycles >= self.params.negotiation_cycles {
+                        self.decide();
+                    }
+                }
+            }
+        }
+    }
+
+    /// When [`handle_timeout`](Self::handle_timeout) must be called next.
+    pub fn poll_timeout(&self) -> Instant {
+        self.wave.poll_timeout()
+    }
+
+    /// The next message to broadcast, if any; frame it with [`crate::frame::encode`].
+    pub fn poll_transmit(&mut self) -> Option<Message> {
+        self.outbox.pop_front()
+    }
+
+    /// The next event, if any.
+    pub fn poll_event(&mut self) -> Option<Event> {
+        self.events.pop_front()
+    }
+
+    fn own_hop(&self) -> Hop {
+        Hop {
+            reading: self.reading,
+            pref: self.pref,
+        }
+    }
+
+    fn transmit(&mut self, m: Message) {
+        if self.outbox.is_full() {
+            self.outbox.pop_front();
+            self.stats.transmits_lost = self.stats.transmits_lost.wrapping_add(1);
+        }
+        let _ = self.outbox.push_back(m);
+        self.push_event(Event::State(WaveState::Refractory));
+    }
+
+    fn push_event(&mut self, e: Event) {
+        if self.events.is_full() {
+            self.events.pop_front();
+            self.stats.events_lost = self.stats.events_lost.wrapping_add(1);
+        }
+        let _ = self.events.push_back(e);
+    }
+
+    /// The votes: the robot's own preference plus the latest preference per (sector, distance).
+    pub fn votes(&self) -> Votes {
+        let k = usize::from(self.params.sectors);
+        let mut votes = [0u16; MAX_SECTORS];
+        let heard = self.views[..k].iter().flatten();
+        for s in heard.chain(core::iter::once(&self.pref)).flatten() {
+            let i = usize::from(s.index());
+            if i < k {
+                votes[i] = votes[i].saturating_add(1);
+            }
+        }
+        votes
+    }
+
+    fn decide(&mut self) {
+        let votes = self.votes();
+        let k = usize::from(self.params.sectors);
+        let max = votes[..k].iter().copied().max().unwrap_or(0);
+        let is_top = |s: Option<Sector>| s.is_some_and(|s| votes[usize::from(s.index())] == max);
+        let tops = votes[..k].iter().filter(|&&v| v == max).count();
+        let decision = if max == 0 {
+            None
+        } else if tops == 1 {
+            votes[..k]
+                .iter()
+                .position(|&v| v == max)
+                .and_then(|i| Sector::new(i as u8))
+        } else if is_top(self.pref) {
+            self.pref
+        } else if is_top(self.decision) {
+            self.decision
+        } else {
+            None
+        };
+        let changed = decision != self.decision;
+        self.decision = decision;
+        self.periods = self.periods.wrapping_add(1);
+        self.push_event(Event::Decided {
+            period: self.periods,
+            decision,
+            changed,
+            votes,
+        });
+        self.weights.clear();
+        self.views = [[None; MAX_HOPS]; MAX_SECTORS];
+        self.period_cycles = 0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::Duration;
+    use rand_pcg::Pcg32;
+
+    fn hop(r: u8, p: Option<Sector>) -> Hop {
+        Hop {
+            reading: Level(r),
+            pref: p,
+        }
+    }
+
+    const L: Option<Sector> = Some(Sector::LEFT);
+    const R: Option<Sector> = Some(Sector::RIGHT);
+
+    /// A robot whose first initiation is 600 s away, so that tests feeding it messages by
+    /// hand are not disturbed by its own waves.
+    fn node(reading: u8) -> (FusedNode, Pcg32) {
+        let mut rng = Pcg32::new(11, 13);
+        let mut p = Params::robots();
+        p.wave.cycle = Duration::from_secs(600);
+        p.wave.cycle_spread = Duration::ZERO;
+        let mut n = FusedNode::new(p, Instant::ZERO, &mut rng).unwrap();
+        n.handle_reading(Level(reading));
+        (n, rng)
+    }
+
+    /// Feeds `msg` at a quiet moment and lets the relay go out; returns what was relayed.
+    fn hear(n: &mut FusedNode, rng: &mut Pcg32, t: &mut Instant, from: Sector, msg: &[Hop]) -> Message {
+        *t += Duration::from_secs(6);
+        let m = Message::from_hops(msg).unwrap();
+        assert_eq!(n.handle_message(*t, from, &m, rng), Reception::Accepted);
+        n.handle_timeout(*t + Duration::from_secs(1), rng);
+        n.poll_transmit().expect("relayed")
+    }
+
+    #[test]
+    fn prefers_the_more_diverse_side_and_relays_with_its_own_hop() {
+        let (mut n, mut rng) = node(0);
+        let mut t = Instant::from_secs(1);
+        // From the right, uniform darkness; from the left, a lit robot.
+        let out = hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(0, None), hop(0, None)]);
+        assert_eq!(out.hops(), &[hop(0, None), hop(0, None), hop(0, None)]);
+        assert_eq!(n.preference(), None, "zero diversity gives no preference");
+        let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(1, R)]);
+        assert_eq!(n.preference(), L);
+        assert_eq!(out.hops(), &[hop(1, R), hop(0, L)], "relay carries the new preference");
+        assert_eq!(n.weight(Sector::LEFT), Some(0.25));
+        assert_eq!(n.weight(Sector::RIGHT), Some(0.0));
+    }
+
+    #[test]
+    fn ignores_while_active_or_refractory_and_unknown_sectors() {
+        let (mut n, mut rng) = node(0);
+        let m = Message::initiate(hop(1, None));
+        let t = Instant::from_secs(1);
+        let r = &mut rng;
+        assert_eq!(n.handle_message(t, Sector::LEFT, &m, r), Reception::Accepted);
+        assert_eq!(n.handle_message(t, Sector::RIGHT, &m, r), Reception::Ignored);
+        let t1 = t + Duration::from_secs(1);
+        assert_eq!(n.handle_message(t1, Sector::RIGHT, &m, r), Reception::Ignored);
+        assert!(n.poll_transmit().is_some(), "relayed on time");
+        let t5 = t + Duration::from_secs(5);
+        assert_eq!(n.handle_message(t5, Sector::LEFT, &m, r), Reception::Accepted);
+        let s7 = Sector::new(7).unwrap();
+        let t9 = t + Duration::from_secs(9);
+        assert_eq!(n.handle_message(t9, s7, &m, r), Reception::UnknownSector);
+        assert_eq!(n.stats().unknown_sector, 1);
+        assert_eq!(n.wave_stats().ignored, 2);
+    }
+
+    #[test]
+    fn full_message_relay_drops_the_oldest_hop() {
+        let (mut n, mut rng) = node(9);
+        let mut t = Instant::from_secs(1);
+        let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, None)).collect();
+        let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full);
+        assert_eq!(out.len(), MAX_HOPS);
+        assert_eq!(out.hops()[0], hop(1, None));
+        assert_eq!(out.hops()[MAX_HOPS - 1].reading, Level(9));
+        assert_eq!(n.stats().hops_evicted, 1);
+    }
+
+    #[test]
+    fn decides_by_one_vote_per_slot_with_latest_preferences() {
+        let (mut n, mut rng) = node(0);
+        let mut t = Instant::from_secs(1);
+        // The far robot on the right rides in many messages with its preference R; the near
+        // one prefers L. Each slot counts once, with its latest value.
+        for _ in 0..5 {
+            hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(0, R), hop(0, L)]);
+        }
+        hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(0, L), hop(0, L)]);
+        hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(1, L)]);
+        let votes = n.votes();
+        // Own: L (left is the diverse side); right d1 = L, d2 = L; left d1 = L.
+        assert_eq!(n.preference(), L);
+        assert_eq!(votes[usize::from(Sector::LEFT.index())], 4);
+        assert_eq!(votes[usize::from(Sector::RIGHT.index())], 0);
+    }
+
+    fn run_to_decision(n: &mut FusedNode, rng: &mut Pcg32) -> Event {
+        loop {
+            let t = n.poll_timeout();
+            n.handle_timeout(t, rng);
+            while n.poll_transmit().is_some() {}
+            while let Some(e) = n.poll_event() {
+                if matches!(e, Event::Decided { .. }) {
+                    return e;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn tie_keeps_own_preference_and_a_period_starts_empty() {
+        let (mut n, mut rng) = node(1);
+        let mut t = Instant::from_secs(1);
+        // 1100 seen by the second robot: left lit (pref R), right dark (prefs L, L).
+        hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(1, R)]);
+        hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(0, L), hop(0, L)]);
+        assert_eq!(n.preference(), R);
+        let e = run_to_decision(&mut n, &mut rng);
+        let Event::Decided { decision, votes, period, changed } = e else { unreachable!() };
+        assert_eq!((decision, period, changed), (R, 1, true));
+        assert_eq!(votes[..2], [2, 2]);
+        assert_eq!(n.decision(), R);
+        // Nothing heard in the next period: only its own vote.
+        let Event::Decided { decision, votes, changed, .. } = run_to_decision(&mut n, &mut rng) else {
+            unreachable!()
+        };
+        assert_eq!((decision, changed), (R, false));
+        assert_eq!(votes[..2], [1, 0]);
+        assert!(n.weight(Sector::LEFT).is_none(), "storage emptied");
+    }
+
+    #[test]
+    fn a_period_lasts_the_configured_cycles() {
+        let (mut n, mut rng) = node(0);
+        let Event::Decided { decision, .. } = run_to_decision(&mut n, &mut rng) else { unreachable!() };
+        assert_eq!(decision, None, "no preference, no votes: undecided");
+        assert_eq!(n.wave_stats().initiated, 10);
+        assert_eq!(n.periods(), 1);
+    }
+
+    #[test]
+    fn invalid_params_are_refused() {
+        let mut p = Params::robots();
+        p.sectors = 0;
+        assert_eq!(
+            FusedNode::new(p, Instant::ZERO, &mut Pcg32::new(0, 0)).err(),
+            Some(ParamError::BadSectorCount)
+        );
+    }
+}

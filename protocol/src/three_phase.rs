@@ -1,0 +1,441 @@
+//! The three-phase CIMAX of the paper's 2D simulations (section 2.2, Algs. 1–3).
+//!
+//! A negotiation period is `gather_cycles` of **information gathering** (Alg. 1: waves carry
+//! readings; each activated agent appends its own, scores the message by its diversity and
+//! stores that score under the exact bearing it was heard from), then **evaluation** (Alg. 2: the
+//! preferred direction is the bearing with the largest average diversity; storage is emptied),
+//! then `decide_cycles` of **collective decision** (Alg. 3: waves carry opinions; an activated
+//! agent turns its own preferred bearing `diffusion` (10 %) of the shorter arc toward the received
+//! one, then relays its own). At the end of the period the agent emits [`SimEvent::Decided`].
+//!
+//! Phases are counted in the agent's own cycles. Agents created at the same instant with no
+//! cycle spread ([`crate::Params::simulation_2d`]) share cycle boundaries and so phases; a message
+//! of the other phase (a wave straddling a boundary) is ignored and counted.
+//!
+//! An agent without a preferred bearing (it heard nothing, or nothing diverse) adopts the first
+//! opinion it hears outright and relays "no opinion" until then.
+
+use heapless::{Deque, Vec};
+use rand_core::RngCore;
+
+use crate::direction::{turn_toward, wrap_positive};
+use crate::diversity::{Diversity, Moments, Variance};
+use crate::message::push_evicting;
+use crate::params::{ParamError, Params};
+use crate::time::Instant;
+use crate::wave::{WaveAction, WaveNode, WaveState, WaveStats};
+use crate::weights::DirectionWeights;
+
+const EVENT_QUEUE: usize = 8;
+const OUTBOX: usize = 2;
+
+/// The phase an agent is in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Phase {
+    /// Information gathering (Alg. 1).
+    Gathering,
+    /// Collective decision by opinion diffusion (Alg. 3).
+    Deciding,
+}
+
+/// A message of the three-phase variant, up to `N` readings long. In memory only: the 2D
+/// simulator hands messages to neighbours directly.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SimMessage<const N: usize> {
+    /// Gathering: the readings along the wave's path, oldest first (full: oldest dropped).
+    Readings(Vec<f32, N>),
+    /// Deciding: the sender's preferred bearing in radians, if it has one.
+    Opinion(Option<f32>),
+}
+
+/// Something the simulator may record.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SimEvent {
+    /// The wave state changed.
+    State(WaveState),
+    /// Evaluation ended the gathering phase with this preferred bearing and this diversity of
+    /// all readings stored (the paper's `V_k`).
+    Evaluated {
+        /// Preferred bearing, radians in `[0, 2π)`.
+        preferred: Option<f32>,
+        /// Variance of every reading in every stored message.
+        diversity: f32,
+    },
+    /// The negotiation period ended; the agent's decision is its preferred bearing.
+    Decided {
+        /// Periods completed so far.
+        period: u32,
+        /// Decided bearing, radians in `[0, 2π)`.
+        bearing: Option<f32>,
+    },
+}
+
+/// Counters kept by a [`ThreePhaseAgent`] beyond its wave node's.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct AgentStats {
+    /// Messages scored or diffused.
+    pub accepted: u32,
+    /// Messages of the other phase, ignored.
+    pub wrong_phase: u32,
+    /// Messages whose bearing found no free direction slot (more than `S` neighbours).
+    pub slots_full: u32,
+    /// Transmissions or events dropped because they were not polled in time.
+    pub lost: u32,
+}
+
+/// Key of a direction slot: the bearing's bits, so "the same neighbour" is exact equality.
+type BearingKey = u32;
+
+fn key(bearing: f32) -> BearingKey {
+    // wrap_positive maps -0.0 to 0.0 and every NaN to NaN; fold NaNs into one key.
+    let b = wrap_positive(bearing);
+    if b.is_nan() { u32::MAX } else { b.to_bits() }
+}
+
+/// One agent of the 2D simulations. `N` readings per message, `S` distinct bearings per period.
+/// Sans-IO, with the same call order as [`crate::fused::FusedNode`].
+#[derive(Clone, Debug)]
+pub struct ThreePhaseAgent<D: Diversity = Variance, const N: usize = 32, const S: usize = 16> {
+    params: Params,
+    diversity: D,
+    wave: WaveNode,
+    reading: f32,
+    phase: Phase,
+    phase_cycles: u16,
+    periods: u32,
+    weights: DirectionWeights<BearingKey, S>,
+    stored: Moments,
+    last_diversity: f32,
+    preferred: Option<f32>,
+    decision: Option<f32>,
+    pending: Option<SimMessage<N>>,
+    outbox: Deque<SimMessage<N>, OUTBOX>,
+    events: Deque<SimEvent, EVENT_QUEUE>,
+    stats: AgentStats,
+}
+
+impl<const N: usize, const S: usize> ThreePhaseAgent<Variance, N, S> {
+    /// An agent using the variance, starting its first cycle (gathering) at `now`.
+    ///
+    /// # Errors
+    /// The [`ParamError`] if `params` do not validate.
+    pub fn new(params: Params, now: Instant, rng: &mut impl RngCore) -> Result<Self, ParamError> {
+        Self::with_diversity(params, Variance, now, rng)
+    }
+}
+
+impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
+    /// An agent with a custom diversity measure.
+    ///
+    /// # Errors
+    /// The [`ParamError`] if `params` do not validate.
+    pub fn with_diversity(
+        params: Params,
+        diversity: D,
+        now: Instant,
+        rng: &mut impl RngCore,
+    ) -> Result<Self, ParamError> {
+        params.validate()?;
+        Ok(ThreePhaseAgent {
+            params,
+            diversity,
+            wave: WaveNode::new(params.wave, now, rng),
+            reading: 0.0,
+            phase: Phase::Gathering,
+            phase_cycles: 0,
+            periods: 0,
+            weights: DirectionWeights::default(),
+            stored: Moments::default(),
+            last_diversity: 0.0,
+            preferred: None,
+            decision: None,
+            pending: None,
+            outbox: Deque::new(),
+            events: Deque::new(),
+            stats: AgentStats::default(),
+        })
+    }
+
+    /// The current phase.
+    pub fn phase(&self) -> Phase {
+        self.phase
+    }
+
+    /// The current preferred bearing (radians in `[0, 2π)`).
+    pub fn preferred(&self) -> Option<f32> {
+        self.preferred
+    }
+
+    /// The bearing decided at the end of the last period.
+    pub fn decision(&self) -> Option<f32> {
+        self.decision
+    }
+
+    /// The diversity `V_k` of all readings stored in the last completed gathering phase.
+    pub fn diversity(&self) -> f32 {
+        self.last_diversity
+    }
+
+    /// Periods completed.
+    pub fn periods(&self) -> u32 {
+        self.periods
+    }
+
+    /// The wave state.
+    pub fn state(&self) -> WaveState {
+        self.wave.state()
+    }
+
+    /// Counters.
+    pub fn stats(&self) -> &AgentStats {
+        &self.stats
+    }
+
+    /// The wave node's counters.
+    pub fn wave_stats(&self) -> &WaveStats {
+        self.wave.stats()
+    }
+
+    /// A new (noisy) reading of the quantity X at the agent's position.
+    pub fn handle_reading(&mut self, reading: f32) {
+        self.reading = reading;
+    }
+
+    /// A message heard at `now` from a neighbour at `bearing` (radians). Whatever was due up
+    /// to `now` is done first. Returns `true` if the agent was activated by it.
+    pub fn handle_message(
+        &mut self,
+        now: Instant,
+        bearing: f32,
+        msg: &SimMessage<N>,
+        rng: &mut impl RngCore,
+    ) -> bool {
+        self.handle_timeout(now, rng);
+        let in_phase = matches!(
+            (self.phase, msg),
+            (Phase::Gathering, SimMessage::Readings(r)) if !r.is_empty()
+        ) || matches!((self.phase, msg), (Phase::Deciding, SimMessage::Opinion(_)));
+        if !in_phase {
+            self.stats.wrong_phase = self.stats.wrong_phase.wrapping_add(1);
+            return false;
+        }
+        if !self.wave.on_receive(now) {
+            return false;
+        }
+        self.stats.accepted = self.stats.accepted.wrapping_add(1);
+        self.push_event(SimEvent::State(WaveState::Active));
+        match msg {
+            SimMessage::Readings(r) => {
+                let own = core::iter::once(self.reading);
+                let v = self.diversity.measure(r.iter().copied().chain(own.clone()));
+                if !self.weights.add(key(bearing), v) {
+                    self.stats.slots_full = self.stats.slots_full.wrapping_add(1);
+                }
+                r.iter().copied().chain(own).for_each(|x| self.stored.push(x));
+            }
+            SimMessage::Opinion(Some(o)) if o.is_finite() => {
+                self.preferred = Some(match self.preferred {
+                    None => wrap_positive(*o),
+                    Some(p) => turn_toward(p, *o, self.params.diffusion),
+                });
+            }
+            SimMessage::Opinion(_) => {}
+        }
+        self.pending = Some(msg.clone());
+        true
+    }
+
+    /// Does whatever is due at `now`.
+    pub fn handle_timeout(&mut self, now: Instant, rng: &mut impl RngCore) {
+        while let Some(action) = self.wave.poll(now, rng) {
+            match action {
+                WaveAction::Initiate => {
+                    let m = match self.phase {
+                        Phase::Gathering => SimMessage::Readings(Vec::new()),
+                        Phase::Deciding => SimMessage::Opinion(None),
+                    };
+                    self.send(m);
+                }
+                WaveAction::Relay => {
+                    if let Some(m) = self.pending.take() {
+                        self.send(m);
+                    }
+                }
+                WaveAction::Rested => self.push_event(SimEvent::State(WaveState::Inactive)),
+                WaveAction::CycleEnded(_) => self.end_cycle(),
+            }
+        }
+    }
+
+    /// When [`handle_timeout`](Self::handle_timeout) must be called next.
+    pub fn poll_timeout(&self) -> Instant {
+        self.wave.poll_timeout()
+    }
+
+    /// The next message to broadcast to every neighbour in range.
+    pub fn poll_transmit(&mut self) -> Option<SimMessage<N>> {
+        self.outbox.pop_front()
+    }
+
+    /// The next event.
+    pub fn poll_event(&mut self) -> Option<SimEvent> {
+        self.events.pop_front()
+    }
+
+    /// Puts this agent's own contribution into `m` and queues it.
+    fn send(&mut self, mut m: SimMessage<N>) {
+        match &mut m {
+            SimMessage::Readings(r) => {
+                push_evicting(r, self.reading);
+            }
+            SimMessage::Opinion(o) => *o = self.preferred,
+        }
+        if self.outbox.is_full() {
+            self.outbox.pop_front();
+            self.stats.lost = self.stats.lost.wrapping_add(1);
+        }
+        let _ = self.outbox.push_back(m);
+        self.push_event(SimEvent::State(WaveState::Refractory));
+    }
+
+    fn end_cycle(&mut self) {
+        self.phase_cycles = self.phase_cycles.saturating_add(1);
+        match self.phase {
+            Phase::Gathering if self.phase_cycles >= self.params.gather_cycles => {
+                // Alg. 2: evaluation, then empty storage.
+                self.preferred = self
+                    .weights
+                    .heaviest()
+                    .map(f32::from_bits)
+                    .filter(|b| b.is_finite());
+                self.last_diversity = self.stored.variance();
+                self.weights.clear();
+                self.stored = Moments::default();
+                self.push_event(SimEvent::Evaluated {
+                    preferred: self.preferred,
+                    diversity: self.last_diversity,
+                });
+                self.phase = Phase::Deciding;
+                self.phase_cycles = 0;
+                self.pending = None;
+            }
+            Phase::Deciding if self.phase_cycles >= self.params.decide_cycles => {
+                self.periods = self.periods.wrapping_add(1);
+                self.decision = self.preferred;
+                self.push_event(SimEvent::Decided {
+                    period: self.periods,
+                    bearing: self.decision,
+                });
+                self.phase = Phase::Gathering;
+                self.phase_cycles = 0;
+                self.pending = None;
+            }
+            _ => {}
+        }
+    }
+
+    fn push_event(&mut self, e: SimEvent) {
+        if self.events.is_full() {
+            self.events.pop_front();
+            self.stats.lost = self.stats.lost.wrapping_add(1);
+        }
+        let _ = self.events.push_back(e);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::time::Duration;
+    use core::f32::consts::PI;
+    use rand_pcg::Pcg32;
+
+    type Agent = ThreePhaseAgent<Variance, 8, 4>;
+
+    fn readings(xs: &[f32]) -> SimMessage<8> {
+        SimMessage::Readings(Vec::from_slice(xs).unwrap())
+    }
+
+    fn agent() -> (Agent, Pcg32) {
+        let mut rng = Pcg32::new(2, 2);
+        (Agent::new(Params::simulation_2d(), Instant::ZERO, &mut rng).unwrap(), rng)
+    }
+
+    /// Runs the agent alone until `pred` holds for an event; returns that event.
+    fn run_until(a: &mut Agent, rng: &mut Pcg32, pred: impl Fn(&SimEvent) -> bool) -> SimEvent {
+        loop {
+            let t = a.poll_timeout();
+            a.handle_timeout(t, rng);
+            while a.poll_transmit().is_some() {}
+            while let Some(e) = a.poll_event() {
+                if pred(&e) {
+                    return e;
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn gathers_evaluates_diffuses_and_decides() {
+        let (mut a, mut rng) = agent();
+        a.handle_reading(0.0);
+        let east = 0.0;
+        let west = PI;
+        let t = Instant::from_secs(1);
+        let r = &mut rng;
+        assert!(a.handle_message(t, east, &readings(&[5.0, 5.0]), r));
+        assert!(!a.handle_message(t, west, &readings(&[0.0]), r), "active: ignored");
+        let t = t + Duration::from_secs(20);
+        assert!(a.poll_transmit().is_none());
+        assert!(a.handle_message(t, west, &readings(&[0.0, 0.0]), r));
+        assert!(matches!(a.poll_transmit(), Some(SimMessage::Readings(_))), "first relay");
+        a.handle_timeout(t + Duration::from_secs(1), r);
+        match a.poll_transmit() {
+            Some(SimMessage::Readings(r)) => assert_eq!(r.as_slice(), &[0.0, 0.0, 0.0]),
+            other => panic!("{other:?}"),
+        }
+        let e = run_until(&mut a, &mut rng, |e| matches!(e, SimEvent::Evaluated { .. }));
+        let SimEvent::Evaluated { preferred, diversity } = e else { unreachable!() };
+        assert_eq!(preferred, Some(east));
+        // Stored readings: 5, 5, 0 and 0, 0, 0: variance 50/9.
+        assert!((diversity - 50.0 / 9.0).abs() < 1e-4, "{diversity}");
+        assert_eq!(a.phase(), Phase::Deciding);
+
+        // Opinion diffusion: 10 % of the shorter arc toward 90°.
+        let t = Instant::from_secs(1010);
+        let r = &mut rng;
+        assert!(!a.handle_message(t, west, &readings(&[1.0]), r), "wrong phase");
+        assert!(a.handle_message(t, west, &SimMessage::Opinion(Some(PI / 2.0)), r));
+        assert!((a.preferred().unwrap() - PI / 20.0).abs() < 1e-5);
+        a.handle_timeout(t + Duration::from_secs(1), &mut rng);
+        assert_eq!(a.poll_transmit(), Some(SimMessage::Opinion(a.preferred())));
+        let e = run_until(&mut a, &mut rng, |e| matches!(e, SimEvent::Decided { .. }));
+        assert_eq!(e, SimEvent::Decided { period: 1, bearing: a.preferred() });
+        assert_eq!(a.phase(), Phase::Gathering);
+        assert_eq!(a.stats().wrong_phase, 1);
+    }
+
+    #[test]
+    fn an_agent_without_opinion_adopts_the_first_it_hears() {
+        let (mut a, mut rng) = agent();
+        run_until(&mut a, &mut rng, |e| matches!(e, SimEvent::Evaluated { .. }));
+        assert_eq!(a.preferred(), None);
+        let t = Instant::from_secs(1100);
+        assert!(a.handle_message(t, 1.0, &SimMessage::Opinion(Some(-PI / 2.0)), &mut rng));
+        assert!((a.preferred().unwrap() - 1.5 * PI).abs() < 1e-5);
+    }
+
+    #[test]
+    fn more_bearings_than_slots_are_counted_not_fatal() {
+        let (mut a, mut rng) = agent();
+        let mut t = Instant::from_secs(1);
+        for i in 0..6u8 {
+            let bearing = f32::from(i) * 0.5;
+            assert!(a.handle_message(t, bearing, &readings(&[1.0, 2.0]), &mut rng));
+            t += Duration::from_secs(11);
+        }
+        assert_eq!(a.stats().slots_full, 2);
+        assert_eq!(a.stats().accepted, 6);
+    }
+}

@@ -1,0 +1,321 @@
+//! The wave paradigm (paper section 2.1, WOSPP): each robot is inactive, active or refractory,
+//! as slime-mould cells are.
+//!
+//! ```text
+//!              receive (inactive only)               relay_delay elapsed: transmit
+//!   Inactive ──────────────────────────▶ Active ─────────────────────────────────▶ Refractory
+//!      ▲   │ own initiation time, inactive: transmit at once                            │
+//!      │   └────────────────────────────────────────────────────────────────────────▶ │
+//!      └──────────────────────────── refractory time elapsed ◀──────────────────────────┘
+//! ```
+//!
+//! Every robot initiates once per cycle (see [`InitiationPoint`]). An initiation that falls
+//! while the robot is active or refractory is skipped and counted: the robot has just put its
+//! reading into a passing wave, and a deferred initiation would start right behind that wave, in
+//! step with its neighbours' deferred ones. A robot that has just transmitted ignores everything
+//! for the refractory time, so its own wave (relayed back by the neighbours it activated, after
+//! the relay delay) cannot re-activate it; [`crate::Params::validate`] enforces
+//! `refractory > relay_delay`.
+//!
+//! [`WaveNode`] only keeps time; the variants decide what is sent. Drive it with
+//! [`WaveNode::on_receive`] and [`WaveNode::poll`] until it returns `None`, and sleep until
+//! [`WaveNode::poll_timeout`].
+
+use rand::Rng;
+use rand_core::RngCore;
+
+use crate::params::{InitiationPoint, WaveParams};
+use crate::time::{Duration, Instant};
+
+/// The three states of the communication paradigm.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum WaveState {
+    /// Listening.
+    Inactive,
+    /// Heard a message; will relay it when the relay delay is over.
+    Active,
+    /// Has transmitted; deaf until the refractory time is over.
+    Refractory,
+}
+
+/// Something the wave node did when polled; the variant acts on it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum WaveAction {
+    /// Initiate a wave now: send a new message; the node is now refractory.
+    Initiate,
+    /// Relay the message received a relay delay ago now; the node is now refractory.
+    Relay,
+    /// The refractory time is over; the node is inactive again.
+    Rested,
+    /// A cycle ended (the count of cycles completed so far is given).
+    CycleEnded(u32),
+}
+
+/// Counters kept by a [`WaveNode`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct WaveStats {
+    /// Waves initiated.
+    pub initiated: u32,
+    /// Messages relayed.
+    pub relayed: u32,
+    /// Messages ignored because the node was active or refractory.
+    pub ignored: u32,
+    /// Initiations skipped because the node was active or refractory at the time.
+    pub skipped_initiations: u32,
+}
+
+/// The inactive/active/refractory state machine with its cycle clock.
+#[derive(Clone, Debug)]
+pub struct WaveNode {
+    params: WaveParams,
+    state: WaveState,
+    relay_at: Instant,
+    refractory_until: Instant,
+    cycle_end: Instant,
+    initiate_at: Option<Instant>,
+    cycles: u32,
+    stats: WaveStats,
+}
+
+impl WaveNode {
+    /// A node that starts its first cycle at `now`, inactive. `params` should have passed
+    /// [`crate::Params::validate`]; if not, the node still never panics.
+    pub fn new(params: WaveParams, now: Instant, rng: &mut impl RngCore) -> Self {
+        let mut n = WaveNode {
+            params,
+            state: WaveState::Inactive,
+            relay_at: Instant::MAX,
+            refractory_until: Instant::MAX,
+            cycle_end: now,
+            initiate_at: None,
+            cycles: 0,
+            stats: WaveStats::default(),
+        };
+        n.start_cycle(now, rng);
+        n
+    }
+
+    /// The current state.
+    pub fn state(&self) -> WaveState {
+        self.state
+    }
+
+    /// Cycles completed so far.
+    pub fn cycles(&self) -> u32 {
+        self.cycles
+    }
+
+    /// The counters.
+    pub fn stats(&self) -> &WaveStats {
+        &self.stats
+    }
+
+    /// A message was heard at `now`. Returns `true` if it activated the node (it was
+    /// inactive): the caller must prepare the relay, which [`poll`](Self::poll) asks for after
+    /// the relay delay. Returns `false` if the node was active or refractory and ignores it.
+    pub fn on_receive(&mut self, now: Instant) -> bool {
+        if self.state != WaveState::Inactive {
+            self.stats.ignored = self.stats.ignored.wrapping_add(1);
+            return false;
+        }
+        self.state = WaveState::Active;
+        self.relay_at = now + self.params.relay_delay;
+        true
+    }
+
+    /// The next instant at which [`poll`](Self::poll) has something to do.
+    pub fn poll_timeout(&self) -> Instant {
+        let mut t = self.cycle_end;
+        if let Some(i) = self.initiate_at {
+            t = t.min(i);
+        }
+        match self.state {
+            WaveState::Active => t.min(self.relay_at),
+            WaveState::Refractory => t.min(self.refractory_until),
+            WaveState::Inactive => t,
+        }
+    }
+
+    /// Performs the earliest transition due at or before `now`, if any. Call it until it
+    /// returns `None`. Transitions are timed from when they were due, not from `now`, so a late
+    /// caller gets the same schedule; ties go refractory end, relay, initiation, cycle end.
+    pub fn poll(&mut self, now: Instant, rng: &mut impl RngCore) -> Option<WaveAction> {
+        let rest = (self.state == WaveState::Refractory).then_some(self.refractory_until);
+        let relay = (self.state == WaveState::Active).then_some(self.relay_at);
+        let due = |t: Option<Instant>| t.filter(|&t| t <= now);
+        let candidates = [rest, relay, self.initiate_at, Some(self.cycle_end)];
+        let (which, at) = candidates
+            .iter()
+            .enumerate()
+            .filter_map(|(i, &t)| due(t).map(|t| (i, t)))
+            .min_by_key(|&(i, t)| (t, i))?;
+        Some(match which {
+            0 => {
+                self.state = WaveState::Inactive;
+                WaveAction::Rested
+            }
+            1 => {
+                self.stats.relayed = self.stats.relayed.wrapping_add(1);
+                self.transmitted(at);
+                WaveAction::Relay
+            }
+            2 => {
+                self.initiate_at = None;
+                if self.state != WaveState::Inactive {
+                    self.stats.skipped_initiations = self.stats.skipped_initiations.wrapping_add(1);
+                    return self.poll(now, rng);
+                }
+                self.stats.initiated = self.stats.initiated.wrapping_add(1);
+                self.transmitted(at);
+                WaveAction::Initiate
+            }
+            _ => {
+                self.cycles = self.cycles.wrapping_add(1);
+                self.start_cycle(at, rng);
+                WaveAction::CycleEnded(self.cycles)
+            }
+        })
+    }
+
+    fn transmitted(&mut self, at: Instant) {
+        self.state = WaveState::Refractory;
+        self.refractory_until = at + self.params.refractory;
+    }
+
+    /// Starts a cycle at `start`: draws its length and its initiation time.
+    fn start_cycle(&mut self, start: Instant, rng: &mut impl RngCore) {
+        let p = &self.params;
+        let tick = p.tick.as_millis().max(1);
+        let lo = (p.cycle - p.cycle_spread).as_millis() / tick;
+        let hi = (p.cycle + p.cycle_spread).as_millis() / tick;
+        let len_ticks = if hi > lo { rng.random_range(lo..=hi) } else { lo }.max(1);
+        let len = Duration::from_millis(len_ticks.saturating_mul(tick));
+        self.cycle_end = start + len;
+        self.initiate_at = Some(match p.initiation {
+            InitiationPoint::EndOfCycle => self.cycle_end,
+            InitiationPoint::Uniform => {
+                start + Duration::from_millis(rng.random_range(1..=len_ticks).saturating_mul(tick))
+            }
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::Params;
+    use rand_pcg::Pcg32;
+
+    fn drain(n: &mut WaveNode, now: Instant, rng: &mut Pcg32) -> heapless::Vec<WaveAction, 8> {
+        let mut v = heapless::Vec::new();
+        while let Some(a) = n.poll(now, rng) {
+            v.push(a).unwrap();
+        }
+        v
+    }
+
+    #[test]
+    fn relays_after_the_delay_then_ignores_for_the_refractory_time() {
+        let mut rng = Pcg32::new(1, 1);
+        let p = Params::robots().wave;
+        let mut n = WaveNode::new(p, Instant::ZERO, &mut rng);
+        let t0 = Instant::from_secs(10);
+        assert!(n.on_receive(t0));
+        assert_eq!(n.state(), WaveState::Active);
+        assert!(!n.on_receive(t0), "active nodes ignore");
+        assert_eq!(n.poll_timeout(), t0 + p.relay_delay);
+        assert!(drain(&mut n, Instant::from_millis(10_999), &mut rng).is_empty());
+        assert_eq!(drain(&mut n, Instant::from_secs(11), &mut rng), [WaveAction::Relay]);
+        assert_eq!(n.state(), WaveState::Refractory);
+        assert!(!n.on_receive(Instant::from_secs(14)), "refractory nodes ignore");
+        assert_eq!(drain(&mut n, Instant::from_secs(15), &mut rng), [WaveAction::Rested]);
+        assert!(n.on_receive(Instant::from_secs(15)));
+        assert_eq!(n.stats().ignored, 2);
+        assert_eq!(n.stats().relayed, 1);
+    }
+
+    #[test]
+    fn robots_initiate_once_per_cycle_of_40_to_70_s() {
+        let mut rng = Pcg32::new(7, 3);
+        let mut n = WaveNode::new(Params::robots().wave, Instant::ZERO, &mut rng);
+        let mut last = Instant::ZERO;
+        let mut initiations = 0;
+        for _ in 0..200 {
+            let t = n.poll_timeout();
+            for a in drain(&mut n, t, &mut rng) {
+                if a == WaveAction::Initiate {
+                    let gap = (t - last).as_millis();
+                    assert!((40_000..=70_000).contains(&gap), "gap {gap} ms");
+                    last = t;
+                    initiations += 1;
+                }
+            }
+        }
+        assert!(initiations > 50);
+        assert_eq!(n.stats().skipped_initiations, 0);
+    }
+
+    #[test]
+    fn uniform_initiation_stays_inside_fixed_cycles() {
+        let mut rng = Pcg32::new(9, 9);
+        let p = Params::simulation_2d().wave;
+        let mut n = WaveNode::new(p, Instant::ZERO, &mut rng);
+        let mut per_cycle = [0u32; 20];
+        while n.cycles() < 20 {
+            let t = n.poll_timeout();
+            let cycle = n.cycles() as usize;
+            for a in drain(&mut n, t, &mut rng) {
+                if a == WaveAction::Initiate {
+                    assert_eq!(t.as_millis() % 1000, 0, "whole seconds");
+                    per_cycle[cycle] += 1;
+                }
+                if let WaveAction::CycleEnded(c) = a {
+                    assert_eq!(t, Instant::ZERO + p.cycle.saturating_mul(u64::from(c)));
+                }
+            }
+        }
+        assert_eq!(per_cycle, [1; 20]);
+    }
+
+    #[test]
+    fn initiation_while_refractory_is_skipped() {
+        let mut rng = Pcg32::new(5, 5);
+        let p = Params::robots().wave;
+        let mut n = WaveNode::new(p, Instant::ZERO, &mut rng);
+        let init = n.initiate_at.unwrap();
+        // Heard a message 2 s before its initiation: relays 1 s before, refractory across it.
+        assert!(n.on_receive(init - Duration::from_secs(2)));
+        let acts = drain(&mut n, init, &mut rng);
+        assert_eq!(acts.first(), Some(&WaveAction::Relay));
+        assert!(!acts.contains(&WaveAction::Initiate));
+        assert_eq!(n.stats().skipped_initiations, 1);
+    }
+
+    #[test]
+    fn a_late_caller_gets_the_same_schedule() {
+        let p = Params::robots().wave;
+        let mut a = WaveNode::new(p, Instant::ZERO, &mut Pcg32::new(3, 4));
+        let mut b = a.clone();
+        let mut ra = Pcg32::new(8, 8);
+        let mut rb = ra.clone();
+        // `a` polls at every deadline, `b` once every 100 s: same actions, same cycle ends.
+        let mut acts_a = std::vec::Vec::new();
+        while a.poll_timeout() < Instant::from_secs(2000) {
+            let t = a.poll_timeout();
+            acts_a.extend(drain(&mut a, t, &mut ra));
+        }
+        let mut acts_b = std::vec::Vec::new();
+        let mut t = Instant::ZERO;
+        while b.poll_timeout() < Instant::from_secs(2000) {
+            t += Duration::from_secs(100);
+            while b.poll_timeout() <= t && b.poll_timeout() < Instant::from_secs(2000) {
+                acts_b.extend(b.poll(t, &mut rb));
+            }
+        }
+        assert_eq!(acts_a, acts_b);
+
+    }
+}

@@ -105,7 +105,13 @@ mod tests {
 
     #[test]
     fn hostile_bearings_do_not_panic() {
-        for b in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY, f32::MAX, f32::MIN] {
+        for b in [
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN,
+        ] {
             assert!(Sector::from_bearing(b, 8).index() < 8);
             assert!(Sector::from_bearing(b, 0).index() < 1);
         }

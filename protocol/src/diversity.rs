@@ -34,7 +34,9 @@ impl Diversity for Variance {
             return 0.0;
         }
         let mean = sum / f64::from(n);
-        let ss: f64 = readings.map(|x| (f64::from(x) - mean) * (f64::from(x) - mean)).sum();
+        let ss: f64 = readings
+            .map(|x| (f64::from(x) - mean) * (f64::from(x) - mean))
+            .sum();
         let v = (ss / f64::from(n)) as f32;
         if v.is_finite() && v > 0.0 { v } else { 0.0 }
     }

@@ -57,8 +57,10 @@ const _: () = assert!(frame_len_for(MAX_HOPS + 1) > FRAME_MAX);
 const _: () = assert!(MAX_HOPS <= 127, "the length varint must stay one byte");
 const _: () = assert!(BODY_MAX == FRAME_MAX - 4);
 
-/// The frame check: CRC-16/IBM-3740 (also known as CCITT-FALSE), Hamming distance 4 over
-/// frames this short, so every 1-, 2- and 3-bit error and every burst up to 16 bits is caught.
+/// The frame check: CRC-16/IBM-3740 (also known as CCITT-FALSE) over the payload. Its Hamming
+/// distance is 4 at these lengths: every 1-, 2- and 3-bit error and every burst up to 16 bits
+/// in the unstuffed payload and CRC is caught. An error on air can also change the stuffing
+/// (COBS codes, an `s`), which the deframer then reports as a stuffing or delimiter error.
 const CRC16: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_3740);
 
 /// An encoded frame, ready to send: `ss`, body, `ss`.
@@ -70,6 +72,9 @@ pub type Frame = Vec<u8, FRAME_MAX>;
 pub enum EncodeError {
     /// The message has no hop; every wave message has at least its initiator's.
     Empty,
+    /// The encoded message did not fit the frame. Cannot happen for a [`Message`] (its
+    /// capacity is [`MAX_HOPS`]); kept so that encoding never panics.
+    Overflow,
 }
 
 /// Why bytes between two delimiters were not a message. Each kind is counted in
@@ -107,13 +112,13 @@ pub fn encode(msg: &Message) -> Result<Frame, EncodeError> {
     // Cannot fail: a message of at most MAX_HOPS hops is at most PAYLOAD_MAX bytes.
     let n = match postcard::to_slice(msg, &mut raw[..PAYLOAD_MAX]) {
         Ok(used) => used.len(),
-        Err(_) => return Err(EncodeError::Empty),
+        Err(_) => return Err(EncodeError::Overflow),
     };
     let crc = CRC16.checksum(&raw[..n]).to_le_bytes();
     raw[n..n + CRC_LEN].copy_from_slice(&crc);
 
     let mut body = [0u8; BODY_MAX];
-    let b = cobs::try_encode(&raw[..n + CRC_LEN], &mut body).unwrap_or(0);
+    let b = cobs::try_encode(&raw[..n + CRC_LEN], &mut body).map_err(|_| EncodeError::Overflow)?;
     let mut frame = Frame::new();
     // Cannot fail: 2 + b + 2 <= FRAME_MAX by the assertions above.
     let _ = frame.extend_from_slice(&[DELIMITER, DELIMITER]);
@@ -194,7 +199,9 @@ impl DeframerStats {
             Err(FrameError::BadStuffing) => &mut self.bad_stuffing,
             Err(FrameError::TooShort) => &mut self.too_short,
             Err(FrameError::BadCheck) => &mut self.bad_check,
-            Err(FrameError::Undecodable) | Err(FrameError::Incomplete) => &mut self.undecodable,
+            Err(FrameError::Undecodable) => &mut self.undecodable,
+            // Only `decode_frame` says this, never a deframer.
+            Err(FrameError::Incomplete) => return,
         };
         *c = c.wrapping_add(1);
     }
@@ -282,10 +289,11 @@ impl Deframer {
         let lone = self.s_run == 1;
         self.s_run = 0;
         if lone {
-            let was_synced = self.synced;
+            // Reported once per body: an over-long body was reported already.
+            let report = self.synced && !self.overflow;
             self.resync();
             self.skip();
-            return was_synced.then_some(Err(FrameError::LoneDelimiter));
+            return report.then_some(Err(FrameError::LoneDelimiter));
         }
         if !self.synced {
             self.skip();
@@ -465,7 +473,7 @@ mod tests {
     #[test]
     fn truncated_frame_is_reported_and_the_next_recovered() {
         // A frame cut after 5 bytes, then a whole one: the cut body is closed by the next
-        // frame's opening delimiter and fails its check; the next frame still decodes.
+        // frame's opening delimiter and is rejected; the next frame still decodes.
         let mut stream = StdVec::from(&GOLDEN_FOUR_HOPS[..5]);
         stream.extend_from_slice(GOLDEN_ONE_HOP);
         let mut d = Deframer::new();
@@ -481,7 +489,10 @@ mod tests {
         stream.extend_from_slice(&[0x42; 40]);
         stream.extend_from_slice(GOLDEN_ONE_HOP);
         let mut d = Deframer::new();
-        assert_eq!(all(&mut d, &stream), [Err(FrameError::TooLong), Ok(one_hop())]);
+        assert_eq!(
+            all(&mut d, &stream),
+            [Err(FrameError::TooLong), Ok(one_hop())]
+        );
         assert_eq!(d.stats().too_long, 1);
     }
 
@@ -502,7 +513,10 @@ mod tests {
         let mut stream = f.clone();
         stream.extend_from_slice(GOLDEN_ONE_HOP);
         let mut d = Deframer::new();
-        assert_eq!(all(&mut d, &stream), [Err(FrameError::LoneDelimiter), Ok(one_hop())]);
+        assert_eq!(
+            all(&mut d, &stream),
+            [Err(FrameError::LoneDelimiter), Ok(one_hop())]
+        );
     }
 
     #[test]
@@ -516,7 +530,11 @@ mod tests {
             let mut f = StdVec::from(&b"ss"[..]);
             f.extend(body[..n].iter().map(|b| b ^ DELIMITER));
             f.extend_from_slice(b"ss");
-            assert_eq!(decode_frame(&f), Err(FrameError::Undecodable), "{payload:?}");
+            assert_eq!(
+                decode_frame(&f),
+                Err(FrameError::Undecodable),
+                "{payload:?}"
+            );
         }
     }
 

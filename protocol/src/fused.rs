@@ -42,7 +42,8 @@ use crate::weights::DirectionWeights;
 
 /// Events are queued here until polled; the oldest is dropped (and counted) when full.
 const EVENT_QUEUE: usize = 8;
-/// Transmissions waiting to be polled; at most two can fall in one late `handle_timeout`.
+/// Transmissions waiting to be polled. A caller that polls after every `handle_*` call never
+/// finds more than one; a caller late by more than a cycle loses the oldest (counted).
 const OUTBOX: usize = 2;
 
 /// Votes per sector at a decision.
@@ -405,7 +406,13 @@ mod tests {
     }
 
     /// Feeds `msg` at a quiet moment and lets the relay go out; returns what was relayed.
-    fn hear(n: &mut FusedNode, rng: &mut Pcg32, t: &mut Instant, from: Sector, msg: &[Hop]) -> Message {
+    fn hear(
+        n: &mut FusedNode,
+        rng: &mut Pcg32,
+        t: &mut Instant,
+        from: Sector,
+        msg: &[Hop],
+    ) -> Message {
         *t += Duration::from_secs(6);
         let m = Message::from_hops(msg).unwrap();
         assert_eq!(n.handle_message(*t, from, &m, rng), Reception::Accepted);
@@ -418,12 +425,22 @@ mod tests {
         let (mut n, mut rng) = node(0);
         let mut t = Instant::from_secs(1);
         // From the right, uniform darkness; from the left, a lit robot.
-        let out = hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(0, None), hop(0, None)]);
+        let out = hear(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(0, None), hop(0, None)],
+        );
         assert_eq!(out.hops(), &[hop(0, None), hop(0, None), hop(0, None)]);
         assert_eq!(n.preference(), None, "zero diversity gives no preference");
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(1, R)]);
         assert_eq!(n.preference(), L);
-        assert_eq!(out.hops(), &[hop(1, R), hop(0, L)], "relay carries the new preference");
+        assert_eq!(
+            out.hops(),
+            &[hop(1, R), hop(0, L)],
+            "relay carries the new preference"
+        );
         assert_eq!(n.weight(Sector::LEFT), Some(0.25));
         assert_eq!(n.weight(Sector::RIGHT), Some(0.0));
     }
@@ -434,13 +451,25 @@ mod tests {
         let m = Message::initiate(hop(1, None));
         let t = Instant::from_secs(1);
         let r = &mut rng;
-        assert_eq!(n.handle_message(t, Sector::LEFT, &m, r), Reception::Accepted);
-        assert_eq!(n.handle_message(t, Sector::RIGHT, &m, r), Reception::Ignored);
+        assert_eq!(
+            n.handle_message(t, Sector::LEFT, &m, r),
+            Reception::Accepted
+        );
+        assert_eq!(
+            n.handle_message(t, Sector::RIGHT, &m, r),
+            Reception::Ignored
+        );
         let t1 = t + Duration::from_secs(1);
-        assert_eq!(n.handle_message(t1, Sector::RIGHT, &m, r), Reception::Ignored);
+        assert_eq!(
+            n.handle_message(t1, Sector::RIGHT, &m, r),
+            Reception::Ignored
+        );
         assert!(n.poll_transmit().is_some(), "relayed on time");
         let t5 = t + Duration::from_secs(5);
-        assert_eq!(n.handle_message(t5, Sector::LEFT, &m, r), Reception::Accepted);
+        assert_eq!(
+            n.handle_message(t5, Sector::LEFT, &m, r),
+            Reception::Accepted
+        );
         let s7 = Sector::new(7).unwrap();
         let t9 = t + Duration::from_secs(9);
         assert_eq!(n.handle_message(t9, s7, &m, r), Reception::UnknownSector);
@@ -467,9 +496,21 @@ mod tests {
         // The far robot on the right rides in many messages with its preference R; the near
         // one prefers L. Each slot counts once, with its latest value.
         for _ in 0..5 {
-            hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(0, R), hop(0, L)]);
+            hear(
+                &mut n,
+                &mut rng,
+                &mut t,
+                Sector::RIGHT,
+                &[hop(0, R), hop(0, L)],
+            );
         }
-        hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(0, L), hop(0, L)]);
+        hear(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(0, L), hop(0, L)],
+        );
         hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(1, L)]);
         let votes = n.votes();
         // Own: L (left is the diverse side); right d1 = L, d2 = L; left d1 = L.
@@ -497,15 +538,35 @@ mod tests {
         let mut t = Instant::from_secs(1);
         // 1100 seen by the second robot: left lit (pref R), right dark (prefs L, L).
         hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(1, R)]);
-        hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(0, L), hop(0, L)]);
+        hear(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(0, L), hop(0, L)],
+        );
         assert_eq!(n.preference(), R);
         let e = run_to_decision(&mut n, &mut rng);
-        let Event::Decided { decision, votes, period, changed } = e else { unreachable!() };
+        let Event::Decided {
+            decision,
+            votes,
+            period,
+            changed,
+        } = e
+        else {
+            unreachable!()
+        };
         assert_eq!((decision, period, changed), (R, 1, true));
         assert_eq!(votes[..2], [2, 2]);
         assert_eq!(n.decision(), R);
         // Nothing heard in the next period: only its own vote.
-        let Event::Decided { decision, votes, changed, .. } = run_to_decision(&mut n, &mut rng) else {
+        let Event::Decided {
+            decision,
+            votes,
+            changed,
+            ..
+        } = run_to_decision(&mut n, &mut rng)
+        else {
             unreachable!()
         };
         assert_eq!((decision, changed), (R, false));
@@ -516,7 +577,9 @@ mod tests {
     #[test]
     fn a_period_lasts_the_configured_cycles() {
         let (mut n, mut rng) = node(0);
-        let Event::Decided { decision, .. } = run_to_decision(&mut n, &mut rng) else { unreachable!() };
+        let Event::Decided { decision, .. } = run_to_decision(&mut n, &mut rng) else {
+            unreachable!()
+        };
         assert_eq!(decision, None, "no preference, no votes: undecided");
         assert_eq!(n.wave_stats().initiated, 10);
         assert_eq!(n.periods(), 1);

@@ -88,11 +88,13 @@ impl<R: RngCore, const N: usize> Line<R, N> {
 
     /// Runs every deadline up to and including `end`, reporting what happens to `observe`
     /// (time, robot index, happening).
-    pub fn run_until(&mut self, end: Instant, mut observe: impl FnMut(Instant, usize, Happening<'_>)) {
+    pub fn run_until(
+        &mut self,
+        end: Instant,
+        mut observe: impl FnMut(Instant, usize, Happening<'_>),
+    ) {
         loop {
-            let next = (0..N)
-                .map(|i| (self.nodes[i].poll_timeout(), i))
-                .min();
+            let next = (0..N).map(|i| (self.nodes[i].poll_timeout(), i)).min();
             let Some((t, i)) = next.filter(|&(t, _)| t <= end) else {
                 self.now = self.now.max(end);
                 return;
@@ -104,7 +106,12 @@ impl<R: RngCore, const N: usize> Line<R, N> {
     }
 
     /// Delivers what robot `first` sends at `t`, and what that makes others send, until quiet.
-    fn settle(&mut self, t: Instant, first: usize, observe: &mut impl FnMut(Instant, usize, Happening<'_>)) {
+    fn settle(
+        &mut self,
+        t: Instant,
+        first: usize,
+        observe: &mut impl FnMut(Instant, usize, Happening<'_>),
+    ) {
         let mut dirty = [false; N];
         dirty[first] = true;
         while let Some(i) = dirty.iter().position(|&d| d) {
@@ -119,10 +126,8 @@ impl<R: RngCore, const N: usize> Line<R, N> {
                 let right = (i + 1 < N).then_some((i + 1, Sector::LEFT));
                 for (j, from) in left.into_iter().chain(right) {
                     let side = usize::from(from == Sector::RIGHT);
-                    for r in self.deframers[j][side].frames(&frame) {
-                        if let Ok(msg) = r {
-                            self.nodes[j].handle_message(t, from, &msg, &mut self.rngs[j]);
-                        }
+                    for msg in self.deframers[j][side].frames(&frame).flatten() {
+                        self.nodes[j].handle_message(t, from, &msg, &mut self.rngs[j]);
                     }
                     dirty[j] = true;
                 }

@@ -24,7 +24,9 @@ pub const MAX_HOPS: usize = 12;
 
 /// A sensor reading quantised to 8 bits (0 = darkest/lowest, 255 = brightest/highest). The
 /// scaling from the ADC is the firmware's business; CIMAX only compares readings.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize,
+)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Level(pub u8);
 
@@ -131,10 +133,7 @@ mod pref_byte {
         match u8::deserialize(d)? {
             0 => Ok(None),
             b => Sector::new(b - 1).map(Some).ok_or_else(|| {
-                D::Error::invalid_value(
-                    Unexpected::Unsigned(u64::from(b)),
-                    &PREF_EXPECTED,
-                )
+                D::Error::invalid_value(Unexpected::Unsigned(u64::from(b)), &PREF_EXPECTED)
             }),
         }
     }
@@ -168,7 +167,10 @@ mod tests {
     fn from_hops_rejects_empty_and_too_long() {
         assert!(Message::from_hops(&[]).is_none());
         assert!(Message::from_hops(&[hop(1); MAX_HOPS + 1]).is_none());
-        assert_eq!(Message::from_hops(&[hop(1); MAX_HOPS]).unwrap().len(), MAX_HOPS);
+        assert_eq!(
+            Message::from_hops(&[hop(1); MAX_HOPS]).unwrap().len(),
+            MAX_HOPS
+        );
     }
 
     #[test]

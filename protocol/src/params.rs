@@ -57,8 +57,9 @@ pub struct Params {
 }
 
 impl Params {
-    /// The aMussel lab experiment (paper Table 1): cycle 55 ± 15 s initiated at its end,
-    /// relay delay 1 s, refractory 4 s, K = 2 sectors, negotiation period 10 cycles.
+    /// The aMussel lab experiment: from the paper's Table 1 a cycle of 55 ± 15 s (initiated at
+    /// its end), refractory 4 s and a negotiation period of 10 cycles; from section 2.1 the
+    /// relay delay `t_delay` = 1 s; K = 2 sectors for robots in a line.
     pub const fn robots() -> Self {
         Params {
             wave: WaveParams {
@@ -220,10 +221,22 @@ mod tests {
             assert_eq!(p.validate(), Err(e));
         };
         check(|p| p.wave.cycle = Duration::ZERO, ParamError::ZeroCycle);
-        check(|p| p.wave.cycle_spread = p.wave.cycle, ParamError::SpreadNotBelowCycle);
-        check(|p| p.wave.refractory = Duration::from_secs(40), ParamError::RefractoryNotBelowCycle);
-        check(|p| p.wave.refractory = Duration::from_secs(1), ParamError::RefractoryNotAboveRelayDelay);
-        check(|p| p.wave.relay_delay = Duration::ZERO, ParamError::ZeroRelayDelay);
+        check(
+            |p| p.wave.cycle_spread = p.wave.cycle,
+            ParamError::SpreadNotBelowCycle,
+        );
+        check(
+            |p| p.wave.refractory = Duration::from_secs(40),
+            ParamError::RefractoryNotBelowCycle,
+        );
+        check(
+            |p| p.wave.refractory = Duration::from_secs(1),
+            ParamError::RefractoryNotAboveRelayDelay,
+        );
+        check(
+            |p| p.wave.relay_delay = Duration::ZERO,
+            ParamError::ZeroRelayDelay,
+        );
         check(|p| p.wave.tick = Duration::ZERO, ParamError::ZeroTick);
         check(|p| p.sectors = 1, ParamError::BadSectorCount);
         check(|p| p.sectors = 9, ParamError::BadSectorCount);
@@ -232,6 +245,10 @@ mod tests {
         check(|p| p.diffusion = f32::NAN, ParamError::BadDiffusion);
 
         use std::string::ToString;
-        assert!(ParamError::RefractoryNotBelowCycle.to_string().contains("refractory"));
+        assert!(
+            ParamError::RefractoryNotBelowCycle
+                .to_string()
+                .contains("refractory")
+        );
     }
 }

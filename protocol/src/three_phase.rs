@@ -232,7 +232,10 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
                 if !self.weights.add(key(bearing), v) {
                     self.stats.slots_full = self.stats.slots_full.wrapping_add(1);
                 }
-                r.iter().copied().chain(own).for_each(|x| self.stored.push(x));
+                r.iter()
+                    .copied()
+                    .chain(own)
+                    .for_each(|x| self.stored.push(x));
             }
             SimMessage::Opinion(Some(o)) if o.is_finite() => {
                 self.preferred = Some(match self.preferred {
@@ -257,11 +260,12 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
                     };
                     self.send(m);
                 }
-                WaveAction::Relay => {
-                    if let Some(m) = self.pending.take() {
-                        self.send(m);
-                    }
-                }
+                WaveAction::Relay => match self.pending.take() {
+                    Some(m) => self.send(m),
+                    // The phase changed while the agent was active: the relay is dropped
+                    // (receivers would ignore it) but the agent still goes refractory.
+                    None => self.push_event(SimEvent::State(WaveState::Refractory)),
+                },
                 WaveAction::Rested => self.push_event(SimEvent::State(WaveState::Inactive)),
                 WaveAction::CycleEnded(_) => self.end_cycle(),
             }
@@ -359,7 +363,10 @@ mod tests {
 
     fn agent() -> (Agent, Pcg32) {
         let mut rng = Pcg32::new(2, 2);
-        (Agent::new(Params::simulation_2d(), Instant::ZERO, &mut rng).unwrap(), rng)
+        (
+            Agent::new(Params::simulation_2d(), Instant::ZERO, &mut rng).unwrap(),
+            rng,
+        )
     }
 
     /// Runs the agent alone until `pred` holds for an event; returns that event.
@@ -385,18 +392,32 @@ mod tests {
         let t = Instant::from_secs(1);
         let r = &mut rng;
         assert!(a.handle_message(t, east, &readings(&[5.0, 5.0]), r));
-        assert!(!a.handle_message(t, west, &readings(&[0.0]), r), "active: ignored");
+        assert!(
+            !a.handle_message(t, west, &readings(&[0.0]), r),
+            "active: ignored"
+        );
         let t = t + Duration::from_secs(20);
         assert!(a.poll_transmit().is_none());
         assert!(a.handle_message(t, west, &readings(&[0.0, 0.0]), r));
-        assert!(matches!(a.poll_transmit(), Some(SimMessage::Readings(_))), "first relay");
+        assert!(
+            matches!(a.poll_transmit(), Some(SimMessage::Readings(_))),
+            "first relay"
+        );
         a.handle_timeout(t + Duration::from_secs(1), r);
         match a.poll_transmit() {
             Some(SimMessage::Readings(r)) => assert_eq!(r.as_slice(), &[0.0, 0.0, 0.0]),
             other => panic!("{other:?}"),
         }
-        let e = run_until(&mut a, &mut rng, |e| matches!(e, SimEvent::Evaluated { .. }));
-        let SimEvent::Evaluated { preferred, diversity } = e else { unreachable!() };
+        let e = run_until(&mut a, &mut rng, |e| {
+            matches!(e, SimEvent::Evaluated { .. })
+        });
+        let SimEvent::Evaluated {
+            preferred,
+            diversity,
+        } = e
+        else {
+            unreachable!()
+        };
         assert_eq!(preferred, Some(east));
         // Stored readings: 5, 5, 0 and 0, 0, 0: variance 50/9.
         assert!((diversity - 50.0 / 9.0).abs() < 1e-4, "{diversity}");
@@ -405,13 +426,22 @@ mod tests {
         // Opinion diffusion: 10 % of the shorter arc toward 90°.
         let t = Instant::from_secs(1010);
         let r = &mut rng;
-        assert!(!a.handle_message(t, west, &readings(&[1.0]), r), "wrong phase");
+        assert!(
+            !a.handle_message(t, west, &readings(&[1.0]), r),
+            "wrong phase"
+        );
         assert!(a.handle_message(t, west, &SimMessage::Opinion(Some(PI / 2.0)), r));
         assert!((a.preferred().unwrap() - PI / 20.0).abs() < 1e-5);
         a.handle_timeout(t + Duration::from_secs(1), &mut rng);
         assert_eq!(a.poll_transmit(), Some(SimMessage::Opinion(a.preferred())));
         let e = run_until(&mut a, &mut rng, |e| matches!(e, SimEvent::Decided { .. }));
-        assert_eq!(e, SimEvent::Decided { period: 1, bearing: a.preferred() });
+        assert_eq!(
+            e,
+            SimEvent::Decided {
+                period: 1,
+                bearing: a.preferred()
+            }
+        );
         assert_eq!(a.phase(), Phase::Gathering);
         assert_eq!(a.stats().wrong_phase, 1);
     }
@@ -419,7 +449,9 @@ mod tests {
     #[test]
     fn an_agent_without_opinion_adopts_the_first_it_hears() {
         let (mut a, mut rng) = agent();
-        run_until(&mut a, &mut rng, |e| matches!(e, SimEvent::Evaluated { .. }));
+        run_until(&mut a, &mut rng, |e| {
+            matches!(e, SimEvent::Evaluated { .. })
+        });
         assert_eq!(a.preferred(), None);
         let t = Instant::from_secs(1100);
         assert!(a.handle_message(t, 1.0, &SimMessage::Opinion(Some(-PI / 2.0)), &mut rng));

@@ -149,7 +149,10 @@ mod tests {
         assert_eq!(Instant::MAX + Duration::from_secs(1), Instant::MAX);
         assert_eq!(Instant::ZERO - Instant::from_secs(5), Duration::ZERO);
         assert_eq!(Duration::from_secs(u64::MAX).as_millis(), u64::MAX);
-        assert_eq!(Duration::from_secs(1) - Duration::from_secs(2), Duration::ZERO);
+        assert_eq!(
+            Duration::from_secs(1) - Duration::from_secs(2),
+            Duration::ZERO
+        );
     }
 
     #[test]

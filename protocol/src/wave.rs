@@ -191,7 +191,12 @@ impl WaveNode {
         let tick = p.tick.as_millis().max(1);
         let lo = (p.cycle - p.cycle_spread).as_millis() / tick;
         let hi = (p.cycle + p.cycle_spread).as_millis() / tick;
-        let len_ticks = if hi > lo { rng.random_range(lo..=hi) } else { lo }.max(1);
+        let len_ticks = if hi > lo {
+            rng.random_range(lo..=hi)
+        } else {
+            lo
+        }
+        .max(1);
         let len = Duration::from_millis(len_ticks.saturating_mul(tick));
         self.cycle_end = start + len;
         self.initiate_at = Some(match p.initiation {
@@ -228,10 +233,19 @@ mod tests {
         assert!(!n.on_receive(t0), "active nodes ignore");
         assert_eq!(n.poll_timeout(), t0 + p.relay_delay);
         assert!(drain(&mut n, Instant::from_millis(10_999), &mut rng).is_empty());
-        assert_eq!(drain(&mut n, Instant::from_secs(11), &mut rng), [WaveAction::Relay]);
+        assert_eq!(
+            drain(&mut n, Instant::from_secs(11), &mut rng),
+            [WaveAction::Relay]
+        );
         assert_eq!(n.state(), WaveState::Refractory);
-        assert!(!n.on_receive(Instant::from_secs(14)), "refractory nodes ignore");
-        assert_eq!(drain(&mut n, Instant::from_secs(15), &mut rng), [WaveAction::Rested]);
+        assert!(
+            !n.on_receive(Instant::from_secs(14)),
+            "refractory nodes ignore"
+        );
+        assert_eq!(
+            drain(&mut n, Instant::from_secs(15), &mut rng),
+            [WaveAction::Rested]
+        );
         assert!(n.on_receive(Instant::from_secs(15)));
         assert_eq!(n.stats().ignored, 2);
         assert_eq!(n.stats().relayed, 1);
@@ -316,6 +330,5 @@ mod tests {
             }
         }
         assert_eq!(acts_a, acts_b);
-
     }
 }

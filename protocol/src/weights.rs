@@ -55,7 +55,9 @@ impl<K: Copy + PartialEq, const D: usize> DirectionWeights<K, D> {
 
     /// Every direction heard from, with its average diversity and message count.
     pub fn iter(&self) -> impl Iterator<Item = (K, f32, u32)> + '_ {
-        self.slots.iter().map(|s| (s.dir, s.sum / s.count as f32, s.count))
+        self.slots
+            .iter()
+            .map(|s| (s.dir, s.sum / s.count as f32, s.count))
     }
 
     /// The heaviest direction: the one with the largest average diversity, if that average is

@@ -36,7 +36,11 @@ fn six_lab_patterns_give_the_papers_decisions() {
         for (pattern, expected) in PATTERNS {
             let mut l = line(pattern, seed);
             l.run_until(TWO_PERIODS, |_, _, _| {});
-            assert_eq!(l.decisions(), expected, "pattern {pattern}, replay with seed {seed}");
+            assert_eq!(
+                l.decisions(),
+                expected,
+                "pattern {pattern}, replay with seed {seed}"
+            );
             for n in l.nodes() {
                 assert!(n.periods() >= 2);
             }
@@ -51,11 +55,20 @@ fn the_first_decisions_are_already_right() {
             let mut l = line(pattern, seed);
             let mut first = [None; 4];
             l.run_until(TWO_PERIODS, |_, i, h| {
-                if let Happening::Event(protocol::Event::Decided { period: 1, decision, .. }) = h {
+                if let Happening::Event(protocol::Event::Decided {
+                    period: 1,
+                    decision,
+                    ..
+                }) = h
+                {
                     first[i] = Some(decision);
                 }
             });
-            assert_eq!(first, expected.map(Some), "pattern {pattern}, replay with seed {seed}");
+            assert_eq!(
+                first,
+                expected.map(Some),
+                "pattern {pattern}, replay with seed {seed}"
+            );
         }
     }
 }
@@ -78,7 +91,8 @@ fn an_initiator_is_never_reactivated_by_its_own_wave() {
     // Distinct readings per robot: a message carrying one robot's reading twice means that
     // robot joined the same wave twice.
     let rngs = core::array::from_fn(|i| Pcg32::new(99, i as u64));
-    let mut l: Line<Pcg32, 4> = Line::new(Params::robots(), [10, 20, 30, 40].map(Level), rngs).unwrap();
+    let mut l: Line<Pcg32, 4> =
+        Line::new(Params::robots(), [10, 20, 30, 40].map(Level), rngs).unwrap();
     let mut sent = 0;
     l.run_until(Instant::from_secs(3600), |_, _, h| {
         if let Happening::Sent(m) = h {
@@ -93,7 +107,10 @@ fn an_initiator_is_never_reactivated_by_its_own_wave() {
     });
     assert!(sent > 200, "{sent}");
     for n in l.nodes() {
-        assert!(n.wave_stats().ignored > 0, "neighbours' relays reach the refractory sender");
+        assert!(
+            n.wave_stats().ignored > 0,
+            "neighbours' relays reach the refractory sender"
+        );
     }
     for d in l.deframers().iter().flatten() {
         assert_eq!(d.stats().errors(), 0);

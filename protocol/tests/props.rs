@@ -1,0 +1,119 @@
+//! Property tests: framing round trips, resynchronisation in garbage, and robots that never
+//! panic whatever they are fed.
+
+use proptest::prelude::*;
+use protocol::frame::{Deframer, decode_frame, encode};
+use protocol::{
+    Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, Message, Params, Sector,
+};
+use rand_pcg::Pcg32;
+
+fn hop() -> impl Strategy<Value = Hop> {
+    (any::<u8>(), proptest::option::of(0..MAX_SECTORS as u8)).prop_map(|(r, p)| Hop {
+        reading: Level(r),
+        pref: p.and_then(Sector::new),
+    })
+}
+
+fn message() -> impl Strategy<Value = Message> {
+    proptest::collection::vec(hop(), 1..=MAX_HOPS).prop_map(|h| Message::from_hops(&h).unwrap())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    #[test]
+    fn any_message_survives_encode_frame_deframe(m in message()) {
+        let f = encode(&m).unwrap();
+        prop_assert!(f.len() <= 32);
+        prop_assert!(!f[2..f.len() - 2].contains(&b's'));
+        prop_assert_eq!(decode_frame(&f), Ok(m.clone()));
+        // Byte by byte, too.
+        let mut d = Deframer::new();
+        let got: Vec<_> = f.iter().filter_map(|&b| d.push(b)).collect();
+        prop_assert_eq!(got, vec![Ok(m)]);
+    }
+
+    #[test]
+    fn frames_interleaved_with_garbage_are_all_recovered(
+        parts in proptest::collection::vec((proptest::collection::vec(any::<u8>(), 0..80), message()), 1..12),
+        tail in proptest::collection::vec(any::<u8>(), 0..40),
+        chunk in 1usize..40,
+    ) {
+        let mut stream = Vec::new();
+        for (garbage, m) in &parts {
+            stream.extend_from_slice(garbage);
+            stream.extend_from_slice(&encode(m).unwrap());
+        }
+        stream.extend_from_slice(&tail);
+        let mut d = Deframer::new();
+        let mut got = Vec::new();
+        for c in stream.chunks(chunk) {
+            got.extend(d.frames(c).filter_map(Result::ok));
+        }
+        let want: Vec<Message> = parts.into_iter().map(|(_, m)| m).collect();
+        // Garbage may by chance hold a valid frame of its own; every real one is there, in order.
+        let mut it = got.iter();
+        for m in &want {
+            prop_assert!(it.any(|g| g == m), "lost {:?}", m);
+        }
+        prop_assert!(d.stats().frames as usize >= want.len());
+    }
+
+    #[test]
+    fn arbitrary_bytes_never_panic(bytes in proptest::collection::vec(any::<u8>(), 0..600)) {
+        let mut d = Deframer::new();
+        let n = d.frames(&bytes).count();
+        let s = d.stats();
+        prop_assert_eq!(n as u32, s.frames + s.errors());
+        let _ = decode_frame(&bytes);
+    }
+
+    #[test]
+    fn a_robot_fed_anything_keeps_its_invariants(
+        seed in any::<u64>(),
+        ops in proptest::collection::vec(
+            (0u8..4, any::<u32>(), 0u8..10, proptest::collection::vec(any::<u8>(), 0..40)),
+            1..200,
+        ),
+    ) {
+        let mut rng = Pcg32::new(seed, 1);
+        let mut n = FusedNode::new(Params::robots(), Instant::ZERO, &mut rng).unwrap();
+        let mut d = Deframer::new();
+        for (kind, t, sector, bytes) in ops {
+            // Times jump around, backwards included.
+            let now = Instant::from_millis(u64::from(t) % 5_000_000);
+            match kind {
+                0 => n.handle_reading(Level(bytes.first().copied().unwrap_or(0))),
+                1 => n.handle_timeout(now, &mut rng),
+                _ => {
+                    let from = Sector::new(sector % 9).unwrap_or(Sector::LEFT);
+                    let mut frame = bytes.clone();
+                    if kind == 3 {
+                        // A well-formed frame around arbitrary hops.
+                        let hops: Vec<Hop> = bytes.chunks(2).take(MAX_HOPS).map(|c| Hop {
+                            reading: Level(c[0]),
+                            pref: Sector::new(c.get(1).copied().unwrap_or(0) % 3),
+                        }).collect();
+                        if let Some(m) = Message::from_hops(&hops) {
+                            frame = encode(&m).unwrap().to_vec();
+                        }
+                    }
+                    for m in d.frames(&frame).filter_map(Result::ok) {
+                        n.handle_message(now, from, &m, &mut rng);
+                    }
+                }
+            }
+            let mut sent = 0;
+            while let Some(m) = n.poll_transmit() {
+                prop_assert!(!m.is_empty() && m.len() <= MAX_HOPS);
+                sent += 1;
+            }
+            prop_assert!(sent <= 2);
+            while n.poll_event().is_some() {}
+            prop_assert!(n.poll_timeout() > Instant::ZERO);
+            prop_assert!(n.preference().is_none_or(|s| s.index() < 2));
+            let _ = Duration::ZERO;
+        }
+    }
+}

@@ -19,7 +19,7 @@
 //! - [`message`] and [`frame`]: the hops and the 32-byte `ss…ss` frame with its [`Deframer`];
 //! - [`diversity`] and [`weights`]: how a direction is scored;
 //! - [`params`]: every parameter with the paper's defaults;
-//! - [`line`]: a direct-wired line of robots for tests and quick experiments.
+//! - [`line`](mod@line): a direct-wired line of robots for tests and quick experiments.
 //!
 //! `docs/protocol.md` at the top of the repository has the byte diagram, golden vectors and
 //! state machine in one place.

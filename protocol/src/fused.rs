@@ -16,6 +16,16 @@
 //! [`Event::Decided`] for the top-cap LEDs, and starts the next period from empty storage, so the
 //! swarm re-decides when the environment changes. The preference itself carries over.
 //!
+//! **The diversity memory across periods.** The stored preferences are emptied; the per-sector
+//! average diversities are not thrown away but shrunk to a *one-message prior*: each keeps its
+//! average with the weight of a single message. With noisy sensors a uniform side has a small
+//! but positive diversity, and emptying the averages outright lets the first message after the
+//! boundary, from whichever side it comes, set the preference on its own until the other side
+//! is heard; neighbours then count that transient preference (seen in the emulator: a
+//! robot at the lit end of `1000` flipped in its third period). With the prior, one message
+//! cannot flip it, and after an environment change the new messages outweigh the prior within
+//! a few messages, so the swarm still re-decides within the next period.
+//!
 //! # Counting: one vote per robot
 //! A robot far away rides in many messages; counting every hop of every stored message would
 //! count it many times and can tip a tie the wrong way (`shared/paper-notes.md`). Instead a robot
@@ -371,7 +381,7 @@ impl<D: Diversity> FusedNode<D> {
             changed,
             votes,
         });
-        self.weights.clear();
+        self.weights.shrink_to_prior();
         self.views = [[None; MAX_HOPS]; MAX_SECTORS];
         self.period_cycles = 0;
     }
@@ -570,8 +580,22 @@ mod tests {
             unreachable!()
         };
         assert_eq!((decision, changed), (R, false));
-        assert_eq!(votes[..2], [1, 0]);
-        assert!(n.weight(Sector::LEFT).is_none(), "storage emptied");
+        assert_eq!(votes[..2], [1, 0], "stored preferences emptied");
+        // The diversities carry over as one-message priors: one uniform message from the
+        // left (diversity 0) halves the left's weight but does not flip the preference.
+        let right = n.weight(Sector::RIGHT).unwrap();
+        assert!(right > 0.0);
+        // Two periods of fixed 600 s cycles have passed; the node last initiated at 12000 s.
+        t = Instant::from_secs(12_010);
+        hear(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(1, R), hop(1, R)],
+        );
+        assert_eq!(n.weight(Sector::LEFT), Some(0.0));
+        assert_eq!(n.preference(), R);
     }
 
     #[test]

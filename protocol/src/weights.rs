@@ -83,6 +83,15 @@ impl<K: Copy + PartialEq, const D: usize> DirectionWeights<K, D> {
         }
     }
 
+    /// Keeps each direction's average but with the weight of a single message: a prior that
+    /// the next messages quickly outweigh if the environment changed.
+    pub fn shrink_to_prior(&mut self) {
+        for s in self.slots.iter_mut() {
+            s.sum /= s.count as f32;
+            s.count = 1;
+        }
+    }
+
     /// Forgets everything (the start of a new period).
     pub fn clear(&mut self) {
         self.slots.clear();
@@ -121,6 +130,24 @@ mod tests {
         assert_eq!(w.heaviest(), None, "exact tie");
         w.add(3, 2.5);
         assert_eq!(w.heaviest(), Some(3));
+    }
+
+    #[test]
+    fn a_prior_counts_as_one_message() {
+        let mut w = DirectionWeights::<u8, 4>::default();
+        for _ in 0..9 {
+            w.add(0, 10.0);
+        }
+        w.add(1, 1.0);
+        w.shrink_to_prior();
+        assert_eq!(w.weight(0), Some(10.0));
+        w.add(0, 0.0);
+        assert_eq!(
+            w.weight(0),
+            Some(5.0),
+            "one new message weighs as much as the past"
+        );
+        assert_eq!(w.heaviest(), Some(0));
     }
 
     #[test]

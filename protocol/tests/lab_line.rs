@@ -130,3 +130,40 @@ fn same_seed_same_run() {
     assert_eq!(trace(5), trace(5));
     assert_ne!(trace(5), trace(6));
 }
+
+#[test]
+fn noisy_sensors_still_give_the_papers_decisions_every_period() {
+    use rand::Rng;
+    // Lit 200, dark 30, each reading off by up to ±10, re-drawn every second: a uniform side
+    // has a small but positive diversity, so preferences must not flip on one message.
+    for seed in 0..10 {
+        for (pattern, expected) in PATTERNS {
+            let mut l = line(pattern, seed);
+            let mut noise = Pcg32::new(seed, 1000);
+            let mut decided = [0u32; 4];
+            let mut t = 0;
+            while t < 3 * 10 * 70 + 1 {
+                let lit = readings(pattern).map(|r| r.0 == 1);
+                l.set_readings(
+                    lit.map(|b| {
+                        Level((if b { 200 } else { 30 }) + noise.random_range(0..=20) - 10)
+                    }),
+                );
+                t += 1;
+                l.run_until(Instant::from_secs(t), |_, i, h| {
+                    if let Happening::Event(protocol::Event::Decided {
+                        decision, period, ..
+                    }) = h
+                    {
+                        assert_eq!(
+                            decision, expected[i],
+                            "pattern {pattern}, robot {i}, period {period}, replay with seed {seed}"
+                        );
+                        decided[i] += 1;
+                    }
+                });
+            }
+            assert!(decided.iter().all(|&d| d >= 3), "{decided:?}");
+        }
+    }
+}

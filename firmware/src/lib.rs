@@ -1,11 +1,47 @@
-//! The aMussel robot program (skeleton).
+//! # The aMussel robot program
 //!
-//! This crate will bind [`protocol::FusedNode`] to hardware traits (light transmitter and
-//! receivers, ambient-light/oxygen sensor, top-cap LEDs, clock) and run it as embassy tasks on a
-//! Cortex-M4F board and in QEMU; `hal-emu` will implement the same traits on a PC. Nothing is
-//! implemented yet: see the firmware issue and `docs/architecture.md`.
+//! This crate turns [`protocol::FusedNode`] (fused CIMAX, sans-IO) into a robot:
+//!
+//! - [`hal`]: the hardware seam. Light transmitter and receivers are
+//!   [`embedded_io_async::Write`] and [`Read`](embedded_io_async::Read) byte streams; the
+//!   environmental [`Sensor`], the top-cap [`Leds`] and the [`Clock`] are small traits in the
+//!   embedded-hal-async style. Boards and the emulator (`hal-emu`) implement these and nothing
+//!   else.
+//! - [`robot`]: [`Robot::run`], the one generic `async fn` every board runs: sample the sensor,
+//!   deframe each receiver into the protocol with its direction, transmit what the protocol
+//!   polls out, sleep until the next deadline, show each decision on the LEDs.
+//! - [`wired`]: hardware made of memory (pipes, fixed sensor, LED state), for the QEMU board's
+//!   virtual robots and for tests.
+//!
+//! The boards are binaries of this package: `src/bin/nucleo_l476.rs` (STM32L476RG,
+//! embassy-stm32, defmt over RTT) and `src/bin/qemu.rs` (QEMU `mps2-an386`, four virtual robots,
+//! semihosting). `docs/firmware.md` has the pin map and how to build, flash and run.
+//!
+//! ## What it never does
+//! - allocate: `no_std`, no heap; the robot's future has a size fixed at compile time;
+//! - read a global clock or global state: time comes from the [`Clock`], everything a robot
+//!   knows lives in its [`Robot`];
+//! - panic on input or block for ever: bad frames and device failures are counted in
+//!   [`Stats`] and logged, and every device call but a receiver's read has a timeout.
+//!
+//! ## Features
+//! - `defmt`: log with defmt and derive `defmt::Format` (the real board);
+//! - `log`: log through the `log` facade (the emulator, the QEMU board);
+//! - `embassy-time`: `hal::EmbassyClock`, the [`Clock`] over embassy-time;
+//! - `board-nucleo-l476`, `board-qemu`: the board binaries (thumb targets only).
 
-#![no_std]
+#![cfg_attr(not(test), no_std)]
 #![forbid(unsafe_code)]
 
+#[macro_use]
+mod fmt;
+
+pub mod hal;
+pub mod robot;
+pub mod wired;
+
+pub use embedded_io_async;
 pub use protocol;
+
+pub use hal::{Clock, ErrorKind, LedColor, Leds, Quantity, Sensor};
+pub use robot::{Config, Hardware, Robot, SetupError, Stats};

@@ -1,0 +1,180 @@
+//! The real board: an aMussel controller on a Nucleo-L476RG (STM32L476RG, Cortex-M4F).
+//!
+//! | Function                       | Peripheral        | Pin  | Nucleo header      |
+//! |--------------------------------|-------------------|------|--------------------|
+//! | light transmitter (IrDA SIR)   | USART1 TX, DMA1_CH4 | PA9  | D8 (CN5-1)       |
+//! | light receiver, left           | USART3 RX, DMA1_CH3 | PC11 | CN7-2            |
+//! | light receiver, right          | UART5 RX, DMA2_CH2  | PD2  | CN7-4            |
+//! | ambient light sensor           | ADC1 IN5          | PA0  | A0                 |
+//! | oxygen sensor                  | ADC1 IN6          | PA1  | A1                 |
+//! | green LED (decided: left)      | GPIO out          | PA5  | D13, also LD2      |
+//! | blue LED (decided: right)      | GPIO out          | PC7  | D9                 |
+//!
+//! The three USARTs run IrDA SIR at [`LIGHT_BAUD`]: the transmitter's pulses drive the light
+//! modulator, the receivers take the demodulated pulses. Receivers are DMA ring buffers, so no
+//! byte is lost between two reads. Randomness is a PCG seeded from the chip's unique ID (every
+//! robot draws differently, the same robot the same way). Logs go out as defmt over RTT.
+//!
+//! `cargo firmware` builds the release image; `cargo run -p firmware --release --target
+//! thumbv7em-none-eabihf --features board-nucleo-l476 --bin nucleo_l476` flashes it with
+//! probe-rs and prints the logs (see `docs/firmware.md`).
+
+#![no_std]
+#![no_main]
+
+use core::convert::Infallible;
+
+use embassy_executor::Spawner;
+use embassy_stm32::adc::{Adc, AdcChannel, AdcConfig, AnyAdcChannel, Resolution, SampleTime};
+use embassy_stm32::gpio::{Level as PinLevel, Output, Speed};
+use embassy_stm32::peripherals::ADC1;
+use embassy_stm32::usart::{self, UartRx, UartTx};
+use embassy_stm32::{bind_interrupts, dma, pac, peripherals};
+use firmware::hal::{EmbassyClock, ErrorType, LedColor, Leds, Sensor};
+use firmware::protocol::Level;
+use firmware::{Clock, Config, Hardware, Robot};
+use rand_pcg::Pcg32;
+use {cortex_m as _, defmt_rtt as _, panic_probe as _};
+
+/// Bit rate of the light link.
+const LIGHT_BAUD: u32 = 9_600;
+/// DMA ring buffer per receiver: two full frames.
+const RX_RING: usize = 64;
+
+bind_interrupts!(struct Irqs {
+    USART3 => usart::InterruptHandler<peripherals::USART3>;
+    UART5 => usart::InterruptHandler<peripherals::UART5>;
+    DMA1_CHANNEL3 => dma::InterruptHandler<peripherals::DMA1_CH3>;
+    DMA1_CHANNEL4 => dma::InterruptHandler<peripherals::DMA1_CH4>;
+    DMA2_CHANNEL2 => dma::InterruptHandler<peripherals::DMA2_CH2>;
+});
+
+/// Switches a configured USART to IrDA SIR (normal power): `IREN` may only change while the
+/// USART is disabled, and the IrDA prescaler must be 1.
+fn irda(regs: pac::usart::Usart) {
+    regs.cr1().modify(|w| w.set_ue(false));
+    regs.gtpr().modify(|w| w.set_psc(1));
+    regs.cr3().modify(|w| w.set_iren(true));
+    regs.cr1().modify(|w| w.set_ue(true));
+}
+
+/// Ambient light and oxygen on two ADC1 channels, 8-bit conversions.
+struct AdcSensor<'d> {
+    adc: Adc<'d, ADC1>,
+    light: AnyAdcChannel<'d, ADC1>,
+    oxygen: AnyAdcChannel<'d, ADC1>,
+}
+
+impl ErrorType for AdcSensor<'_> {
+    type Error = Infallible;
+}
+
+impl Sensor for AdcSensor<'_> {
+    async fn ambient_light(&mut self) -> Result<Level, Infallible> {
+        let raw = self
+            .adc
+            .blocking_read(&mut self.light, SampleTime::CYCLES640_5);
+        Ok(Level(raw.min(255) as u8))
+    }
+
+    async fn oxygen(&mut self) -> Result<Level, Infallible> {
+        let raw = self
+            .adc
+            .blocking_read(&mut self.oxygen, SampleTime::CYCLES640_5);
+        Ok(Level(raw.min(255) as u8))
+    }
+}
+
+/// The top-cap LEDs on two GPIOs.
+struct TopCap<'d> {
+    green: Output<'d>,
+    blue: Output<'d>,
+}
+
+impl ErrorType for TopCap<'_> {
+    type Error = Infallible;
+}
+
+impl Leds for TopCap<'_> {
+    async fn show(&mut self, color: LedColor) -> Result<(), Infallible> {
+        self.green
+            .set_level(PinLevel::from(color == LedColor::Green));
+        self.blue.set_level(PinLevel::from(color == LedColor::Blue));
+        Ok(())
+    }
+}
+
+#[embassy_executor::main]
+async fn main(_spawner: Spawner) {
+    let mut config = embassy_stm32::Config::default();
+    {
+        use embassy_stm32::rcc::mux;
+        // The ADC's kernel clock: SYSCLK (MSI 4 MHz by default).
+        config.rcc.mux.adcsel = mux::Adcsel::SYS;
+    }
+    let p = embassy_stm32::init(config);
+    defmt::info!(
+        "aMussel on Nucleo-L476RG, uid {}",
+        embassy_stm32::uid::uid_hex()
+    );
+
+    let mut link = usart::Config::default();
+    link.baudrate = LIGHT_BAUD;
+
+    let tx = match UartTx::new(p.USART1, p.PA9, p.DMA1_CH4, Irqs, link) {
+        Ok(tx) => tx,
+        Err(e) => defmt::panic!("transmitter: {}", e),
+    };
+    irda(pac::USART1);
+    let left = match UartRx::new(p.USART3, p.PC11, p.DMA1_CH3, Irqs, link) {
+        Ok(rx) => rx,
+        Err(e) => defmt::panic!("left receiver: {}", e),
+    };
+    irda(pac::USART3);
+    let right = match UartRx::new(p.UART5, p.PD2, p.DMA2_CH2, Irqs, link) {
+        Ok(rx) => rx,
+        Err(e) => defmt::panic!("right receiver: {}", e),
+    };
+    irda(pac::UART5);
+    let mut left_ring = [0u8; RX_RING];
+    let mut right_ring = [0u8; RX_RING];
+
+    let adc_config = AdcConfig {
+        resolution: Some(Resolution::BITS8),
+        ..AdcConfig::default()
+    };
+    let sensor = AdcSensor {
+        adc: Adc::new_with_config(p.ADC1, adc_config),
+        light: p.PA0.degrade_adc(),
+        oxygen: p.PA1.degrade_adc(),
+    };
+    let leds = TopCap {
+        green: Output::new(p.PA5, PinLevel::Low, Speed::Low),
+        blue: Output::new(p.PC7, PinLevel::Low, Speed::Low),
+    };
+
+    let mut hw = Hardware::line(
+        tx,
+        left.into_ring_buffered(&mut left_ring),
+        right.into_ring_buffered(&mut right_ring),
+        sensor,
+        leds,
+        EmbassyClock,
+    );
+
+    let uid = embassy_stm32::uid::uid();
+    let [a, b, c, d, e, f, g, h, i, j, k, l] = uid;
+    let rng = Pcg32::new(
+        u64::from_le_bytes([a, b, c, d, e, f, g, h]),
+        u64::from(u32::from_le_bytes([i, j, k, l])),
+    );
+    let config = Config {
+        id: u16::from_le_bytes([a, b]),
+        ..Config::robots()
+    };
+    let mut robot = match Robot::new(config, hw.clock.now(), rng) {
+        Ok(robot) => robot,
+        Err(e) => defmt::panic!("setup: {}", e),
+    };
+    match robot.run(&mut hw).await {}
+}

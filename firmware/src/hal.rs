@@ -1,0 +1,235 @@
+//! The hardware seam: what a board (or the emulator) must provide to run the robot program.
+//!
+//! | Hardware                         | Trait                                          |
+//! |----------------------------------|------------------------------------------------|
+//! | modulated-light transmitter (one, broadcasting) | [`embedded_io_async::Write`]    |
+//! | modulated-light receiver (one per sector)       | [`embedded_io_async::Read`]     |
+//! | environmental sensor (ambient light, oxygen)    | [`Sensor`]                      |
+//! | top-cap LEDs (green = left, blue = right)       | [`Leds`]                        |
+//! | time                                            | [`Clock`]                       |
+//!
+//! The light link is a byte stream both ways, so a UART driver (embassy-stm32's `UartTx` and
+//! `RingBufferedUartRx`, an `embassy_sync::pipe::Pipe`, a tokio stream behind
+//! `embedded-io-adapters`) plugs in with no glue. The other traits follow embedded-hal-async:
+//! fallible `async fn`s, an associated error type whose [`Error::kind`] says what went wrong,
+//! and blanket implementations for `&mut T` (and `&T` for the clock).
+//!
+//! Nothing here reads a global clock: the robot program only knows the time its [`Clock`] tells
+//! it, so the emulator can run robots in virtual time.
+
+// The traits are used generically on one executor; callers never need `Send` futures.
+#![allow(async_fn_in_trait)]
+
+use protocol::{Instant, Level, Sector};
+
+/// What kind of failure a [`Sensor`] or [`Leds`] error is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum ErrorKind {
+    /// The device did not answer in time.
+    Timeout,
+    /// The device is not ready (still powering up, being calibrated, busy).
+    NotReady,
+    /// The device answered with a value that cannot be right (out of range, saturated).
+    OutOfRange,
+    /// The bus or peripheral failed.
+    Bus,
+    /// Anything else.
+    Other,
+}
+
+/// A device error: anything that can say what kind of failure it is.
+pub trait Error: core::fmt::Debug {
+    /// The kind of failure.
+    fn kind(&self) -> ErrorKind;
+}
+
+impl Error for ErrorKind {
+    fn kind(&self) -> ErrorKind {
+        *self
+    }
+}
+
+impl Error for core::convert::Infallible {
+    fn kind(&self) -> ErrorKind {
+        match *self {}
+    }
+}
+
+/// The error type of a device.
+pub trait ErrorType {
+    /// Returned by the device's fallible operations.
+    type Error: Error;
+}
+
+impl<T: ErrorType + ?Sized> ErrorType for &mut T {
+    type Error = T::Error;
+}
+
+/// A quantity the environmental sensor measures.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Quantity {
+    /// Ambient light (the lab experiments: lamps over part of the line).
+    AmbientLight,
+    /// Dissolved oxygen.
+    Oxygen,
+}
+
+/// The environmental sensor: ambient light and oxygen, each quantised to a [`Level`].
+///
+/// The quantisation (ADC counts to 0..=255) is the driver's business; CIMAX only compares
+/// readings, so it only has to be the same on every robot.
+pub trait Sensor: ErrorType {
+    /// Measures the ambient light.
+    ///
+    /// # Errors
+    /// The device's error if the measurement failed.
+    async fn ambient_light(&mut self) -> Result<Level, Self::Error>;
+
+    /// Measures the dissolved oxygen.
+    ///
+    /// # Errors
+    /// The device's error if the measurement failed.
+    async fn oxygen(&mut self) -> Result<Level, Self::Error>;
+
+    /// Measures `quantity`.
+    ///
+    /// # Errors
+    /// The device's error if the measurement failed.
+    async fn read(&mut self, quantity: Quantity) -> Result<Level, Self::Error> {
+        match quantity {
+            Quantity::AmbientLight => self.ambient_light().await,
+            Quantity::Oxygen => self.oxygen().await,
+        }
+    }
+}
+
+impl<T: Sensor + ?Sized> Sensor for &mut T {
+    async fn ambient_light(&mut self) -> Result<Level, Self::Error> {
+        T::ambient_light(self).await
+    }
+
+    async fn oxygen(&mut self) -> Result<Level, Self::Error> {
+        T::oxygen(self).await
+    }
+
+    async fn read(&mut self, quantity: Quantity) -> Result<Level, Self::Error> {
+        T::read(self, quantity).await
+    }
+}
+
+/// What the top-cap LEDs show.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LedColor {
+    /// Both off: undecided.
+    #[default]
+    Off,
+    /// Green: the robot decided to go left.
+    Green,
+    /// Blue: the robot decided to go right.
+    Blue,
+}
+
+impl LedColor {
+    /// The color for a decision: [`Sector::LEFT`] is green, [`Sector::RIGHT`] blue, anything
+    /// else (undecided, or a sector a robot in a line does not have) off.
+    pub fn for_decision(decision: Option<Sector>) -> LedColor {
+        match decision {
+            Some(Sector::LEFT) => LedColor::Green,
+            Some(Sector::RIGHT) => LedColor::Blue,
+            _ => LedColor::Off,
+        }
+    }
+
+    /// The decision this color shows, if any.
+    pub fn decision(self) -> Option<Sector> {
+        match self {
+            LedColor::Off => None,
+            LedColor::Green => Some(Sector::LEFT),
+            LedColor::Blue => Some(Sector::RIGHT),
+        }
+    }
+}
+
+/// The top-cap LEDs.
+pub trait Leds: ErrorType {
+    /// Shows `color` (exactly one LED on, or both off) until told otherwise.
+    ///
+    /// # Errors
+    /// The device's error if the LEDs could not be set.
+    async fn show(&mut self, color: LedColor) -> Result<(), Self::Error>;
+}
+
+impl<T: Leds + ?Sized> Leds for &mut T {
+    async fn show(&mut self, color: LedColor) -> Result<(), Self::Error> {
+        T::show(self, color).await
+    }
+}
+
+/// The robot's only source of time.
+///
+/// `now` is in the protocol's milliseconds since an epoch of the clock's choosing (boot, the
+/// start of an emulation); it must never go backwards. `sleep_until` returns once `now()` has
+/// reached `deadline` (at once if it already has); it is cancel-safe, and
+/// [`Instant::MAX`] means "never".
+pub trait Clock {
+    /// The current time.
+    fn now(&self) -> Instant;
+
+    /// Waits until `deadline`.
+    async fn sleep_until(&self, deadline: Instant);
+}
+
+impl<C: Clock + ?Sized> Clock for &C {
+    fn now(&self) -> Instant {
+        C::now(self)
+    }
+
+    async fn sleep_until(&self, deadline: Instant) {
+        C::sleep_until(self, deadline).await
+    }
+}
+
+/// [`Clock`] over embassy-time, for boards with an embassy time driver.
+///
+/// The epoch is embassy's (boot). Deadlines too far away for embassy's tick counter, such as
+/// [`Instant::MAX`], wait for ever.
+#[cfg(feature = "embassy-time")]
+#[derive(Clone, Copy, Debug, Default)]
+pub struct EmbassyClock;
+
+#[cfg(feature = "embassy-time")]
+impl Clock for EmbassyClock {
+    fn now(&self) -> Instant {
+        Instant::from_millis(embassy_time::Instant::now().as_millis())
+    }
+
+    async fn sleep_until(&self, deadline: Instant) {
+        let ticks = u128::from(deadline.as_millis()) * u128::from(embassy_time::TICK_HZ) / 1000;
+        match u64::try_from(ticks) {
+            Ok(t) if t < u64::MAX => {
+                embassy_time::Timer::at(embassy_time::Instant::from_ticks(t)).await
+            }
+            _ => core::future::pending().await,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn decisions_map_to_colors_and_back() {
+        assert_eq!(LedColor::for_decision(Some(Sector::LEFT)), LedColor::Green);
+        assert_eq!(LedColor::for_decision(Some(Sector::RIGHT)), LedColor::Blue);
+        assert_eq!(LedColor::for_decision(None), LedColor::Off);
+        assert_eq!(LedColor::for_decision(Sector::new(5)), LedColor::Off);
+        for c in [LedColor::Off, LedColor::Green, LedColor::Blue] {
+            assert_eq!(LedColor::for_decision(c.decision()), c);
+        }
+    }
+}

@@ -1,0 +1,545 @@
+//! The robot program: fused CIMAX ([`protocol::FusedNode`]) bound to the [hardware traits](crate::hal).
+//!
+//! [`Robot::run`] is one `async fn` made of `N + 1` futures joined together (no tasks, no
+//! spawning, no `'static`):
+//!
+//! ```text
+//!  receiver[0] ──bytes──▶ listener 0: Deframer ──┐
+//!  receiver[1] ──bytes──▶ listener 1: Deframer ──┼──(sector, message | frame error | rx error)
+//!      ⋮                                         ┘                        │
+//!                                                                   inbox (INBOX slots)
+//!                                                                         ▼
+//!  sensor ──every sample_period──▶ main loop: FusedNode ──poll_transmit──▶ encode ──▶ transmitter
+//!                                   │  sleeps until the inbox has something or
+//!                                   │  min(poll_timeout, next sample) is reached
+//!                                   └──Event::Decided──▶ LEDs
+//! ```
+//!
+//! A listener is never cancelled, so a receiver need not be cancel-safe: each one reads for as
+//! long as the robot runs. The main loop waits on "a message in the inbox OR the next
+//! deadline" with [`embassy_futures::select`], which works the same under embassy and tokio.
+//!
+//! # What it never does
+//! - panic on input: a corrupt frame, a receiver error, a failed or hung sensor, LED or
+//!   transmitter is counted in [`Stats`], logged, and the robot carries on;
+//! - block for ever: every transmission, sensor read and LED update is bounded by
+//!   [`Config::io_timeout`] on the robot's own [`Clock`];
+//! - allocate, spawn, or touch global state: everything lives in [`Robot`] and the future
+//!   returned by [`Robot::run`] (whose size is fixed at compile time).
+//!
+//! The future is not `Send` (its listeners and main loop share a channel in its own frame):
+//! run it on an embassy executor, with `block_on`, or under tokio on a `LocalSet` or
+//! current-thread runtime.
+
+use core::convert::Infallible;
+use core::future::Future;
+
+use embassy_futures::join::{join, join_array};
+use embassy_futures::select::{Either, select};
+use embassy_sync::blocking_mutex::raw::NoopRawMutex;
+use embassy_sync::channel::Channel;
+use embedded_io_async::{Error as _, Read, Write};
+use protocol::frame::{Deframer, FrameError, encode};
+use protocol::{Duration, Event, FusedNode, Instant, Message, ParamError, Params, Sector};
+use rand_core::RngCore;
+
+use crate::hal::{Clock, Error as _, LedColor, Leds, Quantity, Sensor};
+
+/// Messages (or errors) the listeners can hand over before they wait for the main loop.
+pub const INBOX: usize = 4;
+/// Bytes a listener asks its receiver for at a time.
+const RX_CHUNK: usize = 32;
+
+/// How a robot runs, beyond the protocol's parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Config {
+    /// A number for the logs, so that several robots in one process can be told apart.
+    pub id: u16,
+    /// The protocol's parameters; `params.sectors` must equal the number of receivers.
+    pub params: Params,
+    /// The sensor reading CIMAX uses.
+    pub quantity: Quantity,
+    /// How often the sensor is read.
+    pub sample_period: Duration,
+    /// Longest wait for one transmission, sensor read or LED update before it counts as failed.
+    pub io_timeout: Duration,
+    /// Pause after a receiver error before reading that receiver again.
+    pub rx_error_backoff: Duration,
+}
+
+impl Config {
+    /// The aMussel lab: [`Params::robots`], ambient light sampled every second, 500 ms I/O
+    /// timeout, 100 ms back-off after a receiver error.
+    pub const fn robots() -> Config {
+        Config {
+            id: 0,
+            params: Params::robots(),
+            quantity: Quantity::AmbientLight,
+            sample_period: Duration::from_secs(1),
+            io_timeout: Duration::from_millis(500),
+            rx_error_backoff: Duration::from_millis(100),
+        }
+    }
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config::robots()
+    }
+}
+
+/// Why a [`Robot`] could not be set up.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SetupError {
+    /// The protocol's parameters do not validate.
+    Params(ParamError),
+    /// `params.sectors` differs from the number of receivers.
+    Receivers {
+        /// Sectors in the parameters.
+        sectors: u8,
+        /// Receivers of the robot.
+        receivers: usize,
+    },
+    /// The sample period, the I/O timeout or the receiver back-off is zero (the robot could
+    /// spin without ever sleeping).
+    ZeroDuration,
+}
+
+impl From<ParamError> for SetupError {
+    fn from(e: ParamError) -> Self {
+        SetupError::Params(e)
+    }
+}
+
+impl core::fmt::Display for SetupError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            SetupError::Params(e) => write!(f, "bad protocol parameters: {e}"),
+            SetupError::Receivers { sectors, receivers } => {
+                write!(
+                    f,
+                    "{sectors} sectors configured but {receivers} receivers given"
+                )
+            }
+            SetupError::ZeroDuration => {
+                f.write_str("the sample period, I/O timeout and receiver back-off must be positive")
+            }
+        }
+    }
+}
+
+impl core::error::Error for SetupError {}
+
+/// Counters kept by a [`Robot`]. They wrap after 2³² events.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Stats {
+    /// Messages decoded and handed to the protocol.
+    pub messages: u32,
+    /// Corrupt frames (every [`FrameError`] a deframer reported).
+    pub frame_errors: u32,
+    /// Errors reported by a receiver.
+    pub rx_errors: u32,
+    /// Receivers that reported the end of their stream (`Ok(0)`); they are not read again.
+    pub rx_closed: u32,
+    /// Frames transmitted.
+    pub transmitted: u32,
+    /// Transmissions that failed or timed out.
+    pub tx_errors: u32,
+    /// Sensor reads that failed or timed out; the previous reading is kept.
+    pub sensor_errors: u32,
+    /// LED updates that failed or timed out.
+    pub led_errors: u32,
+    /// Decisions taken (negotiation periods completed).
+    pub decisions: u32,
+}
+
+/// The hardware one robot runs on. Receiver `i` faces sector `i`: with two sectors,
+/// `receivers[0]` is the right one ([`Sector::RIGHT`]) and `receivers[1]` the left one; use
+/// [`Hardware::line`] to avoid getting them the wrong way round.
+#[derive(Debug)]
+pub struct Hardware<T, R, S, L, C, const N: usize> {
+    /// The broadcasting light transmitter.
+    pub transmitter: T,
+    /// One light receiver per sector, indexed by sector.
+    pub receivers: [R; N],
+    /// The environmental sensor.
+    pub sensor: S,
+    /// The top-cap LEDs.
+    pub leds: L,
+    /// The clock.
+    pub clock: C,
+}
+
+impl<T, R, S, L, C> Hardware<T, R, S, L, C, 2> {
+    /// The hardware of a robot in a line: one receiver facing left, one facing right.
+    pub fn line(transmitter: T, left: R, right: R, sensor: S, leds: L, clock: C) -> Self {
+        // Receivers are indexed by sector.
+        const _: () = assert!(Sector::RIGHT.index() == 0 && Sector::LEFT.index() == 1);
+        Hardware {
+            transmitter,
+            receivers: [right, left],
+            sensor,
+            leds,
+            clock,
+        }
+    }
+}
+
+/// What a listener hands to the main loop.
+enum Inbound {
+    Message(Sector, Message),
+    Corrupt(Sector, FrameError),
+    RxError(Sector, embedded_io_async::ErrorKind),
+    Closed(Sector),
+}
+
+type Inbox = Channel<NoopRawMutex, Inbound, INBOX>;
+
+/// One robot: its protocol node, randomness and counters. Everything it knows lives here, so
+/// any number of robots can share a process.
+#[derive(Debug)]
+pub struct Robot<G: RngCore, const N: usize> {
+    config: Config,
+    node: FusedNode,
+    rng: G,
+    sectors: [Sector; N],
+    stats: Stats,
+    shown: Option<LedColor>,
+}
+
+impl<G: RngCore, const N: usize> Robot<G, N> {
+    /// A robot with `N` receivers whose protocol starts its first cycle at `now` (take it from
+    /// the clock the robot will run on).
+    ///
+    /// # Errors
+    /// A [`SetupError`] if the parameters do not validate, `params.sectors != N`, or a
+    /// duration of the configuration is zero.
+    pub fn new(config: Config, now: Instant, mut rng: G) -> Result<Self, SetupError> {
+        if usize::from(config.params.sectors) != N {
+            return Err(SetupError::Receivers {
+                sectors: config.params.sectors,
+                receivers: N,
+            });
+        }
+        let durations = [
+            config.sample_period,
+            config.io_timeout,
+            config.rx_error_backoff,
+        ];
+        if durations.contains(&Duration::ZERO) {
+            return Err(SetupError::ZeroDuration);
+        }
+        let node = FusedNode::new(config.params, now, &mut rng)?;
+        // `validate` checked 2 <= N <= MAX_SECTORS, so every index is a sector.
+        let sectors = core::array::from_fn(|i| Sector::new(i as u8).unwrap_or(Sector::RIGHT));
+        Ok(Robot {
+            config,
+            node,
+            rng,
+            sectors,
+            stats: Stats::default(),
+            shown: None,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &Config {
+        &self.config
+    }
+
+    /// The protocol node (preference, decision, its own counters).
+    pub fn node(&self) -> &FusedNode {
+        &self.node
+    }
+
+    /// The counters.
+    pub fn stats(&self) -> &Stats {
+        &self.stats
+    }
+
+    /// The decision of the last completed negotiation period.
+    pub fn decision(&self) -> Option<Sector> {
+        self.node.decision()
+    }
+
+    /// What the LEDs were last set to successfully (`None` before the first decision).
+    pub fn shown(&self) -> Option<LedColor> {
+        self.shown
+    }
+
+    /// Runs the robot on `hw` for ever.
+    ///
+    /// To stop it (tests, emulation, a supervisor), drop the future, e.g. by racing it against
+    /// something else with `select`; the robot keeps its state and counters and may be run
+    /// again (a frame half received at that moment is lost). See the [module docs](self) for
+    /// what it does.
+    pub async fn run<T, R, S, L, C>(&mut self, hw: &mut Hardware<T, R, S, L, C, N>) -> Infallible
+    where
+        T: Write,
+        R: Read,
+        S: Sensor,
+        L: Leds,
+        C: Clock,
+    {
+        let Hardware {
+            transmitter,
+            receivers,
+            sensor,
+            leds,
+            clock,
+        } = hw;
+        let clock = &*clock;
+        let inbox = Inbox::new();
+        let backoff = self.config.rx_error_backoff;
+        let mut i = 0;
+        let listeners = receivers.each_mut().map(|rx| {
+            let from = self.sectors.get(i).copied().unwrap_or(Sector::RIGHT);
+            i += 1;
+            listen(rx, from, &inbox, clock, backoff)
+        });
+        let mut main = Main {
+            config: &self.config,
+            node: &mut self.node,
+            rng: &mut self.rng,
+            stats: &mut self.stats,
+            shown: &mut self.shown,
+        };
+        let (never, _) = join(
+            main.run(transmitter, sensor, leds, clock, &inbox),
+            join_array(listeners),
+        )
+        .await;
+        never
+    }
+}
+
+/// Reads one receiver for ever, deframing its bytes into the inbox.
+async fn listen<R: Read, C: Clock>(
+    rx: &mut R,
+    from: Sector,
+    inbox: &Inbox,
+    clock: &C,
+    backoff: Duration,
+) -> Infallible {
+    let mut deframer = Deframer::new();
+    let mut buf = [0u8; RX_CHUNK];
+    loop {
+        match rx.read(&mut buf).await {
+            Ok(0) => {
+                inbox.send(Inbound::Closed(from)).await;
+                return core::future::pending().await;
+            }
+            Ok(n) => {
+                // `take(n)`: a driver claiming more bytes than the buffer holds cannot panic us.
+                for &byte in buf.iter().take(n) {
+                    match deframer.push(byte) {
+                        None => {}
+                        Some(Ok(msg)) => inbox.send(Inbound::Message(from, msg)).await,
+                        Some(Err(e)) => inbox.send(Inbound::Corrupt(from, e)).await,
+                    }
+                }
+            }
+            Err(e) => {
+                deframer.resync();
+                inbox.send(Inbound::RxError(from, e.kind())).await;
+                clock.sleep_until(clock.now() + backoff).await;
+            }
+        }
+    }
+}
+
+/// Awaits `f` for at most `timeout` on `clock`; `None` if it took longer (and was dropped).
+async fn within<C: Clock, F: Future>(clock: &C, timeout: Duration, f: F) -> Option<F::Output> {
+    let deadline = clock.now() + timeout;
+    match select(f, clock.sleep_until(deadline)).await {
+        Either::First(out) => Some(out),
+        Either::Second(()) => None,
+    }
+}
+
+/// Why a frame did not go out.
+#[derive(Debug)]
+// Only the logs read the kind (through `Debug`, which dead-code analysis ignores).
+#[allow(dead_code)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+enum TxError {
+    Io(embedded_io_async::ErrorKind),
+    /// The transmitter accepted no byte.
+    Stalled,
+}
+
+/// Writes all of `bytes` and flushes. Unlike `Write::write_all`, a transmitter that accepts
+/// nothing is an error, not a panic.
+async fn send_frame<T: Write>(tx: &mut T, mut bytes: &[u8]) -> Result<(), TxError> {
+    while !bytes.is_empty() {
+        match tx.write(bytes).await {
+            Ok(0) => return Err(TxError::Stalled),
+            Ok(n) => bytes = bytes.get(n..).unwrap_or(&[]),
+            Err(e) => return Err(TxError::Io(e.kind())),
+        }
+    }
+    tx.flush().await.map_err(|e| TxError::Io(e.kind()))
+}
+
+/// The robot's main loop, borrowing the robot's state while it runs.
+struct Main<'r, G> {
+    config: &'r Config,
+    node: &'r mut FusedNode,
+    rng: &'r mut G,
+    stats: &'r mut Stats,
+    shown: &'r mut Option<LedColor>,
+}
+
+impl<G: RngCore> Main<'_, G> {
+    async fn run<T: Write, S: Sensor, L: Leds, C: Clock>(
+        &mut self,
+        tx: &mut T,
+        sensor: &mut S,
+        leds: &mut L,
+        clock: &C,
+        inbox: &Inbox,
+    ) -> Infallible {
+        let id = self.config.id;
+        info!(
+            "robot {}: running, {} receivers",
+            id, self.config.params.sectors
+        );
+        let mut next_sample = clock.now();
+        loop {
+            if clock.now() >= next_sample {
+                self.sample(sensor, clock).await;
+                next_sample = clock.now() + self.config.sample_period;
+            }
+            self.node.handle_timeout(clock.now(), self.rng);
+            self.drain(tx, leds, clock).await;
+
+            let now = clock.now();
+            // At least a millisecond ahead: everything due up to `now` has just been done.
+            let wake_at = self
+                .node
+                .poll_timeout()
+                .min(next_sample)
+                .max(now + Duration::from_millis(1));
+            if let Either::First(inbound) =
+                select(inbox.receive(), clock.sleep_until(wake_at)).await
+            {
+                self.receive(inbound, clock);
+            }
+        }
+    }
+
+    async fn sample<S: Sensor, C: Clock>(&mut self, sensor: &mut S, clock: &C) {
+        let id = self.config.id;
+        match within(
+            clock,
+            self.config.io_timeout,
+            sensor.read(self.config.quantity),
+        )
+        .await
+        {
+            Some(Ok(level)) => {
+                if level != self.node.reading() {
+                    debug!("robot {}: reading {}", id, level.0);
+                }
+                self.node.handle_reading(level);
+            }
+            Some(Err(e)) => {
+                self.stats.sensor_errors = self.stats.sensor_errors.wrapping_add(1);
+                warn!("robot {}: sensor error {:?}", id, e.kind());
+            }
+            None => {
+                self.stats.sensor_errors = self.stats.sensor_errors.wrapping_add(1);
+                warn!("robot {}: sensor timed out", id);
+            }
+        }
+    }
+
+    fn receive<C: Clock>(&mut self, inbound: Inbound, clock: &C) {
+        let id = self.config.id;
+        match inbound {
+            Inbound::Message(from, msg) => {
+                self.stats.messages = self.stats.messages.wrapping_add(1);
+                let r = self.node.handle_message(clock.now(), from, &msg, self.rng);
+                debug!("robot {}: {} hops from {:?}: {:?}", id, msg.len(), from, r);
+            }
+            Inbound::Corrupt(from, e) => {
+                self.stats.frame_errors = self.stats.frame_errors.wrapping_add(1);
+                warn!("robot {}: corrupt frame from {:?}: {:?}", id, from, e);
+            }
+            Inbound::RxError(from, kind) => {
+                self.stats.rx_errors = self.stats.rx_errors.wrapping_add(1);
+                warn!("robot {}: receiver {:?} error {:?}", id, from, kind);
+            }
+            Inbound::Closed(from) => {
+                self.stats.rx_closed = self.stats.rx_closed.wrapping_add(1);
+                warn!("robot {}: receiver {:?} closed", id, from);
+            }
+        }
+    }
+
+    /// Sends what the protocol wants sent and shows its decisions.
+    async fn drain<T: Write, L: Leds, C: Clock>(&mut self, tx: &mut T, leds: &mut L, clock: &C) {
+        let id = self.config.id;
+        let timeout = self.config.io_timeout;
+        while let Some(msg) = self.node.poll_transmit() {
+            let frame = match encode(&msg) {
+                Ok(frame) => frame,
+                Err(e) => {
+                    self.stats.tx_errors = self.stats.tx_errors.wrapping_add(1);
+                    warn!("robot {}: cannot frame: {:?}", id, e);
+                    continue;
+                }
+            };
+            match within(clock, timeout, send_frame(tx, &frame)).await {
+                Some(Ok(())) => {
+                    self.stats.transmitted = self.stats.transmitted.wrapping_add(1);
+                    debug!("robot {}: sent {} hops", id, msg.len());
+                }
+                Some(Err(e)) => {
+                    self.stats.tx_errors = self.stats.tx_errors.wrapping_add(1);
+                    warn!("robot {}: transmitter error {:?}", id, e);
+                }
+                None => {
+                    self.stats.tx_errors = self.stats.tx_errors.wrapping_add(1);
+                    warn!("robot {}: transmitter timed out", id);
+                }
+            }
+        }
+        while let Some(event) = self.node.poll_event() {
+            let Event::Decided {
+                period,
+                decision,
+                votes,
+                ..
+            } = event
+            else {
+                continue;
+            };
+            self.stats.decisions = self.stats.decisions.wrapping_add(1);
+            let k = usize::from(self.config.params.sectors).min(votes.len());
+            let color = LedColor::for_decision(decision);
+            info!(
+                "robot {}: period {} decided {:?} ({:?}), votes {:?}",
+                id,
+                period,
+                decision,
+                color,
+                &votes[..k]
+            );
+            match within(clock, timeout, leds.show(color)).await {
+                Some(Ok(())) => *self.shown = Some(color),
+                Some(Err(e)) => {
+                    self.stats.led_errors = self.stats.led_errors.wrapping_add(1);
+                    warn!("robot {}: LED error {:?}", id, e.kind());
+                }
+                None => {
+                    self.stats.led_errors = self.stats.led_errors.wrapping_add(1);
+                    warn!("robot {}: LEDs timed out", id);
+                }
+            }
+        }
+    }
+}

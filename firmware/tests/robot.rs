@@ -1,0 +1,524 @@
+//! The robot program on fake hardware, under tokio's paused clock: virtual time, so an hour of
+//! robot life takes milliseconds, and every run with the same seed is identical.
+//!
+//! The robot under test sits in a line between two scripted neighbours that send frames on a
+//! fixed schedule. It reads darkness; the lit neighbour's side is the diverse one, so it must
+//! decide for that side, and show it on the LEDs.
+
+use std::collections::VecDeque;
+use std::convert::Infallible;
+use std::future::pending;
+
+use embassy_futures::select::{Either, select};
+use firmware::embedded_io_async::{self, ErrorKind as IoKind, Read, Write};
+use firmware::hal::{Clock, ErrorKind, ErrorType, LedColor, Leds, Sensor};
+use firmware::protocol::frame::{Deframer, encode};
+use firmware::protocol::{Hop, Instant, Level, Message, Sector};
+use firmware::{Config, Hardware, Robot, SetupError, Stats};
+use rand_pcg::Pcg32;
+
+mod common;
+use common::TokioClock;
+
+const L: Option<Sector> = Some(Sector::LEFT);
+const R: Option<Sector> = Some(Sector::RIGHT);
+
+/// Two negotiation periods of the longest cycles (10 × 70 s each), and a little more.
+const TWO_PERIODS_MS: u64 = 2 * 10 * 70_000 + 1_000;
+
+// ---------------------------------------------------------------------------------------------
+// Fake hardware
+
+/// What a scripted receiver delivers at a given time.
+type Step = (u64, Result<Vec<u8>, IoKind>);
+
+/// A receiver that delivers a script, then stays silent (or reports the end of its stream).
+struct ScriptRx {
+    clock: TokioClock,
+    steps: VecDeque<Step>,
+    close_at_end: bool,
+}
+
+impl ScriptRx {
+    fn new(clock: TokioClock, mut steps: Vec<Step>) -> Self {
+        steps.sort_by_key(|s| s.0);
+        ScriptRx {
+            clock,
+            steps: steps.into(),
+            close_at_end: false,
+        }
+    }
+}
+
+impl embedded_io_async::ErrorType for ScriptRx {
+    type Error = IoKind;
+}
+
+impl Read for ScriptRx {
+    async fn read(&mut self, buf: &mut [u8]) -> Result<usize, IoKind> {
+        let Some(&(at, _)) = self.steps.front() else {
+            if self.close_at_end {
+                return Ok(0);
+            }
+            return pending().await;
+        };
+        self.clock.sleep_until(Instant::from_millis(at)).await;
+        let Some((_, step)) = self.steps.front_mut() else {
+            return Ok(0);
+        };
+        match step {
+            Ok(bytes) => {
+                let n = bytes.len().min(buf.len());
+                buf[..n].copy_from_slice(&bytes[..n]);
+                bytes.drain(..n);
+                if bytes.is_empty() {
+                    self.steps.pop_front();
+                }
+                Ok(n)
+            }
+            Err(kind) => {
+                let kind = *kind;
+                self.steps.pop_front();
+                Err(kind)
+            }
+        }
+    }
+}
+
+/// A transmitter that records what was sent and when, or hangs for ever.
+struct RecordingTx {
+    clock: TokioClock,
+    sent: Vec<(u64, Vec<u8>)>,
+    hang: bool,
+}
+
+impl embedded_io_async::ErrorType for RecordingTx {
+    type Error = Infallible;
+}
+
+impl Write for RecordingTx {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, Infallible> {
+        if self.hang {
+            return pending().await;
+        }
+        self.sent.push((self.clock.now().as_millis(), buf.to_vec()));
+        Ok(buf.len())
+    }
+
+    async fn flush(&mut self) -> Result<(), Infallible> {
+        Ok(())
+    }
+}
+
+/// How a fake sensor or LED set misbehaves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Mode {
+    Works,
+    /// Every other call fails.
+    Flaky,
+    /// Every call fails.
+    Broken,
+    /// Every call hangs for ever.
+    Hangs,
+}
+
+impl Mode {
+    /// Whether call number `n` fails; hangs if the device hangs.
+    async fn fails(self, n: u32) -> bool {
+        match self {
+            Mode::Works => false,
+            Mode::Flaky => n.is_multiple_of(2),
+            Mode::Broken => true,
+            Mode::Hangs => pending().await,
+        }
+    }
+}
+
+struct FakeSensor {
+    light: Level,
+    mode: Mode,
+    calls: u32,
+}
+
+impl ErrorType for FakeSensor {
+    type Error = ErrorKind;
+}
+
+impl Sensor for FakeSensor {
+    async fn ambient_light(&mut self) -> Result<Level, ErrorKind> {
+        self.calls += 1;
+        if self.mode.fails(self.calls).await {
+            return Err(ErrorKind::Bus);
+        }
+        Ok(self.light)
+    }
+
+    async fn oxygen(&mut self) -> Result<Level, ErrorKind> {
+        Err(ErrorKind::NotReady)
+    }
+}
+
+struct FakeLeds {
+    clock: TokioClock,
+    mode: Mode,
+    calls: u32,
+    shown: Vec<(u64, LedColor)>,
+}
+
+impl ErrorType for FakeLeds {
+    type Error = ErrorKind;
+}
+
+impl Leds for FakeLeds {
+    async fn show(&mut self, color: LedColor) -> Result<(), ErrorKind> {
+        self.calls += 1;
+        if self.mode.fails(self.calls).await {
+            return Err(ErrorKind::Timeout);
+        }
+        self.shown.push((self.clock.now().as_millis(), color));
+        Ok(())
+    }
+}
+
+type FakeHardware = Hardware<RecordingTx, ScriptRx, FakeSensor, FakeLeds, TokioClock, 2>;
+
+// ---------------------------------------------------------------------------------------------
+// Scripted neighbours
+
+fn hop(reading: u8, pref: Option<Sector>) -> Hop {
+    Hop {
+        reading: Level(reading),
+        pref,
+    }
+}
+
+/// A neighbour that sends `msg` every `period` ms from `first` on, until `until`.
+fn neighbour(first: u64, period: u64, until: u64, msg: &[Hop]) -> Vec<Step> {
+    let frame = encode(&Message::from_hops(msg).unwrap()).unwrap().to_vec();
+    (first..until)
+        .step_by(period as usize)
+        .map(|t| (t, Ok(frame.clone())))
+        .collect()
+}
+
+/// The lit neighbour initiates with its reading and no preference yet; the dark one relays
+/// with a preference for the lit side.
+fn lit() -> Vec<Hop> {
+    vec![hop(1, None)]
+}
+
+fn dark_toward(side: Option<Sector>) -> Vec<Hop> {
+    vec![hop(0, side)]
+}
+
+/// A dark robot between a lit neighbour on `lit_side` and a dark one on the other.
+fn scene(lit_side: Sector, seed: u64) -> (Robot<Pcg32, 2>, FakeHardware) {
+    let clock = TokioClock::new();
+    let until = TWO_PERIODS_MS;
+    let (left, right) = if lit_side == Sector::LEFT {
+        (lit(), dark_toward(L))
+    } else {
+        (dark_toward(R), lit())
+    };
+    // Different periods, so the neighbours drift through the robot's own cycle.
+    let left = ScriptRx::new(clock, neighbour(7_300, 47_000, until, &left));
+    let right = ScriptRx::new(clock, neighbour(29_100, 61_000, until, &right));
+    let hw = Hardware::line(
+        RecordingTx {
+            clock,
+            sent: Vec::new(),
+            hang: false,
+        },
+        left,
+        right,
+        FakeSensor {
+            light: Level(0),
+            mode: Mode::Works,
+            calls: 0,
+        },
+        FakeLeds {
+            clock,
+            mode: Mode::Works,
+            calls: 0,
+            shown: Vec::new(),
+        },
+        clock,
+    );
+    let robot = Robot::new(
+        Config::robots(),
+        clock.now(),
+        Pcg32::new(seed, 0xda3e_39cb_94b9_5bdb),
+    )
+    .unwrap();
+    (robot, hw)
+}
+
+/// Runs the robot for `ms` of virtual time, then stops it.
+async fn run_for(robot: &mut Robot<Pcg32, 2>, hw: &mut FakeHardware, ms: u64) {
+    let stop = tokio::time::sleep(std::time::Duration::from_millis(ms));
+    match select(robot.run(hw), stop).await {
+        Either::First(never) => match never {},
+        Either::Second(()) => {}
+    }
+}
+
+/// Every message the robot transmitted, decoded.
+fn sent_messages(hw: &FakeHardware) -> Vec<(u64, Message)> {
+    let mut d = Deframer::new();
+    let mut out = Vec::new();
+    for (t, bytes) in &hw.transmitter.sent {
+        for r in d.frames(bytes) {
+            out.push((*t, r.expect("the robot only sends good frames")));
+        }
+    }
+    assert_eq!(d.stats().errors(), 0);
+    out
+}
+
+fn expect_decided(robot: &Robot<Pcg32, 2>, hw: &FakeHardware, side: Option<Sector>, seed: u64) {
+    let color = LedColor::for_decision(side);
+    assert_eq!(
+        robot.decision(),
+        side,
+        "replay with seed {seed}: {:?}",
+        robot.stats()
+    );
+    assert!(
+        robot.stats().decisions >= 2,
+        "seed {seed}: {:?}",
+        robot.stats()
+    );
+    assert_eq!(robot.shown(), Some(color), "seed {seed}");
+    assert_eq!(
+        hw.leds.shown.last().map(|s| s.1),
+        Some(color),
+        "seed {seed}"
+    );
+    // The first decision falls after one negotiation period: 10 cycles of 40 to 70 s.
+    let first = hw.leds.shown[0].0;
+    assert!(
+        (400_000..=700_000).contains(&first),
+        "seed {seed}: first decision at {first} ms"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Tests
+
+#[tokio::test(start_paused = true)]
+async fn decides_for_the_lit_neighbours_side_and_shows_it() {
+    for seed in 0..8 {
+        for (lit_side, expected) in [(Sector::LEFT, L), (Sector::RIGHT, R)] {
+            let (mut robot, mut hw) = scene(lit_side, seed);
+            run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+            expect_decided(&robot, &hw, expected, seed);
+            let s = robot.stats();
+            assert!(s.messages > 30, "seed {seed}: {s:?}");
+            assert_eq!(
+                (s.frame_errors, s.rx_errors, s.tx_errors),
+                (0, 0, 0),
+                "seed {seed}"
+            );
+            assert_eq!((s.sensor_errors, s.led_errors), (0, 0), "seed {seed}");
+            assert!(
+                robot.node().wave_stats().ignored > 0,
+                "some arrive while refractory"
+            );
+        }
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn relays_what_it_hears_with_its_own_hop_and_initiates() {
+    let (mut robot, mut hw) = scene(Sector::LEFT, 1);
+    run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+    let sent = sent_messages(&hw);
+    assert_eq!(sent.len() as u32, robot.stats().transmitted);
+    let relays_of_lit = sent
+        .iter()
+        .filter(|(_, m)| m.hops() == [hop(1, None), hop(0, L)])
+        .count();
+    assert!(relays_of_lit > 5, "{sent:?}");
+    let initiations = sent.iter().filter(|(_, m)| m.len() == 1).count() as u32;
+    assert_eq!(initiations, robot.node().wave_stats().initiated);
+    // A relay goes out one relay delay (1 s) after the neighbour's frame arrived.
+    let lit_times: Vec<u64> = (7_300..TWO_PERIODS_MS).step_by(47_000).collect();
+    for (t, m) in &sent {
+        if m.hops() == [hop(1, None), hop(0, L)] {
+            assert!(lit_times.contains(&(t - 1_000)), "relay at {t} ms");
+        }
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn same_seed_same_run() {
+    let trace = |seed| async move {
+        let (mut robot, mut hw) = scene(Sector::RIGHT, seed);
+        run_for(&mut robot, &mut hw, 600_000).await;
+        hw.transmitter.sent
+    };
+    assert_eq!(trace(5).await, trace(5).await);
+    assert_ne!(trace(5).await, trace(6).await);
+}
+
+#[tokio::test(start_paused = true)]
+async fn survives_garbage_corrupt_frames_and_receiver_errors() {
+    use rand_core::RngCore;
+    for seed in 0..8 {
+        let (mut robot, mut hw) = scene(Sector::LEFT, seed);
+        let mut noise = Pcg32::new(seed, 77);
+        let mut good = 0;
+        for rx in &mut hw.receivers {
+            let mut extra = Vec::new();
+            for (t, step) in &rx.steps {
+                let Ok(frame) = step else { continue };
+                good += 1;
+                // Noise (with plenty of `s`) between frames.
+                let mut junk = vec![0u8; 1 + (noise.next_u32() % 60) as usize];
+                noise.fill_bytes(&mut junk);
+                for b in junk.iter_mut().step_by(5) {
+                    *b = b's';
+                }
+                extra.push((t + 3_000, Ok(junk)));
+                // A copy of the frame with a flipped bit.
+                let mut bad = frame.clone();
+                let i = 2 + (noise.next_u32() as usize % (bad.len() - 4));
+                bad[i] ^= 1 << (noise.next_u32() % 8);
+                extra.push((t + 11_000, Ok(bad)));
+                extra.push((t + 13_000, Err(IoKind::InvalidData)));
+            }
+            let mut steps: Vec<Step> = rx.steps.drain(..).chain(extra).collect();
+            steps.sort_by_key(|s| s.0);
+            rx.steps = steps.into();
+        }
+        run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+        expect_decided(&robot, &hw, L, seed);
+        let s = *robot.stats();
+        assert!(s.frame_errors >= good / 2, "seed {seed}: {s:?}");
+        assert_eq!(
+            s.rx_errors, good,
+            "seed {seed}: every receiver error counted"
+        );
+        assert!(
+            s.messages >= good,
+            "seed {seed}: every good frame got through: {s:?}"
+        );
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn keeps_going_with_a_flaky_or_broken_sensor() {
+    for mode in [Mode::Flaky, Mode::Broken] {
+        let (mut robot, mut hw) = scene(Sector::RIGHT, 3);
+        hw.sensor.mode = mode;
+        run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+        // A broken sensor leaves the reading at its default, darkness: the same decision.
+        expect_decided(&robot, &hw, R, 3);
+        let s = robot.stats();
+        let expected = if mode == Mode::Broken {
+            hw.sensor.calls
+        } else {
+            hw.sensor.calls / 2
+        };
+        assert_eq!(s.sensor_errors, expected, "{mode:?}: {s:?}");
+        assert!(s.sensor_errors > 600, "sampled every second: {s:?}");
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_flaky_sensor_keeps_the_last_good_reading() {
+    let (mut robot, mut hw) = scene(Sector::RIGHT, 3);
+    hw.sensor.mode = Mode::Flaky;
+    hw.sensor.light = Level(9);
+    run_for(&mut robot, &mut hw, 10_000).await;
+    assert_eq!(robot.node().reading(), Level(9));
+}
+
+#[tokio::test(start_paused = true)]
+async fn never_blocks_on_hung_devices() {
+    let (mut robot, mut hw) = scene(Sector::LEFT, 2);
+    hw.sensor.mode = Mode::Hangs;
+    hw.leds.mode = Mode::Hangs;
+    hw.transmitter.hang = true;
+    run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+    let s = *robot.stats();
+    // Deadlines were kept: decisions taken, neighbours heard, every device call timed out.
+    assert!(s.decisions >= 2, "{s:?}");
+    assert_eq!(robot.decision(), L, "{s:?}");
+    assert!(s.messages > 30, "{s:?}");
+    assert_eq!(s.transmitted, 0);
+    assert!(s.tx_errors > 20, "{s:?}");
+    assert_eq!(s.led_errors, s.decisions, "{s:?}");
+    // One read per sample period plus the I/O timeout each: about 1400 s / 1.5 s.
+    assert!(s.sensor_errors > 900, "{s:?}");
+    assert_eq!(robot.shown(), None);
+}
+
+#[tokio::test(start_paused = true)]
+async fn failing_leds_are_counted_and_retried() {
+    let (mut robot, mut hw) = scene(Sector::LEFT, 4);
+    hw.leds.mode = Mode::Flaky;
+    run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+    let s = robot.stats();
+    assert_eq!(s.led_errors, hw.leds.calls / 2, "{s:?}");
+    assert!(!hw.leds.shown.is_empty());
+}
+
+#[tokio::test(start_paused = true)]
+async fn closed_receivers_are_dropped_and_the_robot_keeps_time() {
+    let (mut robot, mut hw) = scene(Sector::LEFT, 0);
+    for rx in &mut hw.receivers {
+        rx.steps.clear();
+        rx.close_at_end = true;
+    }
+    run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+    let s: Stats = *robot.stats();
+    assert_eq!(s.rx_closed, 2, "{s:?}");
+    assert!(s.decisions >= 2, "{s:?}");
+    // Alone, with no evidence: undecided, LEDs off.
+    assert_eq!(robot.decision(), None);
+    assert_eq!(hw.leds.shown.last().map(|s| s.1), Some(LedColor::Off));
+    assert!(s.transmitted >= 20, "it still initiates its waves: {s:?}");
+}
+
+#[tokio::test(start_paused = true)]
+async fn can_be_stopped_and_resumed() {
+    let (mut robot, mut hw) = scene(Sector::LEFT, 6);
+    for _ in 0..14 {
+        run_for(&mut robot, &mut hw, TWO_PERIODS_MS / 14 + 1).await;
+    }
+    expect_decided(&robot, &hw, L, 6);
+}
+
+#[test]
+fn bad_setups_are_refused() {
+    let rng = || Pcg32::new(0, 0);
+    let mut c = Config::robots();
+    c.params.sectors = 3;
+    assert_eq!(
+        Robot::<_, 2>::new(c, Instant::ZERO, rng()).err(),
+        Some(SetupError::Receivers {
+            sectors: 3,
+            receivers: 2
+        })
+    );
+    let mut c = Config::robots();
+    c.params.sectors = 9;
+    assert!(matches!(
+        Robot::<_, 9>::new(c, Instant::ZERO, rng()),
+        Err(SetupError::Params(_))
+    ));
+    for zero in [
+        |c: &mut Config| c.sample_period = firmware::protocol::Duration::ZERO,
+        |c: &mut Config| c.io_timeout = firmware::protocol::Duration::ZERO,
+        |c: &mut Config| c.rx_error_backoff = firmware::protocol::Duration::ZERO,
+    ] {
+        let mut c = Config::robots();
+        zero(&mut c);
+        assert_eq!(
+            Robot::<_, 2>::new(c, Instant::ZERO, rng()).err(),
+            Some(SetupError::ZeroDuration)
+        );
+    }
+    assert!(Robot::<_, 2>::new(Config::robots(), Instant::ZERO, rng()).is_ok());
+}

@@ -1,0 +1,385 @@
+//! A whole emulated run: robots, medium, environment, scheduled kills and restarts, and the
+//! LED changes a camera would have seen.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use embassy_futures::select::select;
+use firmware::hal::ErrorType;
+use firmware::{Clock, Config, ErrorKind, Hardware, LedColor, Leds, Robot, SetupError, Stats};
+use nalgebra::Point2;
+use protocol::{Duration, Instant};
+use rand_pcg::Pcg32;
+use tokio::sync::oneshot;
+
+use crate::EmuClock;
+use crate::env::{EmuSensor, Environment};
+use crate::medium::{Medium, MediumParams, MediumStats, SharedMedium, TraceEvent};
+
+/// Everything that defines a run.
+#[derive(Clone, Debug)]
+pub struct ArenaConfig {
+    /// Robot positions, metres.
+    pub positions: Vec<Point2<f64>>,
+    /// The robot program's configuration (its `id` is set per robot). Robots here have two
+    /// receivers (left and right), so `robot.params.sectors` must be 2.
+    pub robot: Config,
+    /// The light medium.
+    pub medium: MediumParams,
+    /// What the sensors read.
+    pub env: Environment,
+    /// `(time, robot)`: the robot dies (stops, hears nothing, LEDs off).
+    pub kills: Vec<(Instant, usize)>,
+    /// `(time, robot)`: the robot boots again with fresh state.
+    pub restarts: Vec<(Instant, usize)>,
+    /// Robots dead from the start (boot them with a restart).
+    pub dead_at_start: Vec<usize>,
+    /// Emulated time to run.
+    pub duration: Duration,
+    /// The one seed every random thing is drawn from.
+    pub seed: u64,
+    /// Keep a full trace of frames, LEDs and events.
+    pub trace: bool,
+}
+
+impl ArenaConfig {
+    /// `pattern.len()` robots in a line along x, `spacing` metres apart, with the lab's
+    /// parameters and the default medium.
+    pub fn line(pattern: Vec<bool>, spacing: f64, duration: Duration, seed: u64) -> Self {
+        let positions = (0..pattern.len())
+            .map(|i| Point2::new(i as f64 * spacing, 0.0))
+            .collect();
+        ArenaConfig {
+            positions,
+            robot: Config::robots(),
+            medium: MediumParams::default(),
+            env: Environment::constant(pattern),
+            kills: Vec::new(),
+            restarts: Vec::new(),
+            dead_at_start: Vec::new(),
+            duration,
+            seed,
+            trace: false,
+        }
+    }
+}
+
+/// Why a run could not start.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ArenaError {
+    /// The robot program refused its configuration.
+    Setup(SetupError),
+    /// The medium's parameters make no sense.
+    Medium(String),
+    /// A kill or restart names a robot that does not exist.
+    NoSuchRobot(usize),
+    /// The tokio runtime could not be built.
+    Runtime(String),
+}
+
+impl std::fmt::Display for ArenaError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ArenaError::Setup(e) => write!(f, "robot configuration: {e}"),
+            ArenaError::Medium(e) => write!(f, "medium: {e}"),
+            ArenaError::NoSuchRobot(i) => write!(f, "there is no robot {i} to kill or restart"),
+            ArenaError::Runtime(e) => write!(f, "runtime: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for ArenaError {}
+
+/// One LED change.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LedChange {
+    /// When.
+    pub t: Instant,
+    /// Which robot.
+    pub robot: usize,
+    /// What it shows from then on.
+    pub color: LedColor,
+}
+
+/// What a run produced.
+#[derive(Clone, Debug)]
+pub struct RunReport {
+    /// Every LED change, in time order.
+    pub leds: Vec<LedChange>,
+    /// Each robot's LEDs at the end.
+    pub final_leds: Vec<LedColor>,
+    /// The trace, if asked for.
+    pub trace: Vec<TraceEvent>,
+    /// The medium's frame counts.
+    pub medium: MediumStats,
+    /// Each robot's counters (of its last life).
+    pub robots: Vec<Stats>,
+    /// Emulated time.
+    pub emulated: Duration,
+    /// Wall time the run took.
+    pub wall: std::time::Duration,
+}
+
+impl RunReport {
+    /// The LEDs of every robot at `t` (the last change at or before `t`).
+    pub fn leds_at(&self, t: Instant) -> Vec<LedColor> {
+        let mut out = vec![LedColor::Off; self.robots.len()];
+        for c in self.leds.iter().take_while(|c| c.t <= t) {
+            out[c.robot] = c.color;
+        }
+        out
+    }
+
+    /// The earliest time from which every robot's LEDs showed `expected` without a change
+    /// until `until`: the last LED change at or before `until`, if the LEDs then show
+    /// `expected`.
+    pub fn consensus_since(&self, expected: &[LedColor], until: Instant) -> Option<Instant> {
+        if self.leds_at(until) != expected {
+            return None;
+        }
+        let last = self.leds.iter().rev().find(|c| c.t <= until).map(|c| c.t);
+        Some(last.unwrap_or(Instant::ZERO))
+    }
+}
+
+/// What the robots' hardware shares in one run.
+struct Shared {
+    medium: SharedMedium,
+    clock: EmuClock,
+    env: Rc<Environment>,
+    leds: RefCell<Vec<LedChange>>,
+    config: Config,
+    seed: u64,
+}
+
+/// The top-cap LEDs of one emulated robot: each change is recorded with its time.
+struct EmuLeds {
+    shared: Rc<Shared>,
+    robot: usize,
+}
+
+impl ErrorType for EmuLeds {
+    type Error = ErrorKind;
+}
+
+impl Leds for EmuLeds {
+    async fn show(&mut self, color: LedColor) -> Result<(), ErrorKind> {
+        self.shared.record_led(self.robot, color);
+        Ok(())
+    }
+}
+
+impl Shared {
+    fn record_led(&self, robot: usize, color: LedColor) {
+        let t = self.clock.now();
+        let mut leds = self.leds.borrow_mut();
+        let current = leds
+            .iter()
+            .rev()
+            .find(|c| c.robot == robot)
+            .map_or(LedColor::Off, |c| c.color);
+        if current != color {
+            leds.push(LedChange { t, robot, color });
+            self.medium.borrow_mut().log(TraceEvent::Led {
+                t_ms: t.as_millis(),
+                robot,
+                color: match color {
+                    LedColor::Green => "green",
+                    LedColor::Blue => "blue",
+                    LedColor::Off => "off",
+                },
+            });
+        }
+    }
+}
+
+/// A seeded RNG for one purpose of one robot's life: runs are reproducible and independent.
+fn rng(seed: u64, purpose: u64, robot: usize, life: u32) -> Pcg32 {
+    Pcg32::new(
+        seed,
+        (purpose << 48) | ((robot as u64) << 16) | u64::from(life),
+    )
+}
+
+const RNG_MEDIUM: u64 = 1;
+const RNG_PROTOCOL: u64 = 2;
+const RNG_SENSOR: u64 = 3;
+
+/// One life of one robot: boot, run the unchanged robot program until told to stop.
+async fn life(shared: Rc<Shared>, robot: usize, life: u32, stop: oneshot::Receiver<()>) -> Stats {
+    let (tx, mut rx) = Medium::attach(&shared.medium, robot);
+    // Receivers come indexed by sector: [right, left].
+    let (Some(left), Some(right)) = (rx.pop(), rx.pop()) else {
+        return Stats::default();
+    };
+    let clock = shared.clock;
+    let sensor = EmuSensor::new(
+        shared.env.clone(),
+        robot,
+        clock,
+        rng(shared.seed, RNG_SENSOR, robot, life),
+    );
+    let leds = EmuLeds {
+        shared: shared.clone(),
+        robot,
+    };
+    let mut hw = Hardware::line(tx, left, right, sensor, leds, clock);
+    let config = Config {
+        id: robot as u16,
+        ..shared.config
+    };
+    let Ok(mut r) = Robot::<Pcg32, 2>::new(
+        config,
+        clock.now(),
+        rng(shared.seed, RNG_PROTOCOL, robot, life),
+    ) else {
+        return Stats::default();
+    };
+    select(r.run(&mut hw), stop).await;
+    *r.stats()
+}
+
+enum Control {
+    Kill(usize),
+    Restart(usize),
+    Pattern(String),
+}
+
+/// Runs one emulated experiment to its end, on a fresh current-thread runtime with a paused
+/// clock.
+///
+/// # Errors
+/// An [`ArenaError`] if the configuration is unusable; nothing is run then.
+pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
+    let n = cfg.positions.len();
+    Robot::<Pcg32, 2>::new(cfg.robot, Instant::ZERO, rng(0, 0, 0, 0)).map_err(ArenaError::Setup)?;
+    cfg.medium.validate().map_err(ArenaError::Medium)?;
+    let mut controls: Vec<(Instant, Control)> = Vec::new();
+    for &(t, r) in &cfg.kills {
+        controls.push((t, Control::Kill(r)));
+    }
+    for &(t, r) in &cfg.restarts {
+        controls.push((t, Control::Restart(r)));
+    }
+    let named = cfg.kills.iter().chain(&cfg.restarts).map(|&(_, r)| r);
+    if let Some(r) = named
+        .chain(cfg.dead_at_start.iter().copied())
+        .find(|&r| r >= n)
+    {
+        return Err(ArenaError::NoSuchRobot(r));
+    }
+    for (t, p) in cfg.env.schedule.iter().skip(1) {
+        let lights = p.iter().map(|&b| if b { '1' } else { '0' }).collect();
+        controls.push((*t, Control::Pattern(lights)));
+    }
+    // Stable: simultaneous controls keep their listed order.
+    controls.sort_by_key(|(t, _)| *t);
+
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_time()
+        .start_paused(true)
+        .build()
+        .map_err(|e| ArenaError::Runtime(e.to_string()))?;
+    let wall = std::time::Instant::now();
+    let local = tokio::task::LocalSet::new();
+    let mut report = local.block_on(&runtime, async {
+        let clock = EmuClock::new(tokio::time::Instant::now());
+        let medium = Medium::new(
+            cfg.medium,
+            clock,
+            rng(cfg.seed, RNG_MEDIUM, 0, 0),
+            &cfg.positions,
+            cfg.robot.params.sectors,
+            cfg.trace,
+        );
+        let shared = Rc::new(Shared {
+            medium: medium.clone(),
+            clock,
+            env: Rc::new(cfg.env.clone()),
+            leds: RefCell::new(Vec::new()),
+            config: cfg.robot,
+            seed: cfg.seed,
+        });
+        let mut lives: Vec<u32> = vec![0; n];
+        let mut stops: Vec<Option<oneshot::Sender<()>>> = (0..n).map(|_| None).collect();
+        let mut handles: Vec<Option<tokio::task::JoinHandle<Stats>>> =
+            (0..n).map(|_| None).collect();
+        let mut stats = vec![Stats::default(); n];
+        let spawn = |robot: usize, lives: &mut Vec<u32>| {
+            let (tx, rx) = oneshot::channel();
+            let h = tokio::task::spawn_local(life(shared.clone(), robot, lives[robot], rx));
+            lives[robot] += 1;
+            (tx, h)
+        };
+        for robot in 0..n {
+            if !cfg.dead_at_start.contains(&robot) {
+                let (tx, h) = spawn(robot, &mut lives);
+                stops[robot] = Some(tx);
+                handles[robot] = Some(h);
+            }
+        }
+        let end = cfg.duration;
+        for (t, c) in controls {
+            if t > Instant::ZERO + end {
+                break;
+            }
+            clock.sleep_until(t).await;
+            match c {
+                Control::Kill(r) => {
+                    if let Some(s) = stops[r].take() {
+                        let _ = s.send(());
+                    }
+                    if let Some(h) = handles[r].take() {
+                        stats[r] = h.await.unwrap_or_default();
+                    }
+                    medium.borrow_mut().detach(r);
+                    medium.borrow_mut().log(TraceEvent::Killed {
+                        t_ms: t.as_millis(),
+                        robot: r,
+                    });
+                    shared.record_led(r, LedColor::Off);
+                }
+                Control::Restart(r) => {
+                    if stops[r].is_none() {
+                        medium.borrow_mut().log(TraceEvent::Restarted {
+                            t_ms: t.as_millis(),
+                            robot: r,
+                        });
+                        let (tx, h) = spawn(r, &mut lives);
+                        stops[r] = Some(tx);
+                        handles[r] = Some(h);
+                    }
+                }
+                Control::Pattern(lights) => {
+                    medium.borrow_mut().log(TraceEvent::Pattern {
+                        t_ms: t.as_millis(),
+                        lights,
+                    });
+                }
+            }
+        }
+        clock.sleep_until(Instant::ZERO + end).await;
+        for r in 0..n {
+            if let Some(s) = stops[r].take() {
+                let _ = s.send(());
+            }
+            if let Some(h) = handles[r].take() {
+                stats[r] = h.await.unwrap_or_default();
+            }
+        }
+        let leds = shared.leds.borrow().clone();
+        let mut m = medium.borrow_mut();
+        RunReport {
+            final_leds: Vec::new(),
+            leds,
+            trace: m.take_trace(),
+            medium: m.stats(),
+            robots: stats,
+            emulated: end,
+            wall: std::time::Duration::ZERO,
+        }
+    });
+    report.wall = wall.elapsed();
+    report.final_leds = report.leds_at(Instant::ZERO + report.emulated);
+    Ok(report)
+}

@@ -1,0 +1,58 @@
+//! The robots' clock: tokio time, measured from the start of the run.
+
+use firmware::Clock;
+use protocol::Instant;
+
+/// A [`Clock`] over tokio's clock. Under a paused runtime (`start_paused`) time only moves when
+/// every task waits, straight to the next timer: virtual time, as fast as the CPU allows.
+#[derive(Clone, Copy, Debug)]
+pub struct EmuClock {
+    epoch: tokio::time::Instant,
+}
+
+impl EmuClock {
+    /// A clock whose zero is `epoch`.
+    pub fn new(epoch: tokio::time::Instant) -> Self {
+        EmuClock { epoch }
+    }
+
+    /// The tokio instant of a protocol instant, or `None` for [`Instant::MAX`] ("never") and
+    /// anything too far away.
+    pub fn to_tokio(&self, t: Instant) -> Option<tokio::time::Instant> {
+        if t == Instant::MAX {
+            return None;
+        }
+        self.epoch
+            .checked_add(std::time::Duration::from_millis(t.as_millis()))
+    }
+}
+
+impl Clock for EmuClock {
+    fn now(&self) -> Instant {
+        let d = tokio::time::Instant::now().saturating_duration_since(self.epoch);
+        Instant::from_millis(u64::try_from(d.as_millis()).unwrap_or(u64::MAX))
+    }
+
+    async fn sleep_until(&self, deadline: Instant) {
+        match self.to_tokio(deadline) {
+            Some(t) => tokio::time::sleep_until(t).await,
+            None => std::future::pending().await,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[tokio::test(flavor = "current_thread", start_paused = true)]
+    async fn virtual_time_jumps_to_deadlines() {
+        let c = EmuClock::new(tokio::time::Instant::now());
+        assert_eq!(c.now(), Instant::ZERO);
+        let wall = std::time::Instant::now();
+        c.sleep_until(Instant::from_secs(3600)).await;
+        assert_eq!(c.now(), Instant::from_secs(3600));
+        assert!(wall.elapsed() < std::time::Duration::from_secs(5));
+        assert!(c.to_tokio(Instant::MAX).is_none());
+    }
+}

@@ -1,0 +1,165 @@
+//! The paper's lab experiment (section 4) as runs of the emulated arena: robots in a line under
+//! a light pattern, and the check a person makes by looking at the top-cap LEDs.
+
+use firmware::LedColor;
+use protocol::{Duration, Instant};
+
+use crate::arena::{ArenaConfig, ArenaError, RunReport, run};
+
+/// The six patterns of the paper's Fig. 9, lit = 1, robots left to right.
+pub const PAPER_PATTERNS: [&str; 6] = ["1000", "0111", "0001", "1110", "1100", "0011"];
+
+/// A light pattern: one entry per robot, `true` if lit.
+pub type Pattern = Vec<bool>;
+
+/// Parses a pattern of `0`s and `1`s.
+///
+/// # Errors
+/// A message naming the first character that is neither.
+pub fn parse_pattern(s: &str) -> Result<Pattern, String> {
+    s.chars()
+        .enumerate()
+        .map(|(i, c)| match c {
+            '1' => Ok(true),
+            '0' => Ok(false),
+            _ => Err(format!(
+                "pattern {s:?}: character {} is {c:?}, expected 0 or 1",
+                i + 1
+            )),
+        })
+        .collect()
+}
+
+/// A pattern as `0`/`1` text.
+pub fn pattern_str(p: &[bool]) -> String {
+    p.iter().map(|&b| if b { '1' } else { '0' }).collect()
+}
+
+/// The pattern mirrored left to right.
+pub fn mirrored(p: &[bool]) -> Pattern {
+    p.iter().rev().copied().collect()
+}
+
+/// LEDs as text: `L` green (left), `R` blue (right), `-` off.
+pub fn leds_str(leds: &[LedColor]) -> String {
+    leds.iter()
+        .map(|c| match c {
+            LedColor::Green => 'L',
+            LedColor::Blue => 'R',
+            LedColor::Off => '-',
+        })
+        .collect()
+}
+
+/// What the LEDs should show for a pattern with exactly one border: each robot prefers the
+/// direction of the border and all follow the majority of those preferences; on an exact tie
+/// each side moves toward the border. `None` for other patterns (no verdict).
+pub fn expected(p: &[bool]) -> Option<Vec<LedColor>> {
+    let borders: Vec<usize> = (1..p.len()).filter(|&i| p[i] != p[i - 1]).collect();
+    let &[b] = borders.as_slice() else {
+        return None;
+    };
+    // Robots left of the border prefer right (blue), the others left (green).
+    let (prefer_right, prefer_left) = (b, p.len() - b);
+    Some(
+        (0..p.len())
+            .map(|i| match prefer_right.cmp(&prefer_left) {
+                std::cmp::Ordering::Greater => LedColor::Blue,
+                std::cmp::Ordering::Less => LedColor::Green,
+                std::cmp::Ordering::Equal if i < b => LedColor::Blue,
+                std::cmp::Ordering::Equal => LedColor::Green,
+            })
+            .collect(),
+    )
+}
+
+/// The outcome of one run, as the paper's table reports it.
+#[derive(Clone, Debug)]
+pub struct LabRun {
+    /// The pattern at the end of the run.
+    pub lights: Pattern,
+    /// The LEDs expected at the end, if the pattern has a verdict.
+    pub expected: Option<Vec<LedColor>>,
+    /// The LEDs at the end.
+    pub leds: Vec<LedColor>,
+    /// True if every verdict of the run held (at the end, and at the switch for a run with one).
+    pub success: bool,
+    /// Seconds from the start (or the last pattern change) until the LEDs reached the state
+    /// they kept to the end, if it was the expected one.
+    pub consensus_s: Option<f64>,
+    /// The seed that replays it.
+    pub seed: u64,
+    /// The whole report (LED log, medium counters, trace if asked).
+    pub report: RunReport,
+}
+
+/// Runs `cfg` and judges it: the LEDs at the end against [`expected`] of the final pattern,
+/// and, if the pattern changed, the LEDs just before each change against the pattern before.
+///
+/// # Errors
+/// The [`ArenaError`] if the configuration is unusable.
+pub fn judge(cfg: &ArenaConfig) -> Result<LabRun, ArenaError> {
+    let report = run(cfg)?;
+    let end = Instant::ZERO + cfg.duration;
+    let schedule = &cfg.env.schedule;
+    let last_change = schedule.last().map_or(Instant::ZERO, |(t, _)| *t);
+    let lights = cfg
+        .env
+        .pattern_at(end)
+        .map(<[bool]>::to_vec)
+        .unwrap_or_default();
+    let exp = expected(&lights);
+    let mut success = exp.as_ref().is_none_or(|e| report.final_leds == *e);
+    // Every earlier pattern must have been reached before it changed.
+    for w in schedule.windows(2) {
+        if let Some(e) = expected(&w[0].1) {
+            success &= report.leds_at(w[1].0 - Duration::from_millis(1)) == e;
+        }
+    }
+    let consensus_s = exp
+        .as_ref()
+        .and_then(|e| report.consensus_since(e, end))
+        .map(|t| {
+            t.max(last_change)
+                .saturating_since(last_change)
+                .as_secs_f64()
+        });
+    Ok(LabRun {
+        lights,
+        expected: exp,
+        leds: report.final_leds.clone(),
+        success,
+        consensus_s,
+        seed: cfg.seed,
+        report,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn p(s: &str) -> Pattern {
+        parse_pattern(s).unwrap()
+    }
+
+    #[test]
+    fn expectations_follow_the_border_rule() {
+        let e = |s: &str| expected(&p(s)).map(|l| leds_str(&l));
+        assert_eq!(e("1000").as_deref(), Some("LLLL"));
+        assert_eq!(e("0111").as_deref(), Some("LLLL"));
+        assert_eq!(e("0001").as_deref(), Some("RRRR"));
+        assert_eq!(e("1110").as_deref(), Some("RRRR"));
+        assert_eq!(e("1100").as_deref(), Some("RRLL"));
+        assert_eq!(e("0011").as_deref(), Some("RRLL"));
+        assert_eq!(e("110000").as_deref(), Some("LLLLLL"));
+        assert_eq!(e("1010"), None);
+        assert_eq!(e("0000"), None);
+    }
+
+    #[test]
+    fn patterns_parse_and_mirror() {
+        assert_eq!(pattern_str(&mirrored(&p("1100"))), "0011");
+        assert!(parse_pattern("10x1").unwrap_err().contains("character 3"));
+    }
+}

@@ -1,0 +1,564 @@
+//! The modulated-light medium, modelled on purpose (in the spirit of Cooja's radio medium):
+//! users want to know what breaks the swarm.
+//!
+//! - **Range and direction.** A frame reaches every live robot within `range` of the sender,
+//!   on the receiver facing the sender: the sector of the bearing from receiver to sender
+//!   ([`protocol::Sector::from_bearing`]).
+//! - **Airtime.** A frame of `n` bytes occupies the light for `n × bits_per_byte / bitrate`
+//!   (rounded up to the millisecond) and arrives whole at its end; the transmitter is busy
+//!   until then.
+//! - **Collisions.** Two frames whose airtimes overlap at the same receiver both arrive
+//!   garbled (about half of their bytes replaced by noise), as overlapping light pulses would.
+//! - **Half duplex.** A robot cannot receive while it transmits: a frame whose airtime overlaps
+//!   the receiver's own transmission is dropped.
+//! - **Loss and corruption.** Each frame is lost at each receiver with probability `loss`;
+//!   each byte that arrives is corrupted (XOR with a random non-zero byte) with probability
+//!   `byte_error_rate`.
+//!
+//! All randomness comes from the medium's own seeded RNG, drawn in the deterministic order of
+//! the current-thread runtime.
+
+use std::cell::RefCell;
+use std::rc::Rc;
+
+use embedded_io_async::{ErrorKind, ErrorType, Read, Write};
+use firmware::Clock;
+use nalgebra::Point2;
+use protocol::{Duration, Instant, Sector};
+use rand::Rng;
+use rand_pcg::Pcg32;
+use serde::Serialize;
+use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
+
+use crate::EmuClock;
+
+/// How the light behaves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MediumParams {
+    /// Bits per second on air.
+    pub bitrate: u32,
+    /// Bits on air per byte (10 for a UART's 8N1 framing).
+    pub bits_per_byte: u32,
+    /// How far a robot's light carries, in metres.
+    pub range: f64,
+    /// Probability that a frame is lost at one receiver.
+    pub loss: f64,
+    /// Probability that one received byte is corrupted.
+    pub byte_error_rate: f64,
+    /// Whether overlapping frames at one receiver garble each other.
+    pub collisions: bool,
+}
+
+impl Default for MediumParams {
+    /// 2400 bit/s 8N1 (a 32-byte frame takes 134 ms), 1.5 m range (robots 1 m apart hear only
+    /// their neighbours), no loss, no byte errors, collisions on.
+    fn default() -> Self {
+        MediumParams {
+            bitrate: 2400,
+            bits_per_byte: 10,
+            range: 1.5,
+            loss: 0.0,
+            byte_error_rate: 0.0,
+            collisions: true,
+        }
+    }
+}
+
+impl MediumParams {
+    /// Airtime of a frame of `bytes` bytes (at least 1 ms).
+    pub fn airtime(&self, bytes: usize) -> Duration {
+        let bits = bytes as u64 * u64::from(self.bits_per_byte);
+        let ms = (bits * 1000).div_ceil(u64::from(self.bitrate.max(1)));
+        Duration::from_millis(ms.max(1))
+    }
+
+    /// Checks the parameters.
+    ///
+    /// # Errors
+    /// A message naming the bad parameter.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.bitrate == 0 || self.bits_per_byte == 0 {
+            return Err("the bitrate and bits per byte must be positive".into());
+        }
+        if !(self.range.is_finite() && self.range > 0.0) {
+            return Err(format!(
+                "the range must be a positive number of metres, not {}",
+                self.range
+            ));
+        }
+        for (name, p) in [
+            ("loss", self.loss),
+            ("byte error rate", self.byte_error_rate),
+        ] {
+            if !(0.0..=1.0).contains(&p) {
+                return Err(format!(
+                    "the {name} must be a probability in [0, 1], not {p}"
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Why a frame did not reach a receiver.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DropReason {
+    /// Lost on the way (the `loss` probability).
+    Loss,
+    /// The receiving robot was transmitting during the frame's airtime.
+    ReceiverTransmitting,
+    /// The receiving robot was dead (killed, not yet restarted).
+    ReceiverDead,
+}
+
+/// One line of the trace.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "event", rename_all = "snake_case")]
+pub enum TraceEvent {
+    /// A robot started sending a frame.
+    Sent {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// Sender.
+        robot: usize,
+        /// Frame length, bytes.
+        len: usize,
+    },
+    /// A frame arrived at a receiver (possibly garbled or corrupted).
+    Received {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// Receiver.
+        robot: usize,
+        /// Sender.
+        from: usize,
+        /// The receiving robot's sector.
+        sector: u8,
+        /// Frame length, bytes.
+        len: usize,
+        /// True if it collided with another frame.
+        garbled: bool,
+        /// Bytes corrupted by the byte error rate.
+        corrupted: u32,
+    },
+    /// A frame did not arrive.
+    Dropped {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// Would-be receiver.
+        robot: usize,
+        /// Sender.
+        from: usize,
+        /// Why.
+        reason: DropReason,
+    },
+    /// A robot's LEDs changed.
+    Led {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// Robot.
+        robot: usize,
+        /// `green` (left), `blue` (right) or `off`.
+        color: &'static str,
+    },
+    /// A robot was killed.
+    Killed {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// Robot.
+        robot: usize,
+    },
+    /// A robot was restarted with fresh state.
+    Restarted {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// Robot.
+        robot: usize,
+    },
+    /// The light pattern changed.
+    Pattern {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// One character per robot, `1` lit.
+        lights: String,
+    },
+}
+
+/// Frame counts kept by the medium.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct MediumStats {
+    /// Frames sent.
+    pub sent: u64,
+    /// Frame deliveries (one per receiver reached), garbled ones included.
+    pub delivered: u64,
+    /// Deliveries garbled by a collision.
+    pub garbled: u64,
+    /// Bytes corrupted by the byte error rate.
+    pub corrupted_bytes: u64,
+    /// Deliveries dropped by loss.
+    pub lost: u64,
+    /// Deliveries dropped because the receiver was transmitting.
+    pub receiver_transmitting: u64,
+    /// Deliveries dropped because the receiver was dead.
+    pub receiver_dead: u64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Fate {
+    Clear,
+    Collided,
+    Deaf,
+}
+
+#[derive(Debug)]
+struct Arrival {
+    id: u64,
+    to: usize,
+    sector: u8,
+    from: usize,
+    end: Instant,
+    bytes: Vec<u8>,
+    fate: Fate,
+}
+
+#[derive(Debug)]
+struct Node {
+    pos: Point2<f64>,
+    sectors: u8,
+    alive: bool,
+    /// The end of this robot's current or last transmission.
+    tx_until: Instant,
+    inboxes: Vec<UnboundedSender<Vec<u8>>>,
+}
+
+/// The shared medium: every robot's position, every frame in flight, the trace.
+#[derive(Debug)]
+pub struct Medium {
+    params: MediumParams,
+    clock: EmuClock,
+    rng: Pcg32,
+    nodes: Vec<Node>,
+    pending: Vec<Arrival>,
+    next_id: u64,
+    record: bool,
+    trace: Vec<TraceEvent>,
+    stats: MediumStats,
+}
+
+/// A handle on the medium, shared by the robots' hardware in one run.
+pub type SharedMedium = Rc<RefCell<Medium>>;
+
+impl Medium {
+    /// A medium with robots at `positions`, each with `sectors` receivers. `record` keeps a
+    /// full trace (costs memory on long runs).
+    pub fn new(
+        params: MediumParams,
+        clock: EmuClock,
+        rng: Pcg32,
+        positions: &[Point2<f64>],
+        sectors: u8,
+        record: bool,
+    ) -> SharedMedium {
+        let nodes = positions
+            .iter()
+            .map(|&pos| Node {
+                pos,
+                sectors,
+                alive: false,
+                tx_until: Instant::ZERO,
+                inboxes: Vec::new(),
+            })
+            .collect();
+        Rc::new(RefCell::new(Medium {
+            params,
+            clock,
+            rng,
+            nodes,
+            pending: Vec::new(),
+            next_id: 0,
+            record,
+            trace: Vec::new(),
+            stats: MediumStats::default(),
+        }))
+    }
+
+    /// The counters so far.
+    pub fn stats(&self) -> MediumStats {
+        self.stats
+    }
+
+    /// Takes the trace recorded so far.
+    pub fn take_trace(&mut self) -> Vec<TraceEvent> {
+        std::mem::take(&mut self.trace)
+    }
+
+    /// Records `e` if tracing.
+    pub fn log(&mut self, e: TraceEvent) {
+        if self.record {
+            self.trace.push(e);
+        }
+    }
+
+    /// The time now.
+    pub fn now(&self) -> Instant {
+        self.clock.now()
+    }
+
+    /// Brings robot `robot` (back) to life: returns its new transmitter's key and one receiver
+    /// per sector, indexed by sector.
+    pub fn attach(this: &SharedMedium, robot: usize) -> (EmuTransmitter, Vec<EmuReceiver>) {
+        let mut m = this.borrow_mut();
+        let node = &mut m.nodes[robot];
+        let (senders, receivers): (Vec<_>, Vec<_>) = (0..node.sectors)
+            .map(|_| unbounded_channel())
+            .map(|(tx, rx)| {
+                (
+                    tx,
+                    EmuReceiver {
+                        rx,
+                        buf: Vec::new(),
+                        pos: 0,
+                    },
+                )
+            })
+            .unzip();
+        node.inboxes = senders;
+        node.alive = true;
+        (
+            EmuTransmitter {
+                medium: this.clone(),
+                robot,
+            },
+            receivers,
+        )
+    }
+
+    /// Robot `robot` dies: it hears nothing more until attached again.
+    pub fn detach(&mut self, robot: usize) {
+        if let Some(n) = self.nodes.get_mut(robot) {
+            n.alive = false;
+            n.inboxes.clear();
+        }
+    }
+
+    /// Starts robot `from`'s transmission of `bytes` now; returns when its airtime ends.
+    fn transmit(this: &SharedMedium, from: usize, bytes: &[u8]) -> Instant {
+        let mut guard = this.borrow_mut();
+        let m = &mut *guard;
+        let t0 = m.clock.now();
+        let t1 = t0 + m.params.airtime(bytes.len());
+        m.nodes[from].tx_until = t1;
+        m.stats.sent += 1;
+        m.log(TraceEvent::Sent {
+            t_ms: t0.as_millis(),
+            robot: from,
+            len: bytes.len(),
+        });
+        // Half duplex: what the sender was receiving is lost under its own light.
+        for a in m.pending.iter_mut().filter(|a| a.to == from && a.end > t0) {
+            a.fate = Fate::Deaf;
+        }
+        let src = m.nodes[from].pos;
+        for to in 0..m.nodes.len() {
+            let node = &m.nodes[to];
+            if to == from || !node.alive || nalgebra::distance(&node.pos, &src) > m.params.range {
+                continue;
+            }
+            let d = src - node.pos;
+            let sector = Sector::from_bearing(d.y.atan2(d.x) as f32, node.sectors).index();
+            if node.tx_until > t0 {
+                m.stats.receiver_transmitting += 1;
+                m.log(TraceEvent::Dropped {
+                    t_ms: t1.as_millis(),
+                    robot: to,
+                    from,
+                    reason: DropReason::ReceiverTransmitting,
+                });
+                continue;
+            }
+            if m.params.loss > 0.0 && m.rng.random_bool(m.params.loss) {
+                m.stats.lost += 1;
+                m.log(TraceEvent::Dropped {
+                    t_ms: t1.as_millis(),
+                    robot: to,
+                    from,
+                    reason: DropReason::Loss,
+                });
+                continue;
+            }
+            let mut fate = Fate::Clear;
+            if m.params.collisions {
+                for a in m
+                    .pending
+                    .iter_mut()
+                    .filter(|a| a.to == to && a.sector == sector && a.end > t0)
+                {
+                    if a.fate == Fate::Clear {
+                        a.fate = Fate::Collided;
+                    }
+                    fate = Fate::Collided;
+                }
+            }
+            let id = m.next_id;
+            m.next_id += 1;
+            m.pending.push(Arrival {
+                id,
+                to,
+                sector,
+                from,
+                end: t1,
+                bytes: bytes.to_vec(),
+                fate,
+            });
+            let medium = this.clone();
+            let at = m.clock.to_tokio(t1);
+            tokio::task::spawn_local(async move {
+                if let Some(at) = at {
+                    tokio::time::sleep_until(at).await;
+                }
+                Medium::deliver(&medium, id);
+            });
+        }
+        t1
+    }
+
+    /// The airtime of arrival `id` is over: hand its bytes to the receiver.
+    fn deliver(this: &SharedMedium, id: u64) {
+        let mut guard = this.borrow_mut();
+        let m = &mut *guard;
+        let Some(i) = m.pending.iter().position(|a| a.id == id) else {
+            return;
+        };
+        let mut a = m.pending.swap_remove(i);
+        let t_ms = a.end.as_millis();
+        let drop = |m: &mut Medium, reason| {
+            match reason {
+                DropReason::ReceiverDead => m.stats.receiver_dead += 1,
+                DropReason::ReceiverTransmitting => m.stats.receiver_transmitting += 1,
+                DropReason::Loss => m.stats.lost += 1,
+            }
+            m.log(TraceEvent::Dropped {
+                t_ms,
+                robot: a.to,
+                from: a.from,
+                reason,
+            });
+        };
+        if !m.nodes[a.to].alive {
+            return drop(m, DropReason::ReceiverDead);
+        }
+        if a.fate == Fate::Deaf {
+            return drop(m, DropReason::ReceiverTransmitting);
+        }
+        let garbled = a.fate == Fate::Collided;
+        if garbled {
+            m.stats.garbled += 1;
+            for b in a.bytes.iter_mut() {
+                if m.rng.random_bool(0.5) {
+                    *b = m.rng.random();
+                }
+            }
+        }
+        let mut corrupted = 0u32;
+        if m.params.byte_error_rate > 0.0 {
+            for b in a.bytes.iter_mut() {
+                if m.rng.random_bool(m.params.byte_error_rate) {
+                    *b ^= m.rng.random_range(1..=255u8);
+                    corrupted += 1;
+                }
+            }
+        }
+        m.stats.corrupted_bytes += u64::from(corrupted);
+        m.stats.delivered += 1;
+        m.log(TraceEvent::Received {
+            t_ms,
+            robot: a.to,
+            from: a.from,
+            sector: a.sector,
+            len: a.bytes.len(),
+            garbled,
+            corrupted,
+        });
+        if let Some(inbox) = m.nodes[a.to].inboxes.get(usize::from(a.sector)) {
+            let _ = inbox.send(a.bytes);
+        }
+    }
+}
+
+/// A robot's light transmitter: an [`embedded_io_async::Write`] that broadcasts each write as
+/// one frame and returns when its airtime is over.
+#[derive(Debug)]
+pub struct EmuTransmitter {
+    medium: SharedMedium,
+    robot: usize,
+}
+
+impl ErrorType for EmuTransmitter {
+    type Error = ErrorKind;
+}
+
+impl Write for EmuTransmitter {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        let end = Medium::transmit(&self.medium, self.robot, buf);
+        let clock = self.medium.borrow().clock;
+        clock.sleep_until(end).await;
+        Ok(buf.len())
+    }
+
+    async fn flush(&mut self) -> Result<(), ErrorKind> {
+        Ok(())
+    }
+}
+
+/// A robot's light receiver for one sector: an [`embedded_io_async::Read`] of the bytes that
+/// reached it.
+#[derive(Debug)]
+pub struct EmuReceiver {
+    rx: UnboundedReceiver<Vec<u8>>,
+    buf: Vec<u8>,
+    pos: usize,
+}
+
+impl ErrorType for EmuReceiver {
+    type Error = ErrorKind;
+}
+
+impl Read for EmuReceiver {
+    async fn read(&mut self, out: &mut [u8]) -> Result<usize, ErrorKind> {
+        if out.is_empty() {
+            return Ok(0);
+        }
+        while self.pos >= self.buf.len() {
+            match self.rx.recv().await {
+                Some(b) => {
+                    self.buf = b;
+                    self.pos = 0;
+                }
+                None => return Ok(0),
+            }
+        }
+        let n = out.len().min(self.buf.len() - self.pos);
+        out[..n].copy_from_slice(&self.buf[self.pos..self.pos + n]);
+        self.pos += n;
+        Ok(n)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn airtime_follows_length_and_bitrate() {
+        let p = MediumParams::default();
+        assert_eq!(p.airtime(32), Duration::from_millis(134));
+        assert_eq!(p.airtime(1), Duration::from_millis(5));
+        assert!(MediumParams { loss: 1.5, ..p }.validate().is_err());
+        assert!(MediumParams { range: 0.0, ..p }.validate().is_err());
+        assert!(p.validate().is_ok());
+    }
+}

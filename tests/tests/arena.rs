@@ -1,0 +1,104 @@
+//! The lab experiment end to end: the real robot program (`firmware::Robot::run`) on emulated
+//! hardware (`hal-emu`) in the emulated light medium, judged by the LEDs.
+
+use firmware::LedColor;
+use hal_emu::lab::{PAPER_PATTERNS, expected, judge, leds_str, mirrored, parse_pattern};
+use hal_emu::{ArenaConfig, MediumParams};
+use protocol::{Duration, Instant};
+
+/// Three negotiation periods of the longest (70 s) cycles.
+const RUN: Duration = Duration::from_secs(3 * 10 * 70);
+
+fn lab(pattern: &str, seed: u64) -> ArenaConfig {
+    ArenaConfig::line(parse_pattern(pattern).unwrap(), 1.0, RUN, seed)
+}
+
+#[test]
+fn six_patterns_light_the_expected_leds() {
+    for pattern in PAPER_PATTERNS {
+        for seed in 1..=5 {
+            let r = judge(&lab(pattern, seed)).unwrap();
+            assert!(
+                r.success,
+                "pattern {pattern}: LEDs {} expected {}; replay with seed {seed}",
+                leds_str(&r.leds),
+                leds_str(r.expected.as_deref().unwrap_or_default())
+            );
+            assert!(
+                r.consensus_s
+                    .is_some_and(|s| s > 0.0 && s < RUN.as_secs_f64())
+            );
+        }
+    }
+}
+
+#[test]
+fn alternating_experiment_switches_the_leds() {
+    for seed in 1..=5 {
+        let mut cfg = lab("1000", seed);
+        cfg.env.schedule.push((
+            Instant::ZERO + RUN,
+            mirrored(&parse_pattern("1000").unwrap()),
+        ));
+        cfg.duration = RUN.saturating_mul(2);
+        let r = judge(&cfg).unwrap();
+        assert!(
+            r.success,
+            "LEDs {}; replay with seed {seed}",
+            leds_str(&r.leds)
+        );
+        assert_eq!(r.leds, vec![LedColor::Blue; 4]);
+        assert_eq!(
+            r.report.leds_at(Instant::ZERO + RUN),
+            vec![LedColor::Green; 4]
+        );
+    }
+}
+
+#[test]
+fn same_seed_gives_the_same_trace_bit_for_bit() {
+    let trace = |seed| {
+        let mut cfg = lab("1100", seed);
+        cfg.trace = true;
+        cfg.medium.loss = 0.1;
+        cfg.medium.byte_error_rate = 1e-3;
+        let r = judge(&cfg).unwrap();
+        serde_json::to_string(&r.report.trace).unwrap()
+    };
+    let a = trace(7);
+    assert!(a.len() > 10_000, "a real trace: {} bytes", a.len());
+    assert_eq!(a, trace(7));
+    assert_ne!(a, trace(8));
+}
+
+#[test]
+fn ten_percent_frame_loss_still_succeeds() {
+    for seed in 1..=10 {
+        for pattern in ["1000", "1100"] {
+            let mut cfg = lab(pattern, seed);
+            cfg.medium = MediumParams {
+                loss: 0.1,
+                ..MediumParams::default()
+            };
+            let r = judge(&cfg).unwrap();
+            assert!(r.report.medium.lost > 0);
+            assert!(
+                r.success,
+                "pattern {pattern}, LEDs {}; replay with seed {seed}",
+                leds_str(&r.leds)
+            );
+        }
+    }
+}
+
+#[test]
+fn a_killed_robot_goes_dark_and_a_restarted_one_rejoins() {
+    let mut cfg = lab("1000", 3);
+    cfg.kills.push((Instant::from_secs(1000), 3));
+    cfg.restarts.push((Instant::from_secs(1100), 3));
+    cfg.duration = Duration::from_secs(1100 + 2 * 10 * 70 + 70);
+    let r = judge(&cfg).unwrap();
+    assert_eq!(r.report.leds_at(Instant::from_secs(1050))[3], LedColor::Off);
+    assert!(r.success, "LEDs {}", leds_str(&r.leds));
+    assert_eq!(Some(r.leds), expected(&parse_pattern("1000").unwrap()));
+}

@@ -1,205 +1,407 @@
 //! `cimax`: the CIMAX command-line tool.
 //!
-//! `cimax arena` runs the paper's four-robot lab experiment (section 4): the six light patterns
-//! and the alternating experiment, and checks that the robots' LEDs show the expected decisions.
-//! For now the robots are wired directly ([`protocol::line`]: frames reach the neighbours at
-//! once, with no light-medium model); the emulated arena over `hal-emu` replaces that wiring.
+//! - `cimax arena` runs the paper's four-robot lab experiment (section 4), see [`arena`].
+//! - `cimax swarm run|sweep|field|reproduce|bench` are the paper's 2D simulations (section 3),
+//!   over the [`host_sim`] library.
 
+mod arena;
+
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Instant as Clock;
 
-use clap::{Parser, Subcommand};
-use protocol::line::{Happening, Line};
-use protocol::{Event, Instant, Level, Params, Sector};
-use rand_pcg::Pcg32;
+use clap::{Args, Parser, Subcommand};
+use host_sim::experiment::{self, Progress};
+use host_sim::report;
+use host_sim::scenario::Scenario;
+use host_sim::{plot, seeds};
+use nalgebra::Point2;
+use protocol::Duration;
 
 #[derive(Parser, Debug)]
 #[command(
     name = "cimax",
     version,
-    about = "CIMAX swarm tools: the lab arena and (later) 2D swarm simulations"
+    about = "CIMAX swarm tools: the lab arena and the paper's 2D swarm simulations"
 )]
 struct Cli {
+    /// Worker threads for runs in parallel (default: all cores). Results do not depend on it.
+    #[arg(long, global = true)]
+    threads: Option<usize>,
     #[command(subcommand)]
     command: Command,
 }
 
 #[derive(Subcommand, Debug)]
 enum Command {
-    /// The four-robot lab experiment: six light patterns and the alternating experiment.
-    Arena {
-        /// Base seed; run k of a pattern uses seed + k.
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        /// Runs per pattern.
-        #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=10_000))]
-        runs: u64,
+    /// The lab experiment in the emulated arena: robots in a line running the robot program
+    /// over an emulated light medium; with no options the paper's six patterns and the
+    /// alternating experiment, five runs each, judged by the LEDs.
+    Arena(arena::ArenaArgs),
+    /// The paper's 2D simulations (section 3): a swarm of agents running the three-phase CIMAX.
+    Swarm {
+        #[command(subcommand)]
+        command: SwarmCommand,
     },
 }
 
-const ROBOTS: usize = 4;
-/// Robot time per run: three negotiation periods of the longest (70 s) cycles.
-const RUN_S: u64 = 3 * 10 * 70;
-
-/// Expected LEDs for a pattern with one border: each robot prefers the border's direction and
-/// all follow the majority; on an exact tie each side moves toward the border.
-fn expected(pattern: &[u8; ROBOTS]) -> Option<[Option<Sector>; ROBOTS]> {
-    let borders: Vec<usize> = (1..ROBOTS)
-        .filter(|&i| pattern[i] != pattern[i - 1])
-        .collect();
-    let &[b] = borders.as_slice() else {
-        return None;
-    };
-    let (left, right) = (b, ROBOTS - b);
-    Some(core::array::from_fn(|i| {
-        let toward = if i < b { Sector::RIGHT } else { Sector::LEFT };
-        // Robots left of the border prefer right and vice versa: the majority is the larger side.
-        Some(match left.cmp(&right) {
-            std::cmp::Ordering::Greater => Sector::RIGHT,
-            std::cmp::Ordering::Less => Sector::LEFT,
-            std::cmp::Ordering::Equal => toward,
-        })
-    }))
+#[derive(Args, Debug, Clone)]
+struct Common {
+    /// A built-in scenario (sharp, gradient, cloud) or the path of a scenario TOML file.
+    #[arg(long, default_value = "sharp")]
+    scenario: String,
+    /// Base seed: every run's seed is derived from it and the run's coordinates.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Override the cycle length t_p^max, seconds.
+    #[arg(long)]
+    cycle: Option<u64>,
+    /// CSV output (default: OUT_DIR/SCENARIO-COMMAND.csv).
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// SVG plot output (default: OUT_DIR/SCENARIO-COMMAND.svg).
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    /// Directory for default outputs.
+    #[arg(long, default_value = "target/swarm")]
+    out_dir: PathBuf,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
 }
 
-fn leds(d: &[Option<Sector>]) -> String {
-    d.iter()
-        .map(|s| match *s {
-            Some(Sector::LEFT) => 'L',
-            Some(Sector::RIGHT) => 'R',
-            _ => '-',
-        })
-        .collect()
+#[derive(Subcommand, Debug)]
+enum SwarmCommand {
+    /// One run: trajectory of the centre of mass and average diversity over time (Figs. 4, 7).
+    Run {
+        #[command(flatten)]
+        common: Common,
+        /// Initial x of the centre of mass (default: the scenario's start).
+        #[arg(long, allow_hyphen_values = true)]
+        x: Option<f64>,
+        /// Initial y of the centre of mass (default: the scenario's start).
+        #[arg(long, allow_hyphen_values = true)]
+        y: Option<f64>,
+        /// Negotiation periods (default: the scenario's).
+        #[arg(long)]
+        periods: Option<u32>,
+    },
+    /// Success rate and mean success time against the initial position (Figs. 5, 8).
+    Sweep {
+        #[command(flatten)]
+        common: Common,
+        /// First initial x (default: the scenario's sweep).
+        #[arg(long, allow_hyphen_values = true)]
+        from: Option<f64>,
+        /// Last initial x.
+        #[arg(long, allow_hyphen_values = true)]
+        to: Option<f64>,
+        /// Spacing of initial positions.
+        #[arg(long)]
+        step: Option<f64>,
+        /// Runs per initial position (default: the scenario's, 50).
+        #[arg(long)]
+        runs: Option<u32>,
+    },
+    /// The preferred direction of a swarm centred at each point of a grid (Figs. 6, 9, 10).
+    Field {
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Runs everything above for the paper's scenarios and regenerates docs/reproduction.md.
+    Reproduce {
+        /// Base seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// The docs directory (default: the workspace's docs/).
+        #[arg(long)]
+        docs: Option<PathBuf>,
+        /// No progress bars.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Agent-steps per second for swarms of several sizes (one negotiation period each).
+    Bench {
+        /// Swarm sizes (the disk grows to keep the density).
+        #[arg(long, value_delimiter = ',', default_value = "61,1000,10000")]
+        agents: Vec<usize>,
+        /// Seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// A built-in scenario or scenario file.
+        #[arg(long, default_value = "sharp")]
+        scenario: String,
+    },
 }
 
-fn readings(p: &[u8; ROBOTS]) -> [Level; ROBOTS] {
-    p.map(|b| Level(if b == b'1' { 1 } else { 0 }))
-}
+type Res = Result<(), Box<dyn std::error::Error + Send + Sync>>;
 
-struct Outcome {
-    leds: [Option<Sector>; ROBOTS],
-    /// Time of the last LED change, i.e. since when the LEDs show their final state.
-    settled_s: f64,
-}
-
-/// Runs one line from `start` to `end`, returning its LEDs and when they last changed.
-fn run(line: &mut Line<Pcg32, ROBOTS>, end: Instant) -> Outcome {
-    let mut settled = line.now();
-    line.run_until(end, |t, _, h| {
-        if let Happening::Event(Event::Decided { changed: true, .. }) = h {
-            settled = t;
+impl Common {
+    fn scenario(&self) -> Result<Scenario, Box<dyn std::error::Error + Send + Sync>> {
+        let mut s = Scenario::load(&self.scenario)?;
+        if let Some(c) = self.cycle {
+            s.run.params.wave.cycle = Duration::from_secs(c);
+            s.run
+                .params
+                .validate()
+                .map_err(|e| format!("--cycle {c}: {e}"))?;
         }
-    });
-    Outcome {
-        leds: line.decisions(),
-        settled_s: settled.as_secs_f64(),
+        Ok(s)
+    }
+
+    fn outputs(&self, scn: &Scenario, what: &str) -> (PathBuf, PathBuf) {
+        let name = |ext: &str| self.out_dir.join(format!("{}-{what}.{ext}", scn.name));
+        (
+            self.csv.clone().unwrap_or_else(|| name("csv")),
+            self.plot.clone().unwrap_or_else(|| name("svg")),
+        )
     }
 }
 
-fn new_line(pattern: &[u8; ROBOTS], seed: u64) -> Line<Pcg32, ROBOTS> {
-    let rngs = core::array::from_fn(|i| Pcg32::new(seed, 2 * i as u64 + 1));
-    match Line::new(Params::robots(), readings(pattern), rngs) {
-        Ok(l) => l,
-        Err(e) => unreachable!("the paper's parameters validate: {e}"),
+fn ensure_parent(p: &Path) -> std::io::Result<()> {
+    match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => std::fs::create_dir_all(d),
+        _ => Ok(()),
     }
 }
 
-fn arena(seed: u64, runs: u64) -> ExitCode {
-    let cycle_s = Params::robots().wave.cycle.as_secs_f64();
+fn wrote(csv: &Path, svg: &Path) {
+    println!("wrote {} and {}", csv.display(), svg.display());
+}
+
+fn swarm_run(c: &Common, x: Option<f64>, y: Option<f64>, periods: Option<u32>) -> Res {
+    let scn = c.scenario()?;
+    let start = Point2::new(x.unwrap_or(scn.start.x), y.unwrap_or(scn.start.y));
+    let periods = periods.unwrap_or(scn.periods);
+    let t = Clock::now();
+    let out = experiment::run(&scn, scn.run, start, periods, c.seed, false)?;
+    let (csv, svg) = c.outputs(&scn, "run");
+    ensure_parent(&csv)?;
+    ensure_parent(&svg)?;
+    report::write_run_csv(&csv, &out, &scn.run)?;
+    plot::run_figure(&svg, &scn, &out)?;
+    let last = out.periods.last();
     println!(
-        "CIMAX lab arena: {ROBOTS} robots in a line, ideal direct links (no light medium yet), {runs} runs per pattern"
+        "{}: {} agents (mean {:.1} neighbours), from ({:.2}, {:.2}), {} periods of {} s in {:.2} s",
+        scn.description,
+        out.swarm.len(),
+        out.swarm.mean_degree(),
+        start.x,
+        start.y,
+        out.periods.len(),
+        scn.run.period_secs(),
+        t.elapsed().as_secs_f64()
     );
-    println!(
-        "{:<10} {:<9} {:<40} {:>8} {:>22}",
-        "pattern", "expected", "LEDs per run", "success", "consensus s (cycles)"
-    );
-    let mut failures = Vec::new();
-    let mut total = 0;
-    let patterns = ["1000", "0111", "0001", "1110", "1100", "0011"];
-    let mut row = |name: String, exp: [Option<Sector>; ROBOTS], outs: Vec<(u64, Outcome)>| {
-        let ok = outs.iter().filter(|(_, o)| o.leds == exp).count();
-        let mean = outs.iter().map(|(_, o)| o.settled_s).sum::<f64>() / outs.len() as f64;
-        let runs_s: Vec<String> = outs.iter().map(|(_, o)| leds(&o.leds)).collect();
+    if let Some(p) = last {
         println!(
-            "{:<10} {:<9} {:<40} {:>7.0}% {:>13.0} ({:>5.1})",
-            name,
-            leds(&exp),
-            runs_s.join(" "),
-            100.0 * ok as f64 / outs.len() as f64,
-            mean,
-            mean / cycle_s
+            "final centre ({:.2}, {:.2}), mean diversity of the last period {:.2}",
+            p.to.x, p.to.y, p.diversity
         );
-        total += outs.len();
-        for (s, o) in &outs {
-            if o.leds != exp {
-                failures.push(format!(
-                    "{name} seed {s}: LEDs {} expected {}",
-                    leds(&o.leds),
-                    leds(&exp)
-                ));
-            }
-        }
-    };
-    for p in patterns {
-        let pat: [u8; ROBOTS] = p.as_bytes().try_into().expect("four characters");
-        let exp = expected(&pat).expect("one border");
-        let outs = (0..runs)
-            .map(|k| {
-                let s = seed + k;
-                (s, run(&mut new_line(&pat, s), Instant::from_secs(RUN_S)))
-            })
-            .collect();
-        row(p.to_string(), exp, outs);
     }
-    // Alternating: after consensus on 1000 the pattern is mirrored; the LEDs must follow.
-    let (a, b) = (*b"1000", *b"0001");
-    let outs = (0..runs)
-        .map(|k| {
-            let s = seed + k;
-            let mut l = new_line(&a, s);
-            let first = run(&mut l, Instant::from_secs(RUN_S));
-            l.set_readings(readings(&b));
-            let mut second = run(&mut l, Instant::from_secs(2 * RUN_S));
-            if first.leds != expected(&a).expect("one border") {
-                second.leds = first.leds;
-            }
-            second.settled_s -= RUN_S as f64;
-            (s, second)
-        })
-        .collect();
-    row("1000>0001".into(), expected(&b).expect("one border"), outs);
+    match (&scn.success, out.success_at) {
+        (Some(s), Some(k)) => println!("success ({s}) after {k} periods"),
+        (Some(s), None) => println!("no success ({s}) within {periods} periods"),
+        (None, _) => {}
+    }
+    wrote(&csv, &svg);
+    Ok(())
+}
 
-    if failures.is_empty() {
-        println!("all {total} runs successful");
-        ExitCode::SUCCESS
-    } else {
-        for f in &failures {
-            eprintln!(
-                "FAILED {f} (replay: cimax arena --seed {} --runs 1)",
-                f.split_whitespace().nth(2).unwrap_or("?")
-            );
-        }
-        ExitCode::FAILURE
+fn swarm_sweep(
+    c: &Common,
+    from: Option<f64>,
+    to: Option<f64>,
+    step: Option<f64>,
+    runs: Option<u32>,
+) -> Res {
+    let scn = c.scenario()?;
+    if scn.success.is_none() {
+        return Err(format!("scenario {} has no [success] criterion to sweep", scn.name).into());
     }
+    let (mut xs, mut n) = scn
+        .sweep
+        .as_ref()
+        .map_or((vec![-5.0, -4.0, -3.0, -2.0, -1.0, 0.0], 50), |s| {
+            (s.xs.clone(), s.runs)
+        });
+    if from.is_some() || to.is_some() || step.is_some() {
+        let a = from.unwrap_or(xs.first().copied().unwrap_or(-5.0));
+        let b = to.unwrap_or(xs.last().copied().unwrap_or(5.0));
+        let s = step.unwrap_or(0.5);
+        if !(s > 0.0 && b >= a && (b - a) / s <= 10_000.0) {
+            return Err("--from/--to/--step do not make a range".into());
+        }
+        xs = (0..=((b - a) / s + 1e-9) as u64)
+            .map(|k| a + k as f64 * s)
+            .collect();
+    }
+    if let Some(r) = runs {
+        n = r.max(1);
+    }
+    let t = Clock::now();
+    let progress = Progress::new(xs.len() as u64 * u64::from(n), "sweep", c.quiet);
+    let pts = experiment::sweep(&scn, scn.run, &xs, n, c.seed, &progress)?;
+    progress.finish();
+    let (csv, svg) = c.outputs(&scn, "sweep");
+    ensure_parent(&csv)?;
+    ensure_parent(&svg)?;
+    report::write_sweep_csv(&csv, &pts)?;
+    let crit = scn.success.map(|s| s.to_string()).unwrap_or_default();
+    plot::sweep_figure(
+        &svg,
+        &format!("{}: success ({crit}), {n} runs per point", scn.description),
+        &pts,
+        None,
+    )?;
+    println!(
+        "{}: success {crit} within {} periods, {n} runs per point, {:.1} s",
+        scn.description,
+        scn.periods,
+        t.elapsed().as_secs_f64()
+    );
+    println!(
+        "{:>8} {:>6} {:>8} {:>12}",
+        "x_init", "runs", "success", "mean periods"
+    );
+    for p in &pts {
+        println!(
+            "{:>8.2} {:>6} {:>8.2} {:>12}",
+            p.x_init,
+            p.runs,
+            p.success_rate(),
+            p.mean_success_periods
+                .map_or("-".into(), |t| format!("{t:.1}"))
+        );
+    }
+    wrote(&csv, &svg);
+    Ok(())
+}
+
+fn swarm_field(c: &Common) -> Res {
+    let scn = c.scenario()?;
+    let grid = scn
+        .grid
+        .clone()
+        .ok_or_else(|| format!("scenario {} has no [grid]", scn.name))?;
+    let t = Clock::now();
+    let progress = Progress::new((grid.xs.len() * grid.ys.len()) as u64, "field", c.quiet);
+    let arrows = experiment::direction_map(&scn, &grid, c.seed, &progress)?;
+    progress.finish();
+    let (csv, svg) = c.outputs(&scn, "field");
+    ensure_parent(&csv)?;
+    ensure_parent(&svg)?;
+    report::write_field_csv(&csv, &arrows)?;
+    plot::direction_figure(&svg, &scn, &grid, &arrows)?;
+    println!(
+        "{}: {} grid points in {:.1} s",
+        scn.description,
+        arrows.len(),
+        t.elapsed().as_secs_f64()
+    );
+    wrote(&csv, &svg);
+    Ok(())
+}
+
+fn swarm_reproduce(seed: u64, docs: Option<PathBuf>, quiet: bool) -> Res {
+    let opts = report::Options {
+        seed,
+        docs: docs.unwrap_or_else(report::default_docs_dir),
+        quiet,
+    };
+    println!(
+        "swarm reproduce: seed {seed}, {} threads, writing {}",
+        rayon::current_num_threads(),
+        opts.docs.display()
+    );
+    let s = report::reproduce(&opts, &mut |line| println!("{line}"))?;
+    println!("sharp border sweep (x_init: success rate):");
+    let fmt = |pts: &[experiment::SweepPoint]| {
+        pts.iter()
+            .map(|p| format!("{}: {:.2}", p.x_init, p.success_rate()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    println!("  {}", fmt(&s.sharp));
+    println!("gradient sweep:");
+    println!("  {}", fmt(&s.gradient));
+    println!("wrote {}", s.report.display());
+    println!("wall time {:.1} s", s.wall_s);
+    Ok(())
+}
+
+fn swarm_bench(agents: &[usize], seed: u64, scenario: &str) -> Res {
+    let scn = Scenario::load(scenario)?;
+    println!(
+        "one negotiation period ({} s simulated) of {} per size, one thread, density of {} agents in the scenario's shape",
+        scn.run.period_secs(),
+        scn.description,
+        scn.agents
+    );
+    println!(
+        "{:>8} {:>10} {:>10} {:>10} {:>14} {:>16} {:>14}",
+        "agents", "neighbours", "place s", "sim s", "agent calls", "agent-steps/s", "calls/s"
+    );
+    for &n in agents {
+        let r = experiment::bench(&scn, n.max(2), seeds::derive(seed, &[n as u64]))?;
+        println!(
+            "{:>8} {:>10.1} {:>10.3} {:>10.3} {:>14} {:>16.3e} {:>14.3e}",
+            r.agents,
+            r.mean_degree,
+            r.place_s,
+            r.wall_s,
+            r.calls,
+            r.agent_steps_per_s(),
+            r.calls as f64 / r.wall_s
+        );
+    }
+    println!(
+        "agent-steps/s: agents × simulated seconds per wall second (event-driven: idle seconds cost nothing); calls/s: handle_timeout + handle_message calls per second"
+    );
+    Ok(())
+}
+
+fn report_error(e: &(dyn std::error::Error + Send + Sync)) -> ExitCode {
+    eprintln!("error: {e}");
+    ExitCode::FAILURE
 }
 
 fn main() -> ExitCode {
-    match Cli::parse().command {
-        Command::Arena { seed, runs } => arena(seed, runs),
+    let cli = Cli::parse();
+    if let Some(n) = cli.threads
+        && let Err(e) = rayon::ThreadPoolBuilder::new()
+            .num_threads(n.max(1))
+            .build_global()
+    {
+        eprintln!("error: cannot start {n} threads: {e}");
+        return ExitCode::FAILURE;
     }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn expected_outcomes_follow_the_border_rule() {
-        let l = Some(Sector::LEFT);
-        let r = Some(Sector::RIGHT);
-        assert_eq!(expected(b"1000"), Some([l; 4]));
-        assert_eq!(expected(b"1110"), Some([r; 4]));
-        assert_eq!(expected(b"0011"), Some([r, r, l, l]));
-        assert_eq!(expected(b"1010"), None);
-        assert_eq!(expected(b"0000"), None);
+    let res = match cli.command {
+        Command::Arena(args) => return arena::main(&args),
+        Command::Swarm { command } => match command {
+            SwarmCommand::Run {
+                common,
+                x,
+                y,
+                periods,
+            } => swarm_run(&common, x, y, periods),
+            SwarmCommand::Sweep {
+                common,
+                from,
+                to,
+                step,
+                runs,
+            } => swarm_sweep(&common, from, to, step, runs),
+            SwarmCommand::Field { common } => swarm_field(&common),
+            SwarmCommand::Reproduce { seed, docs, quiet } => swarm_reproduce(seed, docs, quiet),
+            SwarmCommand::Bench {
+                agents,
+                seed,
+                scenario,
+            } => swarm_bench(&agents, seed, &scenario),
+        },
+    };
+    match res {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => report_error(e.as_ref()),
     }
 }

@@ -28,7 +28,9 @@ impl Diversity for Variance {
     where
         I: Iterator<Item = f32> + Clone,
     {
-        let (n, sum) = readings.clone().fold((0u32, 0f32), |(n, s), x| (n + 1, s + x));
+        let (n, sum) = readings
+            .clone()
+            .fold((0u32, 0f32), |(n, s), x| (n + 1, s + x));
         if n < 2 {
             return 0.0;
         }

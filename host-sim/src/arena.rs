@@ -1,0 +1,568 @@
+//! `cimax arena`: the paper's lab experiment (section 4) in the emulated arena.
+//!
+//! Virtual robots run the unchanged robot program (`firmware::Robot::run`) on emulated
+//! hardware (`hal-emu`): a modulated-light medium with airtime, collisions, loss and byte
+//! errors, and light patterns on their sensors. A run is judged by the LEDs, as a person
+//! watching the robots would.
+
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Args;
+use firmware::LedColor;
+use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, mirrored, parse_pattern, pattern_str};
+use hal_emu::{ArenaConfig, MediumParams, TraceEvent};
+use indicatif::{ProgressBar, ProgressStyle};
+use protocol::{Duration, Instant, Params};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Options of `cimax arena`. With none, the paper's suite: six patterns and the alternating
+/// experiment, five runs each.
+#[derive(Args, Debug, Clone)]
+pub struct ArenaArgs {
+    /// Number of robots in the line (2 to 64); defaults to the pattern's length, else 4.
+    #[arg(long, value_parser = clap::value_parser!(u16).range(2..=64))]
+    pub robots: Option<u16>,
+    /// Metres between neighbours (the light carries --range metres).
+    #[arg(long, default_value_t = 1.0)]
+    pub spacing: f64,
+    /// Range of the light, metres.
+    #[arg(long, default_value_t = 1.5)]
+    pub range: f64,
+    /// One light pattern instead of the paper's suite, one character per robot, 1 = lit.
+    #[arg(long)]
+    pub lights: Option<String>,
+    /// Change the pattern at this time (seconds)...
+    #[arg(long, requires = "then")]
+    pub switch_at: Option<u64>,
+    /// ...to this pattern.
+    #[arg(long, requires = "switch_at")]
+    pub then: Option<String>,
+    /// Base seed: run k uses seed + k. Failing runs print their seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Runs per pattern.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    pub runs: u64,
+    /// Emulated seconds per run (per phase in the alternating experiment); default three
+    /// negotiation periods of the longest cycle.
+    #[arg(long)]
+    pub duration: Option<u64>,
+    /// Probability that a frame is lost at a receiver.
+    #[arg(long, default_value_t = 0.0)]
+    pub loss: f64,
+    /// Probability that a received byte is corrupted.
+    #[arg(long, default_value_t = 0.0)]
+    pub byte_error_rate: f64,
+    /// Turn collisions of overlapping frames off.
+    #[arg(long)]
+    pub no_collisions: bool,
+    /// Bits per second on air.
+    #[arg(long, default_value_t = 2400)]
+    pub bitrate: u32,
+    /// Mean cycle length, seconds (the paper's 55).
+    #[arg(long)]
+    pub cycle: Option<f64>,
+    /// Cycle spread, seconds (the paper's ±15).
+    #[arg(long)]
+    pub cycle_spread: Option<f64>,
+    /// Refractory time, seconds (the paper's 4).
+    #[arg(long)]
+    pub refractory: Option<f64>,
+    /// Negotiation period, cycles (the paper's 10).
+    #[arg(long)]
+    pub negotiation: Option<u16>,
+    /// Kill a robot: ROBOT@SECONDS (robots count from 0); repeatable.
+    #[arg(long, value_parser = parse_at)]
+    pub kill: Vec<(usize, u64)>,
+    /// Restart a killed robot with fresh state: ROBOT@SECONDS; repeatable.
+    #[arg(long, value_parser = parse_at)]
+    pub restart: Vec<(usize, u64)>,
+    /// Print a machine-readable JSON report on stdout instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// Write every frame sent, received or dropped, LED change and event as JSON lines
+    /// (the first run only).
+    #[arg(long)]
+    pub trace: Option<PathBuf>,
+    /// Draw a timeline per robot of frames and LED colour as SVG (the first run only).
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+}
+
+fn parse_at(s: &str) -> Result<(usize, u64), String> {
+    let (r, t) = s
+        .split_once('@')
+        .ok_or_else(|| format!("{s:?}: expected ROBOT@SECONDS, e.g. 3@600"))?;
+    let r = r
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?}: {r:?} is not a robot number"))?;
+    let t = t
+        .trim()
+        .parse()
+        .map_err(|_| format!("{s:?}: {t:?} is not a whole number of seconds"))?;
+    Ok((r, t))
+}
+
+fn secs(s: f64, what: &str) -> Result<Duration, String> {
+    if s.is_finite() && s >= 0.0 {
+        Ok(Duration::from_millis((s * 1000.0).round() as u64))
+    } else {
+        Err(format!(
+            "--{what} must be a non-negative number of seconds, not {s}"
+        ))
+    }
+}
+
+/// One experiment: a list of runs sharing a label and an expected outcome.
+struct Experiment {
+    label: String,
+    configs: Vec<ArenaConfig>,
+}
+
+fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
+    let mut params = Params::robots();
+    if let Some(c) = args.cycle {
+        params.wave.cycle = secs(c, "cycle")?;
+    }
+    if let Some(c) = args.cycle_spread {
+        params.wave.cycle_spread = secs(c, "cycle-spread")?;
+    }
+    if let Some(r) = args.refractory {
+        params.wave.refractory = secs(r, "refractory")?;
+    }
+    if let Some(n) = args.negotiation {
+        params.negotiation_cycles = n;
+    }
+    params
+        .validate()
+        .map_err(|e| format!("protocol parameters: {e}"))?;
+    let medium = MediumParams {
+        bitrate: args.bitrate,
+        range: args.range,
+        loss: args.loss,
+        byte_error_rate: args.byte_error_rate,
+        collisions: !args.no_collisions,
+        ..MediumParams::default()
+    };
+    medium.validate()?;
+    if !(args.spacing.is_finite() && args.spacing > 0.0) {
+        return Err(format!(
+            "--spacing must be a positive number of metres, not {}",
+            args.spacing
+        ));
+    }
+    let longest = params.wave.cycle + params.wave.cycle_spread;
+    let default_run =
+        longest.saturating_mul(3 * u64::from(params.negotiation_cycles)) + Duration::from_secs(1);
+    let run = args.duration.map_or(default_run, Duration::from_secs);
+
+    let lights = args.lights.as_deref().map(parse_pattern).transpose()?;
+    let robots = args
+        .robots
+        .map(usize::from)
+        .or(lights.as_ref().map(Vec::len))
+        .unwrap_or(4);
+    let check = |p: &[bool], what: &str| {
+        if p.len() == robots {
+            Ok(())
+        } else {
+            Err(format!(
+                "{what} {} has {} robots but there are {robots}",
+                pattern_str(p),
+                p.len()
+            ))
+        }
+    };
+    let then = args.then.as_deref().map(parse_pattern).transpose()?;
+    for &(r, _) in args.kill.iter().chain(&args.restart) {
+        if r >= robots {
+            return Err(format!(
+                "there is no robot {r} to kill or restart (robots are 0..{})",
+                robots - 1
+            ));
+        }
+    }
+
+    let config = |pattern: &[bool], seed: u64, duration: Duration| {
+        let mut c = ArenaConfig::line(pattern.to_vec(), args.spacing, duration, seed);
+        c.robot.params = params;
+        c.medium = medium;
+        c.kills = args
+            .kill
+            .iter()
+            .map(|&(r, t)| (Instant::from_secs(t), r))
+            .collect();
+        c.restarts = args
+            .restart
+            .iter()
+            .map(|&(r, t)| (Instant::from_secs(t), r))
+            .collect();
+        c
+    };
+    let seeds = || (0..args.runs).map(|k| args.seed.wrapping_add(k));
+
+    let mut out = Vec::new();
+    let patterns: Vec<Vec<bool>> = match &lights {
+        Some(p) => vec![p.clone()],
+        None if robots == 4 => PAPER_PATTERNS
+            .iter()
+            .map(|p| parse_pattern(p))
+            .collect::<Result<_, _>>()?,
+        None => {
+            return Err(format!(
+                "--robots {robots} needs --lights (the paper's patterns are for 4)"
+            ));
+        }
+    };
+    for p in &patterns {
+        check(p, "pattern")?;
+        let mut label = pattern_str(p);
+        let configs = seeds()
+            .map(|s| {
+                let mut c = config(p, s, run);
+                if let (Some(at), Some(t)) = (args.switch_at, &then) {
+                    c.env.schedule.push((Instant::from_secs(at), t.clone()));
+                    c.duration = c.duration.max(Duration::from_secs(at) + run);
+                }
+                c
+            })
+            .collect();
+        if let Some(t) = &then {
+            check(t, "--then pattern")?;
+            label = format!("{label}>{}", pattern_str(t));
+        }
+        out.push(Experiment { label, configs });
+    }
+    if lights.is_none() {
+        // The alternating experiment: after consensus on 1000 the pattern is mirrored.
+        let a = parse_pattern("1000")?;
+        let b = mirrored(&a);
+        let configs = seeds()
+            .map(|s| {
+                let mut c = config(&a, s, run.saturating_mul(2));
+                c.env.schedule.push((Instant::ZERO + run, b.clone()));
+                c
+            })
+            .collect();
+        out.push(Experiment {
+            label: format!("{}>{}", pattern_str(&a), pattern_str(&b)),
+            configs,
+        });
+    }
+    Ok(out)
+}
+
+/// One run in the `--json` report.
+#[derive(Serialize)]
+struct JsonRun {
+    lights: String,
+    expected: Option<String>,
+    leds: String,
+    success: bool,
+    consensus_s: Option<f64>,
+    seed: u64,
+    emulated_s: f64,
+    wall_s: f64,
+}
+
+/// The `--json` summary.
+#[derive(Serialize)]
+struct JsonSummary {
+    runs: usize,
+    successes: usize,
+    emulated_s: f64,
+    wall_s: f64,
+}
+
+#[derive(Serialize)]
+struct JsonReport {
+    runs: Vec<JsonRun>,
+    summary: JsonSummary,
+}
+
+/// Runs `cimax arena`; the exit code is non-zero if any run with a verdict failed or an option
+/// was bad.
+pub fn main(args: &ArenaArgs) -> ExitCode {
+    let experiments = match build(args) {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let first = experiments.first().and_then(|e| e.configs.first()).cloned();
+    let jobs: Vec<(usize, &ArenaConfig)> = experiments
+        .iter()
+        .enumerate()
+        .flat_map(|(i, e)| e.configs.iter().map(move |c| (i, c)))
+        .collect();
+    let bar = if jobs.len() > 1 && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        let b = ProgressBar::new(jobs.len() as u64);
+        b.set_style(
+            ProgressStyle::with_template("{bar:40} {pos}/{len} runs {elapsed}")
+                .unwrap_or(ProgressStyle::default_bar()),
+        );
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+    let wall = std::time::Instant::now();
+    // Each run is independent and seeded: the results do not depend on the thread count.
+    let results: Vec<Result<LabRun, String>> = jobs
+        .par_iter()
+        .map(|(_, c)| {
+            let r = judge(c).map_err(|e| e.to_string());
+            bar.inc(1);
+            r
+        })
+        .collect();
+    bar.finish_and_clear();
+    let wall_s = wall.elapsed().as_secs_f64();
+    let mut runs: Vec<(usize, LabRun)> = Vec::new();
+    for ((i, _), r) in jobs.iter().zip(results) {
+        match r {
+            Ok(r) => runs.push((*i, r)),
+            Err(e) => {
+                eprintln!("cimax arena: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    }
+
+    if let Some(cfg) = &first
+        && let Err(e) = write_artifacts(args, cfg)
+    {
+        eprintln!("cimax arena: {e}");
+        return ExitCode::from(2);
+    }
+
+    let emulated_s: f64 = runs
+        .iter()
+        .map(|(_, r)| r.report.emulated.as_secs_f64())
+        .sum();
+    let failures: Vec<&LabRun> = runs.iter().map(|(_, r)| r).filter(|r| !r.success).collect();
+    if args.json {
+        let report = JsonReport {
+            runs: runs
+                .iter()
+                .map(|(_, r)| JsonRun {
+                    lights: pattern_str(&r.lights),
+                    expected: r.expected.as_deref().map(leds_str),
+                    leds: leds_str(&r.leds),
+                    success: r.success,
+                    consensus_s: r.consensus_s,
+                    seed: r.seed,
+                    emulated_s: r.report.emulated.as_secs_f64(),
+                    wall_s: r.report.wall.as_secs_f64(),
+                })
+                .collect(),
+            summary: JsonSummary {
+                runs: runs.len(),
+                successes: runs.len() - failures.len(),
+                emulated_s,
+                wall_s,
+            },
+        };
+        match serde_json::to_string_pretty(&report) {
+            Ok(s) => println!("{s}"),
+            Err(e) => {
+                eprintln!("cimax arena: {e}");
+                return ExitCode::from(2);
+            }
+        }
+    } else {
+        print_table(args, &experiments, &runs);
+        println!(
+            "{} runs, {} successful; {:.0} s of robot time in {:.3} s wall ({:.0}x real time)",
+            runs.len(),
+            runs.len() - failures.len(),
+            emulated_s,
+            wall_s,
+            emulated_s / wall_s.max(1e-9)
+        );
+    }
+    for r in &failures {
+        eprintln!(
+            "FAILED {} seed {}: LEDs {}, expected {} (replay: cimax arena --lights {} --seed {} --runs 1)",
+            pattern_str(&r.lights),
+            r.seed,
+            leds_str(&r.leds),
+            r.expected.as_deref().map(leds_str).unwrap_or_default(),
+            pattern_str(&r.lights),
+            r.seed
+        );
+    }
+    if failures.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+fn print_table(args: &ArenaArgs, experiments: &[Experiment], runs: &[(usize, LabRun)]) {
+    let cycle_s = args
+        .cycle
+        .unwrap_or(Params::robots().wave.cycle.as_secs_f64());
+    println!(
+        "CIMAX lab arena: robots in a line running the robot program over the emulated light medium"
+    );
+    println!(
+        "{:<12} {:<10} {:<36} {:>8} {:>24} {:>9}",
+        "pattern", "expected", "LEDs per run", "success", "consensus s (cycles)", "speed"
+    );
+    for (i, e) in experiments.iter().enumerate() {
+        let rs: Vec<&LabRun> = runs
+            .iter()
+            .filter(|(j, _)| *j == i)
+            .map(|(_, r)| r)
+            .collect();
+        let ok = rs.iter().filter(|r| r.success).count();
+        let times: Vec<f64> = rs.iter().filter_map(|r| r.consensus_s).collect();
+        let mean = (!times.is_empty()).then(|| times.iter().sum::<f64>() / times.len() as f64);
+        let speed: f64 = rs
+            .iter()
+            .map(|r| r.report.emulated.as_secs_f64())
+            .sum::<f64>()
+            / rs.iter()
+                .map(|r| r.report.wall.as_secs_f64())
+                .sum::<f64>()
+                .max(1e-9);
+        let leds: Vec<String> = rs.iter().map(|r| leds_str(&r.leds)).collect();
+        let exp = rs
+            .first()
+            .and_then(|r| r.expected.as_deref())
+            .map_or("(none)".into(), leds_str);
+        let success = if rs.iter().all(|r| r.expected.is_none()) {
+            "n/a".to_string()
+        } else {
+            format!("{:.0}%", 100.0 * ok as f64 / rs.len().max(1) as f64)
+        };
+        let consensus = mean.map_or("-".into(), |m| format!("{m:.0} ({:.1})", m / cycle_s));
+        println!(
+            "{:<12} {:<10} {:<36} {:>8} {:>24} {:>8.0}x",
+            e.label,
+            exp,
+            leds.join(" "),
+            success,
+            consensus,
+            speed
+        );
+    }
+}
+
+/// `--trace` and `--svg` for the first run (run again with tracing on).
+fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
+    if args.trace.is_none() && args.svg.is_none() {
+        return Ok(());
+    }
+    let mut cfg = cfg.clone();
+    cfg.trace = true;
+    let run = judge(&cfg).map_err(|e| e.to_string())?;
+    if let Some(path) = &args.trace {
+        let mut out = std::io::BufWriter::new(
+            std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?,
+        );
+        for e in &run.report.trace {
+            let line = serde_json::to_string(e).map_err(|e| e.to_string())?;
+            writeln!(out, "{line}").map_err(|e| format!("{}: {e}", path.display()))?;
+        }
+        out.flush()
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    if let Some(path) = &args.svg {
+        std::fs::write(path, timeline_svg(&cfg, &run))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// A timeline per robot: LED colour as a band, frames sent as ticks above it, frames received
+/// as dots below it (red when garbled or dropped).
+fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
+    let n = cfg.positions.len();
+    let end_s = cfg.duration.as_secs_f64().max(1.0);
+    let (w, lane, left) = (1200.0, 40.0, 70.0);
+    let h = 40.0 + lane * n as f64;
+    let x = |t_ms: u64| left + (w - left - 10.0) * (t_ms as f64 / 1000.0 / end_s);
+    let mut s = format!(
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="11">"#
+    );
+    s += &format!(
+        r#"<text x="{left}" y="14">pattern {} seed {}: LED colour (green left, blue right, grey off), frames sent (ticks) and received (dots; red = garbled or dropped); {end_s:.0} s</text>"#,
+        pattern_str(&run.lights),
+        run.seed
+    );
+    for r in 0..n {
+        let y = 30.0 + lane * r as f64;
+        s += &format!(r#"<text x="4" y="{}">robot {r}</text>"#, y + 18.0);
+        let mut segs: Vec<(u64, LedColor)> = vec![(0, LedColor::Off)];
+        segs.extend(
+            run.report
+                .leds
+                .iter()
+                .filter(|c| c.robot == r)
+                .map(|c| (c.t.as_millis(), c.color)),
+        );
+        for (i, &(t, c)) in segs.iter().enumerate() {
+            let t2 = segs.get(i + 1).map_or(cfg.duration.as_millis(), |s| s.0);
+            let fill = match c {
+                LedColor::Green => "#2e9d4a",
+                LedColor::Blue => "#2b6cd6",
+                LedColor::Off => "#d8d8d8",
+            };
+            s += &format!(
+                r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="12" fill="{fill}"/>"#,
+                x(t),
+                y + 10.0,
+                (x(t2) - x(t)).max(0.5)
+            );
+        }
+    }
+    for e in &run.report.trace {
+        match e {
+            TraceEvent::Sent { t_ms, robot, .. } => {
+                let y = 30.0 + lane * *robot as f64;
+                s += &format!(
+                    r#"<line x1="{0:.1}" x2="{0:.1}" y1="{1:.1}" y2="{2:.1}" stroke="black" stroke-width="0.6"/>"#,
+                    x(*t_ms),
+                    y + 2.0,
+                    y + 9.0
+                );
+            }
+            TraceEvent::Received {
+                t_ms,
+                robot,
+                garbled,
+                corrupted,
+                ..
+            } => {
+                let y = 30.0 + lane * *robot as f64;
+                let c = if *garbled || *corrupted > 0 {
+                    "red"
+                } else {
+                    "#555"
+                };
+                s += &format!(
+                    r#"<circle cx="{:.1}" cy="{:.1}" r="1.3" fill="{c}"/>"#,
+                    x(*t_ms),
+                    y + 26.0
+                );
+            }
+            TraceEvent::Dropped { t_ms, robot, .. } => {
+                let y = 30.0 + lane * *robot as f64;
+                s += &format!(
+                    r#"<circle cx="{:.1}" cy="{:.1}" r="1.8" fill="none" stroke="red"/>"#,
+                    x(*t_ms),
+                    y + 26.0
+                );
+            }
+            _ => {}
+        }
+    }
+    s += "</svg>\n";
+    s
+}

@@ -1,0 +1,414 @@
+//! Experiments over [`Sim`]: one run, sweeps over initial positions, preferred-direction maps,
+//! radial profiles. Runs are independent and each has its own seed
+//! ([`crate::seeds::derive`]`(seed, [point, run])`), so they are spread over all cores with rayon
+//! and the results do not depend on the number of threads.
+
+use std::io::IsTerminal;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use nalgebra::Point2;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
+
+use crate::geometry::Swarm;
+use crate::scenario::{GridSpec, Scenario, Success};
+use crate::seeds::derive;
+use crate::sim::{Period, RunConfig, Sim};
+
+/// Any failure of an experiment (parameters that do not validate, a swarm that cannot be placed).
+pub type Error = Box<dyn std::error::Error + Send + Sync>;
+
+/// A progress bar on stderr, shown only when stderr is a terminal.
+pub struct Progress(Option<ProgressBar>);
+
+impl Progress {
+    /// A bar for `len` runs labelled `msg`, or nothing if stderr is not a terminal or `quiet`.
+    pub fn new(len: u64, msg: &str, quiet: bool) -> Progress {
+        if quiet || !std::io::stderr().is_terminal() {
+            return Progress(None);
+        }
+        let bar = ProgressBar::new(len);
+        if let Ok(style) =
+            ProgressStyle::with_template("{msg:>22} [{bar:40}] {pos}/{len} runs, {eta} left")
+        {
+            bar.set_style(style.progress_chars("=> "));
+        }
+        bar.set_message(msg.to_string());
+        Progress(Some(bar))
+    }
+
+    /// No bar at all.
+    pub fn hidden() -> Progress {
+        Progress(None)
+    }
+
+    fn inc(&self) {
+        if let Some(b) = &self.0 {
+            b.inc(1);
+        }
+    }
+
+    /// Removes the bar.
+    pub fn finish(&self) {
+        if let Some(b) = &self.0 {
+            b.finish_and_clear();
+        }
+    }
+}
+
+/// One run: the placement, every period, and when it first met the success criterion.
+#[derive(Clone, Debug)]
+pub struct RunOutput {
+    /// The swarm's geometry.
+    pub swarm: Swarm,
+    /// The initial centre of mass.
+    pub start: Point2<f64>,
+    /// Every period run.
+    pub periods: Vec<Period>,
+    /// Periods after which the run first met the criterion (0: at the start).
+    pub success_at: Option<u32>,
+}
+
+/// Places a swarm for run `seed`.
+fn place(scn: &Scenario, agents: usize, seed: u64) -> Result<Swarm, Error> {
+    let mut rng = Pcg64Mcg::seed_from_u64(derive(seed, &[3]));
+    let shape = scn.shape.scaled_for(scn.agents, agents);
+    Ok(Swarm::place(agents, shape, 1.0, &mut rng)?)
+}
+
+/// Runs `scn` from `start` for up to `periods` negotiation periods. With `stop_on_success`, the
+/// run ends as soon as the scenario's criterion is met (at the start or after a move).
+///
+/// # Errors
+/// If the parameters do not validate or no connected placement exists.
+pub fn run(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    periods: u32,
+    seed: u64,
+    stop_on_success: bool,
+) -> Result<RunOutput, Error> {
+    let swarm = place(scn, scn.agents, seed)?;
+    let mut out = RunOutput {
+        swarm,
+        start,
+        periods: Vec::new(),
+        success_at: None,
+    };
+    let met = |c: Point2<f64>| scn.success.as_ref().is_some_and(|s: &Success| s.met(c));
+    if met(start) {
+        out.success_at = Some(0);
+        if stop_on_success {
+            return Ok(out);
+        }
+    }
+    let mut periods_out = Vec::with_capacity(periods as usize);
+    {
+        let mut sim = Sim::new(&out.swarm, &scn.field, cfg, start, seed)?;
+        for _ in 0..periods {
+            let p = sim.run_period();
+            periods_out.push(p);
+            if out.success_at.is_none() && met(p.to) {
+                out.success_at = Some(p.index);
+                if stop_on_success {
+                    break;
+                }
+            }
+        }
+    }
+    out.periods = periods_out;
+    Ok(out)
+}
+
+/// Success statistics at one initial position.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SweepPoint {
+    /// Initial x of the centre of mass (y = 0).
+    pub x_init: f64,
+    /// Runs made.
+    pub runs: u32,
+    /// Runs that met the criterion.
+    pub successes: u32,
+    /// Mean number of negotiation periods (moves) until success, over successful runs.
+    pub mean_success_periods: Option<f64>,
+}
+
+impl SweepPoint {
+    /// Fraction of successful runs.
+    pub fn success_rate(&self) -> f64 {
+        f64::from(self.successes) / f64::from(self.runs.max(1))
+    }
+}
+
+/// `runs` runs from each `(x, 0)` in `xs`, each stopped at success or after the scenario's
+/// periods. Run `r` at point `p` uses seed `derive(seed, [p, r])`.
+///
+/// # Errors
+/// The first run's error, if any run fails.
+pub fn sweep(
+    scn: &Scenario,
+    cfg: RunConfig,
+    xs: &[f64],
+    runs: u32,
+    seed: u64,
+    progress: &Progress,
+) -> Result<Vec<SweepPoint>, Error> {
+    let n = xs.len() * runs as usize;
+    let outcomes: Vec<Option<u32>> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let (p, r) = (k / runs as usize, k % runs as usize);
+            let s = derive(seed, &[p as u64, r as u64]);
+            let out = run(scn, cfg, Point2::new(xs[p], 0.0), scn.periods, s, true);
+            progress.inc();
+            out.map(|o| o.success_at)
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(xs
+        .iter()
+        .enumerate()
+        .map(|(p, &x)| {
+            let mine = &outcomes[p * runs as usize..(p + 1) * runs as usize];
+            let ok: Vec<f64> = mine.iter().flatten().map(|&t| f64::from(t)).collect();
+            SweepPoint {
+                x_init: x,
+                runs,
+                successes: ok.len() as u32,
+                mean_success_periods: (!ok.is_empty())
+                    .then(|| ok.iter().sum::<f64>() / ok.len() as f64),
+            }
+        })
+        .collect())
+}
+
+/// The swarm's preferred direction with its centre at one point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Arrow {
+    /// The swarm's centre.
+    pub at: Point2<f64>,
+    /// Circular mean of the decided bearings (radians), if any agent decided.
+    pub direction: Option<f64>,
+    /// Length of the mean resultant (0..1).
+    pub consensus: f64,
+    /// Agents with a decision.
+    pub decided: u32,
+}
+
+/// One run of one negotiation period (of the grid's length) at each grid point, row by row
+/// (`y` outer, `x` inner). Point `k` uses seed `derive(seed, [k])`.
+///
+/// # Errors
+/// The first run's error, if any run fails.
+pub fn direction_map(
+    scn: &Scenario,
+    grid: &GridSpec,
+    seed: u64,
+    progress: &Progress,
+) -> Result<Vec<Arrow>, Error> {
+    let mut cfg = scn.run;
+    cfg.params.gather_cycles = grid.gather_cycles;
+    cfg.params.decide_cycles = grid.decide_cycles;
+    let points: Vec<Point2<f64>> = grid
+        .ys
+        .iter()
+        .flat_map(|&y| grid.xs.iter().map(move |&x| Point2::new(x, y)))
+        .collect();
+    points
+        .par_iter()
+        .enumerate()
+        .map(|(k, &at)| {
+            let out = run(scn, cfg, at, 1, derive(seed, &[k as u64]), false)?;
+            progress.inc();
+            let p = out.periods[0];
+            Ok(Arrow {
+                at,
+                direction: p.direction,
+                consensus: p.consensus,
+                decided: p.decided,
+            })
+        })
+        .collect()
+}
+
+/// How strongly a swarm at distance `d` from a centre heads toward it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RadialPoint {
+    /// Distance of the swarm's centre from the profile's centre.
+    pub distance: f64,
+    /// Runs made.
+    pub runs: u32,
+    /// Mean of cos(angle between the decided direction and the direction to the centre); 0 for
+    /// a run without a direction. +1: straight in, −1: straight out, about 0: no preference.
+    pub inward: f64,
+    /// Standard error of `inward`.
+    pub inward_se: f64,
+}
+
+/// `runs` one-period runs at each distance in `distances` from `centre`, at random angles.
+/// Run `r` at distance index `p` uses seed `derive(seed, [p, r])`.
+///
+/// # Errors
+/// The first run's error, if any run fails.
+pub fn radial_profile(
+    scn: &Scenario,
+    cfg: RunConfig,
+    centre: Point2<f64>,
+    distances: &[f64],
+    runs: u32,
+    seed: u64,
+    progress: &Progress,
+) -> Result<Vec<RadialPoint>, Error> {
+    let n = distances.len() * runs as usize;
+    let cosines: Vec<f64> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let (p, r) = (k / runs as usize, k % runs as usize);
+            let s = derive(seed, &[p as u64, r as u64]);
+            let phi =
+                std::f64::consts::TAU * Pcg64Mcg::seed_from_u64(derive(s, &[4])).random::<f64>();
+            let d = distances[p];
+            let at = centre + nalgebra::Vector2::new(d * phi.cos(), d * phi.sin());
+            let out = run(scn, cfg, at, 1, s, false)?;
+            progress.inc();
+            // Direction to the centre is phi + π.
+            Ok(out.periods[0]
+                .direction
+                .map_or(0.0, |dir| (dir - phi - std::f64::consts::PI).cos()))
+        })
+        .collect::<Result<_, Error>>()?;
+    Ok(distances
+        .iter()
+        .enumerate()
+        .map(|(p, &d)| {
+            let c = &cosines[p * runs as usize..(p + 1) * runs as usize];
+            let m = c.iter().sum::<f64>() / c.len() as f64;
+            let var = c.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / c.len() as f64;
+            RadialPoint {
+                distance: d,
+                runs,
+                inward: m,
+                inward_se: (var / c.len() as f64).sqrt(),
+            }
+        })
+        .collect())
+}
+
+/// The observer's average diversity once the swarm has arrived: for each of `runs` full runs
+/// from the scenario's start (run `r` uses seed `derive(seed, [r])`) that met the success
+/// criterion at least `min_after` periods before the end, the mean over the periods after
+/// success. Returns the mean over those runs, its standard error, and how many runs counted.
+///
+/// # Errors
+/// The first run's error, if any run fails.
+pub fn diversity_plateau(
+    scn: &Scenario,
+    runs: u32,
+    min_after: u32,
+    seed: u64,
+    progress: &Progress,
+) -> Result<(f64, f64, usize), Error> {
+    let means: Vec<Option<f64>> = (0..runs)
+        .into_par_iter()
+        .map(|r| {
+            let out = run(
+                scn,
+                scn.run,
+                scn.start,
+                scn.periods,
+                derive(seed, &[u64::from(r)]),
+                false,
+            )?;
+            progress.inc();
+            let Some(at) = out.success_at else {
+                return Ok(None);
+            };
+            let tail: Vec<f64> = out
+                .periods
+                .iter()
+                .filter(|p| p.index > at)
+                .map(|p| p.diversity)
+                .collect();
+            Ok((tail.len() >= min_after as usize)
+                .then(|| tail.iter().sum::<f64>() / tail.len() as f64))
+        })
+        .collect::<Result<_, Error>>()?;
+    let used: Vec<f64> = means.into_iter().flatten().collect();
+    let n = used.len().max(1) as f64;
+    let m = used.iter().sum::<f64>() / n;
+    let var = used.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / n;
+    Ok((m, (var / n).sqrt(), used.len()))
+}
+
+/// Mean number of waves an agent takes part in during one gathering cycle (the messages that
+/// activated it), over `runs` runs at the scenario's start: with `N` agents each initiating once,
+/// `N` means that every wave flooded the whole swarm; fewer, that waves collided.
+///
+/// # Errors
+/// The first run's error, if any run fails.
+pub fn waves_heard(scn: &Scenario, cfg: RunConfig, runs: u32, seed: u64) -> Result<f64, Error> {
+    let per_run: Vec<f64> = (0..runs)
+        .into_par_iter()
+        .map(|r| {
+            let s = derive(seed, &[u64::from(r)]);
+            let swarm = place(scn, scn.agents, s)?;
+            let mut sim = Sim::new(&swarm, &scn.field, cfg, scn.start, s)?;
+            let cycle = cfg.params.wave.cycle.as_millis() / 1000;
+            sim.run_until(cycle);
+            let heard: u64 = sim
+                .agents()
+                .iter()
+                .map(|a| u64::from(a.stats().accepted))
+                .sum();
+            Ok(heard as f64 / swarm.len().max(1) as f64)
+        })
+        .collect::<Result<_, Error>>()?;
+    Ok(per_run.iter().sum::<f64>() / per_run.len().max(1) as f64)
+}
+
+/// Agent-steps per second at one swarm size.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BenchResult {
+    /// Agents.
+    pub agents: usize,
+    /// Mean neighbours per agent.
+    pub mean_degree: f64,
+    /// Wall time to place the swarm and build its neighbour lists, seconds.
+    pub place_s: f64,
+    /// Simulated seconds.
+    pub sim_secs: u64,
+    /// Wall time of the simulation, seconds.
+    pub wall_s: f64,
+    /// Calls into the agents (`handle_timeout` + `handle_message`).
+    pub calls: u64,
+}
+
+impl BenchResult {
+    /// Agents × simulated seconds per wall-clock second.
+    pub fn agent_steps_per_s(&self) -> f64 {
+        self.agents as f64 * self.sim_secs as f64 / self.wall_s
+    }
+}
+
+/// Places `agents` agents (the scenario's shape scaled to keep its density) and runs one
+/// negotiation period of the scenario at its start, on one thread.
+///
+/// # Errors
+/// If the parameters do not validate or no connected placement exists.
+pub fn bench(scn: &Scenario, agents: usize, seed: u64) -> Result<BenchResult, Error> {
+    let t0 = std::time::Instant::now();
+    let swarm = place(scn, agents, seed)?;
+    let place_s = t0.elapsed().as_secs_f64();
+    let t1 = std::time::Instant::now();
+    let mut sim = Sim::new(&swarm, &scn.field, scn.run, scn.start, seed)?;
+    sim.run_period();
+    Ok(BenchResult {
+        agents,
+        mean_degree: swarm.mean_degree(),
+        place_s,
+        sim_secs: scn.run.period_secs(),
+        wall_s: t1.elapsed().as_secs_f64(),
+        calls: sim.calls(),
+    })
+}

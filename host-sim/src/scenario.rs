@@ -1,0 +1,735 @@
+//! Scenarios: the field, the swarm, the protocol parameters and what counts as success.
+//!
+//! The built-in scenarios `sharp`, `gradient` and `cloud` are TOML files compiled into the
+//! binary (`host-sim/scenarios/*.toml`); any other file in the same format can be passed to
+//! `--scenario`. Every key but `[[field]]` is optional:
+//!
+//! ```toml
+//! name = "two-steps"
+//! description = "free text"
+//! noise = 1.0            # ξ uniform in (−noise/2, noise/2), fresh at every reading
+//! step = 0.33            # move per negotiation period, in R (R = 1)
+//! periods = 50           # negotiation periods per run
+//! start = [-2.5, 0.0]    # centre of mass for `swarm run`
+//!
+//! [swarm]
+//! agents = 61
+//! shape = "disk"         # diameter = 6.0; or "rectangle" with width and height
+//! diameter = 6.0
+//!
+//! [protocol]             # Params::simulation_2d() unless given; times in whole seconds
+//! cycle = 1000
+//! refractory = 10
+//! relay_delay = 1
+//! gather_cycles = 1
+//! decide_cycles = 1
+//! diffusion = 0.1
+//!
+//! [[field]]              # summed; along = "x", "y" or "radial" (with centre = [x, y])
+//! along = "x"
+//! segments = [           # from `from` on: level + slope · (s − from); sorted by `from`
+//!     { from = -inf, level = 0.0 },
+//!     { from = 0.0, level = 5.0 },
+//! ]
+//!
+//! [success]              # kind = "near_x" (|x − x0| < within) or "beyond_x" (x ≥ x0)
+//! kind = "near_x"
+//! x = 0.0
+//! within = 0.33
+//!
+//! [sweep]                # initial x positions of `swarm sweep` (y = 0)
+//! from = -5.0
+//! to = 5.0
+//! step = 0.5
+//! runs = 50
+//!
+//! [grid]                 # swarm centres of `swarm field`: [from, to, step]
+//! x = [-5.0, 5.0, 0.5]
+//! y = [-3.0, 3.0, 1.0]
+//! gather_cycles = 2      # the period used for each arrow
+//! decide_cycles = 2
+//! ```
+//!
+//! A file that does not parse or makes no sense gives a [`ScenarioError`] naming the line,
+//! the column and the problem.
+
+use std::fmt;
+use std::ops::Range;
+use std::path::Path;
+
+use nalgebra::Point2;
+use protocol::{Duration, Params};
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::field::{Along, Field, Layer, Segment};
+use crate::geometry::Shape;
+use crate::sim::RunConfig;
+
+/// The built-in scenarios, by name.
+pub const BUILTINS: [(&str, &str); 3] = [
+    ("sharp", include_str!("../scenarios/sharp.toml")),
+    ("gradient", include_str!("../scenarios/gradient.toml")),
+    ("cloud", include_str!("../scenarios/cloud.toml")),
+];
+
+/// When a run counts as a success (paper section 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Success {
+    /// The centre of mass within `within` of the line `x = x` (sharp border: |x| < 0.33 R).
+    NearX {
+        /// The line.
+        x: f64,
+        /// Distance below which the run succeeds.
+        within: f64,
+    },
+    /// The centre of mass at or beyond `x` (gradient: x ≥ 2.33).
+    BeyondX {
+        /// The line.
+        x: f64,
+    },
+}
+
+impl Success {
+    /// True if a swarm centred at `c` has succeeded.
+    pub fn met(&self, c: Point2<f64>) -> bool {
+        match *self {
+            Success::NearX { x, within } => (c.x - x).abs() < within,
+            Success::BeyondX { x } => c.x >= x,
+        }
+    }
+}
+
+impl fmt::Display for Success {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Success::NearX { x: 0.0, within } => write!(f, "|x| < {within}"),
+            Success::NearX { x, within } => write!(f, "|x − {x}| < {within}"),
+            Success::BeyondX { x } => write!(f, "x ≥ {x}"),
+        }
+    }
+}
+
+/// The initial positions of a sweep.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepSpec {
+    /// Initial x of the centre of mass (y = 0).
+    pub xs: Vec<f64>,
+    /// Runs per position.
+    pub runs: u32,
+}
+
+/// The grid of a preferred-direction map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridSpec {
+    /// Column positions.
+    pub xs: Vec<f64>,
+    /// Row positions.
+    pub ys: Vec<f64>,
+    /// Gathering cycles of the period run at each point.
+    pub gather_cycles: u16,
+    /// Deciding cycles of the period run at each point.
+    pub decide_cycles: u16,
+}
+
+/// A validated scenario.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scenario {
+    /// Short name (file names of outputs are derived from it).
+    pub name: String,
+    /// One line for plots and reports.
+    pub description: String,
+    /// The mean of X.
+    pub field: Field,
+    /// Number of agents.
+    pub agents: usize,
+    /// The outline the agents are scattered in.
+    pub shape: Shape,
+    /// Protocol parameters, step and noise.
+    pub run: RunConfig,
+    /// Negotiation periods per run.
+    pub periods: u32,
+    /// Where `swarm run` starts.
+    pub start: Point2<f64>,
+    /// Success criterion, if the scenario has one.
+    pub success: Option<Success>,
+    /// Sweep positions, if given.
+    pub sweep: Option<SweepSpec>,
+    /// Grid of the direction map, if given.
+    pub grid: Option<GridSpec>,
+}
+
+/// A scenario that could not be read: where and why.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ScenarioError {
+    /// The file (or built-in) name.
+    pub source: String,
+    /// Line and column (1-based), when the problem has a place.
+    pub at: Option<(usize, usize)>,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for ScenarioError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.at {
+            Some((l, c)) => write!(f, "{}:{l}:{c}: {}", self.source, self.message),
+            None => write!(f, "{}: {}", self.source, self.message),
+        }
+    }
+}
+
+impl std::error::Error for ScenarioError {}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Raw {
+    name: Option<String>,
+    description: Option<String>,
+    noise: Option<Spanned<f64>>,
+    step: Option<Spanned<f64>>,
+    periods: Option<Spanned<u32>>,
+    start: Option<Spanned<[f64; 2]>>,
+    swarm: Option<Spanned<RawSwarm>>,
+    protocol: Option<Spanned<RawProtocol>>,
+    field: Spanned<Vec<RawLayer>>,
+    success: Option<Spanned<RawSuccess>>,
+    sweep: Option<Spanned<RawSweep>>,
+    grid: Option<Spanned<RawGrid>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSwarm {
+    agents: Option<Spanned<usize>>,
+    shape: Option<Spanned<String>>,
+    diameter: Option<Spanned<f64>>,
+    width: Option<Spanned<f64>>,
+    height: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawProtocol {
+    cycle: Option<u64>,
+    refractory: Option<u64>,
+    relay_delay: Option<u64>,
+    gather_cycles: Option<u16>,
+    decide_cycles: Option<u16>,
+    diffusion: Option<f32>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLayer {
+    along: Spanned<String>,
+    centre: Option<Spanned<[f64; 2]>>,
+    segments: Spanned<Vec<RawSegment>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSegment {
+    from: Spanned<f64>,
+    level: Spanned<f64>,
+    slope: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSuccess {
+    kind: Spanned<String>,
+    x: Option<Spanned<f64>>,
+    within: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSweep {
+    from: Spanned<f64>,
+    to: Spanned<f64>,
+    step: Spanned<f64>,
+    runs: Option<Spanned<u32>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawGrid {
+    x: Spanned<[f64; 3]>,
+    y: Spanned<[f64; 3]>,
+    gather_cycles: Option<u16>,
+    decide_cycles: Option<u16>,
+}
+
+/// Line and column (1-based, in characters) of byte `offset` in `text`.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let offset = offset.min(text.len());
+    let before = text.get(..offset).unwrap_or(text);
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, col)
+}
+
+struct Ctx<'t> {
+    text: &'t str,
+    source: String,
+}
+
+impl Ctx<'_> {
+    fn err(&self, span: Range<usize>, message: impl Into<String>) -> ScenarioError {
+        ScenarioError {
+            source: self.source.clone(),
+            at: Some(line_col(self.text, span.start)),
+            message: message.into(),
+        }
+    }
+
+    fn positive(&self, v: &Spanned<f64>, what: &str) -> Result<f64, ScenarioError> {
+        let x = *v.get_ref();
+        if x.is_finite() && x > 0.0 {
+            Ok(x)
+        } else {
+            Err(self.err(
+                v.span(),
+                format!("{what} must be a positive number, not {x}"),
+            ))
+        }
+    }
+
+    fn finite(&self, v: &Spanned<f64>, what: &str) -> Result<f64, ScenarioError> {
+        let x = *v.get_ref();
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.err(v.span(), format!("{what} must be a finite number, not {x}")))
+        }
+    }
+
+    fn range(&self, from: f64, to: f64, step: &Spanned<f64>) -> Result<Vec<f64>, ScenarioError> {
+        let s = self.positive(step, "the step")?;
+        let n = ((to - from) / s + 1e-9).floor();
+        if !(from.is_finite() && to.is_finite() && (0.0..=100_000.0).contains(&n)) {
+            return Err(self.err(
+                step.span(),
+                format!("from {from} to {to} by {s} is not a range of 1 to 100,001 values"),
+            ));
+        }
+        Ok((0..=n as u64).map(|k| from + k as f64 * s).collect())
+    }
+}
+
+impl Scenario {
+    /// The built-in scenario called `name`.
+    pub fn builtin(name: &str) -> Option<Scenario> {
+        BUILTINS
+            .iter()
+            .find(|(n, _)| *n == name)
+            .and_then(|(n, text)| Scenario::from_toml(text, &format!("built-in {n}")).ok())
+    }
+
+    /// A built-in name or the path of a scenario file.
+    ///
+    /// # Errors
+    /// A [`ScenarioError`] if the file cannot be read or is not a valid scenario.
+    pub fn load(name_or_path: &str) -> Result<Scenario, ScenarioError> {
+        if let Some(s) = Scenario::builtin(name_or_path) {
+            return Ok(s);
+        }
+        let path = Path::new(name_or_path);
+        let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+            source: name_or_path.to_string(),
+            at: None,
+            message: format!(
+                "cannot read it ({e}); built-in scenarios are {}",
+                BUILTINS.map(|(n, _)| n).join(", ")
+            ),
+        })?;
+        Scenario::from_toml(&text, name_or_path)
+    }
+
+    /// Parses and validates a scenario; `source` names it in errors.
+    ///
+    /// # Errors
+    /// A [`ScenarioError`] with the line and column of the first problem.
+    pub fn from_toml(text: &str, source: &str) -> Result<Scenario, ScenarioError> {
+        let cx = Ctx {
+            text,
+            source: source.to_string(),
+        };
+        let raw: Raw = toml::from_str(text).map_err(|e| ScenarioError {
+            source: source.to_string(),
+            at: e.span().map(|s| line_col(text, s.start)),
+            message: e.message().trim().to_string(),
+        })?;
+
+        // Swarm.
+        let (mut agents, mut shape) = (61usize, Shape::Disk { diameter: 6.0 });
+        if let Some(sw) = &raw.swarm {
+            let sw = sw.get_ref();
+            if let Some(a) = &sw.agents {
+                agents = *a.get_ref();
+                if !(2..=1_000_000).contains(&agents) {
+                    return Err(cx.err(a.span(), "agents must be between 2 and 1,000,000"));
+                }
+            }
+            let kind = sw.shape.as_ref().map_or("disk", |s| s.get_ref().as_str());
+            let misplaced = |v: &Option<Spanned<f64>>, key: &str| {
+                v.as_ref().map_or(Ok(()), |v| {
+                    Err(cx.err(
+                        v.span(),
+                        format!("`{key}` does not apply to shape \"{kind}\""),
+                    ))
+                })
+            };
+            shape = match kind {
+                "disk" => {
+                    misplaced(&sw.width, "width")?;
+                    misplaced(&sw.height, "height")?;
+                    Shape::Disk {
+                        diameter: match &sw.diameter {
+                            Some(d) => cx.positive(d, "the diameter")?,
+                            None => 6.0,
+                        },
+                    }
+                }
+                "rectangle" => {
+                    misplaced(&sw.diameter, "diameter")?;
+                    let need = |v: &Option<Spanned<f64>>, key: &str| match v {
+                        Some(v) => cx.positive(v, key),
+                        None => Err(ScenarioError {
+                            source: cx.source.clone(),
+                            at: sw.shape.as_ref().map(|s| line_col(text, s.span().start)),
+                            message: format!("a rectangle needs `{key}`"),
+                        }),
+                    };
+                    Shape::Rectangle {
+                        width: need(&sw.width, "width")?,
+                        height: need(&sw.height, "height")?,
+                    }
+                }
+                other => {
+                    let span = sw.shape.as_ref().map_or(0..0, |s| s.span());
+                    return Err(cx.err(
+                        span,
+                        format!("unknown shape \"{other}\", expected \"disk\" or \"rectangle\""),
+                    ));
+                }
+            };
+        }
+
+        // Protocol.
+        let mut params = Params::simulation_2d();
+        if let Some(p) = &raw.protocol {
+            let r = p.get_ref();
+            if let Some(c) = r.cycle {
+                params.wave.cycle = Duration::from_secs(c);
+            }
+            if let Some(c) = r.refractory {
+                params.wave.refractory = Duration::from_secs(c);
+            }
+            if let Some(c) = r.relay_delay {
+                params.wave.relay_delay = Duration::from_secs(c);
+            }
+            if let Some(c) = r.gather_cycles {
+                params.gather_cycles = c;
+            }
+            if let Some(c) = r.decide_cycles {
+                params.decide_cycles = c;
+            }
+            if let Some(d) = r.diffusion {
+                params.diffusion = d;
+            }
+            params
+                .validate()
+                .map_err(|e| cx.err(p.span(), format!("[protocol]: {e}")))?;
+        }
+
+        let noise = match &raw.noise {
+            Some(v) if *v.get_ref() == 0.0 => 0.0,
+            Some(v) => cx.positive(v, "noise")?,
+            None => 1.0,
+        };
+        let step = match &raw.step {
+            Some(v) => cx.positive(v, "step")?,
+            None => 0.33,
+        };
+        let periods = match &raw.periods {
+            Some(v) if (1..=100_000).contains(v.get_ref()) => *v.get_ref(),
+            Some(v) => return Err(cx.err(v.span(), "periods must be between 1 and 100,000")),
+            None => 50,
+        };
+        let start = match &raw.start {
+            Some(s) => {
+                let [x, y] = *s.get_ref();
+                if !(x.is_finite() && y.is_finite()) {
+                    return Err(cx.err(s.span(), "start must be two finite numbers"));
+                }
+                Point2::new(x, y)
+            }
+            None => Point2::new(-2.5, 0.0),
+        };
+
+        // Field.
+        let mut layers = Vec::new();
+        if raw.field.get_ref().is_empty() {
+            return Err(cx.err(raw.field.span(), "the field needs at least one layer"));
+        }
+        for l in raw.field.get_ref() {
+            let along = match (l.along.get_ref().as_str(), &l.centre) {
+                ("x", None) => Along::X,
+                ("y", None) => Along::Y,
+                ("radial", c) => {
+                    let [x, y] = c.as_ref().map_or([0.0, 0.0], |c| *c.get_ref());
+                    if !(x.is_finite() && y.is_finite()) {
+                        let span = c.as_ref().map_or(l.along.span(), |c| c.span());
+                        return Err(cx.err(span, "centre must be two finite numbers"));
+                    }
+                    Along::Radial {
+                        centre: Point2::new(x, y),
+                    }
+                }
+                ("x" | "y", Some(c)) => {
+                    return Err(cx.err(c.span(), "`centre` only applies to along = \"radial\""));
+                }
+                (other, _) => {
+                    return Err(cx.err(
+                        l.along.span(),
+                        format!("unknown along = \"{other}\", expected \"x\", \"y\" or \"radial\""),
+                    ));
+                }
+            };
+            let segs = l.segments.get_ref();
+            if segs.is_empty() {
+                return Err(cx.err(l.segments.span(), "a layer needs at least one segment"));
+            }
+            let mut segments = Vec::new();
+            for (k, s) in segs.iter().enumerate() {
+                let from = *s.from.get_ref();
+                if from.is_nan() || from == f64::INFINITY {
+                    return Err(cx.err(s.from.span(), "`from` must be a number or -inf"));
+                }
+                if k > 0 && from <= *segs[k - 1].from.get_ref() {
+                    return Err(cx.err(
+                        s.from.span(),
+                        format!(
+                            "segments must start at increasing `from`: {from} follows {}",
+                            segs[k - 1].from.get_ref()
+                        ),
+                    ));
+                }
+                let level = cx.finite(&s.level, "level")?;
+                let slope = match &s.slope {
+                    Some(v) => cx.finite(v, "slope")?,
+                    None => 0.0,
+                };
+                if from == f64::NEG_INFINITY && slope != 0.0 {
+                    let span = s.slope.as_ref().map_or(s.from.span(), |v| v.span());
+                    return Err(cx.err(span, "a segment from -inf must be flat (slope = 0)"));
+                }
+                segments.push(Segment { from, level, slope });
+            }
+            layers.push(Layer { along, segments });
+        }
+
+        let success = match &raw.success {
+            None => None,
+            Some(s) => {
+                let r = s.get_ref();
+                let x = match &r.x {
+                    Some(v) => cx.finite(v, "x")?,
+                    None => return Err(cx.err(s.span(), "[success] needs `x`")),
+                };
+                Some(match r.kind.get_ref().as_str() {
+                    "near_x" => Success::NearX {
+                        x,
+                        within: match &r.within {
+                            Some(v) => cx.positive(v, "within")?,
+                            None => return Err(cx.err(s.span(), "near_x needs `within`")),
+                        },
+                    },
+                    "beyond_x" => {
+                        if let Some(w) = &r.within {
+                            return Err(cx.err(w.span(), "`within` does not apply to beyond_x"));
+                        }
+                        Success::BeyondX { x }
+                    }
+                    other => {
+                        return Err(cx.err(
+                            r.kind.span(),
+                            format!(
+                                "unknown kind \"{other}\", expected \"near_x\" or \"beyond_x\""
+                            ),
+                        ));
+                    }
+                })
+            }
+        };
+
+        let sweep = match &raw.sweep {
+            None => None,
+            Some(s) => {
+                let r = s.get_ref();
+                let from = cx.finite(&r.from, "from")?;
+                let to = cx.finite(&r.to, "to")?;
+                let runs = match &r.runs {
+                    Some(v) if (1..=100_000).contains(v.get_ref()) => *v.get_ref(),
+                    Some(v) => return Err(cx.err(v.span(), "runs must be between 1 and 100,000")),
+                    None => 50,
+                };
+                Some(SweepSpec {
+                    xs: cx.range(from, to, &r.step)?,
+                    runs,
+                })
+            }
+        };
+
+        let grid = match &raw.grid {
+            None => None,
+            Some(g) => {
+                let r = g.get_ref();
+                let axis = |v: &Spanned<[f64; 3]>| {
+                    let [a, b, s] = *v.get_ref();
+                    cx.range(a, b, &Spanned::new(v.span(), s))
+                };
+                let gather = r.gather_cycles.unwrap_or(params.gather_cycles);
+                let decide = r.decide_cycles.unwrap_or(params.decide_cycles);
+                if gather == 0 || decide == 0 {
+                    return Err(cx.err(g.span(), "[grid]: phases must last at least one cycle"));
+                }
+                Some(GridSpec {
+                    xs: axis(&r.x)?,
+                    ys: axis(&r.y)?,
+                    gather_cycles: gather,
+                    decide_cycles: decide,
+                })
+            }
+        };
+
+        let name = raw.name.unwrap_or_else(|| {
+            Path::new(source)
+                .file_stem()
+                .map_or("scenario".into(), |s| s.to_string_lossy().into_owned())
+        });
+        Ok(Scenario {
+            description: raw.description.unwrap_or_else(|| name.clone()),
+            name,
+            field: Field { layers },
+            agents,
+            shape,
+            run: RunConfig {
+                params,
+                step,
+                noise,
+            },
+            periods,
+            start,
+            success,
+            sweep,
+            grid,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn builtins_parse_and_match_the_paper() {
+        for (n, _) in BUILTINS {
+            assert!(Scenario::builtin(n).is_some(), "{n}");
+        }
+        let s = Scenario::builtin("sharp").unwrap();
+        assert_eq!(s.agents, 61);
+        assert_eq!(s.shape, Shape::Disk { diameter: 6.0 });
+        assert_eq!(s.run.params, Params::simulation_2d());
+        assert_eq!(s.periods, 50);
+        assert_eq!(s.field.mean(Point2::new(-0.1, 0.0)), 0.0);
+        assert_eq!(s.field.mean(Point2::new(0.0, 0.0)), 5.0);
+        assert_eq!(s.sweep.as_ref().unwrap().xs.len(), 21);
+        assert_eq!(s.sweep.as_ref().unwrap().runs, 50);
+        let g = Scenario::builtin("gradient").unwrap();
+        assert_eq!(g.field.mean(Point2::new(-3.0, 1.0)), 0.0);
+        assert!((g.field.mean(Point2::new(2.0, 1.0)) - 5.0).abs() < 1e-12);
+        let c = Scenario::builtin("cloud").unwrap();
+        assert_eq!(c.field.mean(Point2::new(2.0, 2.0)), 0.0);
+        assert!((c.field.mean(Point2::new(0.0, 3.75)) - 2.5).abs() < 1e-9);
+        assert_eq!(c.field.mean(Point2::new(-8.0, 0.0)), 5.0);
+    }
+
+    #[test]
+    fn success_criteria() {
+        let near = Success::NearX {
+            x: 0.0,
+            within: 0.33,
+        };
+        assert!(near.met(Point2::new(0.32, 7.0)));
+        assert!(near.met(Point2::new(-0.32, -7.0)));
+        assert!(!near.met(Point2::new(0.33, 0.0)));
+        assert!(!near.met(Point2::new(-0.34, 0.0)));
+        let beyond = Success::BeyondX { x: 2.33 };
+        assert!(beyond.met(Point2::new(2.33, 0.0)));
+        assert!(beyond.met(Point2::new(9.0, 0.0)));
+        assert!(!beyond.met(Point2::new(2.32, 0.0)));
+    }
+
+    fn err(text: &str) -> ScenarioError {
+        Scenario::from_toml(text, "bad.toml").unwrap_err()
+    }
+
+    const FIELD: &str = "[[field]]\nalong = \"x\"\nsegments = [{ from = 0.0, level = 1.0 }]\n";
+
+    #[test]
+    fn a_minimal_file_gets_the_papers_defaults() {
+        let s = Scenario::from_toml(FIELD, "dir/mine.toml").unwrap();
+        assert_eq!(s.name, "mine");
+        assert_eq!(s.agents, 61);
+        assert_eq!(s.run.step, 0.33);
+        assert_eq!(s.success, None);
+    }
+
+    #[test]
+    fn bad_files_name_the_line_and_the_problem() {
+        let e = err(&format!("noise = 1.0\nnoyse = 2\n{FIELD}"));
+        assert_eq!(e.at.map(|a| a.0), Some(2), "{e}");
+        assert!(e.message.contains("noyse"), "{e}");
+
+        let e = err(&format!(
+            "{FIELD}[swarm]\nagents = 61\nshape = \"triangle\"\n"
+        ));
+        assert_eq!(e.at, Some((6, 9)), "{e}");
+        assert!(e.message.contains("triangle"), "{e}");
+        assert!(
+            e.to_string().starts_with("bad.toml:6:9: unknown shape"),
+            "{e}"
+        );
+
+        let e = err(
+            "[[field]]\nalong = \"x\"\nsegments = [\n  { from = 1.0, level = 0.0 },\n  { from = 0.0, level = 5.0 },\n]\n",
+        );
+        assert_eq!(e.at.map(|a| a.0), Some(5), "{e}");
+        assert!(e.message.contains("increasing"), "{e}");
+
+        let e = err(&format!("{FIELD}[protocol]\ncycle = 5\n"));
+        assert_eq!(e.at.map(|a| a.0), Some(4), "{e}");
+        assert!(e.message.contains("refractory"), "{e}");
+
+        let e = err(&format!("step = -1\n{FIELD}"));
+        assert_eq!(e.at, Some((1, 8)), "{e}");
+        assert!(e.message.contains("step"), "{e}");
+
+        let e = err(&format!("{FIELD}[success]\nkind = \"near_x\"\nx = 0.0\n"));
+        assert!(e.message.contains("within"), "{e}");
+
+        let e = err(
+            "[[field]]\nalong = \"x\"\nsegments = [{ from = -inf, level = 0.0, slope = 1.0 }]\n",
+        );
+        assert!(e.message.contains("flat"), "{e}");
+
+        let e = err("start = [0.0, 0.0\n");
+        assert!(e.at.is_some(), "{e}");
+
+        let e = err("start = [0.0, 0.0]\n");
+        assert!(e.message.contains("field"), "{e}");
+    }
+}

@@ -1,0 +1,365 @@
+//! The 2D simulation engine: the `protocol` crate's [`ThreePhaseAgent`]s stepped in whole
+//! seconds over a rigid swarm that moves after every negotiation period.
+//!
+//! There is no second implementation of CIMAX here: this module only delivers messages, feeds
+//! readings and moves the swarm. Per simulated second `t` at which anything happens:
+//!
+//! 1. every agent whose [`ThreePhaseAgent::poll_timeout`] is due at `t` is served, by increasing
+//!    index ([`ThreePhaseAgent::handle_timeout`]); what it transmits is collected;
+//! 2. each transmission (senders by increasing index) is delivered at `t` to every neighbour
+//!    within the perception range, with the bearing `atan2(sender − receiver)`
+//!    ([`ThreePhaseAgent::handle_message`]). An agent activated at `t` relays at `t + 1`, so a
+//!    wave advances one hop per second;
+//! 3. at the end of a negotiation period (every agent shares the cycle boundaries: created at
+//!    second 0, no cycle spread) the swarm's direction is the circular mean of the agents'
+//!    decided bearings (agents without a decision abstain; if all abstain, or the bearings cancel
+//!    exactly, the swarm stays put) and the swarm moves `step` along it.
+//!
+//! Time jumps from one due second to the next (a priority queue of the agents' timeouts), so
+//! the idle part of a long cycle costs nothing.
+//!
+//! **Readings.** An agent samples X once per activation: when it may initiate (served at a
+//! timeout while not active) and when a message reaches it while it is inactive. The sample is
+//! `field(position) + ξ`, with ξ uniform in `(−noise/2, noise/2)` drawn fresh from the run's noise
+//! generator. The same sample is scored on reception and appended when relaying.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use nalgebra::{Point2, Vector2};
+use protocol::three_phase::{SimMessage, ThreePhaseAgent};
+use protocol::{Instant, ParamError, Params, WaveState};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+
+use crate::field::Field;
+use crate::geometry::Swarm;
+
+/// The agent the simulator steps: variance as the diversity, up to 32 readings per message, up
+/// to 16 distinct bearings per period.
+pub type Agent = ThreePhaseAgent;
+
+/// A message between agents.
+pub type Message = SimMessage<32>;
+
+/// What a run needs besides the geometry and the field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunConfig {
+    /// Protocol parameters (`Params::simulation_2d()` unless a scenario changes them).
+    pub params: Params,
+    /// Move per negotiation period, in R (the paper: 0.33).
+    pub step: f64,
+    /// Width of the noise: ξ uniform in `(−noise/2, noise/2)` (the paper: 1).
+    pub noise: f64,
+}
+
+impl RunConfig {
+    /// Length of one negotiation period in seconds.
+    pub fn period_secs(&self) -> u64 {
+        let p = &self.params;
+        let cycles = u64::from(p.gather_cycles) + u64::from(p.decide_cycles);
+        cycles * p.wave.cycle.as_millis().div_ceil(1000)
+    }
+}
+
+/// What happened in one negotiation period.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Period {
+    /// Periods completed, counting this one (1 for the first).
+    pub index: u32,
+    /// Simulated second at which the period ended.
+    pub end_s: u64,
+    /// Centre of mass during the period.
+    pub from: Point2<f64>,
+    /// Centre of mass after the move.
+    pub to: Point2<f64>,
+    /// Direction moved (radians), if any.
+    pub direction: Option<f64>,
+    /// Length of the mean resultant of the decided bearings (1 = unanimous, 0 = no agreement).
+    pub consensus: f64,
+    /// Agents that had a decision.
+    pub decided: u32,
+    /// The observer's average diversity: the mean over agents of `V_k` from this period's
+    /// gathering phase.
+    pub diversity: f64,
+}
+
+/// One run of the simulation: the agents, where the swarm is and the clock.
+pub struct Sim<'a> {
+    swarm: &'a Swarm,
+    field: &'a Field,
+    cfg: RunConfig,
+    agents: Vec<Agent>,
+    centre: Point2<f64>,
+    periods: u32,
+    queue: BinaryHeap<Reverse<(u64, u32)>>,
+    scheduled: Vec<u64>,
+    proto_rng: Pcg64Mcg,
+    noise_rng: Pcg64Mcg,
+    due: Vec<u32>,
+    tx: Vec<(u32, Message)>,
+    calls: u64,
+}
+
+/// Seconds since the epoch of an instant (the simulation only uses whole seconds).
+fn secs(t: Instant) -> u64 {
+    t.as_millis().div_ceil(1000)
+}
+
+impl<'a> Sim<'a> {
+    /// A run of `swarm` in `field` with its centre of mass at `centre`; every agent starts its
+    /// first cycle (gathering) at second 0. All randomness of the run (cycle draws, noise) comes
+    /// from `seed`.
+    ///
+    /// # Errors
+    /// The [`ParamError`] if the protocol parameters do not validate.
+    pub fn new(
+        swarm: &'a Swarm,
+        field: &'a Field,
+        cfg: RunConfig,
+        centre: Point2<f64>,
+        seed: u64,
+    ) -> Result<Self, ParamError> {
+        let mut proto_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[1]));
+        let noise_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[2]));
+        let n = swarm.len();
+        let mut agents = Vec::with_capacity(n);
+        for _ in 0..n {
+            agents.push(Agent::new(cfg.params, Instant::ZERO, &mut proto_rng)?);
+        }
+        let mut sim = Sim {
+            swarm,
+            field,
+            cfg,
+            agents,
+            centre,
+            periods: 0,
+            queue: BinaryHeap::with_capacity(2 * n),
+            scheduled: vec![u64::MAX; n],
+            proto_rng,
+            noise_rng,
+            due: Vec::new(),
+            tx: Vec::new(),
+            calls: 0,
+        };
+        for i in 0..n {
+            sim.reschedule(i);
+        }
+        Ok(sim)
+    }
+
+    /// The centre of mass.
+    pub fn centre(&self) -> Point2<f64> {
+        self.centre
+    }
+
+    /// Negotiation periods completed.
+    pub fn periods(&self) -> u32 {
+        self.periods
+    }
+
+    /// The agents, by index.
+    pub fn agents(&self) -> &[Agent] {
+        &self.agents
+    }
+
+    /// Calls made into the agents so far (`handle_timeout` and `handle_message`).
+    pub fn calls(&self) -> u64 {
+        self.calls
+    }
+
+    /// The run's configuration.
+    pub fn config(&self) -> &RunConfig {
+        &self.cfg
+    }
+
+    fn reschedule(&mut self, i: usize) {
+        let t = secs(self.agents[i].poll_timeout());
+        if t != self.scheduled[i] {
+            self.scheduled[i] = t;
+            self.queue.push(Reverse((t, i as u32)));
+        }
+    }
+
+    /// A fresh reading for agent `i` at the current position.
+    fn sample(&mut self, i: usize) {
+        let p = self.swarm.position(i, self.centre);
+        let xi = self.cfg.noise * (self.noise_rng.random::<f64>() - 0.5);
+        self.agents[i].handle_reading((self.field.mean(p) + xi) as f32);
+    }
+
+    /// Runs every due second up to and including `until`.
+    fn advance_to(&mut self, until: u64) {
+        while let Some(&Reverse((t, _))) = self.queue.peek() {
+            if t > until {
+                break;
+            }
+            self.second(t);
+        }
+    }
+
+    /// Serves everything due at second `t`, then delivers what was sent.
+    fn second(&mut self, t: u64) {
+        let now = Instant::from_secs(t);
+        self.due.clear();
+        while let Some(&Reverse((tt, i))) = self.queue.peek() {
+            if tt > t {
+                break;
+            }
+            self.queue.pop();
+            if self.scheduled[i as usize] == tt {
+                self.scheduled[i as usize] = u64::MAX;
+                self.due.push(i);
+            }
+        }
+        let mut due = std::mem::take(&mut self.due);
+        for &i in &due {
+            let i = i as usize;
+            if self.agents[i].state() != WaveState::Active {
+                self.sample(i);
+            }
+            self.agents[i].handle_timeout(now, &mut self.proto_rng);
+            self.calls += 1;
+            while let Some(m) = self.agents[i].poll_transmit() {
+                self.tx.push((i as u32, m));
+            }
+            while self.agents[i].poll_event().is_some() {}
+            self.reschedule(i);
+        }
+        due.clear();
+        self.due = due;
+        let tx = std::mem::take(&mut self.tx);
+        for (s, m) in &tx {
+            for l in self.swarm.neighbours(*s as usize) {
+                let r = l.agent as usize;
+                if self.agents[r].state() == WaveState::Inactive {
+                    self.sample(r);
+                }
+                self.agents[r].handle_message(now, l.bearing, m, &mut self.proto_rng);
+                self.calls += 1;
+                debug_assert!(self.agents[r].poll_transmit().is_none());
+                while self.agents[r].poll_event().is_some() {}
+                self.reschedule(r);
+            }
+        }
+        self.tx = tx;
+        self.tx.clear();
+    }
+
+    /// Runs one negotiation period, then moves the swarm along the decided direction.
+    pub fn run_period(&mut self) -> Period {
+        let end = u64::from(self.periods + 1) * self.cfg.period_secs();
+        self.advance_to(end);
+        self.periods += 1;
+        let (mut sum, mut decided, mut diversity) = (Vector2::zeros(), 0u32, 0.0);
+        for a in &self.agents {
+            diversity += f64::from(a.diversity());
+            if let Some(b) = a.decision() {
+                let b = f64::from(b);
+                sum += Vector2::new(b.cos(), b.sin());
+                decided += 1;
+            }
+        }
+        let n = self.agents.len().max(1) as f64;
+        let from = self.centre;
+        let norm = sum.norm();
+        let direction = (decided > 0 && norm > 1e-12).then(|| sum.y.atan2(sum.x));
+        if let Some(d) = direction {
+            self.centre += self.cfg.step * Vector2::new(d.cos(), d.sin());
+        }
+        Period {
+            index: self.periods,
+            end_s: end,
+            from,
+            to: self.centre,
+            direction,
+            consensus: if decided > 0 {
+                norm / f64::from(decided)
+            } else {
+                0.0
+            },
+            decided,
+            diversity: diversity / n,
+        }
+    }
+
+    /// Runs every due second up to and including second `t` and returns the calls made. The
+    /// swarm does not move: for measurements inside the first period only (a period ending
+    /// meanwhile is not counted by [`run_period`](Self::run_period)).
+    pub fn run_until(&mut self, t: u64) -> u64 {
+        let before = self.calls;
+        self.advance_to(t);
+        self.calls - before
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Shape;
+
+    fn cfg() -> RunConfig {
+        RunConfig {
+            params: Params::simulation_2d(),
+            step: 0.33,
+            noise: 1.0,
+        }
+    }
+
+    #[test]
+    fn a_uniform_field_gives_small_diversity_and_the_swarm_moves_one_step() {
+        let mut rng = Pcg64Mcg::seed_from_u64(5);
+        let swarm = Swarm::place(61, Shape::Disk { diameter: 6.0 }, 1.0, &mut rng).unwrap();
+        let field = Field::default();
+        let mut sim = Sim::new(&swarm, &field, cfg(), Point2::origin(), 9).unwrap();
+        let p = sim.run_period();
+        assert_eq!(p.index, 1);
+        assert_eq!(p.end_s, 2000);
+        // Uniform noise of width 1 has variance 1/12.
+        assert!((0.03..0.12).contains(&p.diversity), "{}", p.diversity);
+        assert!(p.decided > 50);
+        assert!(((p.to - p.from).norm() - 0.33).abs() < 1e-9);
+    }
+
+    #[test]
+    fn waves_flood_the_swarm_when_they_rarely_collide() {
+        let mut rng = Pcg64Mcg::seed_from_u64(6);
+        let swarm = Swarm::place(61, Shape::Disk { diameter: 6.0 }, 1.0, &mut rng).unwrap();
+        let field = Field::default();
+        let mut c = cfg();
+        c.params.wave.cycle = protocol::Duration::from_secs(20_000);
+        let mut sim = Sim::new(&swarm, &field, c, Point2::origin(), 1).unwrap();
+        sim.run_until(20_000);
+        let accepted: u32 = sim.agents().iter().map(|a| a.stats().accepted).sum();
+        // 61 waves; an agent is activated by every wave but its own (unless two overlap).
+        assert!(accepted > 61 * 55, "accepted {accepted}");
+        assert!(accepted <= 61 * 60, "accepted {accepted}");
+    }
+
+    #[test]
+    fn one_hop_per_second_with_the_receivers_bearing() {
+        // Three agents on a line 0.8 apart: 0 hears 1 from the east, 2 hears 1 from the west.
+        let swarm = Swarm::from_offsets(
+            vec![
+                Vector2::new(-0.8, 0.0),
+                Vector2::new(0.0, 0.0),
+                Vector2::new(0.8, 0.0),
+            ],
+            1.0,
+        );
+        let field = Field::default();
+        let mut sim = Sim::new(&swarm, &field, cfg(), Point2::origin(), 3).unwrap();
+        sim.run_until(1000);
+        // Each of the 3 waves reaches both other agents: 0 and 2 only through 1, one hop later.
+        let accepted: Vec<u32> = sim.agents().iter().map(|a| a.stats().accepted).collect();
+        assert_eq!(accepted, vec![2, 2, 2]);
+        // With readings all equal to 0 ± 0.5 no bearing is heavier in expectation, but every
+        // preference is one of the exact bearings of an agent's neighbours.
+        let pref: Vec<Option<f32>> = sim.agents().iter().map(|a| a.preferred()).collect();
+        assert!(pref[0].is_none_or(|p| p.abs() < 1e-6), "{pref:?}");
+        assert!(
+            pref[2].is_none_or(|p| (p - std::f32::consts::PI).abs() < 1e-6),
+            "{pref:?}"
+        );
+    }
+}

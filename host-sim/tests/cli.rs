@@ -1,0 +1,133 @@
+//! The `cimax` binary: exit codes and messages.
+
+use std::process::Command;
+
+fn cimax(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_cimax"))
+        .args(args)
+        .output()
+        .expect("cimax runs")
+}
+
+#[test]
+fn a_bad_scenario_file_names_the_line_and_fails() {
+    let dir = std::env::temp_dir().join(format!("cimax-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("bad.toml");
+    std::fs::write(
+        &path,
+        "[swarm]\nagents = 61\n\n[[field]]\nalong = \"z\"\nsegments = [{ from = 0.0, level = 1.0 }]\n",
+    )
+    .unwrap();
+    let p = path.to_str().unwrap();
+    let out = cimax(&["swarm", "run", "--scenario", p, "--periods", "1", "--quiet"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("{p}:5:9:")), "{err}");
+    assert!(err.contains("unknown along = \"z\""), "{err}");
+
+    std::fs::write(&path, "noise = [1\n").unwrap();
+    let out = cimax(&["swarm", "sweep", "--scenario", p, "--quiet"]);
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("{p}:1:")), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn swarm_run_writes_csv_and_svg() {
+    let dir = std::env::temp_dir().join(format!("cimax-run-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let out = cimax(&[
+        "swarm",
+        "run",
+        "--x",
+        "-1",
+        "--periods",
+        "3",
+        "--out-dir",
+        d,
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = std::fs::read_to_string(dir.join("sharp-run.csv")).unwrap();
+    assert_eq!(
+        csv.lines().count(),
+        1 + 1 + 3,
+        "header, start, 3 periods:\n{csv}"
+    );
+    let svg = std::fs::read_to_string(dir.join("sharp-run.svg")).unwrap();
+    assert!(svg.starts_with("<svg"), "{}", &svg[..svg.len().min(80)]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn arena_runs_the_paper_suite_in_the_emulator() {
+    let out = cimax(&["arena", "--runs", "1"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(stdout.contains("7 runs, 7 successful"), "{stdout}");
+    assert!(stdout.contains("1000>0001"), "{stdout}");
+}
+
+#[test]
+fn arena_json_trace_and_svg() {
+    let dir = std::env::temp_dir().join(format!("cimax-arena-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let trace = dir.join("t.jsonl");
+    let svg = dir.join("t.svg");
+    let out = cimax(&[
+        "arena",
+        "--lights",
+        "0011",
+        "--runs",
+        "2",
+        "--loss",
+        "0.1",
+        "--json",
+        "--trace",
+        trace.to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    let v: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(v["summary"]["runs"], 2);
+    assert_eq!(v["summary"]["successes"], 2);
+    assert_eq!(v["runs"][0]["leds"], "RRLL");
+    assert_eq!(v["runs"][1]["seed"], 2);
+    let lines = std::fs::read_to_string(&trace).unwrap();
+    assert!(lines.lines().count() > 100);
+    for l in lines.lines() {
+        let e: serde_json::Value = serde_json::from_str(l).unwrap();
+        assert!(e["event"].is_string() && e["t_ms"].is_u64(), "{l}");
+    }
+    assert!(lines.contains(r#""reason":"loss""#));
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn arena_bad_options_name_the_problem() {
+    for (args, needle) in [
+        (
+            &["arena", "--robots", "5", "--lights", "1100"][..],
+            "has 4 robots but there are 5",
+        ),
+        (&["arena", "--lights", "10x0"], "character 3"),
+        (&["arena", "--kill", "7@100"], "no robot 7"),
+        (&["arena", "--kill", "1-100"], "ROBOT@SECONDS"),
+        (&["arena", "--loss", "2"], "loss"),
+        (&["arena", "--refractory", "60"], "refractory"),
+        (&["arena", "--robots", "65"], "65"),
+    ] {
+        let out = cimax(args);
+        assert!(!out.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}

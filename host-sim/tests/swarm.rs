@@ -1,0 +1,155 @@
+//! End-to-end checks of the 2D simulator: the scenarios behave as the paper describes, the
+//! success criteria are applied, and results do not depend on the number of threads.
+
+use host_sim::experiment::{self, Progress, direction_map, radial_profile, sweep};
+use host_sim::report;
+use host_sim::scenario::{GridSpec, Scenario};
+use nalgebra::Point2;
+
+fn scenario(name: &str) -> Scenario {
+    Scenario::builtin(name).expect("built-in")
+}
+
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool")
+}
+
+#[test]
+fn results_are_identical_whatever_the_number_of_threads() {
+    let scn = scenario("sharp");
+    let xs = [-1.5, 3.0];
+    let grid = GridSpec {
+        xs: vec![-2.0, 0.5, 3.0],
+        ys: vec![-1.0, 1.0],
+        gather_cycles: 1,
+        decide_cycles: 1,
+    };
+    let go = || {
+        let s = sweep(&scn, scn.run, &xs, 4, 7, &Progress::hidden()).expect("sweep");
+        let m = direction_map(&scn, &grid, 7, &Progress::hidden()).expect("map");
+        (s, m)
+    };
+    let one = pool(1).install(go);
+    let three = pool(3).install(go);
+    assert_eq!(one, three);
+    assert_eq!(one, pool(2).install(go), "and again");
+    // A different seed gives different runs.
+    let other = pool(2).install(|| direction_map(&scn, &grid, 8, &Progress::hidden()).unwrap());
+    assert_ne!(one.1, other);
+}
+
+#[test]
+fn sharp_border_near_swarms_head_for_the_border() {
+    let scn = scenario("sharp");
+    let pts = sweep(&scn, scn.run, &[-1.5, 1.5], 10, 3, &Progress::hidden()).unwrap();
+    for p in &pts {
+        assert!(p.success_rate() >= 0.8, "{p:?}");
+        // About one step of 0.33 R per period toward the border, plus the band of 0.33 R.
+        let t = p.mean_success_periods.unwrap();
+        assert!((3.0..10.0).contains(&t), "{p:?}");
+    }
+}
+
+#[test]
+fn success_criteria_are_applied_at_the_start_and_stop_the_run() {
+    let sharp = scenario("sharp");
+    let out = experiment::run(&sharp, sharp.run, Point2::new(0.2, 3.0), 5, 1, true).unwrap();
+    assert_eq!(out.success_at, Some(0));
+    assert!(out.periods.is_empty(), "stopped before any period");
+    let out = experiment::run(&sharp, sharp.run, Point2::new(0.4, 0.0), 50, 1, true).unwrap();
+    assert_ne!(out.success_at, Some(0), "|0.4| is not < 0.33");
+    if let Some(k) = out.success_at {
+        assert_eq!(out.periods.len(), k as usize, "stopped at success");
+        assert!(out.periods.last().unwrap().to.x.abs() < 0.33);
+    }
+    let gradient = scenario("gradient");
+    let out = experiment::run(&gradient, gradient.run, Point2::new(2.33, 0.0), 3, 1, true).unwrap();
+    assert_eq!(out.success_at, Some(0), "x >= 2.33 succeeds at once");
+    let out = experiment::run(&gradient, gradient.run, Point2::new(2.3, 0.0), 2, 1, false).unwrap();
+    assert_eq!(out.periods.len(), 2, "without stopping all periods run");
+}
+
+#[test]
+fn gradient_attracts_swarms_that_perceive_it() {
+    let scn = scenario("gradient");
+    let grid = GridSpec {
+        xs: vec![-1.0, -0.5, 0.0],
+        ys: vec![-1.0, 0.0, 1.0],
+        gather_cycles: 1,
+        decide_cycles: 1,
+    };
+    let arrows = direction_map(&scn, &grid, 5, &Progress::hidden()).unwrap();
+    let east = arrows
+        .iter()
+        .filter(|a| a.direction.is_some_and(|d| d.cos() > 0.0))
+        .count();
+    assert!(east >= 8, "{east} of 9 toward +x: {arrows:?}");
+}
+
+#[test]
+fn cloud_attracts_from_outside_and_repels_from_inside() {
+    let scn = scenario("cloud");
+    let prof = radial_profile(
+        &scn,
+        scn.run,
+        Point2::origin(),
+        &[1.5, 5.0],
+        8,
+        9,
+        &Progress::hidden(),
+    )
+    .unwrap();
+    assert!(prof[0].inward < -0.5, "inside heads out: {prof:?}");
+    assert!(prof[1].inward > 0.5, "outside heads in: {prof:?}");
+}
+
+#[test]
+fn csv_files_have_the_documented_columns() {
+    let scn = scenario("sharp");
+    let dir = std::env::temp_dir().join(format!("cimax-csv-{}", std::process::id()));
+    let pts = sweep(&scn, scn.run, &[0.0, 4.0], 2, 1, &Progress::hidden()).unwrap();
+    let path = dir.join("sweep.csv");
+    report::write_sweep_csv(&path, &pts).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("x_init,runs,success_rate,mean_success_time")
+    );
+    assert_eq!(lines.next(), Some("0,2,1.0000,0.000"));
+    assert_eq!(lines.next().map(|l| l.split(',').count()), Some(4));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_scenario_file_with_every_option_runs() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/examples/two-clouds.toml"
+    );
+    let scn = Scenario::load(path).expect("example parses");
+    assert_eq!(scn.name, "two-clouds");
+    assert_eq!(scn.agents, 80);
+    assert_eq!(
+        scn.shape,
+        host_sim::geometry::Shape::Rectangle {
+            width: 9.0,
+            height: 4.0
+        }
+    );
+    assert_eq!(
+        scn.run.params.wave.cycle,
+        protocol::Duration::from_secs(500)
+    );
+    assert_eq!(scn.run.noise, 2.0);
+    assert_eq!(scn.field.mean(Point2::new(-4.0, 0.0)), 0.0);
+    assert_eq!(scn.field.mean(Point2::new(0.0, 0.0)), 5.0);
+    assert!((scn.field.mean(Point2::new(4.0, 4.5)) - 2.5).abs() < 1e-9);
+    let out = experiment::run(&scn, scn.run, scn.start, 2, 1, false).unwrap();
+    assert_eq!(out.swarm.len(), 80);
+    assert_eq!(out.periods.len(), 2);
+    assert_eq!(out.periods[1].end_s, 2 * 1000);
+}

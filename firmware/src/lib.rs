@@ -44,4 +44,4 @@ pub use embedded_io_async;
 pub use protocol;
 
 pub use hal::{Clock, ErrorKind, LedColor, Leds, Quantity, Sensor};
-pub use robot::{Config, Hardware, Robot, SetupError, Stats};
+pub use robot::{Config, Hardware, Observer, Robot, SetupError, Stats};

@@ -270,12 +270,8 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
         self.shown
     }
 
-    /// Runs the robot on `hw` for ever.
-    ///
-    /// To stop it (tests, emulation, a supervisor), drop the future, e.g. by racing it against
-    /// something else with `select`; the robot keeps its state and counters and may be run
-    /// again (a frame half received at that moment is lost). See the [module docs](self) for
-    /// what it does.
+    /// Runs the robot on `hw` for ever; [`run_observed`](Self::run_observed) without an
+    /// observer.
     pub async fn run<T, R, S, L, C>(&mut self, hw: &mut Hardware<T, R, S, L, C, N>) -> Infallible
     where
         T: Write,
@@ -283,6 +279,29 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
         S: Sensor,
         L: Leds,
         C: Clock,
+    {
+        self.run_observed(hw, &mut ()).await
+    }
+
+    /// Runs the robot on `hw` for ever, telling `observer` every protocol event (wave state
+    /// changes, preference changes, decisions) with its time: for traces and test harnesses.
+    ///
+    /// To stop it (tests, emulation, a supervisor), drop the future, e.g. by racing it against
+    /// something else with `select`; the robot keeps its state and counters and may be run
+    /// again (a frame half received at that moment is lost). See the [module docs](self) for
+    /// what it does.
+    pub async fn run_observed<T, R, S, L, C, O>(
+        &mut self,
+        hw: &mut Hardware<T, R, S, L, C, N>,
+        observer: &mut O,
+    ) -> Infallible
+    where
+        T: Write,
+        R: Read,
+        S: Sensor,
+        L: Leds,
+        C: Clock,
+        O: Observer,
     {
         let Hardware {
             transmitter,
@@ -306,6 +325,7 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
             rng: &mut self.rng,
             stats: &mut self.stats,
             shown: &mut self.shown,
+            observer,
         };
         let (never, _) = join(
             main.run(transmitter, sensor, leds, clock, &inbox),
@@ -384,16 +404,28 @@ async fn send_frame<T: Write>(tx: &mut T, mut bytes: &[u8]) -> Result<(), TxErro
     tx.flush().await.map_err(|e| TxError::Io(e.kind()))
 }
 
+/// Sees every protocol event of a running robot (see [`Robot::run_observed`]).
+pub trait Observer {
+    /// `event` happened at `now`.
+    fn event(&mut self, now: Instant, event: &Event);
+}
+
+/// No observer.
+impl Observer for () {
+    fn event(&mut self, _: Instant, _: &Event) {}
+}
+
 /// The robot's main loop, borrowing the robot's state while it runs.
-struct Main<'r, G> {
+struct Main<'r, G, O> {
     config: &'r Config,
     node: &'r mut FusedNode,
     rng: &'r mut G,
     stats: &'r mut Stats,
     shown: &'r mut Option<LedColor>,
+    observer: &'r mut O,
 }
 
-impl<G: RngCore> Main<'_, G> {
+impl<G: RngCore, O: Observer> Main<'_, G, O> {
     async fn run<T: Write, S: Sensor, L: Leds, C: Clock>(
         &mut self,
         tx: &mut T,
@@ -509,6 +541,7 @@ impl<G: RngCore> Main<'_, G> {
             }
         }
         while let Some(event) = self.node.poll_event() {
+            self.observer.event(clock.now(), &event);
             let Event::Decided {
                 period,
                 decision,

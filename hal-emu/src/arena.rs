@@ -6,9 +6,11 @@ use std::rc::Rc;
 
 use embassy_futures::select::select;
 use firmware::hal::ErrorType;
-use firmware::{Clock, Config, ErrorKind, Hardware, LedColor, Leds, Robot, SetupError, Stats};
+use firmware::{
+    Clock, Config, ErrorKind, Hardware, LedColor, Leds, Observer, Robot, SetupError, Stats,
+};
 use nalgebra::Point2;
-use protocol::{Duration, Instant};
+use protocol::{Duration, Event, Instant, Sector, WaveState};
 use rand_pcg::Pcg32;
 use tokio::sync::oneshot;
 
@@ -193,6 +195,42 @@ impl Shared {
     }
 }
 
+/// Puts a robot's protocol events into the trace.
+struct Tracer {
+    shared: Rc<Shared>,
+    robot: usize,
+}
+
+impl Observer for Tracer {
+    fn event(&mut self, now: Instant, event: &Event) {
+        let t_ms = now.as_millis();
+        let robot = self.robot;
+        let e = match event {
+            Event::State(s) => TraceEvent::State {
+                t_ms,
+                robot,
+                state: match s {
+                    WaveState::Inactive => "inactive",
+                    WaveState::Active => "active",
+                    WaveState::Refractory => "refractory",
+                },
+            },
+            Event::Preference(p) => TraceEvent::Preference {
+                t_ms,
+                robot,
+                preference: match *p {
+                    Some(Sector::LEFT) => "left".into(),
+                    Some(Sector::RIGHT) => "right".into(),
+                    Some(s) => format!("sector {}", s.index()),
+                    None => "none".into(),
+                },
+            },
+            Event::Decided { .. } => return,
+        };
+        self.shared.medium.borrow_mut().log(e);
+    }
+}
+
 /// A seeded RNG for one purpose of one robot's life: runs are reproducible and independent.
 fn rng(seed: u64, purpose: u64, robot: usize, life: u32) -> Pcg32 {
     Pcg32::new(
@@ -235,7 +273,11 @@ async fn life(shared: Rc<Shared>, robot: usize, life: u32, stop: oneshot::Receiv
     ) else {
         return Stats::default();
     };
-    select(r.run(&mut hw), stop).await;
+    let mut tracer = Tracer {
+        shared: shared.clone(),
+        robot,
+    };
+    select(r.run_observed(&mut hw, &mut tracer), stop).await;
     *r.stats()
 }
 

@@ -162,6 +162,24 @@ pub enum TraceEvent {
         /// `green` (left), `blue` (right) or `off`.
         color: &'static str,
     },
+    /// A robot's wave state changed (from the robot program's protocol events).
+    State {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// Robot.
+        robot: usize,
+        /// `inactive`, `active` or `refractory`.
+        state: &'static str,
+    },
+    /// A robot's preferred direction changed.
+    Preference {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// Robot.
+        robot: usize,
+        /// `left`, `right`, `none` or `sector N`.
+        preference: String,
+    },
     /// A robot was killed.
     Killed {
         /// Emulated time, ms.

@@ -492,7 +492,7 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="11">"#
     );
     s += &format!(
-        r#"<text x="{left}" y="14">pattern {} seed {}: LED colour (green left, blue right, grey off), frames sent (ticks) and received (dots; red = garbled or dropped); {end_s:.0} s</text>"#,
+        r#"<text x="{left}" y="14">pattern {} seed {}: wave state (orange active, red refractory), frames sent (ticks), LED colour (green left, blue right, grey off), frames received (dots; red = garbled or dropped); {end_s:.0} s</text>"#,
         pattern_str(&run.lights),
         run.seed
     );
@@ -520,6 +520,27 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
                 y + 10.0,
                 (x(t2) - x(t)).max(0.5)
             );
+        }
+    }
+    // Wave states as a thin band above the LEDs: orange active, red refractory.
+    let mut since: Vec<Option<(u64, &str)>> = vec![None; n];
+    for e in &run.report.trace {
+        if let TraceEvent::State { t_ms, robot, state } = e
+            && let Some(slot) = since.get_mut(*robot)
+        {
+            if let Some((t0, st)) = slot.take() {
+                let fill = if st == "active" { "#f0a030" } else { "#e06060" };
+                let y = 30.0 + lane * *robot as f64;
+                s += &format!(
+                    r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="5" fill="{fill}"/>"#,
+                    x(t0),
+                    y + 3.0,
+                    (x(*t_ms) - x(t0)).max(0.5)
+                );
+            }
+            if *state != "inactive" {
+                *slot = Some((*t_ms, state));
+            }
         }
     }
     for e in &run.report.trace {

@@ -172,6 +172,14 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
         self.decision
     }
 
+    /// The directions heard from in the current gathering phase: bearing (radians), average
+    /// diversity and message count, for diagnosis.
+    pub fn weights(&self) -> impl Iterator<Item = (f32, f32, u32)> + '_ {
+        self.weights
+            .iter()
+            .map(|(k, w, n)| (f32::from_bits(k), w, n))
+    }
+
     /// The diversity `V_k` of all readings stored in the last completed gathering phase.
     pub fn diversity(&self) -> f32 {
         self.last_diversity
@@ -469,5 +477,9 @@ mod tests {
         }
         assert_eq!(a.stats().slots_full, 2);
         assert_eq!(a.stats().accepted, 6);
+        let heard: std::vec::Vec<(f32, f32, u32)> = a.weights().collect();
+        assert_eq!(heard.len(), 4);
+        // Readings 1, 2 and the agent's own 0: variance 2/3.
+        assert_eq!(heard[1], (0.5, 2.0 / 3.0, 1));
     }
 }

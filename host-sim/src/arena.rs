@@ -166,6 +166,9 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
         .map(usize::from)
         .or(lights.as_ref().map(Vec::len))
         .unwrap_or(4);
+    if !(2..=64).contains(&robots) {
+        return Err(format!("a line needs 2 to 64 robots, not {robots}"));
+    }
     let check = |p: &[bool], what: &str| {
         if p.len() == robots {
             Ok(())

@@ -125,7 +125,10 @@ fn arena_bad_options_name_the_problem() {
         (&["arena", "--refractory", "60"], "refractory"),
         (&["arena", "--robots", "65"], "65"),
         (&["arena", "--lights", "1"], "2 to 64 robots"),
-        (&["arena", "--lights", "", "--kill", "0@1"], "2 to 64 robots"),
+        (
+            &["arena", "--lights", "", "--kill", "0@1"],
+            "2 to 64 robots",
+        ),
     ] {
         let out = cimax(args);
         assert!(!out.status.success(), "{args:?}");

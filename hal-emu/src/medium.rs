@@ -386,23 +386,11 @@ impl Medium {
             let d = src - node.pos;
             let sector = Sector::from_bearing(d.y.atan2(d.x) as f32, node.sectors).index();
             if node.tx_until > t0 {
-                m.stats.receiver_transmitting += 1;
-                m.log(TraceEvent::Dropped {
-                    t_ms: t1.as_millis(),
-                    robot: to,
-                    from,
-                    reason: DropReason::ReceiverTransmitting,
-                });
+                m.dropped(t1, to, from, DropReason::ReceiverTransmitting);
                 continue;
             }
             if m.params.loss > 0.0 && m.rng.random_bool(m.params.loss) {
-                m.stats.lost += 1;
-                m.log(TraceEvent::Dropped {
-                    t_ms: t1.as_millis(),
-                    robot: to,
-                    from,
-                    reason: DropReason::Loss,
-                });
+                m.dropped(t1, to, from, DropReason::Loss);
                 continue;
             }
             let mut fate = Fate::Clear;
@@ -441,6 +429,21 @@ impl Medium {
         t1
     }
 
+    /// Counts and traces a frame from `from` that did not reach `to` (at `t`, its airtime's end).
+    fn dropped(&mut self, t: Instant, to: usize, from: usize, reason: DropReason) {
+        match reason {
+            DropReason::ReceiverDead => self.stats.receiver_dead += 1,
+            DropReason::ReceiverTransmitting => self.stats.receiver_transmitting += 1,
+            DropReason::Loss => self.stats.lost += 1,
+        }
+        self.log(TraceEvent::Dropped {
+            t_ms: t.as_millis(),
+            robot: to,
+            from,
+            reason,
+        });
+    }
+
     /// The airtime of arrival `id` is over: hand its bytes to the receiver.
     fn deliver(this: &SharedMedium, id: u64) {
         let mut guard = this.borrow_mut();
@@ -450,24 +453,11 @@ impl Medium {
         };
         let mut a = m.pending.swap_remove(i);
         let t_ms = a.end.as_millis();
-        let drop = |m: &mut Medium, reason| {
-            match reason {
-                DropReason::ReceiverDead => m.stats.receiver_dead += 1,
-                DropReason::ReceiverTransmitting => m.stats.receiver_transmitting += 1,
-                DropReason::Loss => m.stats.lost += 1,
-            }
-            m.log(TraceEvent::Dropped {
-                t_ms,
-                robot: a.to,
-                from: a.from,
-                reason,
-            });
-        };
         if !m.nodes[a.to].alive {
-            return drop(m, DropReason::ReceiverDead);
+            return m.dropped(a.end, a.to, a.from, DropReason::ReceiverDead);
         }
         if a.fate == Fate::Deaf {
-            return drop(m, DropReason::ReceiverTransmitting);
+            return m.dropped(a.end, a.to, a.from, DropReason::ReceiverTransmitting);
         }
         let garbled = a.fate == Fate::Collided;
         if garbled {

@@ -25,12 +25,22 @@ pub enum Shape {
         /// Extent along y, in R.
         height: f64,
     },
+    /// Not random: the N nodes of a triangular lattice nearest the centre (a node at the
+    /// centre; ties broken by angle). With a spacing of 0.75 R, 61 agents are exactly the nodes
+    /// within 3 R, a hexagon of five rings filling a disk of diameter 6 R, and have 5.1
+    /// neighbours on average: the paper's N = 61, D = 6 R and "on average five neighbours"
+    /// (uniform random placement in that disk gives about 6.4).
+    Lattice {
+        /// Distance between neighbouring nodes, in R.
+        spacing: f64,
+    },
 }
 
 impl Shape {
-    /// A point drawn uniformly inside the shape.
-    pub fn sample(&self, rng: &mut impl Rng) -> Vector2<f64> {
-        match *self {
+    /// A point drawn uniformly inside the shape; `None` for a lattice, which is not random.
+    pub fn sample(&self, rng: &mut impl Rng) -> Option<Vector2<f64>> {
+        Some(match *self {
+            Shape::Lattice { .. } => return None,
             Shape::Disk { diameter } => {
                 let r = 0.5 * diameter * rng.random::<f64>().sqrt();
                 let a = std::f64::consts::TAU * rng.random::<f64>();
@@ -40,21 +50,24 @@ impl Shape {
                 width * (rng.random::<f64>() - 0.5),
                 height * (rng.random::<f64>() - 0.5),
             ),
-        }
+        })
     }
 
-    /// Area in R².
+    /// Area in R² (for a lattice: the area of one node's cell).
     pub fn area(&self) -> f64 {
         match *self {
+            Shape::Lattice { spacing } => 0.5 * 3f64.sqrt() * spacing * spacing,
             Shape::Disk { diameter } => std::f64::consts::PI * 0.25 * diameter * diameter,
             Shape::Rectangle { width, height } => width * height,
         }
     }
 
-    /// The same outline scaled so that `to` agents have the density `from` agents had.
+    /// The same outline scaled so that `to` agents have the density `from` agents had (a
+    /// lattice keeps its spacing: it grows by itself).
     pub fn scaled_for(&self, from: usize, to: usize) -> Shape {
         let k = (to as f64 / from.max(1) as f64).sqrt();
         match *self {
+            Shape::Lattice { .. } => *self,
             Shape::Disk { diameter } => Shape::Disk {
                 diameter: diameter * k,
             },
@@ -88,12 +101,15 @@ pub struct Swarm {
 /// The shape is too sparse for the number of agents: no connected placement was found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PlacementError {
-    /// Redraw rounds tried.
+    /// Redraw rounds tried (0: a lattice, which is never redrawn).
     pub rounds: u32,
 }
 
 impl std::fmt::Display for PlacementError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.rounds == 0 {
+            return write!(f, "a lattice is disconnected: its spacing exceeds the range");
+        }
         write!(
             f,
             "no connected placement after {} redraw rounds: too few agents for the shape",
@@ -110,17 +126,27 @@ impl Swarm {
     /// Scatters `n` agents uniformly in `shape`. While the swarm is disconnected (some agent
     /// cannot reach another through neighbours within `range`), every agent outside the largest
     /// connected group is redrawn. The offsets are then shifted so that the centre of mass is the
-    /// origin.
+    /// origin. A [`Shape::Lattice`] is not random: `rng` is not used.
     ///
     /// # Errors
-    /// [`PlacementError`] if no connected placement is found within 10,000 redraw rounds.
+    /// [`PlacementError`] if no connected placement is found within 10,000 redraw rounds (a
+    /// lattice: at once, if its spacing exceeds `range`).
     pub fn place(
         n: usize,
         shape: Shape,
         range: f64,
         rng: &mut impl Rng,
     ) -> Result<Swarm, PlacementError> {
-        let mut offsets: Vec<Vector2<f64>> = (0..n).map(|_| shape.sample(rng)).collect();
+        if let Shape::Lattice { spacing } = shape {
+            let swarm = Swarm::from_offsets(lattice(n, spacing), range);
+            return if swarm.is_connected() {
+                Ok(swarm.recentred())
+            } else {
+                Err(PlacementError { rounds: 0 })
+            };
+        }
+        let mut draw = || shape.sample(rng).unwrap_or_else(Vector2::zeros);
+        let mut offsets: Vec<Vector2<f64>> = (0..n).map(|_| draw()).collect();
         for _ in 0..MAX_ROUNDS {
             let swarm = Swarm::from_offsets(offsets, range);
             let labels = swarm.components();
@@ -133,7 +159,7 @@ impl Swarm {
             offsets = swarm.offsets;
             for (o, &l) in offsets.iter_mut().zip(&labels) {
                 if l != largest {
-                    *o = shape.sample(rng);
+                    *o = draw();
                 }
             }
         }
@@ -227,6 +253,38 @@ impl Swarm {
     }
 }
 
+/// The `n` nodes of the triangular lattice with the given spacing (one node at the origin, one
+/// along +x) nearest the origin; ties in distance are broken by angle, so the set is
+/// deterministic.
+pub fn lattice(n: usize, spacing: f64) -> Vec<Vector2<f64>> {
+    if n == 0 || !(spacing.is_finite() && spacing > 0.0) {
+        return Vec::new();
+    }
+    // Nodes within `rings` steps; enough once 3 r (r + 1) + 1 ≥ n with a ring to spare,
+    // since the n nearest by distance all lie within that many rings.
+    let mut rings = 1i64;
+    while 3 * rings * (rings + 1) + 1 < 2 * n as i64 {
+        rings += 1;
+    }
+    let rings = rings + 1;
+    let h = 0.5 * 3f64.sqrt();
+    let mut nodes: Vec<(i64, f64, Vector2<f64>)> = Vec::new();
+    for j in -rings..=rings {
+        for i in -rings..=rings {
+            if (i + j).abs() > rings {
+                continue;
+            }
+            // Squared distance in units of spacing² is the integer i² + i j + j².
+            let d2 = i * i + i * j + j * j;
+            let v = Vector2::new(spacing * (i as f64 + 0.5 * j as f64), spacing * h * j as f64);
+            let angle = v.y.atan2(v.x).rem_euclid(std::f64::consts::TAU);
+            nodes.push((d2, angle, v));
+        }
+    }
+    nodes.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    nodes.into_iter().take(n).map(|(_, _, v)| v).collect()
+}
+
 /// The label held by most agents (the lowest such label on a tie).
 fn largest_label(labels: &[u32]) -> Option<u32> {
     let mut count = vec![0u32; labels.len()];
@@ -313,6 +371,31 @@ pub fn neighbour_lists(points: &[Vector2<f64>], range: f64) -> (Vec<u32>, Vec<Li
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_papers_lattice_fills_a_disk_of_6_r_with_five_neighbours_on_average() {
+        let mut rng = rand_pcg::Pcg64Mcg::new(1);
+        let s = Swarm::place(61, Shape::Lattice { spacing: 0.75 }, 1.0, &mut rng).unwrap();
+        assert_eq!(s.len(), 61);
+        let far = s.offsets().iter().map(|o| o.norm()).fold(0.0, f64::max);
+        assert!((far - 3.0).abs() < 1e-9, "{far}");
+        // 6 corners with 3 neighbours, 18 other rim nodes with 4, 37 inner nodes with 6.
+        assert!((s.mean_degree() - 312.0 / 61.0).abs() < 1e-12);
+        let mean: Vector2<f64> = s.offsets().iter().sum::<Vector2<f64>>() / 61.0;
+        assert!(mean.norm() < 1e-12);
+        // Symmetric: as many nodes on each side of any line through the centre.
+        let east = s.offsets().iter().filter(|o| o.x > 1e-9).count();
+        let west = s.offsets().iter().filter(|o| o.x < -1e-9).count();
+        assert_eq!(east, west);
+        assert!(Shape::Lattice { spacing: 0.75 }.sample(&mut rng).is_none());
+        // Too sparse to be connected.
+        let e = Swarm::place(7, Shape::Lattice { spacing: 1.5 }, 1.0, &mut rng).unwrap_err();
+        assert!(e.to_string().contains("spacing"), "{e}");
+        // Other sizes: the nearest nodes, deterministic.
+        assert_eq!(lattice(1000, 0.75), lattice(1000, 0.75));
+        assert_eq!(lattice(7, 1.0).len(), 7);
+        assert!(lattice(7, 1.0).iter().all(|v| v.norm() < 1.0 + 1e-9));
+    }
     use rand::SeedableRng;
     use rand_pcg::Pcg32;
 
@@ -331,7 +414,7 @@ mod tests {
     fn grid_neighbours_equal_all_pairs() {
         let mut rng = Pcg32::seed_from_u64(1);
         let shape = Shape::Disk { diameter: 12.0 };
-        let pts: Vec<_> = (0..400).map(|_| shape.sample(&mut rng)).collect();
+        let pts: Vec<_> = (0..400).map(|_| shape.sample(&mut rng).unwrap()).collect();
         let s = Swarm::from_offsets(pts.clone(), 1.0);
         let b = brute(&pts, 1.0);
         for (i, want) in b.iter().enumerate() {

@@ -14,8 +14,8 @@
 //!
 //! [swarm]
 //! agents = 61
-//! shape = "disk"         # diameter = 6.0; or "rectangle" with width and height
-//! diameter = 6.0
+//! shape = "disk"         # diameter = 6.0; "rectangle" with width and height; or "lattice"
+//! diameter = 6.0         #   with spacing (≤ 1): the N triangular-lattice nodes nearest the centre
 //!
 //! [protocol]             # Params::simulation_2d() unless given; times in whole seconds
 //! cycle = 1000
@@ -65,6 +65,10 @@ use toml::Spanned;
 use crate::field::{Along, Field, Layer, Segment};
 use crate::geometry::Shape;
 use crate::sim::RunConfig;
+
+/// Spacing of `shape = "lattice"` (and of `--lattice`) unless given: 0.75 R, at which 61 agents
+/// fill a disk of diameter 6 R with 5.1 neighbours on average (see [`Shape::Lattice`]).
+pub const LATTICE_SPACING: f64 = 0.75;
 
 /// The built-in scenarios, by name.
 pub const BUILTINS: [(&str, &str); 3] = [
@@ -206,6 +210,7 @@ struct RawSwarm {
     diameter: Option<Spanned<f64>>,
     width: Option<Spanned<f64>>,
     height: Option<Spanned<f64>>,
+    spacing: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -385,6 +390,7 @@ impl Scenario {
                 "disk" => {
                     misplaced(&sw.width, "width")?;
                     misplaced(&sw.height, "height")?;
+                    misplaced(&sw.spacing, "spacing")?;
                     Shape::Disk {
                         diameter: match &sw.diameter {
                             Some(d) => cx.positive(d, "the diameter")?,
@@ -394,6 +400,7 @@ impl Scenario {
                 }
                 "rectangle" => {
                     misplaced(&sw.diameter, "diameter")?;
+                    misplaced(&sw.spacing, "spacing")?;
                     let need = |v: &Option<Spanned<f64>>, key: &str| match v {
                         Some(v) => cx.positive(v, key),
                         None => Err(ScenarioError {
@@ -407,11 +414,30 @@ impl Scenario {
                         height: need(&sw.height, "height")?,
                     }
                 }
+                "lattice" => {
+                    misplaced(&sw.diameter, "diameter")?;
+                    misplaced(&sw.width, "width")?;
+                    misplaced(&sw.height, "height")?;
+                    let spacing = match &sw.spacing {
+                        Some(v) => cx.positive(v, "the spacing")?,
+                        None => LATTICE_SPACING,
+                    };
+                    if spacing > 1.0 {
+                        let span = sw.spacing.as_ref().map_or(0..0, |s| s.span());
+                        return Err(cx.err(
+                            span,
+                            "the spacing must be at most the perception range (1) for a connected lattice",
+                        ));
+                    }
+                    Shape::Lattice { spacing }
+                }
                 other => {
                     let span = sw.shape.as_ref().map_or(0..0, |s| s.span());
                     return Err(cx.err(
                         span,
-                        format!("unknown shape \"{other}\", expected \"disk\" or \"rectangle\""),
+                        format!(
+                            "unknown shape \"{other}\", expected \"disk\", \"rectangle\" or \"lattice\""
+                        ),
                     ));
                 }
             };
@@ -703,6 +729,17 @@ mod tests {
             e.to_string().starts_with("bad.toml:6:9: unknown shape"),
             "{e}"
         );
+
+        let e = err(&format!(
+            "{FIELD}[swarm]\nshape = \"lattice\"\nspacing = 1.5\n"
+        ));
+        assert_eq!(e.at, Some((6, 11)), "{e}");
+        assert!(e.message.contains("spacing"), "{e}");
+        let e = err(&format!("{FIELD}[swarm]\nshape = \"lattice\"\ndiameter = 6.0\n"));
+        assert!(e.message.contains("does not apply"), "{e}");
+        let s = Scenario::from_toml(&format!("{FIELD}[swarm]\nshape = \"lattice\"\n"), "l.toml")
+            .unwrap();
+        assert_eq!(s.shape, Shape::Lattice { spacing: 0.75 });
 
         let e = err(
             "[[field]]\nalong = \"x\"\nsegments = [\n  { from = 1.0, level = 0.0 },\n  { from = 0.0, level = 5.0 },\n]\n",

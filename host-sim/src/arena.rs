@@ -13,6 +13,7 @@ use clap::Args;
 use firmware::LedColor;
 use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, mirrored, parse_pattern, pattern_str};
 use hal_emu::{ArenaConfig, MediumParams, TraceEvent};
+use host_sim::campaign::ArenaCommand;
 use indicatif::{ProgressBar, ProgressStyle};
 use protocol::{Duration, Instant, Params};
 use rayon::prelude::*;
@@ -21,6 +22,7 @@ use serde::Serialize;
 /// Options of `cimax arena`. With none, the paper's suite: six patterns and the alternating
 /// experiment, five runs each.
 #[derive(Args, Debug, Clone)]
+#[command(args_conflicts_with_subcommands = true)]
 pub struct ArenaArgs {
     /// Number of robots in the line (2 to 64); defaults to the pattern's length, else 4.
     #[arg(long, value_parser = clap::value_parser!(u16).range(2..=64))]
@@ -90,6 +92,9 @@ pub struct ArenaArgs {
     /// Draw a timeline per robot of frames and LED colour as SVG (the first run only).
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// `campaign`: the fault-injection campaign (`host_sim::campaign`).
+    #[command(subcommand)]
+    pub command: Option<ArenaCommand>,
 }
 
 fn parse_at(s: &str) -> Result<(usize, u64), String> {
@@ -290,6 +295,9 @@ struct JsonReport {
 /// Runs `cimax arena`; the exit code is non-zero if any run with a verdict failed or an option
 /// was bad.
 pub fn main(args: &ArenaArgs) -> ExitCode {
+    if let Some(ArenaCommand::Campaign(c)) = &args.command {
+        return host_sim::campaign::main(c);
+    }
     let experiments = match build(args) {
         Ok(e) => e,
         Err(e) => {

@@ -17,6 +17,7 @@
 //! - depend on the number of threads: every run has its own seed ([`seeds`]), runs are
 //!   independent, and results are collected in run order.
 
+pub mod campaign;
 pub mod experiment;
 pub mod field;
 pub mod geometry;

@@ -25,7 +25,25 @@
 //! inside a body, an over-long body, a bad COBS code, a bad CRC and an undecodable payload are
 //! each reported once as a typed [`FrameError`] and counted in [`DeframerStats`], and the
 //! deframer carries on at the next delimiter. It never panics, whatever the input.
+//!
+//! **Authenticated frames.** With a [`SwarmKey`], [`encode_keyed`] puts a 4-byte MAC tag
+//! ([`crate::auth`]) where the CRC was, and [`Deframer::with_key`] drops every frame whose tag
+//! does not verify as [`FrameError::BadMac`]:
+//!
+//! ```text
+//!       | 's'| 's'|  body = COBS(payload ‖ tag) ^ 's' | 's'| 's'|
+//!
+//!  tag = SipHash-2-4(swarm key, payload), first 4 bytes (little-endian output)
+//!  n   = 10 + 2 × len  ≤  FRAME_MAX = 32, so len ≤ KEYED_MAX_HOPS = 11
+//! ```
+//!
+//! The two extra bytes cost one hop: a keyed frame holds [`KEYED_MAX_HOPS`] (11), proven at
+//! compile time like the plain frame's 12. A keyed robot's node keeps at most that many hops
+//! (`Params::max_hops`); [`encode_keyed`] refuses a longer message
+//! ([`EncodeError::TooManyHops`]) rather than cut it silently. The unkeyed API
+//! ([`encode`], [`decode_frame`], [`Deframer::new`]) is unchanged.
 
+use crate::auth::{SwarmKey, TAG_LEN};
 use crate::message::{MAX_HOPS, Message};
 use heapless::Vec;
 
@@ -41,6 +59,11 @@ pub const PAYLOAD_MAX: usize = payload_max(MAX_HOPS);
 pub const CRC_LEN: usize = 2;
 /// Largest body (stuffed payload and CRC) between the delimiters.
 pub const BODY_MAX: usize = cobs::max_encoding_length(PAYLOAD_MAX + CRC_LEN);
+/// Hops in the largest keyed frame: its 4-byte MAC tag leaves room for one hop fewer than
+/// [`MAX_HOPS`] (11).
+pub const KEYED_MAX_HOPS: usize = 11;
+/// Largest postcard payload of a keyed frame.
+pub const KEYED_PAYLOAD_MAX: usize = payload_max(KEYED_MAX_HOPS);
 
 const fn payload_max(hops: usize) -> usize {
     1 + hops * HOP_MAX
@@ -56,6 +79,17 @@ const _: () = assert!(frame_len_for(MAX_HOPS) <= FRAME_MAX);
 const _: () = assert!(frame_len_for(MAX_HOPS + 1) > FRAME_MAX);
 const _: () = assert!(MAX_HOPS <= 127, "the length varint must stay one byte");
 const _: () = assert!(BODY_MAX == FRAME_MAX - 4);
+
+const fn keyed_frame_len_for(hops: usize) -> usize {
+    4 + cobs::max_encoding_length(payload_max(hops) + TAG_LEN)
+}
+
+// The same for keyed frames: KEYED_MAX_HOPS is exactly what fits beside the tag, and a keyed
+// body fits the deframer's buffer.
+const _: () = assert!(keyed_frame_len_for(KEYED_MAX_HOPS) <= FRAME_MAX);
+const _: () = assert!(keyed_frame_len_for(KEYED_MAX_HOPS + 1) > FRAME_MAX);
+const _: () = assert!(KEYED_MAX_HOPS <= MAX_HOPS);
+const _: () = assert!(cobs::max_encoding_length(KEYED_PAYLOAD_MAX + TAG_LEN) <= BODY_MAX);
 
 /// The frame check: CRC-16/IBM-3740 (also known as CCITT-FALSE) over the payload. Its Hamming
 /// distance is 4 at these lengths: every 1-, 2- and 3-bit error and every burst up to 16 bits
@@ -75,6 +109,10 @@ pub enum EncodeError {
     /// The encoded message did not fit the frame. Cannot happen for a [`Message`] (its
     /// capacity is [`MAX_HOPS`]); kept so that encoding never panics.
     Overflow,
+    /// [`encode_keyed`] only: the message has more than [`KEYED_MAX_HOPS`] hops, which a keyed
+    /// frame cannot hold. A node whose `Params::max_hops` is at most [`KEYED_MAX_HOPS`] never
+    /// builds one.
+    TooManyHops,
 }
 
 /// Why bytes between two delimiters were not a message. Each kind is counted in
@@ -95,8 +133,12 @@ pub enum FrameError {
     /// The CRC matches but the payload is not a message (bad length, bad preference byte,
     /// trailing bytes, no hop).
     Undecodable,
-    /// [`decode_frame`] only: the input held no complete frame.
+    /// [`decode_frame`] and [`decode_frame_keyed`] only: the input held no complete frame.
     Incomplete,
+    /// Keyed deframer only: the MAC tag does not verify. The frame was sent without the swarm
+    /// key or with another one, forged, or corrupted on the way: a keyed frame has no CRC, its
+    /// tag is the frame check, so these cannot be told apart.
+    BadMac,
 }
 
 /// Frames `msg`: `ss` + stuffed payload and CRC + `ss`.
@@ -105,20 +147,53 @@ pub enum FrameError {
 /// [`EncodeError::Empty`] for a message without hops. Every other message fits by
 /// construction (see the module's compile-time assertion).
 pub fn encode(msg: &Message) -> Result<Frame, EncodeError> {
+    encode_with(msg, None)
+}
+
+/// Frames `msg` for a swarm sharing `key`: `ss` + stuffed payload and MAC tag + `ss`. Only a
+/// [`Deframer::with_key`] holding the same key accepts it.
+///
+/// # Errors
+/// [`EncodeError::Empty`] for a message without hops, [`EncodeError::TooManyHops`] for one of
+/// more than [`KEYED_MAX_HOPS`] hops.
+pub fn encode_keyed(msg: &Message, key: &SwarmKey) -> Result<Frame, EncodeError> {
+    encode_with(msg, Some(key))
+}
+
+fn encode_with(msg: &Message, key: Option<&SwarmKey>) -> Result<Frame, EncodeError> {
     if msg.is_empty() {
         return Err(EncodeError::Empty);
     }
-    let mut raw = [0u8; PAYLOAD_MAX + CRC_LEN];
+    if key.is_some() && msg.len() > KEYED_MAX_HOPS {
+        return Err(EncodeError::TooManyHops);
+    }
+    let mut raw = [0u8; PAYLOAD_MAX + TAG_LEN];
     // Cannot fail: a message of at most MAX_HOPS hops is at most PAYLOAD_MAX bytes.
     let n = match postcard::to_slice(msg, &mut raw[..PAYLOAD_MAX]) {
         Ok(used) => used.len(),
         Err(_) => return Err(EncodeError::Overflow),
     };
-    let crc = CRC16.checksum(&raw[..n]).to_le_bytes();
-    raw[n..n + CRC_LEN].copy_from_slice(&crc);
+    let (payload, rest) = raw.split_at_mut(n);
+    let check_len = match key {
+        Some(key) => {
+            let tag = key.tag(payload);
+            rest.get_mut(..TAG_LEN)
+                .ok_or(EncodeError::Overflow)?
+                .copy_from_slice(&tag);
+            TAG_LEN
+        }
+        None => {
+            let crc = CRC16.checksum(payload).to_le_bytes();
+            rest.get_mut(..CRC_LEN)
+                .ok_or(EncodeError::Overflow)?
+                .copy_from_slice(&crc);
+            CRC_LEN
+        }
+    };
 
     let mut body = [0u8; BODY_MAX];
-    let b = cobs::try_encode(&raw[..n + CRC_LEN], &mut body).map_err(|_| EncodeError::Overflow)?;
+    let b =
+        cobs::try_encode(&raw[..n + check_len], &mut body).map_err(|_| EncodeError::Overflow)?;
     let mut frame = Frame::new();
     // Cannot fail: 2 + b + 2 <= FRAME_MAX by the assertions above.
     let _ = frame.extend_from_slice(&[DELIMITER, DELIMITER]);
@@ -129,19 +204,30 @@ pub fn encode(msg: &Message) -> Result<Frame, EncodeError> {
     Ok(frame)
 }
 
-/// Decodes one body (the bytes between two delimiters), in place.
-fn decode_body(body: &mut [u8]) -> Result<Message, FrameError> {
+/// Decodes one body (the bytes between two delimiters), in place: checked by its CRC, or by
+/// its MAC tag under `key`.
+fn decode_body(body: &mut [u8], key: Option<&SwarmKey>) -> Result<Message, FrameError> {
     for x in body.iter_mut() {
         *x ^= DELIMITER;
     }
     let n = cobs::decode_in_place(body).map_err(|_| FrameError::BadStuffing)?;
     let raw = body.get(..n).ok_or(FrameError::BadStuffing)?;
-    if raw.len() <= CRC_LEN {
+    let check_len = if key.is_some() { TAG_LEN } else { CRC_LEN };
+    if raw.len() <= check_len {
         return Err(FrameError::TooShort);
     }
-    let (payload, crc) = raw.split_at(raw.len() - CRC_LEN);
-    if CRC16.checksum(payload).to_le_bytes() != crc {
-        return Err(FrameError::BadCheck);
+    let (payload, check) = raw.split_at(raw.len() - check_len);
+    match key {
+        Some(key) => {
+            if !key.verify(payload, check) {
+                return Err(FrameError::BadMac);
+            }
+        }
+        None => {
+            if CRC16.checksum(payload).to_le_bytes() != check {
+                return Err(FrameError::BadCheck);
+            }
+        }
     }
     match postcard::take_from_bytes::<Message>(payload) {
         Ok((msg, rest)) if rest.is_empty() && !msg.is_empty() => Ok(msg),
@@ -155,6 +241,17 @@ fn decode_body(body: &mut [u8]) -> Result<Message, FrameError> {
 /// The first [`FrameError`] met, or [`FrameError::Incomplete`] if no frame was closed.
 pub fn decode_frame(bytes: &[u8]) -> Result<Message, FrameError> {
     let mut d = Deframer::new();
+    d.feed(bytes).0.unwrap_or(Err(FrameError::Incomplete))
+}
+
+/// Decodes the first complete keyed frame in `bytes` (delimiters included), as a
+/// [`Deframer::with_key`] would.
+///
+/// # Errors
+/// The first [`FrameError`] met ([`FrameError::BadMac`] for a frame not made with `key`), or
+/// [`FrameError::Incomplete`] if no frame was closed.
+pub fn decode_frame_keyed(bytes: &[u8], key: &SwarmKey) -> Result<Message, FrameError> {
+    let mut d = Deframer::with_key(*key);
     d.feed(bytes).0.unwrap_or(Err(FrameError::Incomplete))
 }
 
@@ -178,6 +275,8 @@ pub struct DeframerStats {
     pub bad_check: u32,
     /// [`FrameError::Undecodable`] events.
     pub undecodable: u32,
+    /// [`FrameError::BadMac`] events (keyed deframers only).
+    pub bad_mac: u32,
 }
 
 impl DeframerStats {
@@ -189,6 +288,7 @@ impl DeframerStats {
             .wrapping_add(self.too_short)
             .wrapping_add(self.bad_check)
             .wrapping_add(self.undecodable)
+            .wrapping_add(self.bad_mac)
     }
 
     fn count(&mut self, r: &Result<Message, FrameError>) {
@@ -200,6 +300,7 @@ impl DeframerStats {
             Err(FrameError::TooShort) => &mut self.too_short,
             Err(FrameError::BadCheck) => &mut self.bad_check,
             Err(FrameError::Undecodable) => &mut self.undecodable,
+            Err(FrameError::BadMac) => &mut self.bad_mac,
             // Only `decode_frame` says this, never a deframer.
             Err(FrameError::Incomplete) => return,
         };
@@ -212,8 +313,13 @@ impl DeframerStats {
 /// Feed it bytes one at a time ([`push`](Self::push)) or in slices ([`feed`](Self::feed),
 /// [`frames`](Self::frames)); it yields each decoded message or typed error once, as soon as
 /// the closing delimiter arrives (an over-long body is reported as soon as it overflows).
+///
+/// [`Deframer::new`] takes plain frames (checked by CRC); [`Deframer::with_key`] takes only
+/// frames made by [`encode_keyed`] with the same key.
 #[derive(Clone, Debug)]
 pub struct Deframer {
+    /// The swarm key keyed frames must carry a tag of; `None`: plain frames.
+    key: Option<SwarmKey>,
     buf: [u8; BODY_MAX],
     len: usize,
     /// Consecutive `s` bytes just seen (saturating).
@@ -232,9 +338,21 @@ impl Default for Deframer {
 }
 
 impl Deframer {
-    /// A deframer waiting for its first delimiter.
+    /// A deframer of plain (CRC-checked) frames, waiting for its first delimiter.
     pub const fn new() -> Self {
+        Self::with(None)
+    }
+
+    /// A deframer of keyed frames: it accepts only frames whose MAC tag verifies under `key`
+    /// and reports every other body that gets as far as its check as
+    /// [`FrameError::BadMac`].
+    pub const fn with_key(key: SwarmKey) -> Self {
+        Self::with(Some(key))
+    }
+
+    const fn with(key: Option<SwarmKey>) -> Self {
         Deframer {
+            key,
             buf: [0; BODY_MAX],
             len: 0,
             s_run: 0,
@@ -249,8 +367,14 @@ impl Deframer {
                 too_short: 0,
                 bad_check: 0,
                 undecodable: 0,
+                bad_mac: 0,
             },
         }
+    }
+
+    /// True if this deframer checks MAC tags ([`Deframer::with_key`]).
+    pub fn is_keyed(&self) -> bool {
+        self.key.is_some()
     }
 
     /// The counters so far.
@@ -326,7 +450,8 @@ impl Deframer {
         if !self.synced || overflow || len == 0 {
             return None;
         }
-        Some(decode_body(&mut self.buf[..len]))
+        let body = self.buf.get_mut(..len)?;
+        Some(decode_body(body, self.key.as_ref()))
     }
 
     /// Feeds bytes until the first complete result; returns it and the bytes not yet read.
@@ -532,6 +657,160 @@ mod tests {
             f.extend_from_slice(b"ss");
             assert_eq!(
                 decode_frame(&f),
+                Err(FrameError::Undecodable),
+                "{payload:?}"
+            );
+        }
+    }
+
+    /// The swarm key of the keyed golden vectors: bytes 0, 1, … 15.
+    const GOLDEN_KEY: SwarmKey = match SwarmKey::from_hex("000102030405060708090a0b0c0d0e0f") {
+        Ok(k) => k,
+        Err(_) => panic!(),
+    };
+    /// Keyed golden vectors (same messages as above, under [`GOLDEN_KEY`]), also printed in
+    /// docs/protocol.md. Computed independently (a 40-line Python SipHash-2-4 checked against
+    /// the paper's vectors, and COBS), not by this encoder.
+    const GOLDEN_KEYED_ONE_HOP: &[u8] = b"ss\x70\x72\x72\x76\xd4\x77\x6c\xfess";
+    const GOLDEN_KEYED_FOUR_HOPS: &[u8] =
+        b"ss\x77\x77\x72\x72\x71\x71\x71\x71\x72\x76\x90\x29\x6f\xecss";
+    const GOLDEN_KEYED_S_BYTES: &[u8] = b"ss\x70\x71\x00\x71\x00\x76\x3f\x90\x00\x54ss";
+    /// 11 hops of (255, sector 7): the largest keyed frame, 32 bytes.
+    const GOLDEN_KEYED_ELEVEN: &[u8] = b"ss\x6f\x78\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\xe9\xb8\xf4\x7css";
+
+    fn widest(hops: usize) -> Message {
+        Message::from_hops(&[hop(0xFF, Some(Sector::new(7).unwrap())); MAX_HOPS][..hops]).unwrap()
+    }
+
+    #[test]
+    fn golden_keyed_vectors_encode() {
+        let k = &GOLDEN_KEY;
+        assert_eq!(
+            encode_keyed(&one_hop(), k).unwrap().as_slice(),
+            GOLDEN_KEYED_ONE_HOP
+        );
+        assert_eq!(
+            encode_keyed(&four_hops(), k).unwrap().as_slice(),
+            GOLDEN_KEYED_FOUR_HOPS
+        );
+        assert_eq!(
+            encode_keyed(&s_bytes(), k).unwrap().as_slice(),
+            GOLDEN_KEYED_S_BYTES
+        );
+        assert_eq!(
+            encode_keyed(&widest(KEYED_MAX_HOPS), k).unwrap().as_slice(),
+            GOLDEN_KEYED_ELEVEN
+        );
+    }
+
+    #[test]
+    fn golden_keyed_vectors_decode() {
+        let k = &GOLDEN_KEY;
+        assert_eq!(decode_frame_keyed(GOLDEN_KEYED_ONE_HOP, k), Ok(one_hop()));
+        assert_eq!(
+            decode_frame_keyed(GOLDEN_KEYED_FOUR_HOPS, k),
+            Ok(four_hops())
+        );
+        assert_eq!(decode_frame_keyed(GOLDEN_KEYED_S_BYTES, k), Ok(s_bytes()));
+        assert_eq!(
+            decode_frame_keyed(GOLDEN_KEYED_ELEVEN, k),
+            Ok(widest(KEYED_MAX_HOPS))
+        );
+    }
+
+    #[test]
+    fn keyed_frames_cost_two_bytes_and_one_hop() {
+        let k = &GOLDEN_KEY;
+        for hops in 1..=KEYED_MAX_HOPS {
+            let m = widest(hops);
+            let plain = encode(&m).unwrap();
+            let keyed = encode_keyed(&m, k).unwrap();
+            assert_eq!(keyed.len(), plain.len() + 2);
+            assert_eq!(keyed.len(), 10 + 2 * hops);
+            assert!(!keyed[2..keyed.len() - 2].contains(&DELIMITER));
+        }
+        assert_eq!(
+            encode_keyed(&widest(KEYED_MAX_HOPS), k).unwrap().len(),
+            FRAME_MAX
+        );
+        assert_eq!(
+            encode_keyed(&widest(MAX_HOPS), k),
+            Err(EncodeError::TooManyHops)
+        );
+        assert_eq!(
+            encode_keyed(&Message::default(), k),
+            Err(EncodeError::Empty)
+        );
+    }
+
+    #[test]
+    fn keys_do_not_mix() {
+        let other = SwarmKey::new([0x5A; 16]);
+        // Plain frames at a keyed deframer, keyed frames under another key: bad MAC.
+        for f in [GOLDEN_ONE_HOP, GOLDEN_FOUR_HOPS, GOLDEN_S_BYTES] {
+            assert_eq!(decode_frame_keyed(f, &GOLDEN_KEY), Err(FrameError::BadMac));
+        }
+        for f in [
+            GOLDEN_KEYED_ONE_HOP,
+            GOLDEN_KEYED_FOUR_HOPS,
+            GOLDEN_KEYED_S_BYTES,
+            GOLDEN_KEYED_ELEVEN,
+        ] {
+            assert_eq!(decode_frame_keyed(f, &other), Err(FrameError::BadMac));
+            // A plain deframer takes the tag's last two bytes for a CRC: rejected too.
+            assert!(decode_frame(f).is_err());
+        }
+        // A corrupted tag or payload byte.
+        let mut f = StdVec::from(GOLDEN_KEYED_FOUR_HOPS);
+        f[14] ^= 0x01;
+        assert_eq!(decode_frame_keyed(&f, &GOLDEN_KEY), Err(FrameError::BadMac));
+        let mut f = StdVec::from(GOLDEN_KEYED_FOUR_HOPS);
+        f[4] ^= 0x04;
+        assert_eq!(decode_frame_keyed(&f, &GOLDEN_KEY), Err(FrameError::BadMac));
+    }
+
+    #[test]
+    fn keyed_deframer_counts_bad_macs_and_recovers() {
+        let mut stream = StdVec::from(GOLDEN_ONE_HOP);
+        stream.extend_from_slice(GOLDEN_KEYED_ONE_HOP);
+        stream.extend_from_slice(GOLDEN_FOUR_HOPS);
+        stream.extend_from_slice(b"ss\x72\x72\x72ss"); // 3 unstuffed bytes: no room for a tag
+        stream.extend_from_slice(GOLDEN_KEYED_FOUR_HOPS);
+        let mut d = Deframer::with_key(GOLDEN_KEY);
+        assert!(d.is_keyed() && !Deframer::new().is_keyed());
+        assert_eq!(
+            all(&mut d, &stream),
+            [
+                Err(FrameError::BadMac),
+                Ok(one_hop()),
+                Err(FrameError::BadMac),
+                Err(FrameError::TooShort),
+                Ok(four_hops())
+            ]
+        );
+        let s = d.stats();
+        assert_eq!((s.frames, s.bad_mac, s.too_short), (2, 2, 1));
+        assert_eq!(s.bad_check, 0);
+        assert_eq!(s.errors(), 3);
+        // The same stream at a plain deframer: no MAC errors, ever.
+        let mut d = Deframer::new();
+        all(&mut d, &stream);
+        assert_eq!(d.stats().bad_mac, 0);
+        assert_eq!(d.stats().frames, 2);
+    }
+
+    #[test]
+    fn keyed_valid_tag_but_bad_payload_is_undecodable() {
+        for payload in [&[2u8, 1, 0][..], &[1, 1, 9], &[0], &[1, 1, 0, 0]] {
+            let mut raw = StdVec::from(payload);
+            raw.extend_from_slice(&GOLDEN_KEY.tag(payload));
+            let mut body = [0u8; 64];
+            let n = cobs::encode(&raw, &mut body);
+            let mut f = StdVec::from(&b"ss"[..]);
+            f.extend(body[..n].iter().map(|b| b ^ DELIMITER));
+            f.extend_from_slice(b"ss");
+            assert_eq!(
+                decode_frame_keyed(&f, &GOLDEN_KEY),
                 Err(FrameError::Undecodable),
                 "{payload:?}"
             );

@@ -282,9 +282,14 @@ impl<D: Diversity> FusedNode<D> {
                 }
                 WaveAction::Relay => {
                     if let Some(mut m) = self.pending.take() {
+                        // Room for the own hop within the capacity (`validate`: at least 1).
+                        let cap = usize::from(self.params.max_hops).max(1);
+                        let mut dropped = m.keep_newest(cap - 1);
                         if m.push_evicting(self.own_hop()).is_some() {
-                            self.stats.hops_evicted = self.stats.hops_evicted.wrapping_add(1);
+                            dropped += 1;
                         }
+                        let dropped = u32::try_from(dropped).unwrap_or(u32::MAX);
+                        self.stats.hops_evicted = self.stats.hops_evicted.wrapping_add(dropped);
                         self.transmit(m);
                     }
                 }
@@ -497,6 +502,34 @@ mod tests {
         assert_eq!(out.hops()[0], hop(1, None));
         assert_eq!(out.hops()[MAX_HOPS - 1].reading, Level(9));
         assert_eq!(n.stats().hops_evicted, 1);
+    }
+
+    #[test]
+    fn relays_keep_at_most_max_hops() {
+        let (mut n, mut rng) = node(9);
+        let mut p = *n.params();
+        p.max_hops = crate::frame::KEYED_MAX_HOPS as u8;
+        n = FusedNode::new(p, Instant::ZERO, &mut rng).unwrap();
+        n.handle_reading(Level(9));
+        let mut t = Instant::from_secs(1);
+        // A full plain message (12 hops) relayed by an 11-hop node: the two oldest go.
+        let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, None)).collect();
+        let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full);
+        assert_eq!(out.len(), 11);
+        assert_eq!(out.hops()[0], hop(2, None));
+        assert_eq!(out.hops()[10].reading, Level(9));
+        assert_eq!(n.stats().hops_evicted, 2);
+        // An 11-hop message: one goes.
+        let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full[..11]);
+        assert_eq!(out.len(), 11);
+        assert_eq!(out.hops()[0], hop(1, None));
+        assert_eq!(n.stats().hops_evicted, 3);
+        // Shorter ones just grow, and an encoded relay always fits a keyed frame.
+        let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full[..3]);
+        assert_eq!(out.len(), 4);
+        assert_eq!(n.stats().hops_evicted, 3);
+        let key = crate::auth::SwarmKey::new([5; 16]);
+        assert!(crate::frame::encode_keyed(&out, &key).is_ok());
     }
 
     #[test]

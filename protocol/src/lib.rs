@@ -17,6 +17,7 @@
 //! - [`fused`]: [`FusedNode`], what the aMussels ran, with its decision rule;
 //! - [`three_phase`]: [`ThreePhaseAgent`], the paper's 2D-simulation variant;
 //! - [`message`] and [`frame`]: the hops and the 32-byte `ss…ss` frame with its [`Deframer`];
+//! - [`auth`]: the optional [`SwarmKey`] and the MAC of authenticated frames;
 //! - [`diversity`] and [`weights`]: how a direction is scored;
 //! - [`params`]: every parameter with the paper's defaults;
 //! - [`line`](mod@line): a direct-wired line of robots for tests and quick experiments.
@@ -30,6 +31,7 @@
 #[cfg(test)]
 extern crate std;
 
+pub mod auth;
 pub mod direction;
 pub mod diversity;
 pub mod frame;
@@ -42,9 +44,10 @@ pub mod time;
 pub mod wave;
 pub mod weights;
 
+pub use auth::{KeyError, SwarmKey};
 pub use direction::{MAX_SECTORS, Sector};
 pub use diversity::{Diversity, Variance};
-pub use frame::{Deframer, FrameError, encode};
+pub use frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode, encode_keyed};
 pub use fused::{Event, FusedNode, Reception};
 pub use message::{Hop, Level, MAX_HOPS, Message};
 pub use params::{InitiationPoint, ParamError, Params, WaveParams};

@@ -97,6 +97,16 @@ impl Message {
         push_evicting(&mut self.hops, hop)
     }
 
+    /// Drops the oldest hops until at most `n` remain; returns how many were dropped.
+    pub fn keep_newest(&mut self, n: usize) -> usize {
+        let drop = self.hops.len().saturating_sub(n);
+        if drop > 0 {
+            self.hops.rotate_left(drop);
+            self.hops.truncate(self.hops.len() - drop);
+        }
+        drop
+    }
+
     /// The readings, oldest first, as floats (for a [`crate::diversity::Diversity`]).
     pub fn readings(&self) -> impl Iterator<Item = f32> + Clone + '_ {
         self.hops.iter().map(|h| f32::from(h.reading))
@@ -161,6 +171,17 @@ mod tests {
         assert_eq!(m.len(), MAX_HOPS);
         assert_eq!(m.hops()[0], hop(1));
         assert_eq!(m.hops()[MAX_HOPS - 1], hop(100));
+    }
+
+    #[test]
+    fn keep_newest_drops_the_oldest() {
+        let mut m = Message::from_hops(&[hop(1), hop(2), hop(3), hop(4)]).unwrap();
+        assert_eq!(m.keep_newest(5), 0);
+        assert_eq!(m.len(), 4);
+        assert_eq!(m.keep_newest(2), 2);
+        assert_eq!(m.hops(), &[hop(3), hop(4)]);
+        assert_eq!(m.keep_newest(0), 2);
+        assert!(m.is_empty());
     }
 
     #[test]

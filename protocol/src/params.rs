@@ -3,6 +3,7 @@
 use core::fmt;
 
 use crate::direction::MAX_SECTORS;
+use crate::message::MAX_HOPS;
 use crate::time::Duration;
 
 /// When, within its cycle, a robot initiates its wave.
@@ -54,6 +55,11 @@ pub struct Params {
     pub decide_cycles: u16,
     /// Three-phase variant: fraction of the shorter arc an opinion moves toward a received one.
     pub diffusion: f32,
+    /// Fused variant: the most hops a message this robot relays keeps (its oldest hops are
+    /// dropped to make room): the frame's capacity. [`MAX_HOPS`] (12) for plain frames;
+    /// authenticated frames hold [`crate::frame::KEYED_MAX_HOPS`] (11), and the firmware
+    /// lowers it to that when a swarm key is set.
+    pub max_hops: u8,
 }
 
 impl Params {
@@ -75,6 +81,7 @@ impl Params {
             gather_cycles: 1,
             decide_cycles: 1,
             diffusion: 0.1,
+            max_hops: MAX_HOPS as u8,
         }
     }
 
@@ -99,6 +106,7 @@ impl Params {
             gather_cycles: 1,
             decide_cycles: 1,
             diffusion: 0.1,
+            max_hops: MAX_HOPS as u8,
         }
     }
 
@@ -139,6 +147,9 @@ impl Params {
         if !(self.diffusion > 0.0 && self.diffusion <= 1.0) {
             return Err(ParamError::BadDiffusion);
         }
+        if !(1..=MAX_HOPS).contains(&usize::from(self.max_hops)) {
+            return Err(ParamError::BadHopCapacity);
+        }
         Ok(())
     }
 }
@@ -173,6 +184,8 @@ pub enum ParamError {
     ZeroPeriod,
     /// The diffusion fraction is not in `(0, 1]`.
     BadDiffusion,
+    /// `max_hops` is not in `1..=MAX_HOPS`.
+    BadHopCapacity,
 }
 
 impl fmt::Display for ParamError {
@@ -192,6 +205,7 @@ impl fmt::Display for ParamError {
             ParamError::BadSectorCount => "the number of sectors must be between 2 and 8",
             ParamError::ZeroPeriod => "negotiation periods and phases must last at least one cycle",
             ParamError::BadDiffusion => "the diffusion fraction must be in (0, 1]",
+            ParamError::BadHopCapacity => "the hops per message must be between 1 and 12",
         })
     }
 }
@@ -210,6 +224,7 @@ mod tests {
         assert_eq!(p.wave.cycle_spread, Duration::from_secs(15));
         assert_eq!(p.wave.refractory, Duration::from_secs(4));
         assert_eq!(p.negotiation_cycles, 10);
+        assert_eq!(usize::from(p.max_hops), MAX_HOPS);
         assert_eq!(Params::simulation_2d().validate(), Ok(()));
     }
 
@@ -243,6 +258,8 @@ mod tests {
         check(|p| p.negotiation_cycles = 0, ParamError::ZeroPeriod);
         check(|p| p.diffusion = 0.0, ParamError::BadDiffusion);
         check(|p| p.diffusion = f32::NAN, ParamError::BadDiffusion);
+        check(|p| p.max_hops = 0, ParamError::BadHopCapacity);
+        check(|p| p.max_hops = 13, ParamError::BadHopCapacity);
 
         use std::string::ToString;
         assert!(

@@ -15,6 +15,7 @@ use rand_pcg::Pcg32;
 use tokio::sync::oneshot;
 
 use crate::EmuClock;
+use crate::adversary::{self, Adversary};
 use crate::env::{EmuSensor, Environment};
 use crate::medium::{Medium, MediumParams, MediumStats, SharedMedium, TraceEvent};
 
@@ -34,8 +35,12 @@ pub struct ArenaConfig {
     pub kills: Vec<(Instant, usize)>,
     /// `(time, robot)`: the robot boots again with fresh state.
     pub restarts: Vec<(Instant, usize)>,
-    /// Robots dead from the start (boot them with a restart).
+    /// Robots dead from the start (boot them with a restart). One that is never restarted is
+    /// absent: [`lab::judge`](crate::lab::judge) judges the others as a line of their own.
     pub dead_at_start: Vec<usize>,
+    /// Rogue transmitters and replayers sharing the robots' light (node numbers after the
+    /// robots', in this order).
+    pub adversaries: Vec<Adversary>,
     /// Emulated time to run.
     pub duration: Duration,
     /// The one seed every random thing is drawn from.
@@ -59,6 +64,7 @@ impl ArenaConfig {
             kills: Vec::new(),
             restarts: Vec::new(),
             dead_at_start: Vec::new(),
+            adversaries: Vec::new(),
             duration,
             seed,
             trace: false,
@@ -75,6 +81,8 @@ pub enum ArenaError {
     Medium(String),
     /// A kill or restart names a robot that does not exist.
     NoSuchRobot(usize),
+    /// An adversary's parameters make no sense.
+    Adversary(String),
     /// The tokio runtime could not be built.
     Runtime(String),
 }
@@ -85,6 +93,7 @@ impl std::fmt::Display for ArenaError {
             ArenaError::Setup(e) => write!(f, "robot configuration: {e}"),
             ArenaError::Medium(e) => write!(f, "medium: {e}"),
             ArenaError::NoSuchRobot(i) => write!(f, "there is no robot {i} to kill or restart"),
+            ArenaError::Adversary(e) => write!(f, "adversary: {e}"),
             ArenaError::Runtime(e) => write!(f, "runtime: {e}"),
         }
     }
@@ -242,6 +251,7 @@ fn rng(seed: u64, purpose: u64, robot: usize, life: u32) -> Pcg32 {
 const RNG_MEDIUM: u64 = 1;
 const RNG_PROTOCOL: u64 = 2;
 const RNG_SENSOR: u64 = 3;
+const RNG_ADVERSARY: u64 = 4;
 
 /// One life of one robot: boot, run the unchanged robot program until told to stop.
 async fn life(shared: Rc<Shared>, robot: usize, life: u32, stop: oneshot::Receiver<()>) -> Stats {
@@ -296,6 +306,9 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
     let n = cfg.positions.len();
     Robot::<Pcg32, 2>::new(cfg.robot, Instant::ZERO, rng(0, 0, 0, 0)).map_err(ArenaError::Setup)?;
     cfg.medium.validate().map_err(ArenaError::Medium)?;
+    for a in &cfg.adversaries {
+        a.validate().map_err(ArenaError::Adversary)?;
+    }
     let mut controls: Vec<(Instant, Control)> = Vec::new();
     for &(t, r) in &cfg.kills {
         controls.push((t, Control::Kill(r)));
@@ -334,6 +347,9 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             cfg.robot.params.sectors,
             cfg.trace,
         );
+        for (k, a) in cfg.adversaries.iter().enumerate() {
+            adversary::spawn(&medium, clock, a, rng(cfg.seed, RNG_ADVERSARY, k, 0));
+        }
         let shared = Rc::new(Shared {
             medium: medium.clone(),
             clock,

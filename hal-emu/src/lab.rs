@@ -73,6 +73,35 @@ pub fn expected(p: &[bool]) -> Option<Vec<LedColor>> {
     )
 }
 
+/// The robots of `cfg` that never run: dead from the start and never restarted.
+pub fn absent(cfg: &ArenaConfig) -> Vec<usize> {
+    let mut a: Vec<usize> = cfg
+        .dead_at_start
+        .iter()
+        .copied()
+        .filter(|r| !cfg.restarts.iter().any(|(_, x)| x == r))
+        .collect();
+    a.sort_unstable();
+    a.dedup();
+    a
+}
+
+/// [`expected`] when the robots in `absent` never run: the others are judged as a line of
+/// their own (the pattern without the absent robots) and the absent robots' LEDs stay off.
+/// Absent robots must be at the ends of the line (else the others are not one line): `None`
+/// (no verdict) otherwise.
+pub fn expected_without(p: &[bool], absent: &[usize]) -> Option<Vec<LedColor>> {
+    let present: Vec<usize> = (0..p.len()).filter(|i| !absent.contains(i)).collect();
+    let (&first, &last) = (present.first()?, present.last()?);
+    if last - first + 1 != present.len() {
+        return None;
+    }
+    let inner = expected(&p[first..=last])?;
+    let mut out = vec![LedColor::Off; p.len()];
+    out[first..=last].copy_from_slice(&inner);
+    Some(out)
+}
+
 /// The outcome of one run, as the paper's table reports it.
 #[derive(Clone, Debug)]
 pub struct LabRun {
@@ -95,6 +124,7 @@ pub struct LabRun {
 
 /// Runs `cfg` and judges it: the LEDs at the end against [`expected`] of the final pattern,
 /// and, if the pattern changed, the LEDs just before each change against the pattern before.
+/// Robots that never run ([`absent`]) are left out of the pattern ([`expected_without`]).
 ///
 /// # Errors
 /// The [`ArenaError`] if the configuration is unusable.
@@ -108,11 +138,12 @@ pub fn judge(cfg: &ArenaConfig) -> Result<LabRun, ArenaError> {
         .pattern_at(end)
         .map(<[bool]>::to_vec)
         .unwrap_or_default();
-    let exp = expected(&lights);
+    let absent = absent(cfg);
+    let exp = expected_without(&lights, &absent);
     let mut success = exp.as_ref().is_none_or(|e| report.final_leds == *e);
     // Every earlier pattern must have been reached before it changed.
     for w in schedule.windows(2) {
-        if let Some(e) = expected(&w[0].1) {
+        if let Some(e) = expected_without(&w[0].1, &absent) {
             success &= report.leds_at(w[1].0 - Duration::from_millis(1)) == e;
         }
     }
@@ -155,6 +186,23 @@ mod tests {
         assert_eq!(e("110000").as_deref(), Some("LLLLLL"));
         assert_eq!(e("1010"), None);
         assert_eq!(e("0000"), None);
+    }
+
+    #[test]
+    fn absent_end_robots_leave_a_shorter_line() {
+        let e = |s: &str, a: &[usize]| expected_without(&p(s), a).map(|l| leds_str(&l));
+        assert_eq!(e("1000", &[]).as_deref(), Some("LLLL"));
+        assert_eq!(e("1000", &[3]).as_deref(), Some("LLL-"));
+        assert_eq!(e("0001", &[0]).as_deref(), Some("-RRR"));
+        assert_eq!(e("1100", &[3]).as_deref(), Some("RRR-"));
+        assert_eq!(e("1100", &[0]).as_deref(), Some("-LLL"));
+        assert_eq!(e("1000", &[0]), None, "000 has no border");
+        assert_eq!(e("1100", &[1]), None, "not one line");
+        assert_eq!(e("1100", &[0, 1, 2, 3]), None);
+        let mut cfg = ArenaConfig::line(p("1000"), 1.0, Duration::from_secs(1), 1);
+        cfg.dead_at_start = vec![3, 0, 3];
+        cfg.restarts = vec![(Instant::from_secs(1), 0)];
+        assert_eq!(absent(&cfg), vec![3]);
     }
 
     #[test]

@@ -13,8 +13,11 @@
 //!   change at scheduled times.
 //! - [`clock`]: the robots' clock on tokio's paused clock, so virtual time runs as fast as the
 //!   CPU allows and task order is deterministic.
+//! - [`adversary`]: a rogue transmitter sending random bytes and a replayer sending captured
+//!   frames again, both nodes of the same medium.
 //! - [`arena`]: a whole run: robots in a line, scheduled pattern changes, kills and restarts,
-//!   LED changes recorded with their times. The same seed gives the same trace, bit for bit.
+//!   adversaries, LED changes recorded with their times. The same seed gives the same trace,
+//!   bit for bit.
 //!
 //! Nothing in `firmware` knows it is emulated: these types only implement its traits.
 //!
@@ -25,13 +28,17 @@
 
 #![forbid(unsafe_code)]
 
+pub mod adversary;
 pub mod arena;
 pub mod clock;
 pub mod env;
 pub mod lab;
 pub mod medium;
 
+pub use adversary::{Adversary, AdversaryKind, Replayer, Rogue};
 pub use arena::{ArenaConfig, ArenaError, LedChange, RunReport, run};
 pub use clock::EmuClock;
 pub use env::Environment;
 pub use medium::{DropReason, MediumParams, MediumStats, TraceEvent};
+/// Positions in the arena, metres (re-exported so callers need not depend on nalgebra).
+pub use nalgebra::Point2;

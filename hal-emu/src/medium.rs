@@ -15,6 +15,13 @@
 //!   each byte that arrives is corrupted (XOR with a random non-zero byte) with probability
 //!   `byte_error_rate`.
 //!
+//! - **Adversaries.** Nodes that are not robots ([`crate::adversary`]) use the same model: a
+//!   rogue transmitter's bursts and a replayer's frames take airtime, reach the receiver facing
+//!   them within range, collide and are lost like any frame; a replayer hears (captures) frames
+//!   like a robot's receiver would. Node numbers: robots first (`0..robots`), then the
+//!   adversaries in the order of [`crate::ArenaConfig::adversaries`]; the trace's `from` is a
+//!   node number.
+//!
 //! All randomness comes from the medium's own seeded RNG, drawn in the deterministic order of
 //! the current-thread runtime.
 
@@ -201,14 +208,51 @@ pub enum TraceEvent {
         /// One character per robot, `1` lit.
         lights: String,
     },
+    /// A rogue transmitter started a burst of random bytes.
+    RogueSent {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// The rogue's node number.
+        node: usize,
+        /// Burst length, bytes.
+        len: usize,
+    },
+    /// A replayer started sending a captured frame again.
+    Replayed {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// The replayer's node number.
+        node: usize,
+        /// Frame length, bytes.
+        len: usize,
+        /// The robot that sent the original.
+        from: usize,
+        /// When the original was captured, ms.
+        captured_ms: u64,
+    },
+    /// A frame reached a replayer (kept for replay if it came from a robot, intact).
+    Captured {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// The replayer's node number.
+        node: usize,
+        /// Sender.
+        from: usize,
+        /// Frame length, bytes.
+        len: usize,
+        /// True if kept for replay.
+        kept: bool,
+    },
 }
 
-/// Frame counts kept by the medium.
+/// Frame counts kept by the medium. Deliveries, drops, garbling and corruption count what
+/// reached (or failed to reach) robots, whoever sent it; what adversaries hear is counted in
+/// `captured` and `capture_missed` only.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct MediumStats {
-    /// Frames sent.
+    /// Frames sent by robots.
     pub sent: u64,
-    /// Frame deliveries (one per receiver reached), garbled ones included.
+    /// Frame deliveries to robots (one per receiver reached), garbled ones included.
     pub delivered: u64,
     /// Deliveries garbled by a collision.
     pub garbled: u64,
@@ -220,6 +264,55 @@ pub struct MediumStats {
     pub receiver_transmitting: u64,
     /// Deliveries dropped because the receiver was dead.
     pub receiver_dead: u64,
+    /// Bursts of random bytes sent by rogue transmitters.
+    pub rogue_bursts: u64,
+    /// Frames retransmitted by replayers.
+    pub replayed: u64,
+    /// Deliveries to robots of what an adversary sent (bursts and replays), garbled included.
+    pub adversary_delivered: u64,
+    /// Robot frames a replayer heard intact and kept for replay.
+    pub captured: u64,
+    /// Frames that reached a replayer unusable (lost, garbled, corrupted, while it transmitted,
+    /// or not a robot's).
+    pub capture_missed: u64,
+}
+
+/// What kind of node of the medium.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    /// A robot running the robot program: receives into its per-sector receivers.
+    Robot,
+    /// A rogue transmitter: sends random bytes, receives nothing.
+    Rogue,
+    /// A replayer: captures robot frames and sends them again later.
+    Replayer,
+}
+
+/// A robot frame a replayer heard intact.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Capture {
+    /// When its airtime ended.
+    pub t: Instant,
+    /// The robot that sent it.
+    pub from: usize,
+    /// Its bytes, as they arrived.
+    pub bytes: Vec<u8>,
+}
+
+/// What a transmission is, for the counters and the trace.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Emission {
+    /// A robot's frame.
+    Frame,
+    /// A rogue transmitter's burst of random bytes.
+    Noise,
+    /// A replayer's copy of a frame `from` sent, captured at `captured`.
+    Replay {
+        /// The robot that sent the original.
+        from: usize,
+        /// When the original was captured.
+        captured: Instant,
+    },
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -244,10 +337,13 @@ struct Arrival {
 struct Node {
     pos: Point2<f64>,
     sectors: u8,
+    role: Role,
     alive: bool,
-    /// The end of this robot's current or last transmission.
+    /// The end of this node's current or last transmission.
     tx_until: Instant,
     inboxes: Vec<UnboundedSender<Vec<u8>>>,
+    /// A replayer's captures.
+    captures: Option<UnboundedSender<Capture>>,
 }
 
 /// The shared medium: every robot's position, every frame in flight, the trace.
@@ -283,9 +379,11 @@ impl Medium {
             .map(|&pos| Node {
                 pos,
                 sectors,
+                role: Role::Robot,
                 alive: false,
                 tx_until: Instant::ZERO,
                 inboxes: Vec::new(),
+                captures: None,
             })
             .collect();
         Rc::new(RefCell::new(Medium {
@@ -321,6 +419,46 @@ impl Medium {
     /// The time now.
     pub fn now(&self) -> Instant {
         self.clock.now()
+    }
+
+    /// Adds a rogue transmitter at `pos`; returns its node number.
+    pub fn add_rogue(this: &SharedMedium, pos: Point2<f64>) -> usize {
+        Medium::add_node(this, pos, Role::Rogue, None)
+    }
+
+    /// Adds a replayer at `pos` with receivers like a robot's; returns its node number and the
+    /// frames it captures.
+    pub fn add_replayer(
+        this: &SharedMedium,
+        pos: Point2<f64>,
+    ) -> (usize, UnboundedReceiver<Capture>) {
+        let (tx, rx) = unbounded_channel();
+        (Medium::add_node(this, pos, Role::Replayer, Some(tx)), rx)
+    }
+
+    fn add_node(
+        this: &SharedMedium,
+        pos: Point2<f64>,
+        role: Role,
+        captures: Option<UnboundedSender<Capture>>,
+    ) -> usize {
+        let mut m = this.borrow_mut();
+        let sectors = m.nodes.first().map_or(2, |n| n.sectors);
+        m.nodes.push(Node {
+            pos,
+            sectors,
+            role,
+            alive: true,
+            tx_until: Instant::ZERO,
+            inboxes: Vec::new(),
+            captures,
+        });
+        m.nodes.len() - 1
+    }
+
+    /// When node `node`'s current or last transmission ends.
+    pub fn busy_until(&self, node: usize) -> Instant {
+        self.nodes.get(node).map_or(Instant::ZERO, |n| n.tx_until)
     }
 
     /// Brings robot `robot` (back) to life: returns its new transmitter's key and one receiver
@@ -360,19 +498,45 @@ impl Medium {
         }
     }
 
-    /// Starts robot `from`'s transmission of `bytes` now; returns when its airtime ends.
-    fn transmit(this: &SharedMedium, from: usize, bytes: &[u8]) -> Instant {
+    /// Starts node `from`'s transmission of `bytes` now; returns when its airtime ends.
+    pub fn transmit(this: &SharedMedium, from: usize, bytes: &[u8], what: Emission) -> Instant {
         let mut guard = this.borrow_mut();
         let m = &mut *guard;
         let t0 = m.clock.now();
         let t1 = t0 + m.params.airtime(bytes.len());
         m.nodes[from].tx_until = t1;
-        m.stats.sent += 1;
-        m.log(TraceEvent::Sent {
-            t_ms: t0.as_millis(),
-            robot: from,
-            len: bytes.len(),
-        });
+        let (t_ms, len) = (t0.as_millis(), bytes.len());
+        match what {
+            Emission::Frame => {
+                m.stats.sent += 1;
+                m.log(TraceEvent::Sent {
+                    t_ms,
+                    robot: from,
+                    len,
+                });
+            }
+            Emission::Noise => {
+                m.stats.rogue_bursts += 1;
+                m.log(TraceEvent::RogueSent {
+                    t_ms,
+                    node: from,
+                    len,
+                });
+            }
+            Emission::Replay {
+                from: original,
+                captured,
+            } => {
+                m.stats.replayed += 1;
+                m.log(TraceEvent::Replayed {
+                    t_ms,
+                    node: from,
+                    len,
+                    from: original,
+                    captured_ms: captured.as_millis(),
+                });
+            }
+        }
         // Half duplex: what the sender was receiving is lost under its own light.
         for a in m.pending.iter_mut().filter(|a| a.to == from && a.end > t0) {
             a.fate = Fate::Deaf;
@@ -380,7 +544,11 @@ impl Medium {
         let src = m.nodes[from].pos;
         for to in 0..m.nodes.len() {
             let node = &m.nodes[to];
-            if to == from || !node.alive || nalgebra::distance(&node.pos, &src) > m.params.range {
+            if to == from
+                || !node.alive
+                || node.role == Role::Rogue
+                || nalgebra::distance(&node.pos, &src) > m.params.range
+            {
                 continue;
             }
             let d = src - node.pos;
@@ -432,6 +600,7 @@ impl Medium {
     /// Counts and traces a frame from `from` that did not reach `to` (at `t`, its airtime's end).
     fn dropped(&mut self, t: Instant, to: usize, from: usize, reason: DropReason) {
         match reason {
+            _ if self.nodes[to].role != Role::Robot => self.stats.capture_missed += 1,
             DropReason::ReceiverDead => self.stats.receiver_dead += 1,
             DropReason::ReceiverTransmitting => self.stats.receiver_transmitting += 1,
             DropReason::Loss => self.stats.lost += 1,
@@ -460,8 +629,11 @@ impl Medium {
             return m.dropped(a.end, a.to, a.from, DropReason::ReceiverTransmitting);
         }
         let garbled = a.fate == Fate::Collided;
+        let to_robot = m.nodes[a.to].role == Role::Robot;
         if garbled {
-            m.stats.garbled += 1;
+            if to_robot {
+                m.stats.garbled += 1;
+            }
             for b in a.bytes.iter_mut() {
                 if m.rng.random_bool(0.5) {
                     *b = m.rng.random();
@@ -477,8 +649,35 @@ impl Medium {
                 }
             }
         }
+        let from_robot = m.nodes[a.from].role == Role::Robot;
+        if !to_robot {
+            let kept = from_robot && !garbled && corrupted == 0;
+            if kept {
+                m.stats.captured += 1;
+            } else {
+                m.stats.capture_missed += 1;
+            }
+            m.log(TraceEvent::Captured {
+                t_ms,
+                node: a.to,
+                from: a.from,
+                len: a.bytes.len(),
+                kept,
+            });
+            if let (true, Some(c)) = (kept, &m.nodes[a.to].captures) {
+                let _ = c.send(Capture {
+                    t: a.end,
+                    from: a.from,
+                    bytes: a.bytes,
+                });
+            }
+            return;
+        }
         m.stats.corrupted_bytes += u64::from(corrupted);
         m.stats.delivered += 1;
+        if !from_robot {
+            m.stats.adversary_delivered += 1;
+        }
         m.log(TraceEvent::Received {
             t_ms,
             robot: a.to,
@@ -511,7 +710,7 @@ impl Write for EmuTransmitter {
         if buf.is_empty() {
             return Ok(0);
         }
-        let end = Medium::transmit(&self.medium, self.robot, buf);
+        let end = Medium::transmit(&self.medium, self.robot, buf, Emission::Frame);
         let clock = self.medium.borrow().clock;
         clock.sleep_until(end).await;
         Ok(buf.len())

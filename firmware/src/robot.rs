@@ -15,6 +15,11 @@
 //!                                   └──Event::Decided──▶ LEDs
 //! ```
 //!
+//! With a swarm key ([`Config::key`]) the listeners' deframers are keyed
+//! ([`Deframer::with_key`]): frames without the swarm's MAC are dropped and counted in
+//! [`Stats::bad_mac`] before the protocol sees them, and `encode` is
+//! [`encode_keyed`](protocol::frame::encode_keyed).
+//!
 //! A listener is never cancelled, so a receiver need not be cancel-safe: each one reads for as
 //! long as the robot runs. The main loop waits on "a message in the inbox OR the next
 //! deadline" with [`embassy_futures::select`], which works the same under embassy and tokio.
@@ -39,8 +44,10 @@ use embassy_futures::select::{Either, select};
 use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::channel::Channel;
 use embedded_io_async::{Error as _, Read, Write};
-use protocol::frame::{Deframer, FrameError, encode};
-use protocol::{Duration, Event, FusedNode, Instant, Message, ParamError, Params, Sector};
+use protocol::frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode, encode_keyed};
+use protocol::{
+    Duration, Event, FusedNode, Instant, Message, ParamError, Params, Sector, SwarmKey,
+};
 use rand_core::RngCore;
 
 use crate::hal::{Clock, Error as _, LedColor, Leds, Quantity, Sensor};
@@ -66,11 +73,17 @@ pub struct Config {
     pub io_timeout: Duration,
     /// Pause after a receiver error before reading that receiver again.
     pub rx_error_backoff: Duration,
+    /// The swarm key, if the swarm authenticates its frames: every frame sent carries its MAC
+    /// tag ([`protocol::frame::encode_keyed`]) and every frame received without a valid one is
+    /// dropped and counted ([`Stats::bad_mac`]). A keyed frame holds one hop fewer, so
+    /// [`Robot::new`] lowers `params.max_hops` to [`KEYED_MAX_HOPS`] (11). `None`: plain
+    /// frames, checked by CRC.
+    pub key: Option<SwarmKey>,
 }
 
 impl Config {
     /// The aMussel lab: [`Params::robots`], ambient light sampled every second, 500 ms I/O
-    /// timeout, 100 ms back-off after a receiver error.
+    /// timeout, 100 ms back-off after a receiver error, no swarm key.
     pub const fn robots() -> Config {
         Config {
             id: 0,
@@ -79,6 +92,7 @@ impl Config {
             sample_period: Duration::from_secs(1),
             io_timeout: Duration::from_millis(500),
             rx_error_backoff: Duration::from_millis(100),
+            key: None,
         }
     }
 }
@@ -138,8 +152,13 @@ impl core::error::Error for SetupError {}
 pub struct Stats {
     /// Messages decoded and handed to the protocol.
     pub messages: u32,
-    /// Corrupt frames (every [`FrameError`] a deframer reported).
+    /// Corrupt frames (every [`FrameError`] a deframer reported, [`FrameError::BadMac`]
+    /// included).
     pub frame_errors: u32,
+    /// Frames dropped because their MAC tag did not verify ([`FrameError::BadMac`], robots with
+    /// a [`Config::key`] only): sent without the swarm key or with another one, forged, or
+    /// corrupted on the way. Also counted in `frame_errors`.
+    pub bad_mac: u32,
     /// Errors reported by a receiver.
     pub rx_errors: u32,
     /// Receivers that reported the end of their stream (`Ok(0)`); they are not read again.
@@ -232,7 +251,12 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
         if durations.contains(&Duration::ZERO) {
             return Err(SetupError::ZeroDuration);
         }
-        let node = FusedNode::new(config.params, now, &mut rng)?;
+        let mut params = config.params;
+        if config.key.is_some() {
+            // What a keyed frame holds: relays never build a message encode_keyed refuses.
+            params.max_hops = params.max_hops.min(KEYED_MAX_HOPS as u8);
+        }
+        let node = FusedNode::new(params, now, &mut rng)?;
         // `validate` checked 2 <= N <= MAX_SECTORS, so every index is a sector.
         let sectors = core::array::from_fn(|i| Sector::new(i as u8).unwrap_or(Sector::RIGHT));
         Ok(Robot {
@@ -313,11 +337,12 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
         let clock = &*clock;
         let inbox = Inbox::new();
         let backoff = self.config.rx_error_backoff;
+        let key = self.config.key;
         let mut i = 0;
         let listeners = receivers.each_mut().map(|rx| {
             let from = self.sectors.get(i).copied().unwrap_or(Sector::RIGHT);
             i += 1;
-            listen(rx, from, &inbox, clock, backoff)
+            listen(rx, from, key, &inbox, clock, backoff)
         });
         let mut main = Main {
             config: &self.config,
@@ -336,15 +361,20 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
     }
 }
 
-/// Reads one receiver for ever, deframing its bytes into the inbox.
+/// Reads one receiver for ever, deframing its bytes into the inbox (keyed frames only if the
+/// robot has a swarm key).
 async fn listen<R: Read, C: Clock>(
     rx: &mut R,
     from: Sector,
+    key: Option<SwarmKey>,
     inbox: &Inbox,
     clock: &C,
     backoff: Duration,
 ) -> Infallible {
-    let mut deframer = Deframer::new();
+    let mut deframer = match key {
+        Some(key) => Deframer::with_key(key),
+        None => Deframer::new(),
+    };
     let mut buf = [0u8; RX_CHUNK];
     loop {
         match rx.read(&mut buf).await {
@@ -436,8 +466,14 @@ impl<G: RngCore, O: Observer> Main<'_, G, O> {
     ) -> Infallible {
         let id = self.config.id;
         info!(
-            "robot {}: running, {} receivers",
-            id, self.config.params.sectors
+            "robot {}: running, {} receivers, {} frames",
+            id,
+            self.config.params.sectors,
+            if self.config.key.is_some() {
+                "authenticated"
+            } else {
+                "plain"
+            }
         );
         let mut next_sample = clock.now();
         loop {
@@ -499,7 +535,12 @@ impl<G: RngCore, O: Observer> Main<'_, G, O> {
             }
             Inbound::Corrupt(from, e) => {
                 self.stats.frame_errors = self.stats.frame_errors.wrapping_add(1);
-                warn!("robot {}: corrupt frame from {:?}: {:?}", id, from, e);
+                if e == FrameError::BadMac {
+                    self.stats.bad_mac = self.stats.bad_mac.wrapping_add(1);
+                    warn!("robot {}: frame from {:?} dropped: bad MAC", id, from);
+                } else {
+                    warn!("robot {}: corrupt frame from {:?}: {:?}", id, from, e);
+                }
             }
             Inbound::RxError(from, kind) => {
                 self.stats.rx_errors = self.stats.rx_errors.wrapping_add(1);
@@ -517,7 +558,11 @@ impl<G: RngCore, O: Observer> Main<'_, G, O> {
         let id = self.config.id;
         let timeout = self.config.io_timeout;
         while let Some(msg) = self.node.poll_transmit() {
-            let frame = match encode(&msg) {
+            let framed = match &self.config.key {
+                Some(key) => encode_keyed(&msg, key),
+                None => encode(&msg),
+            };
+            let frame = match framed {
                 Ok(frame) => frame,
                 Err(e) => {
                     self.stats.tx_errors = self.stats.tx_errors.wrapping_add(1);

@@ -235,6 +235,7 @@ pub fn total_stats<G: RngCore, const N: usize>(robots: &[Robot<G, 2>; N]) -> Sta
         Stats {
             messages: a.messages.wrapping_add(s.messages),
             frame_errors: a.frame_errors.wrapping_add(s.frame_errors),
+            bad_mac: a.bad_mac.wrapping_add(s.bad_mac),
             rx_errors: a.rx_errors.wrapping_add(s.rx_errors),
             rx_closed: a.rx_closed.wrapping_add(s.rx_closed),
             transmitted: a.transmitted.wrapping_add(s.transmitted),

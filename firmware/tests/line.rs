@@ -1,7 +1,7 @@
 //! Four robots running the real robot program, wired in memory ([`firmware::wired::run_line`],
 //! what the QEMU board runs), under tokio's paused clock: the lab's six light patterns.
 
-use firmware::protocol::{Instant, Level, Sector};
+use firmware::protocol::{Instant, Level, Sector, SwarmKey};
 use firmware::wired::{run_line, total_stats};
 use firmware::{Config, Robot};
 use rand_pcg::Pcg32;
@@ -27,9 +27,14 @@ fn readings(pattern: &str) -> [Level; 4] {
 }
 
 fn robots(clock: &TokioClock, seed: u64) -> [Robot<Pcg32, 2>; 4] {
+    keyed_robots(clock, seed, None)
+}
+
+fn keyed_robots(clock: &TokioClock, seed: u64, key: Option<SwarmKey>) -> [Robot<Pcg32, 2>; 4] {
     core::array::from_fn(|i| {
         let config = Config {
             id: i as u16,
+            key,
             ..Config::robots()
         };
         Robot::new(
@@ -71,6 +76,28 @@ async fn the_lab_patterns_decide_as_in_the_paper() {
                 (0, 0, 0),
                 "{s:?}"
             );
+            assert!(s.messages > 100, "{s:?}");
+        }
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn keyed_lines_decide_as_in_the_paper_too() {
+    let key = SwarmKey::new(*b"sixteen byte key");
+    for seed in 0..3 {
+        for (pattern, expected) in PATTERNS {
+            let clock = TokioClock::new();
+            let mut line = keyed_robots(&clock, seed, Some(key));
+            let deadline = Instant::from_secs(1_500);
+            let report = run_line(&mut line, readings(pattern), &clock, 2, deadline).await;
+            assert!(report.finished, "pattern {pattern}, seed {seed}");
+            assert_eq!(
+                report.shown_decisions(),
+                expected,
+                "pattern {pattern}, replay with seed {seed}"
+            );
+            let s = total_stats(&line);
+            assert_eq!((s.frame_errors, s.bad_mac), (0, 0), "{s:?}");
             assert!(s.messages > 100, "{s:?}");
         }
     }

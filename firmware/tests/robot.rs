@@ -12,8 +12,8 @@ use std::future::pending;
 use embassy_futures::select::{Either, select};
 use firmware::embedded_io_async::{self, ErrorKind as IoKind, Read, Write};
 use firmware::hal::{Clock, ErrorKind, ErrorType, LedColor, Leds, Sensor};
-use firmware::protocol::frame::{Deframer, encode};
-use firmware::protocol::{Hop, Instant, Level, Message, Sector};
+use firmware::protocol::frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode, encode_keyed};
+use firmware::protocol::{Hop, Instant, Level, Message, Sector, SwarmKey};
 use firmware::{Config, Hardware, Robot, SetupError, Stats};
 use rand_pcg::Pcg32;
 
@@ -192,9 +192,15 @@ fn hop(reading: u8, pref: Option<Sector>) -> Hop {
     }
 }
 
-/// A neighbour that sends `msg` every `period` ms from `first` on, until `until`.
-fn neighbour(first: u64, period: u64, until: u64, msg: &[Hop]) -> Vec<Step> {
-    let frame = encode(&Message::from_hops(msg).unwrap()).unwrap().to_vec();
+/// A neighbour that sends `msg` every `period` ms from `first` on, until `until`, framed with
+/// `key` (plain frames if `None`).
+fn neighbour(first: u64, period: u64, until: u64, msg: &[Hop], key: Option<SwarmKey>) -> Vec<Step> {
+    let msg = Message::from_hops(msg).unwrap();
+    let frame = match key {
+        Some(k) => encode_keyed(&msg, &k),
+        None => encode(&msg),
+    };
+    let frame = frame.unwrap().to_vec();
     (first..until)
         .step_by(period as usize)
         .map(|t| (t, Ok(frame.clone())))
@@ -213,6 +219,17 @@ fn dark_toward(side: Option<Sector>) -> Vec<Hop> {
 
 /// A dark robot between a lit neighbour on `lit_side` and a dark one on the other.
 fn scene(lit_side: Sector, seed: u64) -> (Robot<Pcg32, 2>, FakeHardware) {
+    keyed_scene(lit_side, seed, None, None)
+}
+
+/// [`scene`] with a swarm key for the robot and another (or the same, or none) for the frames
+/// its neighbours send.
+fn keyed_scene(
+    lit_side: Sector,
+    seed: u64,
+    robot_key: Option<SwarmKey>,
+    neighbour_key: Option<SwarmKey>,
+) -> (Robot<Pcg32, 2>, FakeHardware) {
     let clock = TokioClock::new();
     let until = TWO_PERIODS_MS;
     let (left, right) = if lit_side == Sector::LEFT {
@@ -221,8 +238,11 @@ fn scene(lit_side: Sector, seed: u64) -> (Robot<Pcg32, 2>, FakeHardware) {
         (dark_toward(R), lit())
     };
     // Different periods, so the neighbours drift through the robot's own cycle.
-    let left = ScriptRx::new(clock, neighbour(7_300, 47_000, until, &left));
-    let right = ScriptRx::new(clock, neighbour(29_100, 61_000, until, &right));
+    let left = ScriptRx::new(clock, neighbour(7_300, 47_000, until, &left, neighbour_key));
+    let right = ScriptRx::new(
+        clock,
+        neighbour(29_100, 61_000, until, &right, neighbour_key),
+    );
     let hw = Hardware::line(
         RecordingTx {
             clock,
@@ -244,12 +264,11 @@ fn scene(lit_side: Sector, seed: u64) -> (Robot<Pcg32, 2>, FakeHardware) {
         },
         clock,
     );
-    let robot = Robot::new(
-        Config::robots(),
-        clock.now(),
-        Pcg32::new(seed, 0xda3e_39cb_94b9_5bdb),
-    )
-    .unwrap();
+    let config = Config {
+        key: robot_key,
+        ..Config::robots()
+    };
+    let robot = Robot::new(config, clock.now(), Pcg32::new(seed, 0xda3e_39cb_94b9_5bdb)).unwrap();
     (robot, hw)
 }
 
@@ -264,7 +283,11 @@ async fn run_for(robot: &mut Robot<Pcg32, 2>, hw: &mut FakeHardware, ms: u64) {
 
 /// Every message the robot transmitted, decoded.
 fn sent_messages(hw: &FakeHardware) -> Vec<(u64, Message)> {
-    let mut d = Deframer::new();
+    sent_messages_with(hw, Deframer::new())
+}
+
+/// Every message the robot transmitted, decoded by `d`.
+fn sent_messages_with(hw: &FakeHardware, mut d: Deframer) -> Vec<(u64, Message)> {
     let mut out = Vec::new();
     for (t, bytes) in &hw.transmitter.sent {
         for r in d.frames(bytes) {
@@ -521,4 +544,102 @@ fn bad_setups_are_refused() {
         );
     }
     assert!(Robot::<_, 2>::new(Config::robots(), Instant::ZERO, rng()).is_ok());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Authenticated frames
+
+const SWARM: SwarmKey = SwarmKey::new([0x42; 16]);
+const FOREIGN: SwarmKey = SwarmKey::new([0x24; 16]);
+
+#[tokio::test(start_paused = true)]
+async fn a_keyed_robot_hears_its_swarm_and_sends_only_keyed_frames() {
+    for seed in 0..4 {
+        for (lit_side, expected) in [(Sector::LEFT, L), (Sector::RIGHT, R)] {
+            let (mut robot, mut hw) = keyed_scene(lit_side, seed, Some(SWARM), Some(SWARM));
+            run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+            expect_decided(&robot, &hw, expected, seed);
+            let s = *robot.stats();
+            assert!(s.messages > 30, "seed {seed}: {s:?}");
+            assert_eq!((s.frame_errors, s.bad_mac, s.tx_errors), (0, 0, 0), "{s:?}");
+            // Everything it sent carries the swarm's MAC: a keyed deframer takes all of it, a
+            // plain one or one with another key none.
+            let sent = sent_messages_with(&hw, Deframer::with_key(SWARM));
+            assert_eq!(sent.len() as u32, s.transmitted);
+            for other in [Deframer::new(), Deframer::with_key(FOREIGN)] {
+                let mut d = other;
+                for (_, bytes) in &hw.transmitter.sent {
+                    assert!(d.frames(bytes).all(|r| r.is_err()));
+                }
+                assert_eq!(d.stats().frames, 0);
+            }
+        }
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_keyed_robot_drops_and_counts_frames_without_its_key() {
+    for neighbour_key in [None, Some(FOREIGN)] {
+        let (mut robot, mut hw) = keyed_scene(Sector::LEFT, 1, Some(SWARM), neighbour_key);
+        let delivered: u32 = hw.receivers.iter().map(|rx| rx.steps.len() as u32).sum();
+        run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+        let s = *robot.stats();
+        // Nothing got through: every frame was dropped for its MAC and counted.
+        assert_eq!(s.messages, 0, "{neighbour_key:?}: {s:?}");
+        assert_eq!(robot.node().stats().accepted, 0);
+        assert_eq!(s.bad_mac, delivered, "{neighbour_key:?}: {s:?}");
+        assert_eq!(s.frame_errors, s.bad_mac);
+        // Deaf to the lit neighbour, it has no evidence: undecided, LEDs off.
+        assert!(s.decisions >= 2, "{s:?}");
+        assert_eq!(robot.decision(), None);
+        assert_eq!(hw.leds.shown.last().map(|s| s.1), Some(LedColor::Off));
+    }
+    // A plain robot does not understand the keyed swarm either (but counts no bad MAC).
+    let (mut robot, mut hw) = keyed_scene(Sector::LEFT, 1, None, Some(SWARM));
+    run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+    let s = *robot.stats();
+    assert_eq!((s.messages, s.bad_mac), (0, 0), "{s:?}");
+    assert!(s.frame_errors > 30, "{s:?}");
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_keyed_robot_relays_at_most_eleven_hops() {
+    let (mut robot, mut hw) = keyed_scene(Sector::LEFT, 2, Some(SWARM), Some(SWARM));
+    assert_eq!(
+        robot.config().params.max_hops,
+        12,
+        "the configuration as given"
+    );
+    assert_eq!(usize::from(robot.node().params().max_hops), KEYED_MAX_HOPS);
+    // The left neighbour now sends full keyed messages: 11 hops, readings 1..=11.
+    let long: Vec<Hop> = (1..=KEYED_MAX_HOPS as u8).map(|r| hop(r, None)).collect();
+    hw.receivers[Sector::LEFT.index() as usize] = ScriptRx::new(
+        hw.clock,
+        neighbour(7_300, 47_000, 600_000, &long, Some(SWARM)),
+    );
+    run_for(&mut robot, &mut hw, 600_000).await;
+    let sent = sent_messages_with(&hw, Deframer::with_key(SWARM));
+    let relays: Vec<&Message> = sent
+        .iter()
+        .map(|(_, m)| m)
+        // Relays of the left neighbour (the right one's are two hops long).
+        .filter(|m| m.len() > 2)
+        .collect();
+    assert!(relays.len() > 5, "{sent:?}");
+    for m in relays {
+        // The oldest hop made room for the robot's own.
+        assert_eq!(m.len(), KEYED_MAX_HOPS);
+        assert_eq!(m.hops()[0].reading, Level(2));
+        assert_eq!(m.hops()[KEYED_MAX_HOPS - 1].reading, Level(0));
+    }
+    assert!(robot.node().stats().hops_evicted > 5);
+    assert_eq!(robot.stats().tx_errors, 0);
+}
+
+#[test]
+fn a_keyed_frame_error_is_a_bad_mac() {
+    let msg = Message::from_hops(&[hop(1, None)]).unwrap();
+    let f = encode(&msg).unwrap();
+    let mut d = Deframer::with_key(SWARM);
+    assert_eq!(d.frames(&f).collect::<Vec<_>>(), [Err(FrameError::BadMac)]);
 }

@@ -15,6 +15,11 @@
 //! byte is lost between two reads. Randomness is a PCG seeded from the chip's unique ID (every
 //! robot draws differently, the same robot the same way). Logs go out as defmt over RTT.
 //!
+//! **Swarm key.** Built with `CIMAX_SWARM_KEY` set to 32 hex digits (a 128-bit key), e.g.
+//! `CIMAX_SWARM_KEY=00112233445566778899aabbccddeeff cargo firmware`, the robot sends and accepts
+//! only authenticated frames ([`SWARM_KEY`]); unset or empty, plain frames. A malformed key
+//! fails the build. The key ends up in the flash image: keep the image as secret as the key.
+//!
 //! `cargo firmware` builds the release image; `cargo run -p firmware --release --target
 //! thumbv7em-none-eabihf --features board-nucleo-l476 --bin nucleo_l476` flashes it with
 //! probe-rs and prints the logs (see `docs/firmware.md`).
@@ -31,7 +36,7 @@ use embassy_stm32::peripherals::ADC1;
 use embassy_stm32::usart::{self, UartRx, UartTx};
 use embassy_stm32::{bind_interrupts, dma, pac, peripherals};
 use firmware::hal::{EmbassyClock, ErrorType, LedColor, Leds, Sensor};
-use firmware::protocol::Level;
+use firmware::protocol::{KeyError, Level, SwarmKey};
 use firmware::{Clock, Config, Hardware, Robot};
 use rand_pcg::Pcg32;
 use {cortex_m as _, defmt_rtt as _, panic_probe as _};
@@ -40,6 +45,25 @@ use {cortex_m as _, defmt_rtt as _, panic_probe as _};
 const LIGHT_BAUD: u32 = 9_600;
 /// DMA ring buffer per receiver: two full frames.
 const RX_RING: usize = 64;
+
+/// The swarm key, from the environment variable `CIMAX_SWARM_KEY` at build time (32 hex
+/// digits); `None` (plain frames) if it is unset or empty. Parsed at compile time: a malformed
+/// key is a build error, not a robot that hears nobody.
+const SWARM_KEY: Option<SwarmKey> = match option_env!("CIMAX_SWARM_KEY") {
+    None => None,
+    Some(hex) if hex.is_empty() => None,
+    Some(hex) => match SwarmKey::from_hex(hex) {
+        Ok(key) => Some(key),
+        Err(KeyError::NotHex { .. }) => {
+            panic!(
+                "CIMAX_SWARM_KEY must be 32 hex digits (a 128-bit key): it has another character"
+            )
+        }
+        Err(KeyError::Length { .. }) => {
+            panic!("CIMAX_SWARM_KEY must be 32 hex digits (a 128-bit key): wrong number of digits")
+        }
+    },
+};
 
 bind_interrupts!(struct Irqs {
     USART3 => usart::InterruptHandler<peripherals::USART3>;
@@ -170,6 +194,7 @@ async fn main(_spawner: Spawner) {
     );
     let config = Config {
         id: u16::from_le_bytes([a, b]),
+        key: SWARM_KEY,
         ..Config::robots()
     };
     let mut robot = match Robot::new(config, hw.clock.now(), rng) {

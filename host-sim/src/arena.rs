@@ -15,7 +15,7 @@ use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, mirrored, parse_patt
 use hal_emu::{ArenaConfig, MediumParams, TraceEvent};
 use host_sim::campaign::ArenaCommand;
 use indicatif::{ProgressBar, ProgressStyle};
-use protocol::{Duration, Instant, Params};
+use protocol::{Duration, Instant, Params, SwarmKey};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -92,6 +92,10 @@ pub struct ArenaArgs {
     /// Draw a timeline per robot of frames and LED colour as SVG (the first run only).
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Swarm key, 32 hex digits (128 bits): every robot authenticates its frames and drops
+    /// those without a valid MAC (docs/protocol.md, "Authenticated frames").
+    #[arg(long, value_name = "HEX")]
+    pub key: Option<SwarmKey>,
     /// `campaign`: the fault-injection campaign (`host_sim::campaign`).
     #[command(subcommand)]
     pub command: Option<ArenaCommand>,
@@ -198,6 +202,7 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
     let config = |pattern: &[bool], seed: u64, duration: Duration| {
         let mut c = ArenaConfig::line(pattern.to_vec(), args.spacing, duration, seed);
         c.robot.params = params;
+        c.robot.key = args.key;
         c.medium = medium;
         c.kills = args
             .kill

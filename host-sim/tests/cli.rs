@@ -136,3 +136,32 @@ fn arena_bad_options_name_the_problem() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn arena_with_a_swarm_key() {
+    let out = cimax(&[
+        "arena",
+        "--lights",
+        "1100",
+        "--runs",
+        "2",
+        "--key",
+        "000102030405060708090A0B0C0D0E0F",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(stdout.contains("2 runs, 2 successful"), "{stdout}");
+    for (key, needle) in [
+        ("0011", "32 hex digits (128 bits), not 4"),
+        ("0x0102030405060708090a0b0c0d0e0f", "character 2"),
+        ("", "not 0"),
+    ] {
+        let out = cimax(&["arena", "--lights", "1100", "--key", key]);
+        assert_eq!(out.status.code(), Some(2), "--key {key:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.contains("--key") && err.contains(needle),
+            "{key:?}: {err}"
+        );
+    }
+}

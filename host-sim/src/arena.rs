@@ -98,7 +98,7 @@ pub struct ArenaArgs {
     pub key: Option<SwarmKey>,
     /// `campaign`: the fault-injection campaign (`host_sim::campaign`).
     #[command(subcommand)]
-    pub command: Option<ArenaCommand>,
+    pub command: Option<Box<ArenaCommand>>,
 }
 
 fn parse_at(s: &str) -> Result<(usize, u64), String> {
@@ -300,7 +300,7 @@ struct JsonReport {
 /// Runs `cimax arena`; the exit code is non-zero if any run with a verdict failed or an option
 /// was bad.
 pub fn main(args: &ArenaArgs) -> ExitCode {
-    if let Some(ArenaCommand::Campaign(c)) = &args.command {
+    if let Some(ArenaCommand::Campaign(c)) = args.command.as_deref() {
         return host_sim::campaign::main(c);
     }
     let experiments = match build(args) {

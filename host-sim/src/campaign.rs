@@ -1,9 +1,34 @@
-//! `cimax arena campaign`: the lab experiment under faults, over many seeds.
+//! `cimax arena campaign`: the lab experiment under faults, over many seeds, against bars.
+//!
+//! Every [`SCENARIOS`] entry is run once per seed (200 by default) in the emulated arena
+//! (`hal-emu`), each run judged exactly as `cimax arena` judges one
+//! ([`hal_emu::lab::judge`]: the top-cap LEDs at the end against the expected verdict). Seed
+//! `s` uses the paper's pattern `PAPER_PATTERNS[s mod 6]`, so every six consecutive seeds
+//! cover the six patterns, and the run's seed is `s` itself: one seed replays one run
+//! (`cimax arena campaign --scenario NAME --seed S --seeds 1`). Runs are spread over threads
+//! with rayon; each is independent and seeded, so the report does not depend on the number
+//! of threads.
+//!
+//! The report ([`markdown`]) gives per scenario the success rate, time to consensus (median
+//! and 95th percentile), frames per run dropped by reason, the bar with PASS or FAIL, and the
+//! failing seeds with the command that replays each; [`chart`] draws the success rates
+//! against the bars as SVG.
 
-use std::path::PathBuf;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use clap::builder::PossibleValuesParser;
 use clap::{Args, Subcommand};
+use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, parse_pattern, pattern_str};
+use hal_emu::{Adversary, ArenaConfig, MediumStats, Point2};
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use protocol::{Duration, Instant, Params};
+use rayon::prelude::*;
+
+use crate::experiment::Progress;
+use crate::seeds;
 
 /// Subcommands of `cimax arena`.
 #[derive(Subcommand, Debug, Clone)]
@@ -23,7 +48,7 @@ pub struct CampaignArgs {
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     /// Run only this scenario (repeatable); default: all.
-    #[arg(long)]
+    #[arg(long, value_parser = PossibleValuesParser::new(SCENARIOS.iter().map(|s| s.name)))]
     pub scenario: Vec<String>,
     /// Frame loss at every receiver in every scenario, replacing the scenario's own.
     #[arg(long)]
@@ -40,8 +65,965 @@ pub struct CampaignArgs {
     pub trace: Option<PathBuf>,
 }
 
+/// The fault a scenario injects.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Fault {
+    /// Each frame is lost at each receiver with this probability.
+    Loss(f64),
+    /// Each received byte is corrupted with this probability (collisions on).
+    ByteErrors(f64),
+    /// Cycles drawn uniformly from `cycle ± spread` seconds, every cycle.
+    CycleSpread {
+        /// Mean cycle, s.
+        cycle: u64,
+        /// Spread, s.
+        spread: u64,
+    },
+    /// One robot at an end of the line is dead from the start.
+    DeadEnd,
+    /// One robot reboots (killed, restarted 5 s later) at a random time after consensus.
+    Reboot,
+    /// A rogue transmitter in range of every robot sends random bytes.
+    Rogue,
+    /// A replayer in range of every robot sends captured frames again later.
+    Replayer,
+}
+
+/// One scenario of the campaign.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Scenario {
+    /// Its name on the command line.
+    pub name: &'static str,
+    /// What it does, for the report.
+    pub what: &'static str,
+    /// The fault.
+    pub fault: Fault,
+    /// Least success rate (0 to 1) to pass; `None`: reported only.
+    pub bar: Option<f64>,
+}
+
+/// The campaign's scenarios and their bars.
+pub const SCENARIOS: &[Scenario] = &[
+    Scenario {
+        name: "loss-10",
+        what: "10 % of frames lost at each receiver",
+        fault: Fault::Loss(0.1),
+        bar: Some(0.99),
+    },
+    Scenario {
+        name: "loss-20",
+        what: "20 % of frames lost at each receiver",
+        fault: Fault::Loss(0.2),
+        bar: Some(0.95),
+    },
+    Scenario {
+        name: "loss-30",
+        what: "30 % of frames lost at each receiver",
+        fault: Fault::Loss(0.3),
+        bar: None,
+    },
+    Scenario {
+        name: "byte-errors",
+        what: "byte error rate 1e-3, collisions on",
+        fault: Fault::ByteErrors(1e-3),
+        bar: Some(0.99),
+    },
+    Scenario {
+        name: "cycle-spread",
+        what: "cycles drawn from 40-70 s every cycle (the robots' measured spread)",
+        fault: Fault::CycleSpread {
+            cycle: 55,
+            spread: 15,
+        },
+        bar: Some(0.99),
+    },
+    Scenario {
+        name: "dead-end",
+        what: "a robot at one end dead from the start; the three others judged as a line of three",
+        fault: Fault::DeadEnd,
+        bar: Some(0.99),
+    },
+    Scenario {
+        name: "reboot",
+        what: "a robot reboots after consensus; consensus back within two negotiation periods",
+        fault: Fault::Reboot,
+        bar: Some(0.99),
+    },
+    Scenario {
+        name: "rogue",
+        what: "a rogue transmitter in range of all four sends random bytes",
+        fault: Fault::Rogue,
+        bar: Some(0.99),
+    },
+    Scenario {
+        name: "replayer",
+        what: "a replayer in range of all four sends captured frames again 10-60 s later",
+        fault: Fault::Replayer,
+        bar: Some(0.99),
+    },
+];
+
+/// Where the adversaries stand: between robots 1 and 2 of the line of four (1 m apart), 1.5 m
+/// from the end robots, so every robot hears them (range 1.5 m), the end robots on the same
+/// receiver as their only neighbour.
+pub const ADVERSARY_AT: (f64, f64) = (1.5, 0.0);
+
+/// Delay between a reboot's kill and its restart.
+pub const REBOOT_DOWN: Duration = Duration::from_secs(5);
+
+/// One run of a scenario, judged.
+#[derive(Clone, Debug)]
+pub struct Outcome {
+    /// The seed that replays it.
+    pub seed: u64,
+    /// The light pattern.
+    pub pattern: String,
+    /// The LEDs expected at the end (`-` for a robot that is dead).
+    pub expected: String,
+    /// The LEDs at the end.
+    pub leds: String,
+    /// Whether every verdict of the run held.
+    pub success: bool,
+    /// Why not, if it failed.
+    pub why: Option<String>,
+    /// Seconds from the start until the LEDs reached the state they kept to the end.
+    pub consensus_s: Option<f64>,
+    /// Reboot only: seconds from the reboot until consensus was back for good.
+    pub restore_s: Option<f64>,
+    /// The medium's counters.
+    pub medium: MediumStats,
+    /// Frames the robots' deframers rejected (CRC, stuffing, length), all robots.
+    pub frame_errors: u64,
+}
+
+/// What a campaign covers.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// Indices into [`SCENARIOS`].
+    pub scenarios: Vec<usize>,
+    /// First seed.
+    pub seed: u64,
+    /// Seeds per scenario.
+    pub seeds: u64,
+    /// Frame loss replacing every scenario's own.
+    pub loss: Option<f64>,
+}
+
+/// One scenario's runs and what they add up to.
+#[derive(Clone, Debug)]
+pub struct ScenarioResult {
+    /// The scenario.
+    pub scenario: Scenario,
+    /// Its runs, in seed order.
+    pub runs: Vec<Outcome>,
+}
+
+impl ScenarioResult {
+    /// Successful runs.
+    pub fn successes(&self) -> usize {
+        self.runs.iter().filter(|r| r.success).count()
+    }
+
+    /// The success rate, 0 to 1.
+    pub fn rate(&self) -> f64 {
+        self.successes() as f64 / self.runs.len().max(1) as f64
+    }
+
+    /// `Some(true)` if the bar is met, `Some(false)` if missed, `None` without a bar.
+    pub fn passed(&self) -> Option<bool> {
+        self.scenario.bar.map(|b| self.rate() >= b)
+    }
+
+    /// The failed runs.
+    pub fn failures(&self) -> impl Iterator<Item = &Outcome> {
+        self.runs.iter().filter(|r| !r.success)
+    }
+}
+
+/// A whole campaign.
+#[derive(Clone, Debug)]
+pub struct Report {
+    /// What was run.
+    pub plan: Plan,
+    /// Per scenario, in plan order.
+    pub results: Vec<ScenarioResult>,
+    /// Wall time, seconds.
+    pub wall_s: f64,
+    /// Worker threads.
+    pub threads: usize,
+}
+
+impl Report {
+    /// The scenarios whose bar was missed.
+    pub fn missed(&self) -> Vec<&ScenarioResult> {
+        self.results
+            .iter()
+            .filter(|r| r.passed() == Some(false))
+            .collect()
+    }
+}
+
+/// The pattern seed `seed` uses: the paper's six in turn.
+pub fn pattern_for(seed: u64) -> &'static str {
+    PAPER_PATTERNS[(seed % PAPER_PATTERNS.len() as u64) as usize]
+}
+
+/// A negotiation period of nominal cycles (10 × 55 s = 550 s).
+fn nominal_period(p: &Params) -> Duration {
+    p.wave.cycle.saturating_mul(u64::from(p.negotiation_cycles))
+}
+
+/// `cimax arena`'s default run: three negotiation periods of the longest cycle, plus 1 s.
+fn default_run(p: &Params) -> Duration {
+    let longest = p.wave.cycle + p.wave.cycle_spread;
+    longest.saturating_mul(3 * u64::from(p.negotiation_cycles)) + Duration::from_secs(1)
+}
+
+/// The run of `scenario` for `seed`, and the reboot time if it has one.
+///
+/// # Errors
+/// A message if the pattern does not parse (cannot happen for the paper's patterns).
+pub fn config(
+    scenario: &Scenario,
+    seed: u64,
+    loss: Option<f64>,
+) -> Result<(ArenaConfig, Option<Instant>), String> {
+    let pattern = parse_pattern(pattern_for(seed))?;
+    let n = pattern.len();
+    let params = Params::robots();
+    let mut cfg = ArenaConfig::line(pattern.clone(), 1.0, default_run(&params), seed);
+    // Scenario-specific draws (which robot, when) from their own seed, so they do not disturb
+    // the run's other random numbers.
+    let draw = |what: u64| seeds::derive(seed, &[what]);
+    let at = Point2::new(ADVERSARY_AT.0, ADVERSARY_AT.1);
+    let mut reboot = None;
+    match scenario.fault {
+        Fault::Loss(p) => cfg.medium.loss = p,
+        Fault::ByteErrors(p) => {
+            cfg.medium.byte_error_rate = p;
+            cfg.medium.collisions = true;
+        }
+        Fault::CycleSpread { cycle, spread } => {
+            cfg.robot.params.wave.cycle = Duration::from_secs(cycle);
+            cfg.robot.params.wave.cycle_spread = Duration::from_secs(spread);
+            cfg.duration = default_run(&cfg.robot.params);
+        }
+        Fault::DeadEnd => {
+            // The end drawn for this seed, or the other one if without it the three others
+            // would see no border (1000 without robot 0 is 000: no verdict).
+            let (mut end, other) = if draw(1) % 2 == 0 {
+                (0, n - 1)
+            } else {
+                (n - 1, 0)
+            };
+            let rest = |e: usize| {
+                let mut p = pattern.clone();
+                p.remove(e);
+                hal_emu::lab::expected(&p)
+            };
+            if rest(end).is_none() {
+                end = other;
+            }
+            cfg.dead_at_start = vec![end];
+        }
+        Fault::Reboot => {
+            // After the first decision (at most 10 cycles of 70 s = 700 s): 800 to 1400 s.
+            let t = Instant::from_secs(800 + draw(2) % 601);
+            let robot = (draw(3) % n as u64) as usize;
+            cfg.kills.push((t, robot));
+            cfg.restarts.push((t + REBOOT_DOWN, robot));
+            cfg.duration = t.saturating_since(Instant::ZERO) + default_run(&params);
+            reboot = Some(t);
+        }
+        Fault::Rogue => cfg.adversaries.push(Adversary::rogue(at)),
+        Fault::Replayer => cfg.adversaries.push(Adversary::replayer(at)),
+    }
+    if let Some(p) = loss {
+        cfg.medium.loss = p;
+    }
+    Ok((cfg, reboot))
+}
+
+/// Judges a run of `scenario` (with `cimax arena`'s [`judge`]) and, for a reboot, also checks
+/// that consensus held just before it and was back within two nominal negotiation periods.
+fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<(LabRun, Outcome), String> {
+    let run = judge(cfg).map_err(|e| e.to_string())?;
+    let expected = run.expected.clone();
+    let mut success = run.success;
+    let mut why = (!success).then(|| "wrong LEDs at the end".to_string());
+    let mut restore_s = None;
+    if let (Some(t), Some(e)) = (reboot, &expected) {
+        let before = run.report.leds_at(t - Duration::from_millis(1));
+        let limit = nominal_period(&cfg.robot.params).saturating_mul(2);
+        restore_s = run
+            .consensus_s
+            .map(|c| c - t.saturating_since(Instant::ZERO).as_secs_f64());
+        if before != *e {
+            success = false;
+            why = Some(format!(
+                "no consensus before the reboot at {} s (LEDs {})",
+                t.as_millis() / 1000,
+                leds_str(&before)
+            ));
+        } else if success && restore_s.is_none_or(|r| r > limit.as_secs_f64()) {
+            success = false;
+            why = Some(format!(
+                "consensus back only {:.0} s after the reboot (limit {} s)",
+                restore_s.unwrap_or(f64::NAN),
+                limit.as_millis() / 1000
+            ));
+        }
+    }
+    let o = Outcome {
+        seed: cfg.seed,
+        pattern: pattern_str(&run.lights),
+        expected: expected.as_deref().map(leds_str).unwrap_or_default(),
+        leds: leds_str(&run.leds),
+        success,
+        why,
+        consensus_s: run.consensus_s,
+        restore_s,
+        medium: run.report.medium,
+        frame_errors: run
+            .report
+            .robots
+            .iter()
+            .map(|s| u64::from(s.frame_errors))
+            .sum(),
+    };
+    Ok((run, o))
+}
+
+/// Runs one seed of one scenario.
+///
+/// # Errors
+/// A message if the run cannot start.
+pub fn run_one(scenario: &Scenario, seed: u64, loss: Option<f64>) -> Result<Outcome, String> {
+    let (cfg, reboot) = config(scenario, seed, loss)?;
+    outcome(&cfg, reboot).map(|(_, o)| o)
+}
+
+/// Runs the plan, in parallel; the result does not depend on the number of threads.
+///
+/// # Errors
+/// A message if an option is unusable or a run cannot start.
+pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
+    if let Some(p) = plan.loss
+        && !(0.0..=1.0).contains(&p)
+    {
+        return Err(format!("--loss must be a probability in [0, 1], not {p}"));
+    }
+    if let Some(&i) = plan.scenarios.iter().find(|&&i| i >= SCENARIOS.len()) {
+        return Err(format!("there is no scenario number {i}"));
+    }
+    let wall = std::time::Instant::now();
+    let jobs: Vec<(usize, u64)> = plan
+        .scenarios
+        .iter()
+        .flat_map(|&s| (0..plan.seeds).map(move |k| (s, plan.seed.wrapping_add(k))))
+        .collect();
+    let outcomes: Vec<Result<Outcome, String>> = jobs
+        .par_iter()
+        .map(|&(s, seed)| {
+            let o = run_one(&SCENARIOS[s], seed, plan.loss);
+            progress.inc();
+            o
+        })
+        .collect();
+    progress.finish();
+    let mut results: Vec<ScenarioResult> = plan
+        .scenarios
+        .iter()
+        .map(|&s| ScenarioResult {
+            scenario: SCENARIOS[s],
+            runs: Vec::new(),
+        })
+        .collect();
+    for ((s, _), o) in jobs.iter().zip(outcomes) {
+        let i = plan.scenarios.iter().position(|x| x == s).unwrap_or(0);
+        results[i].runs.push(o?);
+    }
+    Ok(Report {
+        plan: plan.clone(),
+        results,
+        wall_s: wall.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+    })
+}
+
+/// The `p`-quantile (0 to 1) of `xs` by the nearest-rank method.
+pub fn quantile(xs: &[f64], p: f64) -> Option<f64> {
+    let mut v: Vec<f64> = xs.iter().copied().filter(|x| x.is_finite()).collect();
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let rank = ((p * v.len() as f64).ceil() as usize).clamp(1, v.len());
+    Some(v[rank - 1])
+}
+
+/// The command that replays one run.
+pub fn replay_command(scenario: &str, seed: u64, loss: Option<f64>) -> String {
+    let mut c = format!("cimax arena campaign --scenario {scenario} --seed {seed} --seeds 1");
+    if let Some(p) = loss {
+        let _ = write!(c, " --loss {p}");
+    }
+    c
+}
+
+/// The command that produced a report.
+fn command(plan: &Plan) -> String {
+    let mut c = "cargo run --release -p host-sim -- arena campaign".to_string();
+    if plan.seeds != 200 {
+        let _ = write!(c, " --seeds {}", plan.seeds);
+    }
+    if plan.seed != 1 {
+        let _ = write!(c, " --seed {}", plan.seed);
+    }
+    if plan.scenarios.len() != SCENARIOS.len() {
+        for &s in &plan.scenarios {
+            let _ = write!(c, " --scenario {}", SCENARIOS[s].name);
+        }
+    }
+    if let Some(p) = plan.loss {
+        let _ = write!(c, " --loss {p}");
+    }
+    c
+}
+
+fn pct(x: f64) -> String {
+    format!("{:.1} %", 100.0 * x)
+}
+
+fn secs(x: Option<f64>) -> String {
+    x.map_or("-".into(), |s| format!("{s:.0}"))
+}
+
+fn verdict(r: &ScenarioResult) -> &'static str {
+    match r.passed() {
+        Some(true) => "PASS",
+        Some(false) => "FAIL",
+        None => "reported",
+    }
+}
+
+/// A bar of `width` characters filled to `x` (0 to 1), with `|` inserted at the bar `b`, if
+/// any.
+fn text_bar(x: f64, b: Option<f64>, width: usize) -> String {
+    let filled = ((x * width as f64).round() as usize).min(width);
+    let mut bar = "#".repeat(filled) + &".".repeat(width - filled);
+    if let Some(b) = b {
+        bar.insert(((b * width as f64).round() as usize).min(width), '|');
+    }
+    bar
+}
+
+/// Per scenario: success, bar, verdict, consensus times (one line each, as printed).
+pub fn table(report: &Report) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "{:<13} {:>5} {:>8} {:>6}  {:<8} {:>10} {:>8} {:>11} {:>9}",
+        "scenario", "runs", "success", "bar", "verdict", "consensus", "p95", "restore med", "p95"
+    );
+    for r in &report.results {
+        let c: Vec<f64> = r.runs.iter().filter_map(|o| o.consensus_s).collect();
+        let rs: Vec<f64> = r.runs.iter().filter_map(|o| o.restore_s).collect();
+        let _ = writeln!(
+            s,
+            "{:<13} {:>5} {:>8} {:>6}  {:<8} {:>9}s {:>7}s {:>10}s {:>8}s",
+            r.scenario.name,
+            r.runs.len(),
+            pct(r.rate()),
+            r.scenario
+                .bar
+                .map_or("-".into(), |b| format!("{:.0} %", b * 100.0)),
+            verdict(r),
+            secs(quantile(&c, 0.5)),
+            secs(quantile(&c, 0.95)),
+            secs(quantile(&rs, 0.5)),
+            secs(quantile(&rs, 0.95)),
+        );
+    }
+    s
+}
+
+/// The report as Markdown (what `docs/reliability.md` holds).
+pub fn markdown(report: &Report, figure: Option<&str>) -> String {
+    let plan = &report.plan;
+    let mut s = String::new();
+    let p = Params::robots();
+    let _ = writeln!(s, "# Reliability: the lab experiment under faults\n");
+    let _ = writeln!(
+        s,
+        "Generated by `{}` in {:.0} s on {} threads; do not edit by hand. The same seeds give the \
+         same numbers whatever the number of threads. {} seeds per scenario (seeds {} to {}).\n",
+        command(plan),
+        report.wall_s,
+        report.threads,
+        plan.seeds,
+        plan.seed,
+        plan.seed.wrapping_add(plan.seeds - 1)
+    );
+    let _ = writeln!(s, "## Set-up\n");
+    let _ = writeln!(
+        s,
+        "- **Runs.** Four robots 1 m apart in a line (light range 1.5 m: only neighbours hear \
+         each other), each running the unchanged robot program over the emulated light medium \
+         (`hal-emu`: airtime at 2400 bit/s, collisions, half duplex), `Params::robots()` \
+         (cycles of 55 ± 15 s drawn every cycle, negotiation period of 10 cycles). A run lasts \
+         three negotiation periods of the longest cycle ({} s), as `cimax arena`'s do; a reboot \
+         run lasts that long after the reboot.",
+        default_run(&p).as_millis() / 1000
+    );
+    let _ = writeln!(
+        s,
+        "- **Patterns.** Seed *s* runs the paper's pattern number *s* mod 6 of {} (rotated by \
+         seed, one run per seed), so each pattern gets a sixth of the seeds. The run's seed is \
+         *s*: every failing seed below replays alone with the command given.",
+        PAPER_PATTERNS
+            .iter()
+            .map(|p| format!("`{p}`"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    let _ = writeln!(
+        s,
+        "- **Success** is `cimax arena`'s (`hal_emu::lab::judge`): every robot's top-cap LEDs at \
+         the end of the run show the expected verdict (each robot prefers the direction of the \
+         border, all follow the majority, on a tie each side moves toward the border). A robot \
+         dead from the start is left out: the three others are judged as a line of three on \
+         their own pattern (`lab::expected` of the 3-robot pattern), its LEDs must stay off. \
+         *Consensus* is the time from the start until the LEDs reached the state they kept to \
+         the end (successful runs); the first decision comes after a robot's first negotiation \
+         period, about 550 s."
+    );
+    let _ = writeln!(
+        s,
+        "- **Bars** are success rates over the seeds. Where the issue asks that the robots \
+         \"still decide correctly\" (dead robot, reboot, rogue, replayer) the bar is the same \
+         99 % as for 10 % loss."
+    );
+    let _ = writeln!(s, "\n| scenario | fault | bar |\n|---|---|---|");
+    for r in &report.results {
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {} |",
+            r.scenario.name,
+            r.scenario.what,
+            r.scenario
+                .bar
+                .map_or("reported only".into(), |b| format!("≥ {:.0} %", b * 100.0))
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nDetails: *dead-end* kills robot 0 or 3 (drawn per seed; the other one when without it \
+         the three would see no border, e.g. `1000` without robot 0). *reboot* kills a robot \
+         (drawn per seed) at a time drawn from 800–1400 s, after the first decision, and \
+         restarts it with fresh state {} s later; the run also fails if the LEDs did not show \
+         the verdict just before the reboot, or if consensus was back only later than two \
+         nominal negotiation periods ({} s) after the reboot (*restore*: from the reboot until \
+         the LEDs reached the state they kept to the end). *rogue*: a transmitter at ({}, {}) m \
+         — between robots 1 and 2, in range of all four — sends bursts of 4–32 random bytes \
+         wrapped in `ss` delimiters, at exponential gaps of mean 2 s (about 4 % of the light's \
+         time, some ten times one robot's airtime). \
+         *replayer*: a device at the same place captures every robot frame it hears intact and \
+         sends it again once, 10–60 s later (uniform). Both go through the same medium model \
+         as the robots (airtime, range, receiver sector by bearing, collisions, half duplex).",
+        REBOOT_DOWN.as_millis() / 1000,
+        nominal_period(&p).saturating_mul(2).as_millis() / 1000,
+        ADVERSARY_AT.0,
+        ADVERSARY_AT.1
+    );
+    let _ = writeln!(s, "\n## Results\n");
+    let _ = writeln!(
+        s,
+        "| scenario | runs | success | bar | verdict | consensus median s | p95 s | restore median s | p95 s |"
+    );
+    let _ = writeln!(s, "|---|---:|---:|---:|---|---:|---:|---:|---:|");
+    for r in &report.results {
+        let c: Vec<f64> = r.runs.iter().filter_map(|o| o.consensus_s).collect();
+        let rs: Vec<f64> = r.runs.iter().filter_map(|o| o.restore_s).collect();
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {} ({}) | {} | **{}** | {} | {} | {} | {} |",
+            r.scenario.name,
+            r.runs.len(),
+            pct(r.rate()),
+            r.successes(),
+            r.scenario
+                .bar
+                .map_or("-".into(), |b| format!("{:.0} %", b * 100.0)),
+            verdict(r),
+            secs(quantile(&c, 0.5)),
+            secs(quantile(&c, 0.95)),
+            secs(quantile(&rs, 0.5)),
+            secs(quantile(&rs, 0.95)),
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nSuccess rate (`#`) against the bar (`|`), 0 to 100 %:\n\n```text"
+    );
+    for r in &report.results {
+        let _ = writeln!(
+            s,
+            "{:<13} {} {:>7}  {}",
+            r.scenario.name,
+            text_bar(r.rate(), r.scenario.bar, 50),
+            pct(r.rate()),
+            verdict(r)
+        );
+    }
+    let _ = writeln!(s, "```");
+    if let Some(f) = figure {
+        let _ = writeln!(s, "\n![success rate per scenario against its bar]({f})");
+    }
+    let _ = writeln!(s, "\n## Frames per run\n");
+    let _ = writeln!(
+        s,
+        "Mean per run. *sent*: frames the robots sent; *delivered*: deliveries to robots (one per \
+         receiver reached, from robots and adversaries). Dropped by reason: *lost* (frame loss), \
+         *rx busy* (the receiving robot was transmitting), *rx dead* (the receiving robot was \
+         dead); *garbled*: delivered but garbled by a collision; *corrupt B*: bytes corrupted \
+         by the byte error rate; *rejected*: frames the robots' deframers rejected (CRC, \
+         stuffing, length; the last life of each robot). *adv. sent*: rogue bursts and replays; \
+         *captured*: robot frames the replayer kept.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| scenario | sent | delivered | lost | rx busy | rx dead | garbled | corrupt B | rejected | adv. sent | captured |"
+    );
+    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for r in &report.results {
+        let n = r.runs.len().max(1) as f64;
+        let mean = |f: &dyn Fn(&Outcome) -> u64| {
+            format!("{:.1}", r.runs.iter().map(f).sum::<u64>() as f64 / n)
+        };
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            r.scenario.name,
+            mean(&|o| o.medium.sent),
+            mean(&|o| o.medium.delivered),
+            mean(&|o| o.medium.lost),
+            mean(&|o| o.medium.receiver_transmitting),
+            mean(&|o| o.medium.receiver_dead),
+            mean(&|o| o.medium.garbled),
+            mean(&|o| o.medium.corrupted_bytes),
+            mean(&|o| o.frame_errors),
+            mean(&|o| o.medium.rogue_bursts + o.medium.replayed),
+            mean(&|o| o.medium.captured),
+        );
+    }
+    let _ = writeln!(s, "\n## Failing seeds\n");
+    let mut any = false;
+    for r in &report.results {
+        let f: Vec<&Outcome> = r.failures().collect();
+        if f.is_empty() {
+            continue;
+        }
+        any = true;
+        let _ = writeln!(
+            s,
+            "**`{}`** ({} of {}):\n",
+            r.scenario.name,
+            f.len(),
+            r.runs.len()
+        );
+        for o in f {
+            let _ = writeln!(s, "- {}", failure_line(r.scenario.name, o, plan.loss));
+        }
+        let _ = writeln!(s);
+    }
+    if !any {
+        let _ = writeln!(s, "None.");
+    }
+    let missed = report.missed();
+    let _ = writeln!(s, "\n## Verdict\n");
+    if missed.is_empty() {
+        let _ = writeln!(s, "Every bar is met.");
+    } else {
+        for r in missed {
+            let _ = writeln!(s, "- {}", missed_line(r));
+        }
+    }
+    s
+}
+
+fn failure_line(scenario: &str, o: &Outcome, loss: Option<f64>) -> String {
+    format!(
+        "seed {}: pattern {}, LEDs {}, expected {} ({}); replay: `{}`",
+        o.seed,
+        o.pattern,
+        o.leds,
+        o.expected,
+        o.why.as_deref().unwrap_or("failed"),
+        replay_command(scenario, o.seed, loss)
+    )
+}
+
+fn missed_line(r: &ScenarioResult) -> String {
+    format!(
+        "bar missed: `{}` succeeded in {} of runs, below its bar of {:.0} %",
+        r.scenario.name,
+        pct(r.rate()),
+        r.scenario.bar.unwrap_or(0.0) * 100.0
+    )
+}
+
+/// Draws the success rate of every scenario as a horizontal bar, with its bar as a red mark.
+///
+/// # Errors
+/// Any failure to draw or write the file.
+pub fn chart(report: &Report, path: &Path) -> Result<(), Box<dyn std::error::Error>> {
+    let n = report.results.len().max(1);
+    let root = SVGBackend::new(path, (760, 90 + 34 * n as u32)).into_drawing_area();
+    root.fill(&WHITE)?;
+    // Row 0 at the top, centred on y = n - 1.
+    let y = |i: usize| (n - 1 - i) as f64;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            format!(
+                "Success rate per scenario ({} seeds each); red: the bar",
+                report.plan.seeds
+            ),
+            ("sans-serif", 16),
+        )
+        .margin(12)
+        .x_label_area_size(36)
+        .y_label_area_size(100)
+        .build_cartesian_2d(0.0..100.0, -0.5..(n as f64 - 0.5))?;
+    chart
+        .configure_mesh()
+        .disable_y_mesh()
+        .y_labels(0)
+        .x_desc("success, %")
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .draw()?;
+    chart.draw_series(report.results.iter().enumerate().map(|(i, r)| {
+        let colour = match r.passed() {
+            Some(false) => RGBColor(214, 96, 77),
+            Some(true) => RGBColor(67, 147, 195),
+            None => RGBColor(160, 160, 160),
+        };
+        Rectangle::new(
+            [(0.0, y(i) - 0.35), (100.0 * r.rate(), y(i) + 0.35)],
+            colour.filled(),
+        )
+    }))?;
+    chart.draw_series(report.results.iter().enumerate().filter_map(|(i, r)| {
+        let b = 100.0 * r.scenario.bar?;
+        Some(PathElement::new(
+            vec![(b, y(i) - 0.45), (b, y(i) + 0.45)],
+            RED.stroke_width(3),
+        ))
+    }))?;
+    let right =
+        TextStyle::from(("sans-serif", 13).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
+    for (i, r) in report.results.iter().enumerate() {
+        let (x0, yc) = chart.backend_coord(&(0.0, y(i)));
+        root.draw(&Text::new(r.scenario.name, (x0 - 8, yc), right.clone()))?;
+        let inside = TextStyle::from(("sans-serif", 12).into_font())
+            .pos(Pos::new(HPos::Left, VPos::Center))
+            .color(&WHITE);
+        root.draw(&Text::new(pct(r.rate()), (x0 + 8, yc), inside))?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+fn write_trace(
+    scenario: &Scenario,
+    seed: u64,
+    loss: Option<f64>,
+    path: &Path,
+) -> Result<(), String> {
+    let (mut cfg, _) = config(scenario, seed, loss)?;
+    cfg.trace = true;
+    let run = judge(&cfg).map_err(|e| e.to_string())?;
+    let mut out = String::new();
+    for e in &run.report.trace {
+        out += &serde_json::to_string(e).map_err(|e| e.to_string())?;
+        out.push('\n');
+    }
+    std::fs::write(path, out).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+fn ensure_parent(p: &Path) -> std::io::Result<()> {
+    match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => std::fs::create_dir_all(d),
+        _ => Ok(()),
+    }
+}
+
+/// The figure's path relative to the report's directory, for the Markdown link.
+fn relative(figure: &Path, out: &Path) -> String {
+    let dir = out.parent().unwrap_or(Path::new(""));
+    figure
+        .strip_prefix(dir)
+        .unwrap_or(figure)
+        .to_string_lossy()
+        .replace('\\', "/")
+}
+
 /// Runs `cimax arena campaign`: 0 if every bar is met, 1 if one is missed, 2 for bad options.
 pub fn main(args: &CampaignArgs) -> ExitCode {
-    let _ = args;
-    ExitCode::SUCCESS
+    let scenarios: Vec<usize> = if args.scenario.is_empty() {
+        (0..SCENARIOS.len()).collect()
+    } else {
+        let mut v: Vec<usize> = args
+            .scenario
+            .iter()
+            .filter_map(|n| SCENARIOS.iter().position(|s| s.name == n))
+            .collect();
+        v.sort_unstable();
+        v.dedup();
+        v
+    };
+    let plan = Plan {
+        scenarios,
+        seed: args.seed,
+        seeds: args.seeds,
+        loss: args.loss,
+    };
+    let total = plan.scenarios.len() as u64 * plan.seeds;
+    let progress = if total > 1 {
+        Progress::new(total, "campaign", false)
+    } else {
+        Progress::hidden()
+    };
+    let report = match run(&plan, &progress) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("cimax arena campaign: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if let (Some(path), Some(&s)) = (&args.trace, plan.scenarios.first())
+        && let Err(e) = write_trace(&SCENARIOS[s], plan.seed, plan.loss, path)
+    {
+        eprintln!("cimax arena campaign: {e}");
+        return ExitCode::from(2);
+    }
+    println!(
+        "CIMAX fault campaign: {} scenarios x {} seeds in the emulated arena ({:.1} s wall, {} threads)",
+        plan.scenarios.len(),
+        plan.seeds,
+        report.wall_s,
+        report.threads
+    );
+    print!("{}", table(&report));
+    if plan.seeds == 1 {
+        for r in &report.results {
+            for o in &r.runs {
+                println!(
+                    "{} seed {}: pattern {}, expected {}, LEDs {}, {}, consensus {} s{}",
+                    r.scenario.name,
+                    o.seed,
+                    o.pattern,
+                    o.expected,
+                    o.leds,
+                    if o.success { "success" } else { "FAILED" },
+                    secs(o.consensus_s),
+                    o.restore_s.map_or(String::new(), |x| format!(
+                        ", restored {x:.0} s after the reboot"
+                    ))
+                );
+            }
+        }
+    }
+    let out = args.out.clone().or_else(|| {
+        args.scenario
+            .is_empty()
+            .then(|| crate::report::default_docs_dir().join("reliability.md"))
+    });
+    if let Some(out) = out {
+        let figure = args.figure.clone().unwrap_or_else(|| {
+            out.parent()
+                .unwrap_or(Path::new("."))
+                .join("figures")
+                .join("reliability.svg")
+        });
+        let written = ensure_parent(&out)
+            .and_then(|()| ensure_parent(&figure))
+            .map_err(|e| e.to_string())
+            .and_then(|()| chart(&report, &figure).map_err(|e| e.to_string()))
+            .and_then(|()| {
+                std::fs::write(&out, markdown(&report, Some(&relative(&figure, &out))))
+                    .map_err(|e| e.to_string())
+            });
+        match written {
+            Ok(()) => println!("wrote {} and {}", out.display(), figure.display()),
+            Err(e) => {
+                eprintln!("cimax arena campaign: {}: {e}", out.display());
+                return ExitCode::from(2);
+            }
+        }
+    }
+    for r in &report.results {
+        for o in r.failures() {
+            eprintln!(
+                "FAILED {} {}",
+                r.scenario.name,
+                failure_line(r.scenario.name, o, plan.loss).replace('`', "")
+            );
+        }
+    }
+    let missed = report.missed();
+    for r in &missed {
+        eprintln!("{}", missed_line(r).replace('`', ""));
+    }
+    if missed.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_by_nearest_rank() {
+        let xs: Vec<f64> = (1..=100).map(f64::from).collect();
+        assert_eq!(quantile(&xs, 0.5), Some(50.0));
+        assert_eq!(quantile(&xs, 0.95), Some(95.0));
+        assert_eq!(quantile(&[3.0], 0.95), Some(3.0));
+        assert_eq!(quantile(&[], 0.5), None);
+    }
+
+    #[test]
+    fn seeds_rotate_the_six_patterns_and_scenarios_draw_their_own_choices() {
+        let six: Vec<&str> = (6..12).map(pattern_for).collect();
+        assert_eq!(six, PAPER_PATTERNS);
+        let dead = SCENARIOS.iter().find(|s| s.name == "dead-end").unwrap();
+        for seed in 0..60 {
+            let (cfg, _) = config(dead, seed, None).unwrap();
+            let &[end] = cfg.dead_at_start.as_slice() else {
+                panic!("one dead robot")
+            };
+            assert!(end == 0 || end == 3);
+            let r = hal_emu::lab::absent(&cfg);
+            let p = parse_pattern(pattern_for(seed)).unwrap();
+            assert!(
+                hal_emu::lab::expected_without(&p, &r).is_some(),
+                "seed {seed}"
+            );
+        }
+        let reboot = SCENARIOS.iter().find(|s| s.name == "reboot").unwrap();
+        let (cfg, t) = config(reboot, 3, None).unwrap();
+        let t = t.unwrap();
+        assert!((800..=1400).contains(&(t.as_millis() / 1000)));
+        assert_eq!(cfg.restarts, vec![(t + REBOOT_DOWN, cfg.kills[0].1)]);
+    }
+
+    #[test]
+    fn text_bars_mark_the_bar() {
+        assert_eq!(text_bar(1.0, Some(0.5), 10), "#####|#####");
+        assert_eq!(text_bar(0.2, Some(0.99), 10), "##........|");
+        assert_eq!(text_bar(0.2, None, 10), "##........");
+    }
 }

@@ -43,7 +43,7 @@ impl Progress {
         Progress(None)
     }
 
-    fn inc(&self) {
+    pub(crate) fn inc(&self) {
         if let Some(b) = &self.0 {
             b.inc(1);
         }

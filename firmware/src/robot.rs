@@ -18,7 +18,7 @@
 //! With a swarm key ([`Config::key`]) the listeners' deframers are keyed
 //! ([`Deframer::with_key`]): frames without the swarm's MAC are dropped and counted in
 //! [`Stats::bad_mac`] before the protocol sees them, and `encode` is
-//! [`encode_keyed`](protocol::frame::encode_keyed).
+//! [`encode_keyed`].
 //!
 //! A listener is never cancelled, so a receiver need not be cancel-safe: each one reads for as
 //! long as the robot runs. The main loop waits on "a message in the inbox OR the next

@@ -142,10 +142,14 @@ impl WaveNode {
     /// Performs the earliest transition due at or before `now`, if any. Call it until it
     /// returns `None`. Transitions are timed from when they were due, not from `now`, so a late
     /// caller gets the same schedule; ties go refractory end, relay, initiation, cycle end.
+    ///
+    /// [`Instant::MAX`] means "never" and is never due: a schedule that saturates at the end of
+    /// time stops there (otherwise a cycle ending at `MAX` would start another one ending at
+    /// `MAX`, and `poll(Instant::MAX)` would never return `None`).
     pub fn poll(&mut self, now: Instant, rng: &mut impl RngCore) -> Option<WaveAction> {
         let rest = (self.state == WaveState::Refractory).then_some(self.refractory_until);
         let relay = (self.state == WaveState::Active).then_some(self.relay_at);
-        let due = |t: Option<Instant>| t.filter(|&t| t <= now);
+        let due = |t: Option<Instant>| t.filter(|&t| t <= now && t != Instant::MAX);
         let candidates = [rest, relay, self.initiate_at, Some(self.cycle_end)];
         let (which, at) = candidates
             .iter()
@@ -330,5 +334,38 @@ mod tests {
             }
         }
         assert_eq!(acts_a, acts_b);
+    }
+
+    /// Regression (found by `fuzz/` target `fused_node`, also `three_phase`): a node whose
+    /// schedule saturated at `Instant::MAX` found its cycle end due at `Instant::MAX` for ever,
+    /// so `poll(Instant::MAX)`, and with it `handle_timeout`/`handle_message`, never returned.
+    #[test]
+    fn the_end_of_time_is_never_due() {
+        let mut rng = Pcg32::new(3, 3);
+        for p in [Params::robots().wave, Params::simulation_2d().wave] {
+            let start = Instant::MAX - Duration::from_secs(131);
+            let mut n = WaveNode::new(p, start, &mut rng);
+            let mut actions = 0;
+            while n.poll(Instant::MAX, &mut rng).is_some() {
+                actions += 1;
+                assert!(actions < 100, "poll(Instant::MAX) does not run dry");
+            }
+            assert_eq!(n.poll_timeout(), Instant::MAX, "nothing left but never");
+            // A message heard at the end of time still activates the node; its relay, due
+            // at `MAX`, never comes.
+            if n.state() == WaveState::Inactive {
+                assert!(n.on_receive(Instant::MAX));
+                assert_eq!(n.poll(Instant::MAX, &mut rng), None);
+                assert_eq!(n.state(), WaveState::Active);
+            }
+        }
+        // The robots' cycles (40..70 s) still end before the end of time.
+        let mut n = WaveNode::new(
+            Params::robots().wave,
+            Instant::MAX - Duration::from_secs(131),
+            &mut rng,
+        );
+        while n.poll(Instant::MAX, &mut rng).is_some() {}
+        assert!(n.cycles() >= 1);
     }
 }

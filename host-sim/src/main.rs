@@ -12,8 +12,9 @@ use std::time::Instant as Clock;
 
 use clap::{Args, Parser, Subcommand};
 use host_sim::experiment::{self, Progress};
+use host_sim::geometry::Shape;
 use host_sim::report;
-use host_sim::scenario::Scenario;
+use host_sim::scenario::{LATTICE_SPACING, Scenario};
 use host_sim::{plot, seeds};
 use nalgebra::Point2;
 use protocol::Duration;
@@ -56,6 +57,10 @@ struct Common {
     /// Override the cycle length t_p^max, seconds.
     #[arg(long)]
     cycle: Option<u64>,
+    /// Place the agents on a triangular lattice of spacing 0.75 R instead of the scenario's
+    /// shape (61 agents: a hexagon filling a 6 R disk, 5.1 neighbours each on average).
+    #[arg(long)]
+    lattice: bool,
     /// CSV output (default: OUT_DIR/SCENARIO-COMMAND.csv).
     #[arg(long)]
     csv: Option<PathBuf>,
@@ -139,6 +144,13 @@ type Res = Result<(), Box<dyn std::error::Error + Send + Sync>>;
 impl Common {
     fn scenario(&self) -> Result<Scenario, Box<dyn std::error::Error + Send + Sync>> {
         let mut s = Scenario::load(&self.scenario)?;
+        if self.lattice {
+            s.shape = Shape::Lattice {
+                spacing: LATTICE_SPACING,
+            };
+            s.name.push_str("-lattice");
+            s.description.push_str(" (lattice placement)");
+        }
         if let Some(c) = self.cycle {
             s.run.params.wave.cycle = Duration::from_secs(c);
             s.run
@@ -250,7 +262,7 @@ fn swarm_sweep(
     plot::sweep_figure(
         &svg,
         &format!("{}: success ({crit}), {n} runs per point", scn.description),
-        &pts,
+        &[("this simulator", &pts)],
         None,
     )?;
     println!(
@@ -314,7 +326,7 @@ fn swarm_reproduce(seed: u64, docs: Option<PathBuf>, quiet: bool) -> Res {
         opts.docs.display()
     );
     let s = report::reproduce(&opts, &mut |line| println!("{line}"))?;
-    println!("sharp border sweep (x_init: success rate):");
+    println!("sharp border sweep, random placement (x_init: success rate):");
     let fmt = |pts: &[experiment::SweepPoint]| {
         pts.iter()
             .map(|p| format!("{}: {:.2}", p.x_init, p.success_rate()))
@@ -322,8 +334,12 @@ fn swarm_reproduce(seed: u64, docs: Option<PathBuf>, quiet: bool) -> Res {
             .join(", ")
     };
     println!("  {}", fmt(&s.sharp));
-    println!("gradient sweep:");
+    println!("sharp border sweep, lattice placement:");
+    println!("  {}", fmt(&s.sharp_lattice));
+    println!("gradient sweep, random placement:");
     println!("  {}", fmt(&s.gradient));
+    println!("gradient sweep, lattice placement:");
+    println!("  {}", fmt(&s.gradient_lattice));
     println!("wrote {}", s.report.display());
     println!("wall time {:.1} s", s.wall_s);
     Ok(())

@@ -225,27 +225,38 @@ pub fn run_figure(path: &Path, scn: &Scenario, out: &RunOutput) -> Result<(), Pl
     Ok(())
 }
 
-/// Figs. 5 and 8: success rate and mean success time against the initial position.
+/// Figs. 5 and 8: success rate and mean success time against the initial position, one bar
+/// per series (label, points) at each initial position, and the paper's reported rate.
 ///
 /// # Errors
 /// If the file cannot be written.
 pub fn sweep_figure(
     path: &Path,
     title: &str,
-    points: &[SweepPoint],
+    series: &[(&str, &[SweepPoint])],
     paper: Option<&dyn Fn(f64) -> Option<f64>>,
 ) -> Result<(), PlotError> {
+    const COLOURS: [RGBColor; 3] = [
+        RGBColor(70, 110, 180),
+        RGBColor(90, 160, 90),
+        RGBColor(150, 100, 170),
+    ];
     let root = SVGBackend::new(path, (800, 640)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(title, (FONT, 18))?;
     let (top, bottom) = root.split_vertically(300);
-    let step = points
-        .windows(2)
-        .map(|w| w[1].x_init - w[0].x_init)
+    let all = || series.iter().flat_map(|(_, pts)| pts.iter());
+    let step = series
+        .iter()
+        .flat_map(|(_, pts)| pts.windows(2).map(|w| w[1].x_init - w[0].x_init))
+        .filter(|d| *d > 0.0)
         .fold(f64::MAX, f64::min)
         .min(1.0);
-    let x0 = points.first().map_or(-5.0, |p| p.x_init) - step;
-    let x1 = points.last().map_or(5.0, |p| p.x_init) + step;
+    let (lo, hi) = all().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+        (lo.min(p.x_init), hi.max(p.x_init))
+    });
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (-5.0, 5.0) };
+    let (x0, x1) = (lo - step, hi + step);
     let mut chart = ChartBuilder::on(&top)
         .margin(10)
         .x_label_area_size(35)
@@ -256,21 +267,24 @@ pub fn sweep_figure(
         .x_desc("initial x / R")
         .y_desc("success rate")
         .draw()?;
-    chart
-        .draw_series(points.iter().map(|p| {
-            let w = 0.4 * step;
-            Rectangle::new(
-                [(p.x_init - w, 0.0), (p.x_init + w, p.success_rate())],
-                RGBColor(70, 110, 180).filled(),
-            )
-        }))?
-        .label("this simulator")
-        .legend(|(x, y)| {
-            Rectangle::new(
-                [(x, y - 5), (x + 15, y + 5)],
-                RGBColor(70, 110, 180).filled(),
-            )
-        });
+    let k = series.len().max(1) as f64;
+    let w = 0.8 * step / k;
+    for (s, (label, points)) in series.iter().enumerate() {
+        let colour = COLOURS[s % COLOURS.len()];
+        let left = -0.4 * step + s as f64 * w;
+        chart
+            .draw_series(points.iter().map(|p| {
+                Rectangle::new(
+                    [
+                        (p.x_init + left, 0.0),
+                        (p.x_init + left + w, p.success_rate()),
+                    ],
+                    colour.filled(),
+                )
+            }))?
+            .label(*label)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 15, y + 5)], colour.filled()));
+    }
     if let Some(paper) = paper {
         let xs: Vec<f64> = (0..=400)
             .map(|k| x0 + (x1 - x0) * f64::from(k) / 400.0)
@@ -305,11 +319,15 @@ pub fn sweep_figure(
         .label_font((FONT, 13))
         .draw()?;
 
-    let times: Vec<(f64, f64)> = points
+    let times: Vec<Vec<(f64, f64)>> = series
         .iter()
-        .filter_map(|p| p.mean_success_periods.map(|t| (p.x_init, t)))
+        .map(|(_, pts)| {
+            pts.iter()
+                .filter_map(|p| p.mean_success_periods.map(|t| (p.x_init, t)))
+                .collect()
+        })
         .collect();
-    let tmax = times.iter().map(|t| t.1).fold(1.0, f64::max) * 1.1;
+    let tmax = times.iter().flatten().map(|t| t.1).fold(1.0, f64::max) * 1.1;
     let mut chart = ChartBuilder::on(&bottom)
         .margin(10)
         .x_label_area_size(35)
@@ -320,11 +338,15 @@ pub fn sweep_figure(
         .x_desc("initial x / R")
         .y_desc("mean success time / periods")
         .draw()?;
-    chart.draw_series(LineSeries::new(
-        times.iter().copied(),
-        BLACK.stroke_width(1),
-    ))?;
-    chart.draw_series(times.iter().map(|&p| Circle::new(p, 3, BLACK.filled())))?;
+    for (s, t) in times.iter().enumerate() {
+        let colour = if series.len() == 1 {
+            BLACK
+        } else {
+            COLOURS[s % COLOURS.len()]
+        };
+        chart.draw_series(LineSeries::new(t.iter().copied(), colour.stroke_width(1)))?;
+        chart.draw_series(t.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+    }
     root.present()?;
     Ok(())
 }

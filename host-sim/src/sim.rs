@@ -15,8 +15,9 @@
 //!    decided bearings (agents without a decision abstain; if all abstain, or the bearings cancel
 //!    exactly, the swarm stays put) and the swarm moves `step` along it.
 //!
-//! Time jumps from one due second to the next (a priority queue of the agents' timeouts), so
-//! the idle part of a long cycle costs nothing.
+//! Time jumps from one due second to the next (a timing wheel of the agents' timeouts: one
+//! bucket per second over the next 4096 seconds, a heap beyond), so the idle part of a long
+//! cycle costs little.
 //!
 //! **Readings.** An agent samples X once per activation: when it may initiate (served at a
 //! timeout while not active) and when a message reaches it while it is inactive. The sample is
@@ -92,13 +93,96 @@ pub struct Sim<'a> {
     agents: Vec<Agent>,
     centre: Point2<f64>,
     periods: u32,
-    queue: BinaryHeap<Reverse<(u64, u32)>>,
+    queue: Calendar,
     scheduled: Vec<u64>,
+    /// Per agent, the seconds at which it has an entry in `queue` (stale or not), so an agent
+    /// whose timeout returns to a second already queued is not queued twice.
+    queued: Vec<Vec<u64>>,
     proto_rng: Pcg64Mcg,
     noise_rng: Pcg64Mcg,
     due: Vec<u32>,
     tx: Vec<(u32, Message)>,
     calls: u64,
+}
+
+/// The agents' due seconds: a wheel of one-second buckets covering `[now, now + WHEEL)` and a
+/// heap for anything later. Every entry in the wheel lies in that window, so a bucket holds
+/// exactly the entries of one second.
+struct Calendar {
+    buckets: Vec<Vec<u32>>,
+    in_wheel: usize,
+    later: BinaryHeap<Reverse<(u64, u32)>>,
+    now: u64,
+}
+
+impl Calendar {
+    const WHEEL: u64 = 4096;
+
+    fn new() -> Self {
+        Calendar {
+            buckets: vec![Vec::new(); Self::WHEEL as usize],
+            in_wheel: 0,
+            later: BinaryHeap::new(),
+            now: 0,
+        }
+    }
+
+    fn bucket(&mut self, t: u64) -> &mut Vec<u32> {
+        &mut self.buckets[(t % Self::WHEEL) as usize]
+    }
+
+    /// Queues agent `i` at second `t` (a second already passed counts as now).
+    fn push(&mut self, t: u64, i: u32) {
+        let t = t.max(self.now);
+        if t - self.now < Self::WHEEL {
+            self.bucket(t).push(i);
+            self.in_wheel += 1;
+        } else {
+            self.later.push(Reverse((t, i)));
+        }
+    }
+
+    /// Moves what the window now covers from the heap into the wheel.
+    fn refill(&mut self) {
+        while let Some(&Reverse((t, i))) = self.later.peek() {
+            if t - self.now >= Self::WHEEL {
+                break;
+            }
+            self.later.pop();
+            self.bucket(t).push(i);
+            self.in_wheel += 1;
+        }
+    }
+
+    /// The first second at or before `until` with entries, if any; the window moves up to it.
+    fn next_due(&mut self, until: u64) -> Option<u64> {
+        loop {
+            if self.now > until {
+                return None;
+            }
+            if self.in_wheel == 0 {
+                let &Reverse((t, _)) = self.later.peek()?;
+                if t > until {
+                    return None;
+                }
+                self.now = t;
+                self.refill();
+            }
+            if !self.bucket(self.now).is_empty() {
+                return Some(self.now);
+            }
+            self.now += 1;
+            self.refill();
+        }
+    }
+
+    /// Appends the agents queued at second `t` (the current second) to `out`.
+    fn take(&mut self, t: u64, out: &mut Vec<u32>) {
+        debug_assert_eq!(t, self.now);
+        let b = &mut self.buckets[(t % Self::WHEEL) as usize];
+        self.in_wheel -= b.len();
+        out.append(b);
+    }
 }
 
 /// Seconds since the epoch of an instant (the simulation only uses whole seconds).
@@ -134,8 +218,9 @@ impl<'a> Sim<'a> {
             agents,
             centre,
             periods: 0,
-            queue: BinaryHeap::with_capacity(2 * n),
+            queue: Calendar::new(),
             scheduled: vec![u64::MAX; n],
+            queued: vec![Vec::new(); n],
             proto_rng,
             noise_rng,
             due: Vec::new(),
@@ -177,7 +262,10 @@ impl<'a> Sim<'a> {
         let t = secs(self.agents[i].poll_timeout());
         if t != self.scheduled[i] {
             self.scheduled[i] = t;
-            self.queue.push(Reverse((t, i as u32)));
+            if !self.queued[i].contains(&t) {
+                self.queued[i].push(t);
+                self.queue.push(t, i as u32);
+            }
         }
     }
 
@@ -190,10 +278,7 @@ impl<'a> Sim<'a> {
 
     /// Runs every due second up to and including `until`.
     fn advance_to(&mut self, until: u64) {
-        while let Some(&Reverse((t, _))) = self.queue.peek() {
-            if t > until {
-                break;
-            }
+        while let Some(t) = self.queue.next_due(until) {
             self.second(t);
         }
     }
@@ -201,18 +286,19 @@ impl<'a> Sim<'a> {
     /// Serves everything due at second `t`, then delivers what was sent.
     fn second(&mut self, t: u64) {
         let now = Instant::from_secs(t);
-        self.due.clear();
-        while let Some(&Reverse((tt, i))) = self.queue.peek() {
-            if tt > t {
-                break;
-            }
-            self.queue.pop();
-            if self.scheduled[i as usize] == tt {
-                self.scheduled[i as usize] = u64::MAX;
-                self.due.push(i);
-            }
-        }
         let mut due = std::mem::take(&mut self.due);
+        self.queue.take(t, &mut due);
+        // Served by increasing index, whatever order they were queued in.
+        due.sort_unstable();
+        due.retain(|&i| {
+            let i = i as usize;
+            self.queued[i].retain(|&q| q != t);
+            let now_due = self.scheduled[i] == t;
+            if now_due {
+                self.scheduled[i] = u64::MAX;
+            }
+            now_due
+        });
         for &i in &due {
             let i = i as usize;
             if self.agents[i].state() != WaveState::Active {

@@ -108,7 +108,10 @@ pub struct PlacementError {
 impl std::fmt::Display for PlacementError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         if self.rounds == 0 {
-            return write!(f, "a lattice is disconnected: its spacing exceeds the range");
+            return write!(
+                f,
+                "a lattice is disconnected: its spacing exceeds the range"
+            );
         }
         write!(
             f,
@@ -276,7 +279,10 @@ pub fn lattice(n: usize, spacing: f64) -> Vec<Vector2<f64>> {
             }
             // Squared distance in units of spacing² is the integer i² + i j + j².
             let d2 = i * i + i * j + j * j;
-            let v = Vector2::new(spacing * (i as f64 + 0.5 * j as f64), spacing * h * j as f64);
+            let v = Vector2::new(
+                spacing * (i as f64 + 0.5 * j as f64),
+                spacing * h * j as f64,
+            );
             let angle = v.y.atan2(v.x).rem_euclid(std::f64::consts::TAU);
             nodes.push((d2, angle, v));
         }

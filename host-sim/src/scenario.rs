@@ -735,7 +735,9 @@ mod tests {
         ));
         assert_eq!(e.at, Some((6, 11)), "{e}");
         assert!(e.message.contains("spacing"), "{e}");
-        let e = err(&format!("{FIELD}[swarm]\nshape = \"lattice\"\ndiameter = 6.0\n"));
+        let e = err(&format!(
+            "{FIELD}[swarm]\nshape = \"lattice\"\ndiameter = 6.0\n"
+        ));
         assert!(e.message.contains("does not apply"), "{e}");
         let s = Scenario::from_toml(&format!("{FIELD}[swarm]\nshape = \"lattice\"\n"), "l.toml")
             .unwrap();

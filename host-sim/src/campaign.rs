@@ -523,15 +523,15 @@ pub fn table(report: &Report) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "{:<13} {:>5} {:>8} {:>6}  {:<8} {:>10} {:>8} {:>11} {:>9}",
-        "scenario", "runs", "success", "bar", "verdict", "consensus", "p95", "restore med", "p95"
+        "{:<13} {:>5} {:>8} {:>6}  {:<8} {:>11} {:>6} {:>11} {:>6}",
+        "scenario", "runs", "success", "bar", "verdict", "consensus s", "p95", "restore s", "p95"
     );
     for r in &report.results {
         let c: Vec<f64> = r.runs.iter().filter_map(|o| o.consensus_s).collect();
         let rs: Vec<f64> = r.runs.iter().filter_map(|o| o.restore_s).collect();
         let _ = writeln!(
             s,
-            "{:<13} {:>5} {:>8} {:>6}  {:<8} {:>9}s {:>7}s {:>10}s {:>8}s",
+            "{:<13} {:>5} {:>8} {:>6}  {:<8} {:>11} {:>6} {:>11} {:>6}",
             r.scenario.name,
             r.runs.len(),
             pct(r.rate()),
@@ -661,6 +661,23 @@ pub fn markdown(report: &Report, figure: Option<&str>) -> String {
             secs(quantile(&rs, 0.5)),
             secs(quantile(&rs, 0.95)),
         );
+    }
+    let _ = writeln!(
+        s,
+        "\nSuccessful runs per pattern (of runs with that pattern):\n\n| scenario | {} |\n|---|{}",
+        PAPER_PATTERNS.map(|p| format!("`{p}`")).join(" | "),
+        "---:|".repeat(PAPER_PATTERNS.len())
+    );
+    for r in &report.results {
+        let cells: Vec<String> = PAPER_PATTERNS
+            .iter()
+            .map(|p| {
+                let runs = r.runs.iter().filter(|o| o.pattern == *p);
+                let ok = runs.clone().filter(|o| o.success).count();
+                format!("{ok}/{}", runs.count())
+            })
+            .collect();
+        let _ = writeln!(s, "| `{}` | {} |", r.scenario.name, cells.join(" | "));
     }
     let _ = writeln!(
         s,

@@ -518,6 +518,25 @@ fn text_bar(x: f64, b: Option<f64>, width: usize) -> String {
     bar
 }
 
+/// The bar as a percentage, `-` if none.
+fn bar_str(r: &ScenarioResult) -> String {
+    r.scenario
+        .bar
+        .map_or("-".into(), |b| format!("{:.0} %", b * 100.0))
+}
+
+/// Consensus time (median, 95th percentile) and restoration time (the same), seconds.
+fn times(r: &ScenarioResult) -> [String; 4] {
+    let c: Vec<f64> = r.runs.iter().filter_map(|o| o.consensus_s).collect();
+    let rs: Vec<f64> = r.runs.iter().filter_map(|o| o.restore_s).collect();
+    [
+        secs(quantile(&c, 0.5)),
+        secs(quantile(&c, 0.95)),
+        secs(quantile(&rs, 0.5)),
+        secs(quantile(&rs, 0.95)),
+    ]
+}
+
 /// Per scenario: success, bar, verdict, consensus times (one line each, as printed).
 pub fn table(report: &Report) -> String {
     let mut s = String::new();
@@ -527,22 +546,15 @@ pub fn table(report: &Report) -> String {
         "scenario", "runs", "success", "bar", "verdict", "consensus s", "p95", "restore s", "p95"
     );
     for r in &report.results {
-        let c: Vec<f64> = r.runs.iter().filter_map(|o| o.consensus_s).collect();
-        let rs: Vec<f64> = r.runs.iter().filter_map(|o| o.restore_s).collect();
+        let [c50, c95, r50, r95] = times(r);
         let _ = writeln!(
             s,
-            "{:<13} {:>5} {:>8} {:>6}  {:<8} {:>11} {:>6} {:>11} {:>6}",
+            "{:<13} {:>5} {:>8} {:>6}  {:<8} {c50:>11} {c95:>6} {r50:>11} {r95:>6}",
             r.scenario.name,
             r.runs.len(),
             pct(r.rate()),
-            r.scenario
-                .bar
-                .map_or("-".into(), |b| format!("{:.0} %", b * 100.0)),
+            bar_str(r),
             verdict(r),
-            secs(quantile(&c, 0.5)),
-            secs(quantile(&c, 0.95)),
-            secs(quantile(&rs, 0.5)),
-            secs(quantile(&rs, 0.95)),
         );
     }
     s
@@ -643,23 +655,16 @@ pub fn markdown(report: &Report, figure: Option<&str>) -> String {
     );
     let _ = writeln!(s, "|---|---:|---:|---:|---|---:|---:|---:|---:|");
     for r in &report.results {
-        let c: Vec<f64> = r.runs.iter().filter_map(|o| o.consensus_s).collect();
-        let rs: Vec<f64> = r.runs.iter().filter_map(|o| o.restore_s).collect();
         let _ = writeln!(
             s,
-            "| `{}` | {} | {} ({}) | {} | **{}** | {} | {} | {} | {} |",
+            "| `{}` | {} | {} ({}) | {} | **{}** | {} |",
             r.scenario.name,
             r.runs.len(),
             pct(r.rate()),
             r.successes(),
-            r.scenario
-                .bar
-                .map_or("-".into(), |b| format!("{:.0} %", b * 100.0)),
+            bar_str(r),
             verdict(r),
-            secs(quantile(&c, 0.5)),
-            secs(quantile(&c, 0.95)),
-            secs(quantile(&rs, 0.5)),
-            secs(quantile(&rs, 0.95)),
+            times(r).join(" | "),
         );
     }
     let _ = writeln!(

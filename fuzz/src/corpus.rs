@@ -1,0 +1,761 @@
+//! The seed corpus: the classic breakers of a framed protocol, plus golden frames and a few
+//! scripted runs of the state machines, each with a descriptive name.
+//!
+//! `cargo run --example gen_corpus` (from `fuzz/`) writes them to `corpus/<target>/<name>.bin`,
+//! replacing what was there; `tests/corpus.rs` checks that the committed files are exactly
+//! these, that each passes its target's check, and that the framing seeds give the results
+//! listed here.
+
+use std::io;
+use std::path::Path;
+
+use protocol::frame::{DELIMITER, FrameError};
+use protocol::{Hop, MAX_HOPS, Message};
+
+use crate::reference::{
+    GOLDEN_FOUR_HOPS, GOLDEN_ONE_HOP, GOLDEN_S_BYTES, four_hops, frame_payload, hop, one_hop,
+    payload_of, s_bytes,
+};
+use crate::scenario::{Custom, ParamsChoice, Setup, Start, TimeStep};
+use crate::{deframer, fused_node, roundtrip, three_phase};
+
+type Outcome = Result<Message, FrameError>;
+
+/// A `deframer` seed: the stream, the cut bytes it is fed in, and what a deframer must yield.
+#[derive(Clone, Debug)]
+pub struct DeframerSeed {
+    /// File name without extension.
+    pub name: &'static str,
+    /// The slice lengths (see [`deframer::slices`]).
+    pub cuts: Vec<u8>,
+    /// The byte stream.
+    pub stream: Vec<u8>,
+    /// Every result, in order.
+    pub expect: Vec<Outcome>,
+}
+
+/// A `message_decode` seed: the bytes, what `decode_frame` gives for them, and, for payloads,
+/// what the frame around them with a correct check gives.
+#[derive(Clone, Debug)]
+pub struct DecodeSeed {
+    /// File name without extension.
+    pub name: &'static str,
+    /// The bytes.
+    pub data: Vec<u8>,
+    /// `decode_frame(data)`.
+    pub frame: Outcome,
+    /// `decode_frame` of `data` as a payload with a correct CRC, if this seed is a payload.
+    pub as_payload: Option<Outcome>,
+}
+
+fn cat(parts: &[&[u8]]) -> Vec<u8> {
+    parts.concat()
+}
+
+/// `n` hops (reading 0xFF, sector 7): the widest message.
+fn widest(n: usize) -> Vec<Hop> {
+    vec![hop(0xFF, Some(7)); n]
+}
+
+fn msg(hops: &[Hop]) -> Message {
+    Message::from_hops(hops).expect("1..=12 hops")
+}
+
+/// A payload claiming `n` hops of (0xFF, sector 7), with all of them present.
+fn wide_payload(n: u8) -> Vec<u8> {
+    let mut p = vec![n];
+    for _ in 0..n {
+        p.extend_from_slice(&[0xFF, 8]);
+    }
+    p
+}
+
+/// Seeds of the `deframer` target.
+pub fn deframer() -> Vec<DeframerSeed> {
+    let one = GOLDEN_ONE_HOP;
+    let four = GOLDEN_FOUR_HOPS;
+    let s = GOLDEN_S_BYTES;
+    let f4 = four.len();
+    let f1 = one.len();
+    let widest12 = frame_payload(&payload_of(&msg(&widest(MAX_HOPS))));
+    let s_readings = vec![hop(DELIMITER, None); MAX_HOPS];
+    let mut bad_crc = four.to_vec();
+    bad_crc[12] ^= 0x01;
+    let mut lone = four.to_vec();
+    lone[6] = DELIMITER;
+    let seed = |name, cuts: &[u8], stream: Vec<u8>, expect: Vec<Outcome>| DeframerSeed {
+        name,
+        cuts: cuts.to_vec(),
+        stream,
+        expect,
+    };
+    use FrameError::*;
+    vec![
+        seed("golden-one-hop", &[], one.to_vec(), vec![Ok(one_hop())]),
+        seed(
+            "golden-four-hops-cut-3-5",
+            &[3, 5],
+            four.to_vec(),
+            vec![Ok(four_hops())],
+        ),
+        seed(
+            "golden-s-bytes-byte-by-byte",
+            &[1],
+            s.to_vec(),
+            vec![Ok(s_bytes())],
+        ),
+        seed(
+            "back-to-back-goldens",
+            &[7, 0, 11],
+            cat(&[one, four, s]),
+            vec![Ok(one_hop()), Ok(four_hops()), Ok(s_bytes())],
+        ),
+        seed(
+            "garbage-before-frame",
+            &[],
+            cat(&[b"\x00\xffabc", one]),
+            vec![Ok(one_hop())],
+        ),
+        seed(
+            "truncated-frame-then-frame",
+            &[2],
+            cat(&[&four[..5], one]),
+            vec![Err(BadStuffing), Ok(one_hop())],
+        ),
+        seed("truncated-frame-at-end", &[], four[..10].to_vec(), vec![]),
+        seed(
+            "truncated-before-crc",
+            &[],
+            cat(&[&four[..f4 - 4], b"ss"]),
+            vec![Err(BadStuffing)],
+        ),
+        seed(
+            "missing-end-delimiter-then-frame",
+            &[9],
+            cat(&[&four[..f4 - 2], &[0x42; 40], one]),
+            vec![Err(TooLong), Ok(one_hop())],
+        ),
+        seed(
+            "missing-end-delimiter-at-end",
+            &[],
+            one[..f1 - 2].to_vec(),
+            vec![],
+        ),
+        seed(
+            "half-end-delimiter-then-frame",
+            &[],
+            cat(&[&one[..f1 - 1], b"x", one]),
+            vec![Err(LoneDelimiter), Ok(one_hop())],
+        ),
+        seed(
+            "delimiter-inside-body",
+            &[],
+            cat(&[&lone, one]),
+            vec![Err(LoneDelimiter), Ok(one_hop())],
+        ),
+        seed(
+            "delimiters-in-payload-long-runs",
+            &[],
+            cat(&[b"ssss", s, b"ssss"]),
+            vec![Ok(s_bytes())],
+        ),
+        seed(
+            "delimiters-in-payload-max-length",
+            &[],
+            frame_payload(&payload_of(&msg(&s_readings))),
+            vec![Ok(msg(&s_readings))],
+        ),
+        seed(
+            "max-length-payload",
+            &[16],
+            widest12.clone(),
+            vec![Ok(msg(&widest(MAX_HOPS)))],
+        ),
+        seed(
+            "over-max-length-13-hops",
+            &[],
+            frame_payload(&wide_payload(13)),
+            vec![Err(TooLong)],
+        ),
+        seed(
+            "body-29-bytes",
+            &[],
+            cat(&[b"ss", &[0x42; 29], b"ss"]),
+            vec![Err(TooLong)],
+        ),
+        seed(
+            "zero-length-payload",
+            &[],
+            frame_payload(&[]),
+            vec![Err(TooShort)],
+        ),
+        seed(
+            "zero-hops",
+            &[],
+            frame_payload(&[0]),
+            vec![Err(Undecodable)],
+        ),
+        seed(
+            "length-lies-more",
+            &[],
+            frame_payload(&[2, 1, 0]),
+            vec![Err(Undecodable)],
+        ),
+        seed(
+            "length-lies-less",
+            &[],
+            frame_payload(&[1, 1, 0, 0, 0]),
+            vec![Err(Undecodable)],
+        ),
+        seed(
+            "length-lies-huge-varint",
+            &[],
+            frame_payload(&[0xFF, 0xFF, 0xFF, 0xFF, 0x0F]),
+            vec![Err(Undecodable)],
+        ),
+        seed(
+            "length-overlong-varint",
+            &[],
+            frame_payload(&[0x81, 0x00, 1, 0]),
+            vec![Ok(one_hop())],
+        ),
+        seed(
+            "preference-byte-9",
+            &[],
+            frame_payload(&[1, 0, 9]),
+            vec![Err(Undecodable)],
+        ),
+        seed("bad-crc", &[], bad_crc, vec![Err(BadCheck)]),
+        seed(
+            "bad-stuffing",
+            &[],
+            b"ss\x00ss".to_vec(),
+            vec![Err(BadStuffing)],
+        ),
+        seed(
+            "too-short-body",
+            &[],
+            b"ss\x72ss".to_vec(),
+            vec![Err(TooShort)],
+        ),
+        seed("empty-fields", &[1], b"ssssssssss".to_vec(), vec![]),
+        seed(
+            "noise-between-frames",
+            &[],
+            cat(&[one, b"xyz", one]),
+            vec![Ok(one_hop()), Err(BadStuffing), Ok(one_hop())],
+        ),
+        seed(
+            "lone-s-before-sync",
+            &[],
+            cat(&[b"sx", one]),
+            vec![Ok(one_hop())],
+        ),
+        seed(
+            "lone-s-after-overflow",
+            &[],
+            cat(&[b"ss", &[0x42; 30], b"sx", one]),
+            vec![Err(TooLong), Ok(one_hop())],
+        ),
+        seed(
+            "zero-bytes-body",
+            &[],
+            cat(&[b"ss", &[0; 10], b"ss"]),
+            vec![Err(BadStuffing)],
+        ),
+    ]
+}
+
+/// Seeds of the `message_decode` target.
+pub fn message_decode() -> Vec<DecodeSeed> {
+    use FrameError::*;
+    let payload = |name, data: Vec<u8>, as_payload: Outcome| DecodeSeed {
+        name,
+        data,
+        frame: Err(Incomplete),
+        as_payload: Some(as_payload),
+    };
+    let frame = |name, data: Vec<u8>, frame: Outcome| DecodeSeed {
+        name,
+        data,
+        frame,
+        as_payload: None,
+    };
+    let four = GOLDEN_FOUR_HOPS;
+    vec![
+        payload("payload-one-hop", vec![1, 1, 0], Ok(one_hop())),
+        payload(
+            "payload-four-hops",
+            payload_of(&four_hops()),
+            Ok(four_hops()),
+        ),
+        payload("payload-s-bytes", payload_of(&s_bytes()), Ok(s_bytes())),
+        payload(
+            "payload-max-12-hops",
+            wide_payload(12),
+            Ok(msg(&widest(MAX_HOPS))),
+        ),
+        payload("payload-13-hops", wide_payload(13), Err(TooLong)),
+        payload("payload-zero-length", vec![], Err(TooShort)),
+        payload("payload-zero-hops", vec![0], Err(Undecodable)),
+        payload("payload-length-lies-more", vec![2, 1, 0], Err(Undecodable)),
+        payload(
+            "payload-length-lies-less",
+            vec![1, 1, 0, 0, 0],
+            Err(Undecodable),
+        ),
+        payload(
+            "payload-length-overlong-varint",
+            vec![0x81, 0x00, 1, 0],
+            Ok(one_hop()),
+        ),
+        payload(
+            "payload-length-huge-varint",
+            vec![0xFF, 0xFF, 0xFF, 0xFF, 0x0F],
+            Err(Undecodable),
+        ),
+        payload("payload-preference-byte-9", vec![1, 0, 9], Err(Undecodable)),
+        payload("payload-all-s", vec![DELIMITER; 8], Err(Undecodable)),
+        frame(
+            "frame-golden-one-hop",
+            GOLDEN_ONE_HOP.to_vec(),
+            Ok(one_hop()),
+        ),
+        frame("frame-golden-four-hops", four.to_vec(), Ok(four_hops())),
+        frame(
+            "frame-golden-s-bytes",
+            GOLDEN_S_BYTES.to_vec(),
+            Ok(s_bytes()),
+        ),
+        frame("frame-too-short", b"ss\x72ss".to_vec(), Err(TooShort)),
+        frame("frame-bad-stuffing", b"ss\x00ss".to_vec(), Err(BadStuffing)),
+        frame("frame-empty-fields", b"ssss".to_vec(), Err(Incomplete)),
+        frame("frame-truncated", four[..9].to_vec(), Err(Incomplete)),
+        frame(
+            "frame-missing-end-delimiter",
+            four[..four.len() - 2].to_vec(),
+            Err(Incomplete),
+        ),
+        frame(
+            "frame-length-lies",
+            frame_payload(&[2, 1, 0]),
+            Err(Undecodable),
+        ),
+        frame(
+            "frame-13-hops",
+            frame_payload(&wide_payload(13)),
+            Err(TooLong),
+        ),
+        frame(
+            "frame-overlong-varint",
+            frame_payload(&[0x81, 0x00, 1, 0]),
+            Ok(one_hop()),
+        ),
+    ]
+}
+
+/// Seeds of the `roundtrip` target.
+pub fn roundtrip() -> Vec<(&'static str, roundtrip::Input)> {
+    let input = |hops: Vec<Hop>, at, mask| roundtrip::Input { hops, at, mask };
+    let four: Vec<Hop> = four_hops().hops().to_vec();
+    // Body byte 3 of the one-hop golden frame is 0x70; XOR 0x03 makes it an `s`.
+    vec![
+        ("no-hops", input(vec![], 0, 0)),
+        (
+            "one-hop-corrupt-cobs-code",
+            input(vec![hop(1, None)], 0, 0x01),
+        ),
+        ("one-hop-corrupt-into-s", input(vec![hop(1, None)], 3, 0x03)),
+        ("golden-four-hops-corrupt-crc", input(four, 11, 0x80)),
+        (
+            "s-readings",
+            input(vec![hop(DELIMITER, Some(2)); 5], 4, 0x73),
+        ),
+        ("max-12-hops", input(widest(MAX_HOPS), 27, 0xFF)),
+        (
+            "13-hops-evict-one",
+            input((0..13).map(|r| hop(r, Some(r % 8))).collect(), 12, 0x10),
+        ),
+        (
+            "36-hops-evict-many",
+            input((0..36).map(|r| hop(r * 7, None)).collect(), 200, 0x55),
+        ),
+    ]
+}
+
+fn setup(params: ParamsChoice, start: Start) -> Setup {
+    Setup {
+        rng_state: 0x5EED,
+        rng_stream: 7,
+        params,
+        start,
+    }
+}
+
+/// Valid fast parameters: 200 ± 50 ms cycles, relay 10 ms, refractory 40 ms.
+fn fast(max_hops: u8, uniform: bool) -> Custom {
+    Custom {
+        cycle: 200,
+        spread: 50,
+        relay: 10,
+        refractory: 40,
+        tick: 1,
+        uniform,
+        sectors: 3,
+        negotiation: 2,
+        gather: 2,
+        decide: 3,
+        diffusion: 0.5,
+        max_hops,
+    }
+}
+
+/// Seeds of the `fused_node` target.
+pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
+    use fused_node::{Action, Input, Step};
+    let d = Step::drain;
+    let held = |a| Step {
+        action: a,
+        hold: true,
+    };
+    let deadlines = |n| (0..n).map(|_| d(Action::Timeout(TimeStep::Deadline)));
+    let message = |sector, hops: Vec<Hop>, time| Action::Message { sector, hops, time };
+    let input = |setup, steps: Vec<Step>| Input { setup, steps };
+    let later = TimeStep::Forward(6_000);
+    let quick = ParamsChoice::Quick {
+        sectors: 3,
+        negotiation: 1,
+        max_hops: 10,
+    };
+
+    let mut lab = vec![
+        d(Action::Reading(1)),
+        d(message(1, vec![hop(1, Some(0))], later)),
+        d(message(0, vec![hop(0, Some(1)), hop(0, Some(1))], later)),
+    ];
+    lab.extend(deadlines(40));
+
+    let mut framed = vec![
+        d(Action::Reading(200)),
+        d(Action::Framed {
+            sector: 4,
+            noise: b"\x00\xffsx".to_vec(),
+            hops: four_hops().hops().to_vec(),
+            time: later,
+        }),
+        d(Action::Bytes {
+            sector: 2,
+            bytes: cat(&[GOLDEN_ONE_HOP, b"xyz", GOLDEN_S_BYTES]),
+            time: later,
+        }),
+        d(Action::Framed {
+            sector: 7,
+            noise: vec![],
+            hops: vec![hop(9, None)],
+            time: later,
+        }),
+        d(Action::Bytes {
+            sector: 1,
+            bytes: cat(&[&GOLDEN_FOUR_HOPS[..7], b"ss\x72ss"]),
+            time: TimeStep::Nudge(3),
+        }),
+    ];
+    framed.extend(deadlines(12));
+
+    let mut all_sectors: Vec<Step> = (0..8u8)
+        .map(|s| {
+            d(message(
+                s,
+                vec![hop(s * 30, Some(s))],
+                TimeStep::Forward(11_000),
+            ))
+        })
+        .collect();
+    all_sectors.extend(deadlines(8));
+
+    let mut fast_cap_one = vec![d(Action::Reading(5))];
+    for i in 0..6u8 {
+        fast_cap_one.push(d(message(i % 3, widest(3), TimeStep::Forward(90))));
+        fast_cap_one.push(d(Action::Timeout(TimeStep::Nudge(10))));
+    }
+    fast_cap_one.extend(deadlines(30));
+
+    let mut invalid = fast(12, false);
+    invalid.cycle = 0;
+
+    let backwards = vec![
+        d(message(1, vec![hop(3, None)], TimeStep::Forward(20_000))),
+        d(Action::Timeout(TimeStep::Backward(u64::MAX))),
+        d(message(0, vec![hop(4, Some(1))], TimeStep::Same)),
+        d(Action::Timeout(TimeStep::Deadline)),
+        d(Action::Timeout(TimeStep::Backward(5_000))),
+        d(message(1, vec![hop(250, None)], TimeStep::Nudge(1))),
+        d(Action::Timeout(TimeStep::Forward(u32::MAX))),
+        d(Action::Timeout(TimeStep::Deadline)),
+    ];
+
+    let mut end = vec![d(Action::Reading(9))];
+    end.extend(deadlines(10));
+    end.push(d(message(1, vec![hop(1, None)], TimeStep::Nudge(255))));
+    end.push(d(Action::Timeout(TimeStep::Forward(u32::MAX))));
+    end.extend(deadlines(3));
+
+    let mut hold: Vec<Step> = (0..12)
+        .map(|_| held(Action::Timeout(TimeStep::Deadline)))
+        .collect();
+    hold.push(held(message(0, vec![hop(7, None)], TimeStep::Nudge(1))));
+    hold.extend(deadlines(4));
+
+    let mut full = vec![d(Action::Reading(77))];
+    full.push(d(message(0, widest(MAX_HOPS), later)));
+    full.push(d(message(
+        1,
+        (0..12).map(|r| hop(r, Some(0))).collect(),
+        later,
+    )));
+    full.extend(deadlines(25));
+
+    let odd = vec![
+        d(message(1, vec![], TimeStep::Nudge(5))),
+        d(message(7, vec![hop(1, None)], TimeStep::Nudge(5))),
+        d(message(1, vec![hop(2, None)], TimeStep::Same)),
+        d(message(0, vec![hop(2, None)], TimeStep::Same)),
+        d(Action::Timeout(TimeStep::Deadline)),
+    ];
+
+    vec![
+        (
+            "robots-lit-left-dark-right-to-decision",
+            input(setup(ParamsChoice::Robots, Start::Zero), lab),
+        ),
+        (
+            "quick-k5-frames-noise-unknown-sector",
+            input(setup(quick, Start::Soon(1_000)), framed),
+        ),
+        (
+            "sim2d-k8-every-sector",
+            input(setup(ParamsChoice::Simulation2d, Start::Zero), all_sectors),
+        ),
+        (
+            "fast-cycles-relay-capacity-1",
+            input(
+                setup(ParamsChoice::Custom(fast(1, false)), Start::Zero),
+                fast_cap_one,
+            ),
+        ),
+        (
+            "invalid-params-zero-cycle",
+            input(
+                setup(ParamsChoice::Custom(invalid), Start::Zero),
+                deadlines(2).collect(),
+            ),
+        ),
+        (
+            "time-goes-backwards",
+            input(
+                setup(ParamsChoice::Robots, Start::Soon(1_000_000)),
+                backwards,
+            ),
+        ),
+        (
+            "end-of-time",
+            input(setup(ParamsChoice::Robots, Start::NearEnd(131_000)), end),
+        ),
+        (
+            "held-outputs-overflow",
+            input(setup(quick, Start::Zero), hold),
+        ),
+        (
+            "full-messages-evict",
+            input(setup(ParamsChoice::Robots, Start::Any(1 << 40)), full),
+        ),
+        (
+            "empty-message-and-unknown-sector",
+            input(setup(ParamsChoice::Robots, Start::Zero), odd),
+        ),
+    ]
+}
+
+/// Seeds of the `three_phase` target.
+pub fn three_phase() -> Vec<(&'static str, three_phase::Input)> {
+    use three_phase::{Action, Input, Msg, Num, Step};
+    let d = Step::drain;
+    let deadlines = |n| (0..n).map(|_| d(Action::Timeout(TimeStep::Deadline)));
+    let small = |x: &[u8]| Msg::Readings(x.iter().map(|&x| Num::Small(x)).collect());
+    let from = |b, msg, time| Action::Message {
+        bearing: Num::Small(b),
+        msg,
+        time,
+    };
+    let input = |setup, small, steps: Vec<Step>| Input {
+        setup,
+        small,
+        steps,
+    };
+    let sim = ParamsChoice::Simulation2d;
+    let later = TimeStep::Forward(11_000);
+
+    let mut lab = vec![
+        d(Action::Reading(Num::Small(0))),
+        d(from(0, small(&[5, 5]), later)),
+        d(from(128, small(&[0, 0]), later)),
+    ];
+    lab.extend(deadlines(6));
+    lab.push(d(from(64, Msg::Opinion(Some(Num::Small(32))), later)));
+    lab.push(d(from(64, Msg::Opinion(None), later)));
+    lab.extend(deadlines(10));
+
+    let mut many: Vec<Step> = (0..20u8)
+        .map(|i| d(from(i * 12, small(&[i, 2 * i, 3]), later)))
+        .collect();
+    many.extend(deadlines(8));
+
+    let mut full: Vec<Step> = (0..5u8)
+        .map(|i| d(from(i * 40, small(&[1, 2, 3, 4, 5, 6]), later)))
+        .collect();
+    full.extend(deadlines(4));
+
+    let bits = |x: f32| Num::Bits(x.to_bits());
+    let mut hostile = vec![
+        d(Action::Reading(bits(f32::INFINITY))),
+        d(Action::Message {
+            bearing: bits(f32::NAN),
+            msg: Msg::Readings(vec![bits(f32::NAN), bits(f32::MAX), bits(-f32::MAX)]),
+            time: later,
+        }),
+        d(Action::Message {
+            bearing: bits(-0.0),
+            msg: Msg::Readings(vec![bits(1e30), bits(-1e30)]),
+            time: later,
+        }),
+        d(Action::Message {
+            bearing: bits(0.0),
+            msg: Msg::Readings(vec![Num::Small(1)]),
+            time: later,
+        }),
+    ];
+    hostile.extend(deadlines(4));
+    hostile.push(d(Action::Message {
+        bearing: bits(f32::NEG_INFINITY),
+        msg: Msg::Opinion(Some(bits(f32::INFINITY))),
+        time: later,
+    }));
+    hostile.push(d(Action::Message {
+        bearing: bits(1.0),
+        msg: Msg::Opinion(Some(bits(-7.0))),
+        time: later,
+    }));
+    hostile.extend(deadlines(6));
+
+    let mut wrong = vec![
+        d(from(
+            0,
+            Msg::Opinion(Some(Num::Small(1))),
+            TimeStep::Nudge(1),
+        )),
+        d(from(0, Msg::Readings(vec![]), TimeStep::Nudge(1))),
+    ];
+    wrong.extend(deadlines(4));
+    wrong.push(d(from(3, small(&[9]), TimeStep::Same)));
+
+    let mut end = vec![d(Action::Timeout(TimeStep::Forward(2_046_820_352)))];
+    end.push(d(from(1, small(&[1]), TimeStep::Nudge(200))));
+    end.extend(deadlines(3));
+
+    let mut held: Vec<Step> = (0..10)
+        .map(|_| Step {
+            action: Action::Timeout(TimeStep::Deadline),
+            hold: true,
+        })
+        .collect();
+    held.extend(deadlines(3));
+
+    let mut uniform: Vec<Step> = vec![d(Action::Reading(Num::Small(3)))];
+    for i in 0..8u8 {
+        uniform.push(d(from(i * 31, small(&[i]), TimeStep::Forward(60))));
+        uniform.push(d(from(
+            i * 17,
+            Msg::Opinion(Some(Num::Small(i * 30))),
+            TimeStep::Forward(45),
+        )));
+    }
+    uniform.extend(deadlines(40));
+
+    vec![
+        (
+            "sim2d-gather-evaluate-diffuse-decide",
+            input(setup(sim, Start::Zero), true, lab),
+        ),
+        (
+            "default-size-twenty-bearings",
+            input(setup(sim, Start::Zero), false, many),
+        ),
+        (
+            "small-slots-and-messages-full",
+            input(setup(sim, Start::Zero), true, full),
+        ),
+        (
+            "nan-inf-and-negative-zero",
+            input(setup(sim, Start::Soon(5)), true, hostile),
+        ),
+        (
+            "wrong-phase-and-empty-readings",
+            input(setup(sim, Start::Zero), true, wrong),
+        ),
+        (
+            "end-of-time",
+            input(setup(sim, Start::NearEnd(131_071)), true, end),
+        ),
+        (
+            "robots-params-held-outputs",
+            input(setup(ParamsChoice::Robots, Start::Zero), false, held),
+        ),
+        (
+            "fast-uniform-phases",
+            input(
+                setup(ParamsChoice::Custom(fast(12, true)), Start::Zero),
+                true,
+                uniform,
+            ),
+        ),
+    ]
+}
+
+/// Every seed file: target, file name, bytes.
+pub fn files() -> Vec<(&'static str, String, Vec<u8>)> {
+    let mut out = Vec::new();
+    let mut add = |target, name: &str, bytes| out.push((target, format!("{name}.bin"), bytes));
+    for s in deframer() {
+        add("deframer", s.name, deframer::input(&s.cuts, &s.stream));
+    }
+    for s in message_decode() {
+        add("message_decode", s.name, s.data);
+    }
+    for (name, i) in roundtrip() {
+        add("roundtrip", name, i.write());
+    }
+    for (name, i) in fused_node() {
+        add("fused_node", name, i.write());
+    }
+    for (name, i) in three_phase() {
+        add("three_phase", name, i.write());
+    }
+    out
+}
+
+/// Writes every seed under `corpus_dir/<target>/`, after removing what those directories held.
+/// Returns the number of files written.
+pub fn write(corpus_dir: &Path) -> io::Result<usize> {
+    for t in crate::TARGETS {
+        let dir = corpus_dir.join(t);
+        if dir.exists() {
+            std::fs::remove_dir_all(&dir)?;
+        }
+        std::fs::create_dir_all(&dir)?;
+    }
+    let files = files();
+    for (target, name, bytes) in &files {
+        std::fs::write(corpus_dir.join(target).join(name), bytes)?;
+    }
+    Ok(files.len())
+}

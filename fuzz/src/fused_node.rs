@@ -1,0 +1,834 @@
+//! `fused_node`: the robot state machine [`FusedNode`] driven by an arbitrary sequence of inputs.
+//!
+//! Input: a [`Setup`] (RNG seed for `rand_pcg::Pcg32`, parameters, start instant), then up to
+//! [`MAX_STEPS`] steps: a sensor reading; a message from any sector (also sectors `≥ K`, and the
+//! empty message); received bytes for a sector's [`Deframer`]; noise then a whole frame; or a
+//! bare `handle_timeout`. Each step moves time first ([`TimeStep`]: forward, backward, to the
+//! deadline). After each step the outputs are drained, unless the step says to hold them.
+//!
+//! After every `handle_*` call the harness checks, through the public API only, against a
+//! small model of what `docs/protocol.md` §5 and §9 promise:
+//!
+//! - nothing panics; `new` refuses exactly what `Params::validate` refuses;
+//! - `poll_transmit` and `poll_event` run dry within 2 and 8 items (§5.4), as many messages
+//!   come out as were queued minus those counted lost, and a loss means the queue was full;
+//! - every transmitted message has 1..=MAX_HOPS hops and frames and deframes back to itself; an
+//!   initiation is the robot's own hop, a relay is the accepted message plus its own hop, its
+//!   oldest hops dropped to keep at most `Params::max_hops` (counted in `hops_evicted`);
+//! - `poll_timeout()` is after `now` (or "never", `Instant::MAX`) and at most one longest cycle
+//!   after the latest instant seen; an input before the deadline changes nothing due to time;
+//! - receptions: `UnknownSector` exactly for sectors `≥ K`, `Ignored` for the empty message or a
+//!   node that is not inactive, `Accepted` leaves it active with its relay due within the relay
+//!   delay; counters move by one accordingly;
+//! - preference and decision are `None` or a sector below K; a preference, once set, is never
+//!   cleared; after an accepted message it is the strictly heaviest sector by `weight()` if
+//!   there is one, else unchanged; weights are finite, in `[0, 127.5²]`, and only below K;
+//! - `votes()` equals the count over a model of the (sector, distance) slots plus the own
+//!   preference, the slots being emptied at each period end;
+//! - with every event of a call seen: the `State` events chain valid transitions ending in
+//!   `state()`, one `Refractory` per transmission and one `Active` per acceptance; `Decided`
+//!   events number the periods, carry the model's votes and follow the decision and tie rules
+//!   of §5.3, and `changed` is right;
+//! - the same seed and inputs give the same outputs (the input is run twice).
+
+use arbitrary::Unstructured;
+use protocol::frame::{self, Deframer, FrameError};
+use protocol::fused::{NodeStats, Votes};
+use protocol::wave::WaveStats;
+use protocol::{
+    Event, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, Message, Params, Reception,
+    Sector, WaveState,
+};
+
+use crate::input::{Writer, byte_list, get, list};
+use crate::reference::{self, MAX_LEVEL_VARIANCE};
+use crate::scenario::{Setup, TimeStep};
+
+/// Steps read at most.
+pub const MAX_STEPS: usize = 256;
+/// Received bytes per step at most.
+pub const MAX_BYTES: usize = 96;
+/// The outbox depth of §5.4.
+pub const OUTBOX: usize = 2;
+/// The event queue depth of §5.4.
+pub const EVENT_QUEUE: usize = 8;
+
+/// What a step does after moving time.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Action {
+    /// `handle_reading`.
+    Reading(u8),
+    /// `handle_message` with this message (empty for no hops) from `sector % 8`.
+    Message {
+        /// Sector index, before the modulo.
+        sector: u8,
+        /// The hops.
+        hops: Vec<Hop>,
+        /// How time moves first.
+        time: TimeStep,
+    },
+    /// Bytes received on `sector % 8`: its deframer's messages go to `handle_message`.
+    Bytes {
+        /// Sector index, before the modulo.
+        sector: u8,
+        /// The bytes.
+        bytes: Vec<u8>,
+        /// How time moves first.
+        time: TimeStep,
+    },
+    /// Noise, then the frame of the message (if it has hops), on `sector % 8`.
+    Framed {
+        /// Sector index, before the modulo.
+        sector: u8,
+        /// Bytes before the frame.
+        noise: Vec<u8>,
+        /// The hops.
+        hops: Vec<Hop>,
+        /// How time moves first.
+        time: TimeStep,
+    },
+    /// `handle_timeout`.
+    Timeout(TimeStep),
+}
+
+/// One step.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Step {
+    /// What it does.
+    pub action: Action,
+    /// Leave the outputs queued (not drained) after it.
+    pub hold: bool,
+}
+
+impl Step {
+    /// A step that drains its outputs.
+    pub fn drain(action: Action) -> Self {
+        Step {
+            action,
+            hold: false,
+        }
+    }
+
+    fn read(u: &mut Unstructured<'_>) -> Self {
+        let action = match get::<u8>(u) % 5 {
+            0 => Action::Reading(get(u)),
+            1 => Action::Message {
+                sector: get(u),
+                hops: reference::read_hops(u, MAX_HOPS),
+                time: TimeStep::read(u),
+            },
+            2 => Action::Bytes {
+                sector: get(u),
+                bytes: byte_list(u, MAX_BYTES),
+                time: TimeStep::read(u),
+            },
+            3 => Action::Framed {
+                sector: get(u),
+                noise: byte_list(u, MAX_BYTES),
+                hops: reference::read_hops(u, MAX_HOPS),
+                time: TimeStep::read(u),
+            },
+            _ => Action::Timeout(TimeStep::read(u)),
+        };
+        Step {
+            action,
+            hold: get(u),
+        }
+    }
+
+    fn write(&self, w: &mut Writer) {
+        match &self.action {
+            Action::Reading(r) => {
+                w.u8(0).u8(*r);
+            }
+            Action::Message { sector, hops, time } => {
+                w.u8(1).u8(*sector);
+                reference::write_hops(w, hops);
+                time.write(w);
+            }
+            Action::Bytes {
+                sector,
+                bytes,
+                time,
+            } => {
+                w.u8(2).u8(*sector).byte_list(bytes);
+                time.write(w);
+            }
+            Action::Framed {
+                sector,
+                noise,
+                hops,
+                time,
+            } => {
+                w.u8(3).u8(*sector).byte_list(noise);
+                reference::write_hops(w, hops);
+                time.write(w);
+            }
+            Action::Timeout(time) => {
+                w.u8(4);
+                time.write(w);
+            }
+        }
+        w.bool(self.hold);
+    }
+}
+
+/// A parsed input.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Input {
+    /// Seed, parameters, start.
+    pub setup: Setup,
+    /// The steps.
+    pub steps: Vec<Step>,
+}
+
+impl Input {
+    /// Reads an input.
+    pub fn read(data: &[u8]) -> Self {
+        let mut u = Unstructured::new(data);
+        let setup = Setup::read(&mut u);
+        let steps = list(&mut u, MAX_STEPS, Step::read);
+        Input { setup, steps }
+    }
+
+    /// The bytes [`read`](Self::read) turns into this input.
+    pub fn write(&self) -> Vec<u8> {
+        let mut w = Writer::new();
+        self.setup.write(&mut w);
+        for s in &self.steps {
+            w.item();
+            s.write(&mut w);
+        }
+        w.end().finish()
+    }
+}
+
+/// Everything observable a run produced, for the determinism check.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Out {
+    /// A deframer result.
+    Deframed(Result<Message, FrameError>),
+    /// What `handle_message` returned.
+    Reception(Reception),
+    /// A message from `poll_transmit`.
+    Transmit(Message),
+    /// An event from `poll_event`.
+    Event(Event),
+    /// `poll_timeout()` after a call.
+    Deadline(Instant),
+}
+
+/// The check of this target.
+pub fn check(data: &[u8]) {
+    let input = Input::read(data);
+    let first = run(&input);
+    let second = run(&input);
+    assert!(
+        first == second,
+        "one seed and the same inputs gave two runs"
+    );
+}
+
+/// Runs an input with every check; returns what it observed.
+pub fn run(input: &Input) -> Vec<Out> {
+    let setup = &input.setup;
+    let params = setup.params.params();
+    let start = setup.start.instant();
+    let mut rng = setup.rng();
+    let node = match FusedNode::new(params, start, &mut rng) {
+        Ok(n) => {
+            assert_eq!(params.validate(), Ok(()));
+            n
+        }
+        Err(e) => {
+            assert_eq!(params.validate(), Err(e), "new refused {params:?}");
+            return Vec::new();
+        }
+    };
+    assert_eq!(node.state(), WaveState::Inactive);
+    assert_eq!((node.preference(), node.decision()), (None, None));
+    assert_eq!(node.periods(), 0);
+    assert_eq!(node.votes(), [0; MAX_SECTORS]);
+    let t = node.poll_timeout();
+    assert!(t > start || t == Instant::MAX, "first deadline {t:?}");
+    assert!(t <= start + setup.longest_cycle(), "first deadline {t:?}");
+
+    let mut r = Run {
+        node,
+        rng,
+        params,
+        k: usize::from(params.sectors),
+        setup: *setup,
+        deframers: core::array::from_fn(|_| Deframer::new()),
+        now: start,
+        latest: start,
+        views: EMPTY_VIEWS,
+        pending: None,
+        outbox: 0,
+        events_clean: true,
+        trace: Vec::new(),
+    };
+    for s in &input.steps {
+        r.step(s);
+    }
+    r.trace
+}
+
+type Views = [[Option<Sector>; MAX_HOPS]; MAX_SECTORS];
+const EMPTY_VIEWS: Views = [[None; MAX_HOPS]; MAX_SECTORS];
+
+/// The votes §5.3 counts: one per slot of a sector below K holding a sector below K, plus the
+/// own preference.
+pub fn votes_of(views: &Views, pref: Option<Sector>, k: usize) -> Votes {
+    let mut v = [0u16; MAX_SECTORS];
+    let heard = views[..k].iter().flatten();
+    for s in heard.chain(core::iter::once(&pref)).flatten() {
+        if usize::from(s.index()) < k {
+            v[usize::from(s.index())] += 1;
+        }
+    }
+    v
+}
+
+/// The decision rule of §5.3.
+pub fn decision_of(
+    votes: &Votes,
+    k: usize,
+    pref: Option<Sector>,
+    previous: Option<Sector>,
+) -> Option<Sector> {
+    let max = votes[..k].iter().copied().max().unwrap_or(0);
+    if max == 0 {
+        return None;
+    }
+    let tops: Vec<Sector> = (0..k)
+        .filter(|&i| votes[i] == max)
+        .map(|i| reference::sector(i as u8))
+        .collect();
+    if let [only] = tops.as_slice() {
+        return Some(*only);
+    }
+    [pref, previous]
+        .into_iter()
+        .flatten()
+        .find(|s| tops.contains(s))
+}
+
+struct Run {
+    node: FusedNode,
+    rng: rand_pcg::Pcg32,
+    params: Params,
+    k: usize,
+    setup: Setup,
+    deframers: [Deframer; MAX_SECTORS],
+    now: Instant,
+    latest: Instant,
+    /// Model of the node's (sector, distance) preference slots.
+    views: Views,
+    /// Model of the message waiting to be relayed.
+    pending: Option<Message>,
+    /// Messages left in the outbox by held steps.
+    outbox: usize,
+    /// No event was left queued by a held step.
+    events_clean: bool,
+    trace: Vec<Out>,
+}
+
+/// What the checks compare with after a call.
+struct Before {
+    state: WaveState,
+    pref: Option<Sector>,
+    decision: Option<Sector>,
+    periods: u32,
+    stats: NodeStats,
+    wave: WaveStats,
+    timeout: Instant,
+    views: Views,
+}
+
+enum Call<'a> {
+    Timeout,
+    Message {
+        from: Sector,
+        msg: &'a Message,
+        reception: Reception,
+    },
+}
+
+fn delta(after: u32, before: u32, what: &str) -> u32 {
+    assert!(after >= before, "{what} went back: {before} -> {after}");
+    after - before
+}
+
+fn valid(s: Option<Sector>, k: usize) -> bool {
+    s.is_none_or(|s| usize::from(s.index()) < k)
+}
+
+impl Run {
+    fn step(&mut self, step: &Step) {
+        let hold = step.hold;
+        match &step.action {
+            Action::Reading(r) => {
+                self.node.handle_reading(Level(*r));
+                assert_eq!(self.node.reading(), Level(*r));
+            }
+            Action::Timeout(time) => {
+                self.advance(*time);
+                let before = self.before();
+                self.node.handle_timeout(self.now, &mut self.rng);
+                self.after(before, Call::Timeout, hold);
+            }
+            Action::Message { sector, hops, time } => {
+                self.advance(*time);
+                self.deliver(reference::sector(*sector), &reference::message(hops), hold);
+            }
+            Action::Bytes {
+                sector,
+                bytes,
+                time,
+            } => {
+                self.advance(*time);
+                let s = reference::sector(*sector);
+                let got: Vec<_> = self.deframers[usize::from(s.index())]
+                    .frames(bytes)
+                    .collect();
+                self.received(s, got, hold);
+            }
+            Action::Framed {
+                sector,
+                noise,
+                hops,
+                time,
+            } => {
+                self.advance(*time);
+                let s = reference::sector(*sector);
+                let d = &mut self.deframers[usize::from(s.index())];
+                let mut got: Vec<_> = d.frames(noise).collect();
+                let msg = reference::message(hops);
+                match frame::encode(&msg) {
+                    Ok(f) => {
+                        let tail: Vec<_> = d.frames(&f).collect();
+                        // §2.3: whatever came before, a whole frame is decoded.
+                        assert!(tail.len() <= 2, "{tail:?}");
+                        assert_eq!(tail.last(), Some(&Ok(msg.clone())), "{tail:?}");
+                        got.extend(tail);
+                        self.received(s, got, hold);
+                    }
+                    Err(e) => {
+                        assert!(msg.is_empty(), "{e:?} for {msg:?}");
+                        self.received(s, got, hold);
+                        self.deliver(s, &msg, hold);
+                    }
+                }
+            }
+        }
+    }
+
+    fn advance(&mut self, time: TimeStep) {
+        let deadline = self.node.poll_timeout();
+        self.now = time.apply(self.now, deadline, self.setup.max_forward());
+        self.latest = self.latest.max(self.now);
+    }
+
+    fn received(&mut self, from: Sector, got: Vec<Result<Message, FrameError>>, hold: bool) {
+        for r in got {
+            self.trace.push(Out::Deframed(r.clone()));
+            if let Ok(m) = r {
+                reference::check_decoded(&m);
+                self.deliver(from, &m, hold);
+            }
+        }
+    }
+
+    fn deliver(&mut self, from: Sector, msg: &Message, hold: bool) {
+        let before = self.before();
+        let reception = self.node.handle_message(self.now, from, msg, &mut self.rng);
+        self.trace.push(Out::Reception(reception));
+        self.after(
+            before,
+            Call::Message {
+                from,
+                msg,
+                reception,
+            },
+            hold,
+        );
+    }
+
+    fn before(&self) -> Before {
+        let n = &self.node;
+        Before {
+            state: n.state(),
+            pref: n.preference(),
+            decision: n.decision(),
+            periods: n.periods(),
+            stats: *n.stats(),
+            wave: *n.wave_stats(),
+            timeout: n.poll_timeout(),
+            views: self.views,
+        }
+    }
+
+    /// The strictly heaviest sector by `weight()`, above zero, if any.
+    fn heaviest(&self) -> Option<Sector> {
+        let w: Vec<(Sector, f32)> = (0..self.k as u8)
+            .map(reference::sector)
+            .filter_map(|s| self.node.weight(s).map(|w| (s, w)))
+            .collect();
+        let max = w.iter().map(|&(_, x)| x).fold(f32::NEG_INFINITY, f32::max);
+        let mut tops = w.iter().filter(|&&(_, x)| x == max);
+        match (tops.next(), tops.next()) {
+            (Some(&(s, x)), None) if x > 0.0 => Some(s),
+            _ => None,
+        }
+    }
+
+    fn after(&mut self, before: Before, call: Call<'_>, hold: bool) {
+        let k = self.k;
+        let now = self.now;
+        let pref = self.node.preference();
+        let decision = self.node.decision();
+        let stats = *self.node.stats();
+        let wave = *self.node.wave_stats();
+        let state = self.node.state();
+
+        // Values.
+        assert!(valid(pref, k), "preference {pref:?} with K = {k}");
+        assert!(valid(decision, k), "decision {decision:?} with K = {k}");
+        if before.pref.is_some() {
+            assert!(pref.is_some(), "a preference was cleared");
+        }
+        for i in 0..MAX_SECTORS as u8 {
+            let w = self.node.weight(reference::sector(i));
+            if usize::from(i) >= k {
+                assert_eq!(w, None, "weight of sector {i} with K = {k}");
+            } else if let Some(w) = w {
+                assert!(
+                    (0.0..=MAX_LEVEL_VARIANCE).contains(&w),
+                    "weight {w} of sector {i}"
+                );
+            }
+        }
+        let d_periods = delta(self.node.periods(), before.periods, "periods");
+        let d_init = delta(wave.initiated, before.wave.initiated, "initiated");
+        let d_relayed = delta(wave.relayed, before.wave.relayed, "relayed");
+        let d_ignored = delta(wave.ignored, before.wave.ignored, "ignored");
+        delta(
+            wave.skipped_initiations,
+            before.wave.skipped_initiations,
+            "skipped",
+        );
+        let d_accepted = delta(stats.accepted, before.stats.accepted, "accepted");
+        let d_unknown = delta(stats.unknown_sector, before.stats.unknown_sector, "unknown");
+        let d_evicted = delta(stats.hops_evicted, before.stats.hops_evicted, "evicted");
+        let d_tlost = delta(stats.transmits_lost, before.stats.transmits_lost, "tlost");
+        let d_elost = delta(stats.events_lost, before.stats.events_lost, "elost");
+        assert!(d_relayed <= 1, "{d_relayed} relays in one call");
+        assert!(d_accepted <= 1);
+
+        // The deadline.
+        let t = self.node.poll_timeout();
+        self.trace.push(Out::Deadline(t));
+        assert!(
+            t > now || t == Instant::MAX,
+            "deadline {t:?} not after {now:?}"
+        );
+        assert!(
+            t <= self.latest + self.setup.longest_cycle(),
+            "deadline {t:?} more than a cycle after {:?}",
+            self.latest
+        );
+        if now < before.timeout {
+            assert_eq!(
+                (d_init, d_relayed, d_periods),
+                (0, 0, 0),
+                "before the deadline"
+            );
+            if let Call::Timeout = call {
+                assert_eq!(state, before.state);
+                assert_eq!(stats, before.stats);
+                assert_eq!(wave, before.wave);
+                assert_eq!(t, before.timeout);
+            }
+        }
+
+        // Period ends empty the slots (before any message of this call is noted).
+        if d_periods > 0 {
+            self.views = EMPTY_VIEWS;
+        }
+
+        // The reception.
+        let mut accepted = None;
+        match call {
+            Call::Timeout => assert_eq!((d_accepted, d_unknown), (0, 0)),
+            Call::Message {
+                from,
+                msg,
+                reception,
+            } => {
+                let known = usize::from(from.index()) < k;
+                match reception {
+                    Reception::UnknownSector => {
+                        assert!(!known, "{from:?} is known with K = {k}");
+                        assert_eq!((d_unknown, d_accepted), (1, 0));
+                    }
+                    Reception::Ignored => {
+                        assert!(known);
+                        assert_eq!((d_unknown, d_accepted), (0, 0));
+                        if msg.is_empty() {
+                            assert_eq!(d_ignored, 0, "the empty message is not counted");
+                        } else {
+                            assert_eq!(d_ignored, 1);
+                            assert_ne!(state, WaveState::Inactive, "ignored while inactive");
+                        }
+                    }
+                    Reception::Accepted => {
+                        assert!(known && !msg.is_empty());
+                        assert_eq!((d_unknown, d_accepted, d_ignored), (0, 1, 0));
+                        assert_eq!(state, WaveState::Active);
+                        assert!(t <= now + self.params.wave.relay_delay, "relay at {t:?}");
+                        assert!(self.node.weight(from).is_some());
+                        let slots = &mut self.views[usize::from(from.index())];
+                        for (slot, h) in slots.iter_mut().zip(msg.hops().iter().rev()) {
+                            *slot = h.pref;
+                        }
+                        match self.heaviest() {
+                            Some(best) => assert_eq!(pref, Some(best), "not the heaviest"),
+                            None => assert_eq!(pref, before.pref, "changed without a reason"),
+                        }
+                        accepted = Some(msg.clone());
+                    }
+                }
+            }
+        }
+        if accepted.is_none() {
+            assert_eq!(pref, before.pref, "preference changed without a message");
+        }
+        assert_eq!(self.node.votes(), votes_of(&self.views, pref, k), "votes");
+
+        // Transmissions.
+        let pushed = (d_init + d_relayed) as usize;
+        let lost = d_tlost as usize;
+        assert!(lost <= self.outbox + pushed);
+        let queued = self.outbox + pushed - lost;
+        assert!(queued <= OUTBOX, "{queued} messages queued");
+        if lost > 0 {
+            assert_eq!(
+                queued, OUTBOX,
+                "a message was dropped from a queue not full"
+            );
+        }
+        let reading = self.node.reading();
+        let own = |pref: Option<Sector>| Hop { reading, pref };
+        // The relay this call made, if any, as the model expects it, and the hops it dropped.
+        let cap = usize::from(self.params.max_hops);
+        let relayed = (d_relayed > 0).then(|| {
+            let mut m = self
+                .pending
+                .clone()
+                .expect("relayed without an accepted message");
+            let dropped = m.len().saturating_sub(cap - 1);
+            let kept = m.hops()[dropped..].to_vec();
+            m = Message::from_hops(&kept).unwrap_or_default();
+            m.push_evicting(own(before.pref));
+            (m, dropped)
+        });
+        assert_eq!(
+            d_evicted as usize,
+            relayed.as_ref().map_or(0, |r| r.1),
+            "hops_evicted"
+        );
+        let relayed = relayed.map(|r| r.0);
+        if let Some(r) = &relayed {
+            assert!(
+                r.len() <= cap,
+                "a relay of {} hops with max_hops {cap}",
+                r.len()
+            );
+        }
+        if hold {
+            self.outbox = queued;
+        } else {
+            let mut got = Vec::new();
+            while let Some(m) = self.node.poll_transmit() {
+                got.push(m);
+                assert!(got.len() <= OUTBOX, "poll_transmit does not run dry");
+            }
+            assert_eq!(got.len(), queued);
+            for m in &got {
+                reference::check_decoded(m);
+            }
+            if self.outbox == 0 && lost == 0 {
+                // Every message of this call is here, in order. An initiation is the own hop;
+                // a relay is the accepted message cut to `max_hops - 1` hops plus the own hop
+                // (with `max_hops` = 1 it looks like an initiation).
+                assert_eq!(got.len(), pushed, "{got:?}");
+                for m in &got {
+                    match &relayed {
+                        Some(r) if m.len() >= 2 || cap == 1 => assert_eq!(m, r, "relay"),
+                        _ => assert_eq!(m.hops(), &[own(before.pref)], "initiation"),
+                    }
+                }
+                let relays = got.iter().filter(|m| Some(*m) == relayed.as_ref()).count();
+                assert!(relays >= d_relayed as usize, "{got:?}");
+            }
+            self.outbox = 0;
+            self.trace.extend(got.into_iter().map(Out::Transmit));
+        }
+        if d_relayed > 0 {
+            self.pending = None;
+        }
+        if let Some(m) = accepted {
+            self.pending = Some(m);
+        }
+
+        // Events.
+        if hold {
+            self.events_clean = false;
+            return;
+        }
+        let mut got = Vec::new();
+        while let Some(e) = self.node.poll_event() {
+            got.push(e);
+            assert!(got.len() <= EVENT_QUEUE, "poll_event does not run dry");
+        }
+        if d_elost > 0 {
+            assert_eq!(
+                got.len(),
+                EVENT_QUEUE,
+                "an event was dropped from a queue not full"
+            );
+        }
+        for e in &got {
+            match *e {
+                Event::State(_) => {}
+                Event::Preference(p) => assert!(p.is_some() && valid(p, k), "{e:?}"),
+                Event::Decided {
+                    decision, votes, ..
+                } => {
+                    assert!(valid(decision, k), "{e:?}");
+                    assert!(votes[k..].iter().all(|&v| v == 0), "{e:?}");
+                    let max = votes[..k].iter().copied().max().unwrap_or(0);
+                    match decision {
+                        None => assert!(
+                            max == 0 || votes[..k].iter().filter(|&&v| v == max).count() > 1
+                        ),
+                        Some(s) => assert_eq!(votes[usize::from(s.index())], max, "{e:?}"),
+                    }
+                }
+            }
+        }
+        if self.events_clean && d_elost == 0 {
+            // Every event of this call is here.
+            let mut s = before.state;
+            let (mut refractory, mut active, mut prefs) = (0, 0, 0);
+            let mut period = before.periods;
+            let mut previous = before.decision;
+            for e in &got {
+                match *e {
+                    Event::State(next) => {
+                        let ok = matches!(
+                            (s, next),
+                            (WaveState::Inactive, WaveState::Active)
+                                | (WaveState::Active, WaveState::Refractory)
+                                | (WaveState::Inactive, WaveState::Refractory)
+                                | (WaveState::Refractory, WaveState::Inactive)
+                        );
+                        assert!(ok, "{s:?} -> {next:?} in {got:?}");
+                        refractory += u32::from(next == WaveState::Refractory);
+                        active += u32::from(next == WaveState::Active);
+                        s = next;
+                    }
+                    Event::Preference(p) => {
+                        prefs += 1;
+                        assert_eq!(p, pref);
+                    }
+                    Event::Decided {
+                        period: p,
+                        decision: d,
+                        changed,
+                        votes,
+                    } => {
+                        let views = if period == before.periods {
+                            &before.views
+                        } else {
+                            &EMPTY_VIEWS
+                        };
+                        period += 1;
+                        assert_eq!(p, period);
+                        assert_eq!(votes, votes_of(views, before.pref, k), "votes of {e:?}");
+                        assert_eq!(d, decision_of(&votes, k, before.pref, previous), "{e:?}");
+                        assert_eq!(changed, d != previous);
+                        previous = d;
+                    }
+                }
+            }
+            assert_eq!(s, state, "events end in {s:?}: {got:?}");
+            assert_eq!(refractory, d_init + d_relayed);
+            assert_eq!(active, d_accepted);
+            assert!(prefs <= 1);
+            assert_eq!(prefs == 1, pref != before.pref);
+            assert_eq!(period, self.node.periods());
+            assert_eq!(previous, decision);
+        }
+        self.events_clean = true;
+        self.trace.extend(got.into_iter().map(Out::Event));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reference::hop;
+    use crate::scenario::{ParamsChoice, Start};
+
+    #[test]
+    fn decision_rule() {
+        let r = Some(reference::sector(0));
+        let l = Some(reference::sector(1));
+        let mut v = [0u16; MAX_SECTORS];
+        assert_eq!(decision_of(&v, 2, r, l), None);
+        v[0] = 2;
+        v[1] = 2;
+        assert_eq!(decision_of(&v, 2, r, l), r, "tie: own preference");
+        assert_eq!(decision_of(&v, 2, None, l), l, "tie: previous decision");
+        assert_eq!(decision_of(&v, 2, None, None), None);
+        v[1] = 3;
+        assert_eq!(decision_of(&v, 2, r, None), l);
+    }
+
+    #[test]
+    fn inputs_read_back_and_a_run_decides() {
+        let mut steps = vec![
+            Step::drain(Action::Reading(1)),
+            Step::drain(Action::Message {
+                sector: 1,
+                hops: vec![hop(0, None), hop(0, None)],
+                time: TimeStep::Forward(3_000),
+            }),
+        ];
+        steps.extend((0..60).map(|_| Step::drain(Action::Timeout(TimeStep::Deadline))));
+        let input = Input {
+            setup: Setup {
+                rng_state: 5,
+                rng_stream: 6,
+                params: ParamsChoice::Quick {
+                    sectors: 0,
+                    negotiation: 0,
+                    max_hops: 11,
+                },
+                start: Start::Zero,
+            },
+            steps,
+        };
+        assert_eq!(Input::read(&input.write()), input);
+        let trace = run(&input);
+        assert!(trace.contains(&Out::Reception(Reception::Accepted)));
+        assert!(
+            trace
+                .iter()
+                .any(|o| matches!(o, Out::Event(Event::Decided { period: 1, .. })))
+        );
+        check(&input.write());
+    }
+}

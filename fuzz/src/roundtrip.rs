@@ -1,0 +1,175 @@
+//! `roundtrip`: arbitrary messages through `encode` and back.
+//!
+//! Input (read with the `arbitrary` crate, format in [`crate::input`]): a list of up to
+//! [`MAX_INPUT_HOPS`] hops ([`reference::ArbHop`]: `u8` reading, `Option<u8>` sector taken
+//! modulo MAX_SECTORS), then a byte position and an XOR mask for a corruption. Checks:
+//!
+//! - `Message::from_hops` gives `None` exactly for no hop or more than MAX_HOPS, and else the
+//!   hops; `Message::initiate` plus `push_evicting` keeps the last MAX_HOPS hops and returns
+//!   each dropped hop (oldest first); `keep_newest(at % 14)` keeps the newest hops and counts
+//!   the dropped ones; `encode` refuses the empty message;
+//! - the frame is `8 + 2·len` ≤ FRAME_MAX bytes, starts and ends with `ss`, and its body holds
+//!   no `s` (§1.4: `s` only in the delimiters); unstuffed independently it is the §1.2 payload
+//!   and its CRC-16/IBM-3740, and the independent encoder gives the same bytes;
+//! - `decode_frame` gives the message back, and a deframer fed the frame twice, byte by byte,
+//!   gives it twice with no error and no skipped byte;
+//! - one corrupted body byte (§2.3) never decodes: it gives `LoneDelimiter`, `BadStuffing` or
+//!   `BadCheck`.
+
+use arbitrary::Unstructured;
+use protocol::frame::{self, BODY_MAX, CRC_LEN, DELIMITER, EncodeError, FRAME_MAX, FrameError};
+use protocol::{Deframer, Hop, MAX_HOPS, Message};
+
+use crate::input::{Writer, get};
+use crate::reference::{self, CRC16};
+
+/// Hops read at most (more than MAX_HOPS, to exercise eviction and `from_hops`' refusal).
+pub const MAX_INPUT_HOPS: usize = 3 * MAX_HOPS;
+
+/// A parsed input.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Input {
+    /// The hops, oldest first.
+    pub hops: Vec<Hop>,
+    /// Which body byte to corrupt (modulo the body length).
+    pub at: u8,
+    /// The corruption (an XOR mask; 0 is replaced by 1).
+    pub mask: u8,
+}
+
+impl Input {
+    /// Reads an input.
+    pub fn read(data: &[u8]) -> Input {
+        let mut u = Unstructured::new(data);
+        let hops = reference::read_hops(&mut u, MAX_INPUT_HOPS);
+        Input {
+            hops,
+            at: get(&mut u),
+            mask: get(&mut u),
+        }
+    }
+
+    /// The bytes [`read`](Self::read) turns into this input.
+    pub fn write(&self) -> Vec<u8> {
+        let mut w = Writer::new();
+        reference::write_hops(&mut w, &self.hops);
+        w.u8(self.at).u8(self.mask).finish()
+    }
+}
+
+/// The check of this target.
+pub fn check(data: &[u8]) {
+    let input = Input::read(data);
+    let hops = &input.hops;
+
+    match Message::from_hops(hops) {
+        None => assert!(hops.is_empty() || hops.len() > MAX_HOPS, "{hops:?}"),
+        Some(m) => {
+            assert_eq!(m.hops(), hops.as_slice());
+            check_framed(&m, input.at, input.mask);
+        }
+    }
+
+    let Some((&first, rest)) = hops.split_first() else {
+        assert_eq!(frame::encode(&Message::default()), Err(EncodeError::Empty));
+        return;
+    };
+    let mut m = Message::initiate(first);
+    for (i, &h) in rest.iter().enumerate() {
+        // `i + 1` hops came before `h`; the oldest still held is hops[i + 1 - MAX_HOPS].
+        let dropped = m.push_evicting(h);
+        let expected = (i + 1 >= MAX_HOPS).then(|| hops[i + 1 - MAX_HOPS]);
+        assert_eq!(dropped, expected, "push_evicting hop {}", i + 1);
+    }
+    let kept = &hops[hops.len().saturating_sub(MAX_HOPS)..];
+    assert_eq!(m.hops(), kept);
+    assert_eq!(m.is_full(), kept.len() == MAX_HOPS);
+    check_framed(&m, input.at, input.mask);
+
+    let n = usize::from(input.at) % (MAX_HOPS + 2);
+    let mut cut = m.clone();
+    assert_eq!(cut.keep_newest(n), m.len().saturating_sub(n));
+    assert_eq!(cut.hops(), &m.hops()[m.len().saturating_sub(n)..]);
+}
+
+fn check_framed(m: &Message, at: u8, mask: u8) {
+    let f = frame::encode(m).expect("a message with hops encodes");
+    assert_eq!(f.len(), 8 + 2 * m.len());
+    assert!(f.len() <= FRAME_MAX);
+    assert!(f.starts_with(b"ss") && f.ends_with(b"ss"), "{f:02x?}");
+    let body = &f[2..f.len() - 2];
+    assert!(!body.contains(&DELIMITER), "an `s` in the body: {f:02x?}");
+    assert!(body.len() <= BODY_MAX);
+
+    // The layout, unstuffed without the protocol's code.
+    let unxored: Vec<u8> = body.iter().map(|b| b ^ DELIMITER).collect();
+    let raw = reference::cobs_decode(&unxored).expect("valid COBS");
+    let payload = reference::payload_of(m);
+    assert_eq!(raw.len(), payload.len() + CRC_LEN);
+    assert_eq!(&raw[..payload.len()], payload.as_slice());
+    assert_eq!(
+        &raw[payload.len()..],
+        &CRC16.checksum(&payload).to_le_bytes()
+    );
+    assert_eq!(f.as_slice(), reference::frame_payload(&payload).as_slice());
+
+    assert_eq!(frame::decode_frame(&f).as_ref(), Ok(m));
+    let mut d = Deframer::new();
+    let twice: Vec<_> = f
+        .iter()
+        .chain(f.iter())
+        .filter_map(|&b| d.push(b))
+        .collect();
+    assert_eq!(twice, [Ok(m.clone()), Ok(m.clone())]);
+    assert_eq!(d.stats().errors(), 0);
+    assert_eq!(d.stats().skipped_bytes, 0);
+
+    // One corrupted body byte.
+    let mut bad = f.to_vec();
+    let i = 2 + usize::from(at) % body.len();
+    bad[i] ^= mask.max(1);
+    let got = frame::decode_frame(&bad);
+    assert!(
+        matches!(
+            got,
+            Err(FrameError::LoneDelimiter | FrameError::BadStuffing | FrameError::BadCheck)
+        ),
+        "{bad:02x?} (byte {i} of {f:02x?}) gave {got:?}"
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reference::hop;
+
+    #[test]
+    fn inputs_read_back() {
+        let input = Input {
+            hops: vec![hop(1, Some(0)), hop(b's', None), hop(255, Some(7))],
+            at: 3,
+            mask: 0x80,
+        };
+        assert_eq!(Input::read(&input.write()), input);
+        check(&input.write());
+    }
+
+    #[test]
+    fn sector_bytes_wrap() {
+        let mut w = Writer::new();
+        w.item().u8(4).bool(true).u8(10).end();
+        assert_eq!(Input::read(&w.finish()).hops, [hop(4, Some(2))]);
+    }
+
+    #[test]
+    fn many_hops_evict() {
+        let hops: Vec<Hop> = (0..30).map(|r| hop(r, None)).collect();
+        let input = Input {
+            hops,
+            at: 0,
+            mask: 1,
+        };
+        check(&input.write());
+        check(&[]);
+    }
+}

@@ -1,0 +1,163 @@
+//! The committed seed corpus: exactly what the generator makes, each seed passing its target's
+//! check, and the framing seeds giving the results the generator lists for them.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use protocol::frame::decode_frame;
+use protocol::{Event, Reception};
+use protocol_fuzz::fused_node::Out;
+use protocol_fuzz::{
+    TARGETS, corpus, deframer, fused_node, message_decode, roundtrip, three_phase,
+};
+
+fn committed() -> BTreeMap<(String, String), Vec<u8>> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("corpus");
+    let mut out = BTreeMap::new();
+    for t in TARGETS {
+        for entry in std::fs::read_dir(root.join(t)).expect("corpus/<target> exists") {
+            let path = entry.unwrap().path();
+            let name = path.file_name().unwrap().to_string_lossy().into_owned();
+            out.insert((t.to_string(), name), std::fs::read(&path).unwrap());
+        }
+    }
+    out
+}
+
+#[test]
+fn committed_corpus_is_what_the_generator_makes() {
+    let generated: BTreeMap<(String, String), Vec<u8>> = corpus::files()
+        .into_iter()
+        .map(|(t, n, b)| ((t.to_string(), n), b))
+        .collect();
+    let committed = committed();
+    let names = |m: &BTreeMap<(String, String), Vec<u8>>| m.keys().cloned().collect::<Vec<_>>();
+    assert_eq!(
+        names(&committed),
+        names(&generated),
+        "run `cargo run --example gen_corpus` in fuzz/"
+    );
+    for (k, bytes) in &generated {
+        assert_eq!(&committed[k], bytes, "{k:?} is stale: regenerate");
+    }
+    for t in TARGETS {
+        let n = generated.keys().filter(|(target, _)| target == t).count();
+        assert!((5..=40).contains(&n), "{n} seeds for {t}");
+    }
+}
+
+#[test]
+fn every_committed_seed_passes_its_check() {
+    for ((target, name), bytes) in committed() {
+        let check: fn(&[u8]) = match target.as_str() {
+            "deframer" => deframer::check,
+            "message_decode" => message_decode::check,
+            "roundtrip" => roundtrip::check,
+            "fused_node" => fused_node::check,
+            "three_phase" => three_phase::check,
+            other => panic!("unknown target {other}"),
+        };
+        if std::panic::catch_unwind(|| check(&bytes)).is_err() {
+            panic!("{target}/{name} fails its check");
+        }
+    }
+}
+
+#[test]
+fn deframer_seeds_give_their_results() {
+    for s in corpus::deframer() {
+        let (got, d) = deframer::by_push(&s.stream);
+        assert_eq!(got, s.expect, "{}", s.name);
+        assert_eq!(
+            d.stats().frames as usize,
+            got.iter().filter(|r| r.is_ok()).count()
+        );
+        assert_eq!(
+            deframer::split(&deframer::input(&s.cuts, &s.stream)),
+            (&s.cuts[..], &s.stream[..])
+        );
+    }
+}
+
+#[test]
+fn message_decode_seeds_give_their_results() {
+    for s in corpus::message_decode() {
+        assert_eq!(decode_frame(&s.data), s.frame, "{}", s.name);
+        if let Some(expected) = &s.as_payload {
+            assert_eq!(
+                &message_decode::expected_for_payload(&s.data),
+                expected,
+                "{}",
+                s.name
+            );
+        }
+    }
+}
+
+#[test]
+fn structured_seeds_read_back() {
+    for (name, i) in corpus::roundtrip() {
+        assert_eq!(roundtrip::Input::read(&i.write()), i, "{name}");
+    }
+    for (name, i) in corpus::fused_node() {
+        assert_eq!(fused_node::Input::read(&i.write()), i, "{name}");
+    }
+    for (name, i) in corpus::three_phase() {
+        assert_eq!(three_phase::Input::read(&i.write()), i, "{name}");
+    }
+}
+
+fn fused(name: &str) -> Vec<Out> {
+    let (_, input) = corpus::fused_node()
+        .into_iter()
+        .find(|(n, _)| *n == name)
+        .expect("a seed of that name");
+    fused_node::run(&input)
+}
+
+#[test]
+fn fused_seeds_reach_what_they_are_named_for() {
+    let decided = |t: &[Out]| {
+        t.iter()
+            .filter(|o| matches!(o, Out::Event(Event::Decided { .. })))
+            .count()
+    };
+    let lab = fused("robots-lit-left-dark-right-to-decision");
+    assert!(decided(&lab) >= 1, "a decision");
+    assert_eq!(
+        lab.iter()
+            .filter(|o| **o == Out::Reception(Reception::Accepted))
+            .count(),
+        2
+    );
+    let odd = fused("empty-message-and-unknown-sector");
+    assert!(odd.contains(&Out::Reception(Reception::Ignored)));
+    assert!(odd.contains(&Out::Reception(Reception::UnknownSector)));
+    assert!(
+        fused("invalid-params-zero-cycle").is_empty(),
+        "refused by new"
+    );
+    let framed = fused("quick-k5-frames-noise-unknown-sector");
+    assert!(framed.iter().any(|o| matches!(o, Out::Deframed(Err(_)))));
+    assert!(framed.contains(&Out::Reception(Reception::UnknownSector)));
+    // Twelve held deadlines of one-cycle periods overflow both queues: the first drain gets
+    // full queues.
+    let held = fused("held-outputs-overflow");
+    let first_drain: Vec<&Out> = held
+        .iter()
+        .skip_while(|o| !matches!(o, Out::Transmit(_) | Out::Event(_)))
+        .take_while(|o| matches!(o, Out::Transmit(_) | Out::Event(_)))
+        .collect();
+    let transmits = first_drain
+        .iter()
+        .filter(|o| matches!(o, Out::Transmit(_)))
+        .count();
+    assert_eq!((transmits, first_drain.len() - transmits), (2, 8));
+    // At the end of time the node stops: later deadlines are all "never".
+    let end = fused("end-of-time");
+    assert_eq!(
+        end.last(),
+        Some(&Out::Deadline(protocol::Instant::MAX)),
+        "{end:?}"
+    );
+}

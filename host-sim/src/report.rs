@@ -2,7 +2,6 @@
 //! `docs/reproduction.md` with the paper's numbers beside ours.
 
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant as Clock;
 
@@ -19,15 +18,23 @@ use crate::scenario::{LATTICE_SPACING, Scenario};
 use crate::seeds::derive;
 use crate::sim::RunConfig;
 
-fn create(path: &Path) -> std::io::Result<std::io::BufWriter<std::fs::File>> {
+/// A CSV writer on `path` (parent directories created). `csv::Writer` buffers, and its errors
+/// convert into `std::io::Error` with `?`.
+fn create(path: &Path) -> std::io::Result<csv::Writer<std::fs::File>> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)?;
     }
-    Ok(std::io::BufWriter::new(std::fs::File::create(path)?))
+    Ok(csv::Writer::from_path(path)?)
 }
 
+/// `v` with `digits` decimal places.
+fn fixed(v: f64, digits: usize) -> String {
+    format!("{v:.digits$}")
+}
+
+/// `v` with `digits` decimal places, or an empty cell.
 fn opt(v: Option<f64>, digits: usize) -> String {
-    v.map_or(String::new(), |v| format!("{v:.digits$}"))
+    v.map_or(String::new(), |v| fixed(v, digits))
 }
 
 /// One row per period (row 0 is the start): `period,time_s,x,y,direction_deg,consensus,decided,mean_diversity`.
@@ -35,27 +42,40 @@ fn opt(v: Option<f64>, digits: usize) -> String {
 /// # Errors
 /// If the file cannot be written.
 pub fn write_run_csv(path: &Path, out: &RunOutput, cfg: &RunConfig) -> std::io::Result<()> {
-    let mut f = create(path)?;
-    writeln!(
-        f,
-        "period,time_s,x,y,direction_deg,consensus,decided,mean_diversity"
-    )?;
-    writeln!(f, "0,0,{:.4},{:.4},,,,", out.start.x, out.start.y)?;
+    let mut w = create(path)?;
+    w.write_record([
+        "period",
+        "time_s",
+        "x",
+        "y",
+        "direction_deg",
+        "consensus",
+        "decided",
+        "mean_diversity",
+    ])?;
+    w.write_record([
+        "0".to_owned(),
+        "0".to_owned(),
+        fixed(out.start.x, 4),
+        fixed(out.start.y, 4),
+        String::new(),
+        String::new(),
+        String::new(),
+        String::new(),
+    ])?;
     for p in &out.periods {
-        writeln!(
-            f,
-            "{},{},{:.4},{:.4},{},{:.4},{},{:.4}",
-            p.index,
-            u64::from(p.index) * cfg.period_secs(),
-            p.to.x,
-            p.to.y,
+        w.write_record([
+            p.index.to_string(),
+            (u64::from(p.index) * cfg.period_secs()).to_string(),
+            fixed(p.to.x, 4),
+            fixed(p.to.y, 4),
             opt(p.direction.map(f64::to_degrees), 2),
-            p.consensus,
-            p.decided,
-            p.diversity
-        )?;
+            fixed(p.consensus, 4),
+            p.decided.to_string(),
+            fixed(p.diversity, 4),
+        ])?;
     }
-    f.flush()
+    w.flush()
 }
 
 /// `x_init,runs,success_rate,mean_success_time`; the time is in negotiation periods (moves),
@@ -64,19 +84,17 @@ pub fn write_run_csv(path: &Path, out: &RunOutput, cfg: &RunConfig) -> std::io::
 /// # Errors
 /// If the file cannot be written.
 pub fn write_sweep_csv(path: &Path, points: &[SweepPoint]) -> std::io::Result<()> {
-    let mut f = create(path)?;
-    writeln!(f, "x_init,runs,success_rate,mean_success_time")?;
+    let mut w = create(path)?;
+    w.write_record(["x_init", "runs", "success_rate", "mean_success_time"])?;
     for p in points {
-        writeln!(
-            f,
-            "{},{},{:.4},{}",
-            p.x_init,
-            p.runs,
-            p.success_rate(),
-            opt(p.mean_success_periods, 3)
-        )?;
+        w.write_record([
+            p.x_init.to_string(),
+            p.runs.to_string(),
+            fixed(p.success_rate(), 4),
+            opt(p.mean_success_periods, 3),
+        ])?;
     }
-    f.flush()
+    w.flush()
 }
 
 /// `x,y,direction_deg,consensus,decided`.
@@ -84,20 +102,18 @@ pub fn write_sweep_csv(path: &Path, points: &[SweepPoint]) -> std::io::Result<()
 /// # Errors
 /// If the file cannot be written.
 pub fn write_field_csv(path: &Path, arrows: &[Arrow]) -> std::io::Result<()> {
-    let mut f = create(path)?;
-    writeln!(f, "x,y,direction_deg,consensus,decided")?;
+    let mut w = create(path)?;
+    w.write_record(["x", "y", "direction_deg", "consensus", "decided"])?;
     for a in arrows {
-        writeln!(
-            f,
-            "{},{},{},{:.4},{}",
-            a.at.x,
-            a.at.y,
+        w.write_record([
+            a.at.x.to_string(),
+            a.at.y.to_string(),
             opt(a.direction.map(f64::to_degrees), 2),
-            a.consensus,
-            a.decided
-        )?;
+            fixed(a.consensus, 4),
+            a.decided.to_string(),
+        ])?;
     }
-    f.flush()
+    w.flush()
 }
 
 /// `distance,runs,inward,inward_se`.
@@ -105,16 +121,17 @@ pub fn write_field_csv(path: &Path, arrows: &[Arrow]) -> std::io::Result<()> {
 /// # Errors
 /// If the file cannot be written.
 pub fn write_radial_csv(path: &Path, points: &[RadialPoint]) -> std::io::Result<()> {
-    let mut f = create(path)?;
-    writeln!(f, "distance,runs,inward,inward_se")?;
+    let mut w = create(path)?;
+    w.write_record(["distance", "runs", "inward", "inward_se"])?;
     for p in points {
-        writeln!(
-            f,
-            "{},{},{:.4},{:.4}",
-            p.distance, p.runs, p.inward, p.inward_se
-        )?;
+        w.write_record([
+            p.distance.to_string(),
+            p.runs.to_string(),
+            fixed(p.inward, 4),
+            fixed(p.inward_se, 4),
+        ])?;
     }
-    f.flush()
+    w.flush()
 }
 
 /// One cycle length of the cycle-length experiment.
@@ -133,26 +150,28 @@ pub struct CycleRow {
 /// # Errors
 /// If the file cannot be written.
 pub fn write_cycle_csv(path: &Path, rows: &[CycleRow]) -> std::io::Result<()> {
-    let mut f = create(path)?;
-    writeln!(
-        f,
-        "cycle_s,waves_heard,x_init,runs,success_rate,mean_success_time"
-    )?;
+    let mut w = create(path)?;
+    w.write_record([
+        "cycle_s",
+        "waves_heard",
+        "x_init",
+        "runs",
+        "success_rate",
+        "mean_success_time",
+    ])?;
     for r in rows {
         for p in &r.points {
-            writeln!(
-                f,
-                "{},{:.2},{},{},{:.4},{}",
-                r.cycle_s,
-                r.waves_heard,
-                p.x_init,
-                p.runs,
-                p.success_rate(),
-                opt(p.mean_success_periods, 3)
-            )?;
+            w.write_record([
+                r.cycle_s.to_string(),
+                fixed(r.waves_heard, 2),
+                p.x_init.to_string(),
+                p.runs.to_string(),
+                fixed(p.success_rate(), 4),
+                opt(p.mean_success_periods, 3),
+            ])?;
         }
     }
-    f.flush()
+    w.flush()
 }
 
 /// What `swarm reproduce` needs.

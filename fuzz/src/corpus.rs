@@ -12,6 +12,10 @@ use std::path::Path;
 use protocol::frame::{DELIMITER, FrameError};
 use protocol::{Hop, MAX_HOPS, Message};
 
+use crate::keyed::{
+    self, FRAMING, GOLDEN_KEY, GOLDEN_KEYED_FOUR_HOPS, GOLDEN_KEYED_ONE_HOP, GOLDEN_KEYED_S_BYTES,
+    KEY_TEXT, STREAM, reference_frame,
+};
 use crate::reference::{
     GOLDEN_FOUR_HOPS, GOLDEN_ONE_HOP, GOLDEN_S_BYTES, four_hops, frame_payload, hop, one_hop,
     payload_of, s_bytes,
@@ -721,6 +725,126 @@ pub fn three_phase() -> Vec<(&'static str, three_phase::Input)> {
     ]
 }
 
+/// A `keyed` seed; for the stream mode, what the keyed deframer must yield.
+#[derive(Clone, Debug)]
+pub struct KeyedSeed {
+    /// File name without extension.
+    pub name: &'static str,
+    /// The input (mode byte first).
+    pub bytes: Vec<u8>,
+    /// Stream mode: every result of a deframer holding the seed's key, in order.
+    pub expect: Option<Vec<Outcome>>,
+}
+
+/// Seeds of the `keyed` target.
+pub fn keyed() -> Vec<KeyedSeed> {
+    use FrameError::*;
+    let k = &GOLDEN_KEY;
+    let stream = |name, key: &[u8; 16], cuts: &[u8], s: Vec<u8>, expect| KeyedSeed {
+        name,
+        bytes: keyed::input(STREAM, key, &deframer::input(cuts, &s)),
+        expect: Some(expect),
+    };
+    let framing = |name, key: &[u8; 16], hops: Vec<Hop>| KeyedSeed {
+        name,
+        bytes: keyed::input(
+            FRAMING,
+            key,
+            &roundtrip::Input {
+                hops,
+                at: 9,
+                mask: 0x40,
+            }
+            .write(),
+        ),
+        expect: None,
+    };
+    let text = |name, t: &str| KeyedSeed {
+        name,
+        bytes: [&[KEY_TEXT][..], t.as_bytes()].concat(),
+        expect: None,
+    };
+    let mut bad_tag = GOLDEN_KEYED_ONE_HOP.to_vec();
+    bad_tag[8] ^= 0x01;
+    vec![
+        stream(
+            "stream-golden-keyed-one-hop",
+            k,
+            &[],
+            GOLDEN_KEYED_ONE_HOP.to_vec(),
+            vec![Ok(one_hop())],
+        ),
+        stream(
+            "stream-golden-keyed-four-hops-cut-4",
+            k,
+            &[4],
+            GOLDEN_KEYED_FOUR_HOPS.to_vec(),
+            vec![Ok(four_hops())],
+        ),
+        stream(
+            "stream-golden-keyed-s-bytes-byte-by-byte",
+            k,
+            &[1],
+            GOLDEN_KEYED_S_BYTES.to_vec(),
+            vec![Ok(s_bytes())],
+        ),
+        stream(
+            "stream-keyed-max-11-hops",
+            k,
+            &[],
+            reference_frame(k, &wide_payload(11)),
+            vec![Ok(msg(&widest(11)))],
+        ),
+        stream(
+            "stream-keyed-12-hops-too-long",
+            k,
+            &[],
+            reference_frame(k, &wide_payload(12)),
+            vec![Err(TooLong)],
+        ),
+        stream(
+            "stream-plain-frames-under-a-key",
+            k,
+            &[],
+            cat(&[GOLDEN_ONE_HOP, GOLDEN_FOUR_HOPS]),
+            vec![Err(BadMac), Err(BadMac)],
+        ),
+        stream(
+            "stream-other-key",
+            &[9; 16],
+            &[],
+            GOLDEN_KEYED_ONE_HOP.to_vec(),
+            vec![Err(BadMac)],
+        ),
+        stream(
+            "stream-truncated-then-whole",
+            k,
+            &[],
+            cat(&[&GOLDEN_KEYED_FOUR_HOPS[..6], GOLDEN_KEYED_ONE_HOP]),
+            vec![Err(TooShort), Ok(one_hop())],
+        ),
+        stream("stream-corrupted-tag", k, &[], bad_tag, vec![Err(BadMac)]),
+        stream(
+            "stream-length-lies-with-good-tag",
+            k,
+            &[],
+            reference_frame(k, &[2, 1, 0]),
+            vec![Err(Undecodable)],
+        ),
+        framing("framing-no-hops", k, vec![]),
+        framing("framing-one-hop-zero-key", &[0; 16], vec![hop(1, None)]),
+        framing("framing-max-11-hops", &[0xFF; 16], widest(11)),
+        framing("framing-12-hops-too-many", k, widest(MAX_HOPS)),
+        framing("framing-s-readings", k, vec![hop(DELIMITER, Some(3)); 6]),
+        text("key-text-golden", "000102030405060708090a0b0c0d0e0f"),
+        text("key-text-uppercase", "000102030405060708090A0B0C0D0E0F"),
+        text("key-text-31-digits", "000102030405060708090a0b0c0d0e0"),
+        text("key-text-not-hex", "0001x2030405060708090a0b0c0d0e0f"),
+        text("key-text-non-ascii", "00010203040506070809\u{e9}0b0c0d0e0f"),
+        text("key-text-empty", ""),
+    ]
+}
+
 /// Every seed file: target, file name, bytes.
 pub fn files() -> Vec<(&'static str, String, Vec<u8>)> {
     let mut out = Vec::new();
@@ -739,6 +863,9 @@ pub fn files() -> Vec<(&'static str, String, Vec<u8>)> {
     }
     for (name, i) in three_phase() {
         add("three_phase", name, i.write());
+    }
+    for s in keyed() {
+        add("keyed", s.name, s.bytes);
     }
     out
 }

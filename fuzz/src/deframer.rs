@@ -69,15 +69,18 @@ pub fn slices<'a>(stream: &'a [u8], cuts: &[u8]) -> Vec<&'a [u8]> {
     out
 }
 
-/// Byte by byte.
+/// Byte by byte, through a plain deframer.
 pub fn by_push(stream: &[u8]) -> (Vec<Outcome>, Deframer) {
-    let mut d = Deframer::new();
+    by_push_into(Deframer::new(), stream)
+}
+
+/// Byte by byte, through `d`.
+pub fn by_push_into(mut d: Deframer, stream: &[u8]) -> (Vec<Outcome>, Deframer) {
     let out = stream.iter().filter_map(|&b| d.push(b)).collect();
     (out, d)
 }
 
-fn by_frames(slices: &[&[u8]]) -> (Vec<Outcome>, DeframerStats) {
-    let mut d = Deframer::new();
+fn by_frames(mut d: Deframer, slices: &[&[u8]]) -> (Vec<Outcome>, DeframerStats) {
     let mut out = Vec::new();
     for s in slices {
         out.extend(d.frames(s));
@@ -85,8 +88,7 @@ fn by_frames(slices: &[&[u8]]) -> (Vec<Outcome>, DeframerStats) {
     (out, *d.stats())
 }
 
-fn by_feed(slices: &[&[u8]]) -> (Vec<Outcome>, DeframerStats) {
-    let mut d = Deframer::new();
+fn by_feed(mut d: Deframer, slices: &[&[u8]]) -> (Vec<Outcome>, DeframerStats) {
     let mut out = Vec::new();
     for &s in slices {
         let mut rest = s;
@@ -129,25 +131,66 @@ pub fn stats_of(results: &[Outcome], skipped: u32) -> DeframerStats {
     }
 }
 
+/// What differs between the plain deframer and others (the keyed one, see [`crate::keyed`]).
+pub struct Flavour<'a> {
+    /// A fresh deframer.
+    pub new: &'a dyn Fn() -> Deframer,
+    /// The counters a list of results implies (given the skipped bytes).
+    pub stats_of: &'a dyn Fn(&[Outcome], u32) -> DeframerStats,
+    /// The first result of a fresh deframer over some bytes, by the module's own function.
+    pub decode_first: &'a dyn Fn(&[u8]) -> Outcome,
+    /// What every decoded message must satisfy.
+    pub check_message: &'a dyn Fn(&Message),
+    /// Whole frames of two messages, for the recovery checks.
+    pub recovery: [(Vec<u8>, Message); 2],
+    /// The fewest bytes a decodable frame takes besides its opening delimiter.
+    pub min_frame: usize,
+}
+
+/// The plain deframer's flavour.
+pub fn plain() -> Flavour<'static> {
+    Flavour {
+        new: &Deframer::new,
+        stats_of: &stats_of,
+        decode_first: &decode_frame,
+        check_message: &reference::check_decoded,
+        recovery: [
+            (GOLDEN_FOUR_HOPS.to_vec(), reference::four_hops()),
+            (GOLDEN_ONE_HOP.to_vec(), reference::one_hop()),
+        ],
+        // A one-hop body: 3 payload + 2 CRC + 1 COBS bytes, and a closing `ss`.
+        min_frame: 8,
+    }
+}
+
 /// The check of this target.
 pub fn check(data: &[u8]) {
+    check_with(&plain(), data);
+}
+
+/// The checks of this module's documentation, for any flavour of deframer.
+pub fn check_with(f: &Flavour<'_>, data: &[u8]) {
     let (cuts, stream) = split(data);
-    let (pushed, deframer) = by_push(stream);
+    let (pushed, deframer) = by_push_into((f.new)(), stream);
     let stats = *deframer.stats();
 
     let slices = slices(stream, cuts);
     assert_eq!(slices.concat(), stream, "slices cover the stream");
-    let (framed, framed_stats) = by_frames(&slices);
-    let (fed, fed_stats) = by_feed(&slices);
+    let (framed, framed_stats) = by_frames((f.new)(), &slices);
+    let (fed, fed_stats) = by_feed((f.new)(), &slices);
     assert_eq!(pushed, framed, "push vs frames over slices {slices:?}");
     assert_eq!(pushed, fed, "push vs feed over slices {slices:?}");
     assert_eq!(stats, framed_stats);
     assert_eq!(stats, fed_stats);
-    let mut empty = Deframer::new();
+    let mut empty = (f.new)();
     assert_eq!(empty.feed(&[]), (None, &[][..]));
 
     // Counters.
-    assert_eq!(stats, stats_of(&pushed, stats.skipped_bytes), "{pushed:?}");
+    assert_eq!(
+        stats,
+        (f.stats_of)(&pushed, stats.skipped_bytes),
+        "{pushed:?}"
+    );
     assert_eq!(
         stats.errors(),
         pushed.iter().filter(|r| r.is_err()).count() as u32
@@ -164,15 +207,18 @@ pub fn check(data: &[u8]) {
         assert!(3 * results + 2 <= len, "{results} results from {len} bytes");
     }
     if frames > 0 {
-        assert!(8 * frames + 2 <= len, "{frames} frames from {len} bytes");
+        assert!(
+            f.min_frame * frames + 2 <= len,
+            "{frames} frames from {len} bytes"
+        );
     }
 
     // Messages.
     for m in pushed.iter().flatten() {
-        reference::check_decoded(m);
+        (f.check_message)(m);
     }
     assert_eq!(
-        decode_frame(stream),
+        (f.decode_first)(stream),
         pushed
             .first()
             .cloned()
@@ -180,15 +226,16 @@ pub fn check(data: &[u8]) {
     );
 
     // Recovery.
+    let [(frame_a, msg_a), (frame_b, msg_b)] = &f.recovery;
     let mut after = deframer.clone();
-    let tail: Vec<Outcome> = after.frames(GOLDEN_FOUR_HOPS).collect();
+    let tail: Vec<Outcome> = after.frames(frame_a).collect();
     assert!(tail.len() <= 2, "{tail:?}");
-    assert_eq!(tail.last(), Some(&Ok(reference::four_hops())), "{tail:?}");
+    assert_eq!(tail.last(), Some(&Ok(msg_a.clone())), "{tail:?}");
     let mut resynced = deframer;
     resynced.resync();
     assert_eq!(*resynced.stats(), stats, "resync keeps the counters");
-    let tail: Vec<Outcome> = resynced.frames(GOLDEN_ONE_HOP).collect();
-    assert_eq!(tail, [Ok(reference::one_hop())]);
+    let tail: Vec<Outcome> = resynced.frames(frame_b).collect();
+    assert_eq!(tail, [Ok(msg_b.clone())]);
 }
 
 #[cfg(test)]

@@ -13,6 +13,7 @@
 //! | `roundtrip`      | [`roundtrip::check`]                   |
 //! | `fused_node`     | [`fused_node::check`]                  |
 //! | `three_phase`    | [`three_phase::check`]                 |
+//! | `keyed`          | [`keyed::check`]                       |
 //!
 //! `README.md` lists every invariant; `docs/protocol.md` is the specification they come from.
 
@@ -22,6 +23,7 @@ pub mod corpus;
 pub mod deframer;
 pub mod fused_node;
 pub mod input;
+pub mod keyed;
 pub mod message_decode;
 pub mod reference;
 pub mod roundtrip;
@@ -29,10 +31,11 @@ pub mod scenario;
 pub mod three_phase;
 
 /// The names of the fuzz targets, as in `Cargo.toml` and `corpus/<target>/`.
-pub const TARGETS: [&str; 5] = [
+pub const TARGETS: [&str; 6] = [
     "deframer",
     "message_decode",
     "roundtrip",
     "fused_node",
     "three_phase",
+    "keyed",
 ];

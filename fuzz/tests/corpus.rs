@@ -8,7 +8,7 @@ use protocol::frame::decode_frame;
 use protocol::{Event, Reception};
 use protocol_fuzz::fused_node::Out;
 use protocol_fuzz::{
-    TARGETS, corpus, deframer, fused_node, message_decode, roundtrip, three_phase,
+    TARGETS, corpus, deframer, fused_node, keyed, message_decode, roundtrip, three_phase,
 };
 
 fn committed() -> BTreeMap<(String, String), Vec<u8>> {
@@ -55,6 +55,7 @@ fn every_committed_seed_passes_its_check() {
             "roundtrip" => roundtrip::check,
             "fused_node" => fused_node::check,
             "three_phase" => three_phase::check,
+            "keyed" => keyed::check,
             other => panic!("unknown target {other}"),
         };
         if std::panic::catch_unwind(|| check(&bytes)).is_err() {
@@ -75,6 +76,26 @@ fn deframer_seeds_give_their_results() {
         assert_eq!(
             deframer::split(&deframer::input(&s.cuts, &s.stream)),
             (&s.cuts[..], &s.stream[..])
+        );
+    }
+}
+
+#[test]
+fn keyed_stream_seeds_give_their_results() {
+    for s in corpus::keyed() {
+        let Some(expect) = &s.expect else { continue };
+        let (key, rest) = keyed::split_key(&s.bytes[1..]);
+        let (_, stream) = deframer::split(rest);
+        let (got, d) = deframer::by_push_into(
+            protocol::Deframer::with_key(protocol::SwarmKey::new(key)),
+            stream,
+        );
+        assert_eq!(&got, expect, "{}", s.name);
+        assert_eq!(
+            d.stats().bad_mac as usize,
+            got.iter()
+                .filter(|r| **r == Err(protocol::FrameError::BadMac))
+                .count()
         );
     }
 }

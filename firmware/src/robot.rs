@@ -46,7 +46,7 @@ use embassy_sync::channel::Channel;
 use embedded_io_async::{Error as _, Read, Write};
 use protocol::frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode, encode_keyed};
 use protocol::{
-    Duration, Event, FusedNode, Instant, Message, ParamError, Params, Sector, SwarmKey,
+    Duration, Event, FusedNode, Instant, Message, ParamError, Params, Sector, SwarmKey, Tag,
 };
 use rand_core::RngCore;
 
@@ -61,7 +61,10 @@ const RX_CHUNK: usize = 32;
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Config {
-    /// A number for the logs, so that several robots in one process can be told apart.
+    /// The robot's number: in the logs, and its tag on the wire (`id mod 16`,
+    /// [`Tag::from_id`]), which it writes into every hop it adds and by which it recognises
+    /// (and drops) messages that passed through it already. Robots within 12 hops of each
+    /// other must differ in `id mod 16`: number a line in order (`docs/protocol.md` §5.3).
     pub id: u16,
     /// The protocol's parameters; `params.sectors` must equal the number of receivers.
     pub params: Params,
@@ -256,7 +259,7 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
             // What a keyed frame holds: relays never build a message encode_keyed refuses.
             params.max_hops = params.max_hops.min(KEYED_MAX_HOPS as u8);
         }
-        let node = FusedNode::new(params, now, &mut rng)?;
+        let node = FusedNode::new(params, Tag::from_id(config.id), now, &mut rng)?;
         // `validate` checked 2 <= N <= MAX_SECTORS, so every index is a sector.
         let sectors = core::array::from_fn(|i| Sector::new(i as u8).unwrap_or(Sector::RIGHT));
         Ok(Robot {
@@ -466,8 +469,9 @@ impl<G: RngCore, O: Observer> Main<'_, G, O> {
     ) -> Infallible {
         let id = self.config.id;
         info!(
-            "robot {}: running, {} receivers, {} frames",
+            "robot {}: running, tag {}, {} receivers, {} frames",
             id,
+            self.node.tag().index(),
             self.config.params.sectors,
             if self.config.key.is_some() {
                 "authenticated"

@@ -1,8 +1,8 @@
 //! The robot program on fake hardware, under tokio's paused clock: virtual time, so an hour of
 //! robot life takes milliseconds, and every run with the same seed is identical.
 //!
-//! The robot under test sits in a line between two scripted neighbours that send frames on a
-//! fixed schedule. It reads darkness; the lit neighbour's side is the diverse one, so it must
+//! The robot under test (id 1) sits in a line between two scripted neighbours (robots 0 on
+//! its left and 2 on its right) that send frames on a fixed schedule. It reads darkness; the lit neighbour's side is the diverse one, so it must
 //! decide for that side, and show it on the LEDs.
 
 use std::collections::VecDeque;
@@ -13,7 +13,7 @@ use embassy_futures::select::{Either, select};
 use firmware::embedded_io_async::{self, ErrorKind as IoKind, Read, Write};
 use firmware::hal::{Clock, ErrorKind, ErrorType, LedColor, Leds, Sensor};
 use firmware::protocol::frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode, encode_keyed};
-use firmware::protocol::{Hop, Instant, Level, Message, Sector, SwarmKey};
+use firmware::protocol::{Hop, Instant, Level, Message, Sector, SwarmKey, Tag};
 use firmware::{Config, Hardware, Robot, SetupError, Stats};
 use rand_pcg::Pcg32;
 
@@ -185,11 +185,21 @@ type FakeHardware = Hardware<RecordingTx, ScriptRx, FakeSensor, FakeLeds, TokioC
 // ---------------------------------------------------------------------------------------------
 // Scripted neighbours
 
-fn hop(reading: u8, pref: Option<Sector>) -> Hop {
+/// The robot under test's id, hence its tag.
+const ID: u16 = 1;
+
+/// The hop robot `tag` adds with `reading` and `pref`.
+fn hop(tag: u16, reading: u8, pref: Option<Sector>) -> Hop {
     Hop {
         reading: Level(reading),
         pref,
+        tag: Tag::from_id(tag),
     }
+}
+
+/// The tag of the neighbour on `side`: robot 0 on the left, robot 2 on the right.
+fn neighbour_tag(side: Sector) -> u16 {
+    if side == Sector::LEFT { ID - 1 } else { ID + 1 }
 }
 
 /// A neighbour that sends `msg` every `period` ms from `first` on, until `until`, framed with
@@ -209,12 +219,12 @@ fn neighbour(first: u64, period: u64, until: u64, msg: &[Hop], key: Option<Swarm
 
 /// The lit neighbour initiates with its reading and no preference yet; the dark one relays
 /// with a preference for the lit side.
-fn lit() -> Vec<Hop> {
-    vec![hop(1, None)]
+fn lit(side: Sector) -> Vec<Hop> {
+    vec![hop(neighbour_tag(side), 1, None)]
 }
 
-fn dark_toward(side: Option<Sector>) -> Vec<Hop> {
-    vec![hop(0, side)]
+fn dark_toward(side: Sector, pref: Option<Sector>) -> Vec<Hop> {
+    vec![hop(neighbour_tag(side), 0, pref)]
 }
 
 /// A dark robot between a lit neighbour on `lit_side` and a dark one on the other.
@@ -233,9 +243,9 @@ fn keyed_scene(
     let clock = TokioClock::new();
     let until = TWO_PERIODS_MS;
     let (left, right) = if lit_side == Sector::LEFT {
-        (lit(), dark_toward(L))
+        (lit(Sector::LEFT), dark_toward(Sector::RIGHT, L))
     } else {
-        (dark_toward(R), lit())
+        (dark_toward(Sector::LEFT, R), lit(Sector::RIGHT))
     };
     // Different periods, so the neighbours drift through the robot's own cycle.
     let left = ScriptRx::new(clock, neighbour(7_300, 47_000, until, &left, neighbour_key));
@@ -265,6 +275,7 @@ fn keyed_scene(
         clock,
     );
     let config = Config {
+        id: ID,
         key: robot_key,
         ..Config::robots()
     };
@@ -359,7 +370,7 @@ async fn relays_what_it_hears_with_its_own_hop_and_initiates() {
     assert_eq!(sent.len() as u32, robot.stats().transmitted);
     let relays_of_lit = sent
         .iter()
-        .filter(|(_, m)| m.hops() == [hop(1, None), hop(0, L)])
+        .filter(|(_, m)| m.hops() == [hop(0, 1, None), hop(ID, 0, L)])
         .count();
     assert!(relays_of_lit > 5, "{sent:?}");
     let initiations = sent.iter().filter(|(_, m)| m.len() == 1).count() as u32;
@@ -367,7 +378,7 @@ async fn relays_what_it_hears_with_its_own_hop_and_initiates() {
     // A relay goes out one relay delay (1 s) after the neighbour's frame arrived.
     let lit_times: Vec<u64> = (7_300..TWO_PERIODS_MS).step_by(47_000).collect();
     for (t, m) in &sent {
-        if m.hops() == [hop(1, None), hop(0, L)] {
+        if m.hops() == [hop(0, 1, None), hop(ID, 0, L)] {
             assert!(lit_times.contains(&(t - 1_000)), "relay at {t} ms");
         }
     }
@@ -546,6 +557,41 @@ fn bad_setups_are_refused() {
     assert!(Robot::<_, 2>::new(Config::robots(), Instant::ZERO, rng()).is_ok());
 }
 
+#[test]
+fn the_tag_is_the_id_modulo_sixteen() {
+    for (id, tag) in [(0, 0), (1, 1), (15, 15), (16, 0), (17, 1), (u16::MAX, 15)] {
+        let c = Config {
+            id,
+            ..Config::robots()
+        };
+        let robot = Robot::<_, 2>::new(c, Instant::ZERO, Pcg32::new(0, 0)).unwrap();
+        assert_eq!(robot.node().tag(), Tag::new(tag).unwrap(), "id {id}");
+    }
+}
+
+#[tokio::test(start_paused = true)]
+async fn echoes_and_replays_of_its_own_messages_are_dropped() {
+    let (mut robot, mut hw) = scene(Sector::LEFT, 3);
+    // Besides the lit neighbour's initiations, the left receiver hears an old message that
+    // passed through this robot (its relay of robot 2, replayed) at times it can accept one.
+    let mut steps = neighbour(7_300, 47_000, TWO_PERIODS_MS, &lit(Sector::LEFT), None);
+    let echo = [hop(2, 0, L), hop(ID, 0, L), hop(0, 1, R)];
+    steps.extend(neighbour(30_000, 47_000, TWO_PERIODS_MS, &echo, None));
+    hw.receivers[Sector::LEFT.index() as usize] = ScriptRx::new(hw.clock, steps);
+    run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+    expect_decided(&robot, &hw, L, 3);
+    let dropped = robot.node().stats().own_tag;
+    assert!(dropped > 20, "{dropped}");
+    for (_, m) in sent_messages(&hw) {
+        let own = m
+            .hops()
+            .iter()
+            .filter(|h| h.tag == Tag::from_id(ID))
+            .count();
+        assert_eq!(own, 1, "its own hop, once: {m:?}");
+    }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Authenticated frames
 
@@ -612,7 +658,9 @@ async fn a_keyed_robot_relays_at_most_eleven_hops() {
     );
     assert_eq!(usize::from(robot.node().params().max_hops), KEYED_MAX_HOPS);
     // The left neighbour now sends full keyed messages: 11 hops, readings 1..=11.
-    let long: Vec<Hop> = (1..=KEYED_MAX_HOPS as u8).map(|r| hop(r, None)).collect();
+    let long: Vec<Hop> = (1..=KEYED_MAX_HOPS as u8)
+        .map(|r| hop(u16::from(r) + 1, r, None))
+        .collect();
     hw.receivers[Sector::LEFT.index() as usize] = ScriptRx::new(
         hw.clock,
         neighbour(7_300, 47_000, 600_000, &long, Some(SWARM)),
@@ -638,7 +686,7 @@ async fn a_keyed_robot_relays_at_most_eleven_hops() {
 
 #[test]
 fn a_keyed_frame_error_is_a_bad_mac() {
-    let msg = Message::from_hops(&[hop(1, None)]).unwrap();
+    let msg = Message::from_hops(&[hop(0, 1, None)]).unwrap();
     let f = encode(&msg).unwrap();
     let mut d = Deframer::with_key(SWARM);
     assert_eq!(d.frames(&f).collect::<Vec<_>>(), [Err(FrameError::BadMac)]);

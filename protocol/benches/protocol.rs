@@ -4,7 +4,7 @@ use std::hint::black_box;
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use protocol::frame::{Deframer, encode};
-use protocol::{FusedNode, Hop, Instant, Level, MAX_HOPS, Message, Params, Sector};
+use protocol::{FusedNode, Hop, Instant, Level, MAX_HOPS, Message, Params, Sector, Tag};
 use rand_pcg::Pcg32;
 
 fn full_message() -> Message {
@@ -12,6 +12,7 @@ fn full_message() -> Message {
         .map(|i| Hop {
             reading: Level(i.wrapping_mul(37)),
             pref: Sector::new(i % 2),
+            tag: Tag::from_id(u16::from(i)),
         })
         .collect();
     Message::from_hops(&hops).unwrap()
@@ -48,7 +49,9 @@ fn deframing(c: &mut Criterion) {
 
 fn handling(c: &mut Criterion) {
     let mut rng = Pcg32::new(1, 1);
-    let mut node = FusedNode::new(Params::robots(), Instant::ZERO, &mut rng).unwrap();
+    // Tag 15: not in the full message (tags 0..=11), which it therefore accepts.
+    let tag = Tag::from_id(15);
+    let mut node = FusedNode::new(Params::robots(), tag, Instant::ZERO, &mut rng).unwrap();
     node.handle_reading(Level(200));
     let frame = encode(&full_message()).unwrap();
     let t = Instant::from_secs(1);

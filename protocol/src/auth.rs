@@ -30,8 +30,8 @@ pub const TAG_LEN: usize = 4;
 /// Hex digits of a swarm key written out ([`SwarmKey::from_hex`]).
 pub const KEY_HEX_LEN: usize = 2 * KEY_LEN;
 
-/// A frame's MAC tag.
-pub type Tag = [u8; TAG_LEN];
+/// A frame's MAC tag (not to be confused with a robot's [`crate::message::Tag`]).
+pub type MacTag = [u8; TAG_LEN];
 
 /// The secret every robot of a swarm shares: 128 bits keying SipHash-2-4.
 ///
@@ -86,7 +86,7 @@ impl SwarmKey {
 
     /// The tag of `payload` under this key: the first [`TAG_LEN`] bytes of the little-endian
     /// SipHash-2-4 output.
-    pub fn tag(&self, payload: &[u8]) -> Tag {
+    pub fn tag(&self, payload: &[u8]) -> MacTag {
         let h = SipHasher24::new_with_key(&self.0)
             .hash(payload)
             .to_le_bytes();

@@ -6,7 +6,7 @@
 //!       | 's'| 's'|  body = COBS(payload ‖ crc) ^ 's' | 's'| 's'|
 //!       +----+----+-----------------------------------+----+----+
 //!
-//!  payload = postcard(Message) = len:varint  { reading:u8  pref:u8 } × len
+//!  payload = postcard(Message) = len:varint  { reading:u8  tag:4|pref:4 } × len
 //!  crc     = CRC-16/IBM-3740 (poly 0x1021, init 0xFFFF) of payload, little-endian
 //!  n       ≤ FRAME_MAX = 32 bytes on air, both delimiters included
 //! ```
@@ -51,7 +51,7 @@ use heapless::Vec;
 pub const DELIMITER: u8 = b's';
 /// Largest frame on air, both `ss` delimiters included.
 pub const FRAME_MAX: usize = 32;
-/// Largest encoded hop: the reading byte and the preference byte.
+/// Largest encoded hop: the reading byte and the preference byte (tag in its high nibble).
 pub const HOP_MAX: usize = 2;
 /// Largest postcard payload: a one-byte length (≤ 127) and [`MAX_HOPS`] hops.
 pub const PAYLOAD_MAX: usize = payload_max(MAX_HOPS);
@@ -497,12 +497,17 @@ mod tests {
 
     use super::*;
     use crate::direction::Sector;
-    use crate::message::{Hop, Level};
+    use crate::message::{Hop, Level, Tag};
 
     fn hop(r: u8, pref: Option<Sector>) -> Hop {
+        tagged(r, 0, pref)
+    }
+
+    fn tagged(r: u8, tag: u8, pref: Option<Sector>) -> Hop {
         Hop {
             reading: Level(r),
             pref,
+            tag: Tag::new(tag).unwrap(),
         }
     }
 
@@ -535,6 +540,28 @@ mod tests {
         Message::from_hops(&[hop(b's', None), hop(b's', None)]).unwrap()
     }
 
+    /// Golden vectors with robot tags (the preference byte's high nibble), computed
+    /// independently like the others. Pattern `1100`, a wave from robot 0 to robot 3 as
+    /// robot 3 sends it: (1, tag 0, RIGHT), (1, tag 1, RIGHT), (0, tag 2, LEFT), (0, tag 3, LEFT).
+    const GOLDEN_TAGGED_FOUR: &[u8] = b"ss\x75\x77\x72\x72\x72\x62\x71\x51\x77\x41\x40\x1dss";
+    /// 12 hops of (255, tag 15, sector 7): every preference byte 0xF8, the largest plain frame.
+    const GOLDEN_TAGGED_TWELVE: &[u8] = b"ss\x6f\x7f\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x82\xf6ss";
+
+    fn tagged_four() -> Message {
+        Message::from_hops(&[
+            tagged(1, 0, Some(Sector::RIGHT)),
+            tagged(1, 1, Some(Sector::RIGHT)),
+            tagged(0, 2, Some(Sector::LEFT)),
+            tagged(0, 3, Some(Sector::LEFT)),
+        ])
+        .unwrap()
+    }
+
+    fn tagged_widest(hops: usize) -> Message {
+        let h = tagged(0xFF, 15, Some(Sector::new(7).unwrap()));
+        Message::from_hops(&[h; MAX_HOPS][..hops]).unwrap()
+    }
+
     #[test]
     fn crc_is_the_catalogued_ibm_3740() {
         assert_eq!(CRC16.checksum(b"123456789"), 0x29B1);
@@ -552,6 +579,51 @@ mod tests {
         assert_eq!(decode_frame(GOLDEN_ONE_HOP), Ok(one_hop()));
         assert_eq!(decode_frame(GOLDEN_FOUR_HOPS), Ok(four_hops()));
         assert_eq!(decode_frame(GOLDEN_S_BYTES), Ok(s_bytes()));
+    }
+
+    #[test]
+    fn golden_tagged_vectors_both_ways() {
+        assert_eq!(
+            encode(&tagged_four()).unwrap().as_slice(),
+            GOLDEN_TAGGED_FOUR
+        );
+        assert_eq!(
+            encode(&tagged_widest(MAX_HOPS)).unwrap().as_slice(),
+            GOLDEN_TAGGED_TWELVE
+        );
+        assert_eq!(decode_frame(GOLDEN_TAGGED_FOUR), Ok(tagged_four()));
+        assert_eq!(
+            decode_frame(GOLDEN_TAGGED_TWELVE),
+            Ok(tagged_widest(MAX_HOPS))
+        );
+        assert_eq!(GOLDEN_TAGGED_TWELVE.len(), FRAME_MAX);
+    }
+
+    #[test]
+    fn tags_cost_no_byte_and_bad_preference_nibbles_are_undecodable() {
+        for hops in 1..=MAX_HOPS {
+            assert_eq!(
+                encode(&tagged_widest(hops)).unwrap().len(),
+                encode(&widest(hops)).unwrap().len()
+            );
+        }
+        // Tag 7 with sector 2 makes the preference byte an `s`: stuffed like any other.
+        let m = Message::initiate(tagged(b's', 7, Sector::new(2)));
+        let f = encode(&m).unwrap();
+        assert!(!f[2..f.len() - 2].contains(&DELIMITER));
+        assert_eq!(decode_frame(&f), Ok(m));
+        // A preference nibble of 9..=15 is refused under any tag, with a correct CRC.
+        for byte in [0x09, 0x0F, 0x19, 0xF9, 0xFF] {
+            let payload = [1u8, 1, byte];
+            let mut raw = StdVec::from(&payload[..]);
+            raw.extend_from_slice(&CRC16.checksum(&payload).to_le_bytes());
+            let mut body = [0u8; 64];
+            let n = cobs::encode(&raw, &mut body);
+            let mut f = StdVec::from(&b"ss"[..]);
+            f.extend(body[..n].iter().map(|b| b ^ DELIMITER));
+            f.extend_from_slice(b"ss");
+            assert_eq!(decode_frame(&f), Err(FrameError::Undecodable), "{byte:#x}");
+        }
     }
 
     #[test]
@@ -675,6 +747,11 @@ mod tests {
     const GOLDEN_KEYED_FOUR_HOPS: &[u8] =
         b"ss\x77\x77\x72\x72\x71\x71\x71\x71\x72\x76\x90\x29\x6f\xecss";
     const GOLDEN_KEYED_S_BYTES: &[u8] = b"ss\x70\x71\x00\x71\x00\x76\x3f\x90\x00\x54ss";
+    /// [`GOLDEN_TAGGED_FOUR`]'s message, keyed.
+    const GOLDEN_KEYED_TAGGED_FOUR: &[u8] =
+        b"ss\x75\x77\x72\x72\x72\x62\x71\x51\x75\x41\x09\x78\x19\xc2ss";
+    /// 11 hops of (255, tag 15, sector 7): the largest keyed frame with tags.
+    const GOLDEN_KEYED_TAGGED_ELEVEN: &[u8] = b"ss\x6f\x78\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x35\x27\x62\x4css";
     /// 11 hops of (255, sector 7): the largest keyed frame, 32 bytes.
     const GOLDEN_KEYED_ELEVEN: &[u8] = b"ss\x6f\x78\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\x8c\x7b\xe9\xb8\xf4\x7css";
 
@@ -716,6 +793,30 @@ mod tests {
             decode_frame_keyed(GOLDEN_KEYED_ELEVEN, k),
             Ok(widest(KEYED_MAX_HOPS))
         );
+    }
+
+    #[test]
+    fn golden_keyed_tagged_vectors_both_ways() {
+        let k = &GOLDEN_KEY;
+        assert_eq!(
+            encode_keyed(&tagged_four(), k).unwrap().as_slice(),
+            GOLDEN_KEYED_TAGGED_FOUR
+        );
+        assert_eq!(
+            encode_keyed(&tagged_widest(KEYED_MAX_HOPS), k)
+                .unwrap()
+                .as_slice(),
+            GOLDEN_KEYED_TAGGED_ELEVEN
+        );
+        assert_eq!(
+            decode_frame_keyed(GOLDEN_KEYED_TAGGED_FOUR, k),
+            Ok(tagged_four())
+        );
+        assert_eq!(
+            decode_frame_keyed(GOLDEN_KEYED_TAGGED_ELEVEN, k),
+            Ok(tagged_widest(KEYED_MAX_HOPS))
+        );
+        assert_eq!(GOLDEN_KEYED_TAGGED_ELEVEN.len(), FRAME_MAX);
     }
 
     #[test]

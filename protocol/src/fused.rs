@@ -26,13 +26,23 @@
 //! cannot flip it, and after an environment change the new messages outweigh the prior within
 //! a few messages, so the swarm still re-decides within the next period.
 //!
+//! # Its own messages
+//! Every hop carries the relaying robot's [`Tag`] (its id modulo 16), and a robot writes its
+//! own into every hop it adds. A received message holding a hop with the robot's **own tag**
+//! passed through it already: an echo of its own relay, or a replay. It is dropped before
+//! anything else (not scored, not relayed, no votes, no activation) and counted in
+//! [`NodeStats::own_tag`]. In a genuine wave a robot hears its own message again only while it
+//! is refractory (it ignores every message then), so the rule never drops a message the robot
+//! would have used.
+//!
 //! # Counting: one vote per robot
 //! A robot far away rides in many messages; counting every hop of every stored message would
 //! count it many times and can tip a tie the wrong way (`shared/paper-notes.md`). Instead a robot
-//! keeps, for each sector and each hop distance (the hop `k` places from a message's end was
-//! relayed `k` hops away), the **latest** preference heard in this period: in a line each other
-//! robot fills exactly one slot, so each robot counts once, with its most recent preference.
-//! The decision is the plurality of those slots plus the robot's own preference.
+//! keeps, for each tag, the **latest** preference heard from it in this period: each other robot
+//! counts once, with its most recent preference, whichever way and however often it was heard
+//! (a replayed message from the other side included). The decision is the plurality of those
+//! slots plus the robot's own preference. This needs distinct tags among robots within
+//! [`MAX_HOPS`](crate::message::MAX_HOPS) hops of each other (see [`Tag`]).
 //!
 //! **Tie rule**: if several sectors share the most votes, the robot keeps its own preference if
 //! it is one of them, else its previous decision if that is one of them, else it is undecided.
@@ -44,7 +54,7 @@ use rand_core::RngCore;
 
 use crate::direction::{MAX_SECTORS, Sector};
 use crate::diversity::{Diversity, Variance};
-use crate::message::{Hop, Level, MAX_HOPS, Message};
+use crate::message::{Hop, Level, MAX_TAGS, Message, Tag};
 use crate::params::{ParamError, Params};
 use crate::time::Instant;
 use crate::wave::{WaveAction, WaveNode, WaveState, WaveStats};
@@ -90,6 +100,9 @@ pub enum Reception {
     Ignored,
     /// The sector is not one of this robot's K receivers; dropped and counted.
     UnknownSector,
+    /// A hop carries this robot's own tag: the message passed through it already (an echo or
+    /// a replay). Dropped before anything else and counted in [`NodeStats::own_tag`].
+    OwnTag,
 }
 
 /// Counters kept by a [`FusedNode`] beyond its wave node's.
@@ -100,6 +113,10 @@ pub struct NodeStats {
     pub accepted: u32,
     /// Messages from a sector outside `0..K`.
     pub unknown_sector: u32,
+    /// Messages dropped because a hop carries this robot's own tag ([`Reception::OwnTag`]).
+    /// In a genuine wave these are the neighbours' relays of the robot's own hop, heard while
+    /// it is refractory; replays of messages it relayed add to them.
+    pub own_tag: u32,
     /// Hops dropped because a relayed message was full.
     pub hops_evicted: u32,
     /// Transmissions dropped because `poll_transmit` was not called in time.
@@ -121,14 +138,15 @@ pub struct NodeStats {
 #[derive(Clone, Debug)]
 pub struct FusedNode<D: Diversity = Variance> {
     params: Params,
+    tag: Tag,
     diversity: D,
     wave: WaveNode,
     reading: Level,
     pref: Option<Sector>,
     decision: Option<Sector>,
     weights: DirectionWeights<Sector, MAX_SECTORS>,
-    /// Latest preference heard this period, per sector and hop distance.
-    views: [[Option<Sector>; MAX_HOPS]; MAX_SECTORS],
+    /// Latest preference heard this period, per tag (never the own tag's slot).
+    heard: [Option<Sector>; MAX_TAGS],
     period_cycles: u16,
     periods: u32,
     pending: Option<Message>,
@@ -138,22 +156,30 @@ pub struct FusedNode<D: Diversity = Variance> {
 }
 
 impl FusedNode<Variance> {
-    /// A robot with the variance as diversity measure, starting its first cycle at `now`.
+    /// A robot with tag `tag` (its id modulo 16, [`Tag::from_id`]) and the variance as
+    /// diversity measure, starting its first cycle at `now`. Robots within
+    /// [`MAX_HOPS`](crate::message::MAX_HOPS) hops of each other need distinct tags.
     ///
     /// # Errors
     /// The [`ParamError`] if `params` do not validate.
-    pub fn new(params: Params, now: Instant, rng: &mut impl RngCore) -> Result<Self, ParamError> {
-        Self::with_diversity(params, Variance, now, rng)
+    pub fn new(
+        params: Params,
+        tag: Tag,
+        now: Instant,
+        rng: &mut impl RngCore,
+    ) -> Result<Self, ParamError> {
+        Self::with_diversity(params, tag, Variance, now, rng)
     }
 }
 
 impl<D: Diversity> FusedNode<D> {
-    /// A robot with a custom diversity measure.
+    /// A robot with a custom diversity measure; otherwise as [`FusedNode::new`].
     ///
     /// # Errors
     /// The [`ParamError`] if `params` do not validate.
     pub fn with_diversity(
         params: Params,
+        tag: Tag,
         diversity: D,
         now: Instant,
         rng: &mut impl RngCore,
@@ -161,13 +187,14 @@ impl<D: Diversity> FusedNode<D> {
         params.validate()?;
         Ok(FusedNode {
             params,
+            tag,
             diversity,
             wave: WaveNode::new(params.wave, now, rng),
             reading: Level::default(),
             pref: None,
             decision: None,
             weights: DirectionWeights::default(),
-            views: [[None; MAX_HOPS]; MAX_SECTORS],
+            heard: [None; MAX_TAGS],
             period_cycles: 0,
             periods: 0,
             pending: None,
@@ -180,6 +207,11 @@ impl<D: Diversity> FusedNode<D> {
     /// The parameters.
     pub fn params(&self) -> &Params {
         &self.params
+    }
+
+    /// This robot's tag, written into every hop it adds.
+    pub fn tag(&self) -> Tag {
+        self.tag
     }
 
     /// The latest sensor reading.
@@ -244,6 +276,10 @@ impl<D: Diversity> FusedNode<D> {
             self.stats.unknown_sector = self.stats.unknown_sector.wrapping_add(1);
             return Reception::UnknownSector;
         }
+        if msg.has_tag(self.tag) {
+            self.stats.own_tag = self.stats.own_tag.wrapping_add(1);
+            return Reception::OwnTag;
+        }
         if msg.is_empty() || !self.wave.on_receive(now) {
             return Reception::Ignored;
         }
@@ -256,9 +292,11 @@ impl<D: Diversity> FusedNode<D> {
             .measure(msg.readings().chain(core::iter::once(own)));
         self.weights.add(from, v);
 
-        let slots = &mut self.views[usize::from(from.index())];
-        for (slot, hop) in slots.iter_mut().zip(msg.hops().iter().rev()) {
-            *slot = hop.pref;
+        // Oldest first: if a tag appears twice, its newest hop is the latest preference.
+        for hop in msg.hops() {
+            if let Some(slot) = self.heard.get_mut(usize::from(hop.tag.index())) {
+                *slot = hop.pref;
+            }
         }
 
         if let Some(best) = self.weights.heaviest()
@@ -323,6 +361,7 @@ impl<D: Diversity> FusedNode<D> {
         Hop {
             reading: self.reading,
             pref: self.pref,
+            tag: self.tag,
         }
     }
 
@@ -343,11 +382,15 @@ impl<D: Diversity> FusedNode<D> {
         let _ = self.events.push_back(e);
     }
 
-    /// The votes: the robot's own preference plus the latest preference per (sector, distance).
+    /// The votes: the robot's own preference plus the latest preference heard this period from
+    /// each other tag; sectors `≥ K` are not counted.
     pub fn votes(&self) -> Votes {
         let k = usize::from(self.params.sectors);
         let mut votes = [0u16; MAX_SECTORS];
-        let heard = self.views[..k].iter().flatten();
+        let own = usize::from(self.tag.index());
+        let heard = (self.heard.iter().enumerate())
+            .filter(|&(t, _)| t != own)
+            .map(|(_, p)| p);
         for s in heard.chain(core::iter::once(&self.pref)).flatten() {
             let i = usize::from(s.index());
             if i < k {
@@ -387,7 +430,7 @@ impl<D: Diversity> FusedNode<D> {
             votes,
         });
         self.weights.shrink_to_prior();
-        self.views = [[None; MAX_HOPS]; MAX_SECTORS];
+        self.heard = [None; MAX_TAGS];
         self.period_cycles = 0;
     }
 }
@@ -395,27 +438,31 @@ impl<D: Diversity> FusedNode<D> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::message::MAX_HOPS;
     use crate::time::Duration;
     use rand_pcg::Pcg32;
 
-    fn hop(r: u8, p: Option<Sector>) -> Hop {
+    /// The hop robot `t` adds with reading `r` and preference `p`.
+    fn hop(t: u8, r: u8, p: Option<Sector>) -> Hop {
         Hop {
             reading: Level(r),
             pref: p,
+            tag: Tag::new(t).unwrap(),
         }
     }
 
     const L: Option<Sector> = Some(Sector::LEFT);
     const R: Option<Sector> = Some(Sector::RIGHT);
 
-    /// A robot whose first initiation is 600 s away, so that tests feeding it messages by
-    /// hand are not disturbed by its own waves.
-    fn node(reading: u8) -> (FusedNode, Pcg32) {
+    /// Robot `tag` with reading `reading`, whose first initiation is 600 s away, so that tests
+    /// feeding it messages by hand are not disturbed by its own waves.
+    fn node(tag: u8, reading: u8) -> (FusedNode, Pcg32) {
         let mut rng = Pcg32::new(11, 13);
         let mut p = Params::robots();
         p.wave.cycle = Duration::from_secs(600);
         p.wave.cycle_spread = Duration::ZERO;
-        let mut n = FusedNode::new(p, Instant::ZERO, &mut rng).unwrap();
+        let tag = Tag::new(tag).unwrap();
+        let mut n = FusedNode::new(p, tag, Instant::ZERO, &mut rng).unwrap();
         n.handle_reading(Level(reading));
         (n, rng)
     }
@@ -437,7 +484,7 @@ mod tests {
 
     #[test]
     fn prefers_the_more_diverse_side_and_relays_with_its_own_hop() {
-        let (mut n, mut rng) = node(0);
+        let (mut n, mut rng) = node(5, 0);
         let mut t = Instant::from_secs(1);
         // From the right, uniform darkness; from the left, a lit robot.
         let out = hear(
@@ -445,25 +492,38 @@ mod tests {
             &mut rng,
             &mut t,
             Sector::RIGHT,
-            &[hop(0, None), hop(0, None)],
+            &[hop(7, 0, None), hop(6, 0, None)],
         );
-        assert_eq!(out.hops(), &[hop(0, None), hop(0, None), hop(0, None)]);
+        assert_eq!(
+            out.hops(),
+            &[hop(7, 0, None), hop(6, 0, None), hop(5, 0, None)]
+        );
         assert_eq!(n.preference(), None, "zero diversity gives no preference");
-        let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(1, R)]);
+        let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(4, 1, R)]);
         assert_eq!(n.preference(), L);
         assert_eq!(
             out.hops(),
-            &[hop(1, R), hop(0, L)],
-            "relay carries the new preference"
+            &[hop(4, 1, R), hop(5, 0, L)],
+            "relay carries the new preference and the own tag"
         );
         assert_eq!(n.weight(Sector::LEFT), Some(0.25));
         assert_eq!(n.weight(Sector::RIGHT), Some(0.0));
+        assert_eq!(n.tag(), Tag::new(5).unwrap());
+    }
+
+    #[test]
+    fn initiations_carry_the_own_tag() {
+        let (mut n, mut rng) = node(9, 3);
+        let t = n.poll_timeout();
+        n.handle_timeout(t, &mut rng);
+        let m = n.poll_transmit().expect("initiated");
+        assert_eq!(m.hops(), &[hop(9, 3, None)]);
     }
 
     #[test]
     fn ignores_while_active_or_refractory_and_unknown_sectors() {
-        let (mut n, mut rng) = node(0);
-        let m = Message::initiate(hop(1, None));
+        let (mut n, mut rng) = node(5, 0);
+        let m = Message::initiate(hop(4, 1, None));
         let t = Instant::from_secs(1);
         let r = &mut rng;
         assert_eq!(
@@ -493,36 +553,75 @@ mod tests {
     }
 
     #[test]
-    fn full_message_relay_drops_the_oldest_hop() {
-        let (mut n, mut rng) = node(9);
+    fn a_message_holding_the_own_tag_is_dropped_and_counted() {
+        let (mut n, mut rng) = node(1, 1);
         let mut t = Instant::from_secs(1);
-        let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, None)).collect();
+        hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(0, 1, R)]);
+        while n.poll_event().is_some() {}
+        let (votes, prefs, weights) = (n.votes(), n.preference(), n.weight(Sector::RIGHT));
+        let (accepted, ignored) = (n.stats().accepted, n.wave_stats().ignored);
+        // Its own relay of a wave from the left, come back from the right (an echo, or a replay
+        // of what robot 2 relayed), while it could accept a message: dropped, whatever its
+        // position, and nothing else happens.
+        for msg in [
+            &[hop(0, 1, R), hop(1, 1, R), hop(2, 0, L)][..],
+            &[hop(1, 1, None)],
+            &[hop(1, 1, R), hop(2, 0, L), hop(3, 0, L)],
+        ] {
+            t += Duration::from_secs(6);
+            n.handle_timeout(t, &mut rng);
+            while n.poll_event().is_some() {}
+            let m = Message::from_hops(msg).unwrap();
+            let got = n.handle_message(t, Sector::RIGHT, &m, &mut rng);
+            assert_eq!(got, Reception::OwnTag, "{msg:?}");
+            assert_eq!(n.state(), WaveState::Inactive, "no activation");
+            n.handle_timeout(t + Duration::from_secs(1), &mut rng);
+            assert_eq!(n.poll_transmit(), None, "not relayed");
+            assert_eq!(n.poll_event(), None, "no event");
+        }
+        assert_eq!(n.stats().own_tag, 3);
+        assert_eq!(n.votes(), votes, "not counted");
+        assert_eq!(n.weight(Sector::RIGHT), weights, "not scored");
+        assert_eq!(n.preference(), prefs);
+        assert_eq!(n.stats().accepted, accepted);
+        assert_eq!(n.wave_stats().ignored, ignored, "not the wave's business");
+        // Messages without its tag are still heard.
+        hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(3, 0, L)]);
+        assert_eq!(n.stats().own_tag, 3);
+    }
+
+    #[test]
+    fn full_message_relay_drops_the_oldest_hop() {
+        let (mut n, mut rng) = node(15, 9);
+        let mut t = Instant::from_secs(1);
+        let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, r, None)).collect();
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full);
         assert_eq!(out.len(), MAX_HOPS);
-        assert_eq!(out.hops()[0], hop(1, None));
-        assert_eq!(out.hops()[MAX_HOPS - 1].reading, Level(9));
+        assert_eq!(out.hops()[0], hop(1, 1, None));
+        let last = out.hops()[MAX_HOPS - 1];
+        assert_eq!((last.reading, last.tag), (Level(9), n.tag()));
         assert_eq!(n.stats().hops_evicted, 1);
     }
 
     #[test]
     fn relays_keep_at_most_max_hops() {
-        let (mut n, mut rng) = node(9);
+        let (mut n, mut rng) = node(15, 9);
         let mut p = *n.params();
         p.max_hops = crate::frame::KEYED_MAX_HOPS as u8;
-        n = FusedNode::new(p, Instant::ZERO, &mut rng).unwrap();
+        n = FusedNode::new(p, n.tag(), Instant::ZERO, &mut rng).unwrap();
         n.handle_reading(Level(9));
         let mut t = Instant::from_secs(1);
         // A full plain message (12 hops) relayed by an 11-hop node: the two oldest go.
-        let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, None)).collect();
+        let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, r, None)).collect();
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full);
         assert_eq!(out.len(), 11);
-        assert_eq!(out.hops()[0], hop(2, None));
+        assert_eq!(out.hops()[0], hop(2, 2, None));
         assert_eq!(out.hops()[10].reading, Level(9));
         assert_eq!(n.stats().hops_evicted, 2);
         // An 11-hop message: one goes.
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full[..11]);
         assert_eq!(out.len(), 11);
-        assert_eq!(out.hops()[0], hop(1, None));
+        assert_eq!(out.hops()[0], hop(1, 1, None));
         assert_eq!(n.stats().hops_evicted, 3);
         // Shorter ones just grow, and an encoded relay always fits a keyed frame.
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full[..3]);
@@ -533,18 +632,18 @@ mod tests {
     }
 
     #[test]
-    fn decides_by_one_vote_per_slot_with_latest_preferences() {
-        let (mut n, mut rng) = node(0);
+    fn decides_by_one_vote_per_robot_with_latest_preferences() {
+        let (mut n, mut rng) = node(1, 0);
         let mut t = Instant::from_secs(1);
-        // The far robot on the right rides in many messages with its preference R; the near
-        // one prefers L. Each slot counts once, with its latest value.
+        // Robot 3 on the right rides in many messages with its preference R; robot 2 prefers
+        // L. Each robot counts once, with its latest preference.
         for _ in 0..5 {
             hear(
                 &mut n,
                 &mut rng,
                 &mut t,
                 Sector::RIGHT,
-                &[hop(0, R), hop(0, L)],
+                &[hop(3, 0, R), hop(2, 0, L)],
             );
         }
         hear(
@@ -552,14 +651,51 @@ mod tests {
             &mut rng,
             &mut t,
             Sector::RIGHT,
-            &[hop(0, L), hop(0, L)],
+            &[hop(3, 0, L), hop(2, 0, L)],
         );
-        hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(1, L)]);
+        hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(0, 1, L)]);
         let votes = n.votes();
-        // Own: L (left is the diverse side); right d1 = L, d2 = L; left d1 = L.
+        // Own: L (left is the diverse side); robots 0, 2 and 3: L.
         assert_eq!(n.preference(), L);
         assert_eq!(votes[usize::from(Sector::LEFT.index())], 4);
         assert_eq!(votes[usize::from(Sector::RIGHT.index())], 0);
+    }
+
+    #[test]
+    fn a_replay_from_the_other_side_counts_each_robot_once() {
+        // Pattern 1100, robot 2 (dark): robots 0 and 1 prefer R, robot 3 and it L; the 2-2 tie
+        // keeps its own L. A replayer between robots 1 and 2 sent robot 1's old relay (robots 0
+        // and 1) again; robot 3 relayed it, and robot 2 hears robots 0 and 1 from the right.
+        // Counted per (sector, distance) that was robots 0 and 1 twice: R 4-2, the wrong way.
+        let (mut n, mut rng) = node(2, 0);
+        let mut t = Instant::from_secs(1);
+        hear(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 1, R), hop(1, 1, R)],
+        );
+        hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(3, 0, L)]);
+        assert_eq!(n.preference(), L);
+        assert_eq!(n.votes()[..2], [2, 2]);
+        hear(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(0, 1, R), hop(1, 1, R), hop(3, 0, L)],
+        );
+        assert_eq!(n.preference(), L, "the left is still the diverse side");
+        assert_eq!(n.votes()[..2], [2, 2], "one vote per robot");
+        let Event::Decided {
+            decision, votes, ..
+        } = run_to_decision(&mut n, &mut rng)
+        else {
+            unreachable!()
+        };
+        assert_eq!(decision, L);
+        assert_eq!(votes[..2], [2, 2]);
     }
 
     fn run_to_decision(n: &mut FusedNode, rng: &mut Pcg32) -> Event {
@@ -577,16 +713,16 @@ mod tests {
 
     #[test]
     fn tie_keeps_own_preference_and_a_period_starts_empty() {
-        let (mut n, mut rng) = node(1);
+        let (mut n, mut rng) = node(1, 1);
         let mut t = Instant::from_secs(1);
         // 1100 seen by the second robot: left lit (pref R), right dark (prefs L, L).
-        hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(1, R)]);
+        hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(0, 1, R)]);
         hear(
             &mut n,
             &mut rng,
             &mut t,
             Sector::RIGHT,
-            &[hop(0, L), hop(0, L)],
+            &[hop(3, 0, L), hop(2, 0, L)],
         );
         assert_eq!(n.preference(), R);
         let e = run_to_decision(&mut n, &mut rng);
@@ -625,7 +761,7 @@ mod tests {
             &mut rng,
             &mut t,
             Sector::LEFT,
-            &[hop(1, R), hop(1, R)],
+            &[hop(4, 1, R), hop(0, 1, R)],
         );
         assert_eq!(n.weight(Sector::LEFT), Some(0.0));
         assert_eq!(n.preference(), R);
@@ -633,7 +769,7 @@ mod tests {
 
     #[test]
     fn a_period_lasts_the_configured_cycles() {
-        let (mut n, mut rng) = node(0);
+        let (mut n, mut rng) = node(0, 0);
         let Event::Decided { decision, .. } = run_to_decision(&mut n, &mut rng) else {
             unreachable!()
         };
@@ -647,7 +783,7 @@ mod tests {
         let mut p = Params::robots();
         p.sectors = 0;
         assert_eq!(
-            FusedNode::new(p, Instant::ZERO, &mut Pcg32::new(0, 0)).err(),
+            FusedNode::new(p, Tag::default(), Instant::ZERO, &mut Pcg32::new(0, 0)).err(),
             Some(ParamError::BadSectorCount)
         );
     }

@@ -49,7 +49,7 @@ pub use direction::{MAX_SECTORS, Sector};
 pub use diversity::{Diversity, Variance};
 pub use frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode, encode_keyed};
 pub use fused::{Event, FusedNode, Reception};
-pub use message::{Hop, Level, MAX_HOPS, Message};
+pub use message::{Hop, Level, MAX_HOPS, MAX_TAGS, Message, Tag};
 pub use params::{InitiationPoint, ParamError, Params, WaveParams};
 pub use three_phase::{SimMessage, ThreePhaseAgent};
 pub use time::{Duration, Instant};

@@ -6,6 +6,9 @@
 //! no transmission time, no loss, no collision (the emulator, `hal-emu`, models those). Time
 //! jumps from one deadline to the next, so hours of robot time take milliseconds.
 //!
+//! Robot `i` has the tag `i mod 16` ([`Tag::from_id`]), so every robot within a message's reach
+//! has a tag of its own.
+//!
 //! Everything is deterministic: robots are served in index order, and each has its own RNG.
 
 use rand_core::RngCore;
@@ -13,7 +16,7 @@ use rand_core::RngCore;
 use crate::direction::Sector;
 use crate::frame::{Deframer, encode};
 use crate::fused::{Event, FusedNode};
-use crate::message::{Level, Message};
+use crate::message::{Level, MAX_TAGS, Message, Tag};
 use crate::params::{ParamError, Params};
 use crate::time::Instant;
 
@@ -37,15 +40,17 @@ pub struct Line<R: RngCore, const N: usize> {
 }
 
 impl<R: RngCore, const N: usize> Line<R, N> {
-    /// `N` robots starting at time zero with these readings and RNGs.
+    /// `N` robots starting at time zero with these readings and RNGs; robot `i` has the tag
+    /// `i mod 16`.
     ///
     /// # Errors
     /// The [`ParamError`] if `params` do not validate.
     pub fn new(params: Params, readings: [Level; N], mut rngs: [R; N]) -> Result<Self, ParamError> {
         params.validate()?;
         let mut nodes: [Option<FusedNode>; N] = [const { None }; N];
-        for (slot, rng) in nodes.iter_mut().zip(rngs.iter_mut()) {
-            *slot = Some(FusedNode::new(params, Instant::ZERO, rng)?);
+        for (i, (slot, rng)) in nodes.iter_mut().zip(rngs.iter_mut()).enumerate() {
+            let tag = Tag::from_id((i % MAX_TAGS) as u16);
+            *slot = Some(FusedNode::new(params, tag, Instant::ZERO, rng)?);
         }
         let mut nodes = nodes.map(|n| n.expect("every slot was filled above"));
         for (n, r) in nodes.iter_mut().zip(readings) {

@@ -15,12 +15,16 @@
 //! hide the neighbours; refusing to relay would stop the wave.
 
 use heapless::Vec;
-use serde::{Deserialize, Serialize};
+use serde::de::{Error as _, Unexpected};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::direction::Sector;
 
 /// Hops per message: the most that fit a 32-byte frame in the worst case (12).
 pub const MAX_HOPS: usize = 12;
+
+/// Distinct robot tags: 16 (`0..=15`), one nibble of a hop's preference byte.
+pub const MAX_TAGS: usize = 16;
 
 /// A sensor reading quantised to 8 bits (0 = darkest/lowest, 255 = brightest/highest). The
 /// scaling from the ADC is the firmware's business; CIMAX only compares readings.
@@ -36,16 +40,89 @@ impl From<Level> for f32 {
     }
 }
 
-/// What one relaying robot appended: its reading and its preferred direction (if any).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// A robot's tag on the wire: its id modulo [`MAX_TAGS`] (16), `0..=15`.
+///
+/// Tags tell robots apart within a message's reach: every robot within [`MAX_HOPS`] hops of
+/// another must have a tag of its own. Sixteen robots numbered `0..16` always do; in a longer
+/// line numbered in order, two robots with the same tag are 16 apart, so never in the same
+/// message (see `docs/protocol.md` §5.3 for what a robot in the middle of such a line counts).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Tag(u8);
+
+impl Tag {
+    /// The tag with this value, if it is below [`MAX_TAGS`].
+    pub const fn new(value: u8) -> Option<Tag> {
+        if (value as usize) < MAX_TAGS {
+            Some(Tag(value))
+        } else {
+            None
+        }
+    }
+
+    /// The tag of the robot with this id: `id mod 16`.
+    pub const fn from_id(id: u16) -> Tag {
+        Tag((id % MAX_TAGS as u16) as u8)
+    }
+
+    /// The tag's value, `0..=15`.
+    pub const fn index(self) -> u8 {
+        self.0
+    }
+}
+
+/// What one relaying robot appended: its reading, its preferred direction (if any) and its
+/// tag.
+///
+/// On the wire two bytes: the reading, then `tag << 4 | pref` with `pref` 0 for none and
+/// `sector + 1` otherwise. Decoding refuses a preference nibble above 8.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Hop {
     /// The robot's sensor reading.
     pub reading: Level,
-    /// The robot's preferred direction when it relayed; `None` while it has none. On the wire
-    /// one byte: 0 for none, `sector + 1` otherwise.
-    #[serde(with = "pref_byte")]
+    /// The robot's preferred direction when it relayed; `None` while it has none.
     pub pref: Option<Sector>,
+    /// The relaying robot's tag.
+    pub tag: Tag,
+}
+
+/// Serde's "expected" text for a bad preference byte.
+const PREF_EXPECTED: &str = "a preference byte tag << 4 | p with p in 0..=8 (0 = none, sector + 1)";
+
+impl Hop {
+    /// The preference byte: tag in the high nibble, `0` or `sector + 1` in the low one.
+    fn pref_byte(&self) -> u8 {
+        self.tag.0 << 4 | self.pref.map_or(0, |p| p.index() + 1)
+    }
+
+    /// The hop of a reading and a preference byte; `None` if the preference nibble is above 8.
+    fn from_bytes(reading: u8, pref_byte: u8) -> Option<Hop> {
+        let pref = match pref_byte & 0x0F {
+            0 => None,
+            p => Some(Sector::new(p - 1)?),
+        };
+        Some(Hop {
+            reading: Level(reading),
+            pref,
+            tag: Tag(pref_byte >> 4),
+        })
+    }
+}
+
+impl Serialize for Hop {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        (self.reading.0, self.pref_byte()).serialize(s)
+    }
+}
+
+impl<'de> Deserialize<'de> for Hop {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let (reading, pref_byte) = <(u8, u8)>::deserialize(d)?;
+        Hop::from_bytes(reading, pref_byte).ok_or_else(|| {
+            D::Error::invalid_value(Unexpected::Unsigned(u64::from(pref_byte)), &PREF_EXPECTED)
+        })
+    }
 }
 
 /// A wave's message: at least one hop, at most [`MAX_HOPS`].
@@ -107,6 +184,12 @@ impl Message {
         drop
     }
 
+    /// True if a hop carries `tag`: the robot with that tag relayed this message (or one with
+    /// the same tag, which a swarm avoids within [`MAX_HOPS`] hops).
+    pub fn has_tag(&self, tag: Tag) -> bool {
+        self.hops.iter().any(|h| h.tag == tag)
+    }
+
     /// The readings, oldest first, as floats (for a [`crate::diversity::Diversity`]).
     pub fn readings(&self) -> impl Iterator<Item = f32> + Clone + '_ {
         self.hops.iter().map(|h| f32::from(h.reading))
@@ -125,30 +208,6 @@ pub(crate) fn push_evicting<T, const N: usize>(v: &mut Vec<T, N>, item: T) -> Op
     evicted
 }
 
-/// Serde for `Option<Sector>` as one byte: 0 = none, `index + 1` otherwise.
-mod pref_byte {
-    use serde::de::{Error, Unexpected};
-    use serde::{Deserialize, Deserializer, Serializer};
-
-    use crate::direction::Sector;
-
-    /// Serde's "expected" text for a bad preference byte.
-    const PREF_EXPECTED: &str = "a preference byte 0..=8 (0 = none, sector + 1)";
-
-    pub fn serialize<S: Serializer>(pref: &Option<Sector>, s: S) -> Result<S::Ok, S::Error> {
-        s.serialize_u8(pref.map_or(0, |p| p.index() + 1))
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<Sector>, D::Error> {
-        match u8::deserialize(d)? {
-            0 => Ok(None),
-            b => Sector::new(b - 1).map(Some).ok_or_else(|| {
-                D::Error::invalid_value(Unexpected::Unsigned(u64::from(b)), &PREF_EXPECTED)
-            }),
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -157,6 +216,7 @@ mod tests {
         Hop {
             reading: Level(r),
             pref: None,
+            tag: Tag::default(),
         }
     }
 
@@ -199,6 +259,7 @@ mod tests {
         let h = Hop {
             reading: Level(7),
             pref: Some(Sector::LEFT),
+            tag: Tag::default(),
         };
         let mut buf = [0u8; 4];
         let out = postcard::to_slice(&h, &mut buf).unwrap();
@@ -208,5 +269,53 @@ mod tests {
         assert_eq!(postcard::from_bytes::<Hop>(&[9, 0]).unwrap(), hop(9));
         assert!(postcard::from_bytes::<Hop>(&[9, 9]).is_err());
         assert!(postcard::from_bytes::<Hop>(&[9, 255]).is_err());
+    }
+
+    #[test]
+    fn the_tag_shares_the_preference_byte() {
+        let mut buf = [0u8; 4];
+        for (tag, pref, byte) in [
+            (0, None, 0x00),
+            (1, None, 0x10),
+            (5, Some(Sector::LEFT), 0x52),
+            (15, Sector::new(7), 0xF8),
+            (15, None, 0xF0),
+        ] {
+            let h = Hop {
+                reading: Level(0x73),
+                pref,
+                tag: Tag::new(tag).unwrap(),
+            };
+            let out = postcard::to_slice(&h, &mut buf).unwrap();
+            assert_eq!(out, &[0x73, byte], "{h:?}");
+            assert_eq!(postcard::from_bytes::<Hop>(out).unwrap(), h);
+        }
+        // Every preference nibble above 8 is refused, whatever the tag; no byte panics.
+        for byte in 0..=255u8 {
+            let got = postcard::from_bytes::<Hop>(&[1, byte]);
+            assert_eq!(got.is_ok(), byte & 0x0F <= 8, "{byte:#04x}");
+            if let Ok(h) = got {
+                assert_eq!(h.tag.index(), byte >> 4);
+            }
+        }
+    }
+
+    #[test]
+    fn tags_are_ids_modulo_sixteen() {
+        assert_eq!(Tag::from_id(0), Tag::new(0).unwrap());
+        assert_eq!(Tag::from_id(15).index(), 15);
+        assert_eq!(Tag::from_id(16).index(), 0);
+        assert_eq!(Tag::from_id(u16::MAX).index(), 15);
+        assert_eq!(Tag::new(16), None);
+        let m = Message::from_hops(&[
+            hop(1),
+            Hop {
+                tag: Tag::from_id(3),
+                ..hop(2)
+            },
+        ])
+        .unwrap();
+        assert!(m.has_tag(Tag::from_id(3)) && m.has_tag(Tag::default()));
+        assert!(!m.has_tag(Tag::from_id(4)));
     }
 }

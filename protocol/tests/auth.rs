@@ -7,16 +7,23 @@ use protocol::frame::{
     encode_keyed,
 };
 use protocol::{
-    Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, Message, Params, Sector,
-    SwarmKey,
+    Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, MAX_TAGS, Message, Params,
+    Sector, SwarmKey, Tag,
 };
 use rand_pcg::Pcg32;
 
+/// Any hop but one of robot tag 15 (the node of `a_keyed_node_only_relays_…` has that tag).
 fn hop() -> impl Strategy<Value = Hop> {
-    (any::<u8>(), proptest::option::of(0..MAX_SECTORS as u8)).prop_map(|(r, p)| Hop {
-        reading: Level(r),
-        pref: p.and_then(Sector::new),
-    })
+    (
+        any::<u8>(),
+        proptest::option::of(0..MAX_SECTORS as u8),
+        0..MAX_TAGS as u8 - 1,
+    )
+        .prop_map(|(r, p, t)| Hop {
+            reading: Level(r),
+            pref: p.and_then(Sector::new),
+            tag: Tag::new(t).unwrap(),
+        })
 }
 
 fn message(max: usize) -> impl Strategy<Value = Message> {
@@ -167,7 +174,8 @@ proptest! {
     ) {
         let mut rng = Pcg32::new(seed, 1);
         let params = Params { max_hops: KEYED_MAX_HOPS as u8, ..Params::robots() };
-        let mut n = FusedNode::new(params, Instant::ZERO, &mut rng).unwrap();
+        let tag = Tag::new(MAX_TAGS as u8 - 1).unwrap();
+        let mut n = FusedNode::new(params, tag, Instant::ZERO, &mut rng).unwrap();
         let mut t = Instant::ZERO;
         let mut relayed = 0;
         for m in &msgs {
@@ -193,6 +201,7 @@ fn every_bit_flip_of_a_keyed_frame_is_rejected() {
         &[Hop {
             reading: Level(200),
             pref: Some(Sector::LEFT),
+            tag: Tag::new(9).unwrap(),
         }; KEYED_MAX_HOPS],
     )
     .unwrap();

@@ -102,6 +102,9 @@ fn an_initiator_is_never_reactivated_by_its_own_wave() {
                 let r = usize::from(hop.reading.0);
                 assert!(!seen[r], "a robot appears twice in {m:?}");
                 seen[r] = true;
+                // Robot i has tag i: tags identify the robots just as well.
+                let t = usize::from(hop.tag.index());
+                assert_eq!(r, 10 * (t + 1), "robot {t}'s tag on another's hop: {m:?}");
             }
         }
     });
@@ -110,6 +113,10 @@ fn an_initiator_is_never_reactivated_by_its_own_wave() {
         assert!(
             n.wave_stats().ignored > 0,
             "neighbours' relays reach the refractory sender"
+        );
+        assert!(
+            n.stats().own_tag > 0,
+            "the echoes of its own relays, dropped by their tag"
         );
     }
     for d in l.deframers().iter().flatten() {

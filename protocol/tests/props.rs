@@ -3,16 +3,24 @@
 
 use proptest::prelude::*;
 use protocol::frame::{Deframer, decode_frame, encode};
+use protocol::fused::Reception;
 use protocol::{
-    Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, Message, Params, Sector,
+    Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, MAX_TAGS, Message, Params,
+    Sector, Tag,
 };
 use rand_pcg::Pcg32;
 
 fn hop() -> impl Strategy<Value = Hop> {
-    (any::<u8>(), proptest::option::of(0..MAX_SECTORS as u8)).prop_map(|(r, p)| Hop {
-        reading: Level(r),
-        pref: p.and_then(Sector::new),
-    })
+    (
+        any::<u8>(),
+        proptest::option::of(0..MAX_SECTORS as u8),
+        0..MAX_TAGS as u8,
+    )
+        .prop_map(|(r, p, t)| Hop {
+            reading: Level(r),
+            pref: p.and_then(Sector::new),
+            tag: Tag::new(t).unwrap(),
+        })
 }
 
 fn message() -> impl Strategy<Value = Message> {
@@ -78,7 +86,8 @@ proptest! {
         ),
     ) {
         let mut rng = Pcg32::new(seed, 1);
-        let mut n = FusedNode::new(Params::robots(), Instant::ZERO, &mut rng).unwrap();
+        let tag = Tag::from_id(seed as u16);
+        let mut n = FusedNode::new(Params::robots(), tag, Instant::ZERO, &mut rng).unwrap();
         let mut d = Deframer::new();
         for (kind, t, sector, bytes) in ops {
             // Times jump around, backwards included.
@@ -91,16 +100,37 @@ proptest! {
                     let mut frame = bytes.clone();
                     if kind == 3 {
                         // A well-formed frame around arbitrary hops.
-                        let hops: Vec<Hop> = bytes.chunks(2).take(MAX_HOPS).map(|c| Hop {
-                            reading: Level(c[0]),
-                            pref: Sector::new(c.get(1).copied().unwrap_or(0) % 3),
+                        let hops: Vec<Hop> = bytes.chunks(2).take(MAX_HOPS).map(|c| {
+                            let b = c.get(1).copied().unwrap_or(0);
+                            Hop {
+                                reading: Level(c[0]),
+                                pref: Sector::new(b % 3),
+                                tag: Tag::from_id(u16::from(b >> 4)),
+                            }
                         }).collect();
                         if let Some(m) = Message::from_hops(&hops) {
                             frame = encode(&m).unwrap().to_vec();
                         }
                     }
                     for m in d.frames(&frame).filter_map(Result::ok) {
-                        n.handle_message(now, from, &m, &mut rng);
+                        let own = m.has_tag(tag);
+                        let dropped = n.stats().own_tag;
+                        let r = n.handle_message(now, from, &m, &mut rng);
+                        if own && from.index() < 2 {
+                            // Dropped after whatever was due: a second call at the same time
+                            // changes nothing but the counter.
+                            prop_assert_eq!(r, Reception::OwnTag);
+                            let again = (n.state(), n.votes(), n.preference(), *n.wave_stats());
+                            prop_assert_eq!(n.handle_message(now, from, &m, &mut rng), r);
+                            prop_assert_eq!(
+                                (n.state(), n.votes(), n.preference(), *n.wave_stats()),
+                                again
+                            );
+                            prop_assert_eq!(n.stats().own_tag, dropped.wrapping_add(2));
+                        } else {
+                            prop_assert!(r != Reception::OwnTag);
+                            prop_assert_eq!(n.stats().own_tag, dropped);
+                        }
                     }
                 }
             }

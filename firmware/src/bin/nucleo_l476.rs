@@ -20,6 +20,14 @@
 //! only authenticated frames ([`SWARM_KEY`]); unset or empty, plain frames. A malformed key
 //! fails the build. The key ends up in the flash image: keep the image as secret as the key.
 //!
+//! **Robot id.** Built with `CIMAX_ROBOT_ID` set to a number `0..=65535`, e.g.
+//! `CIMAX_ROBOT_ID=2 cargo firmware`, the robot has that id ([`ROBOT_ID`]); its tag on the wire
+//! is the id modulo 16, and robots within 12 hops of each other must differ in it (number a
+//! line 0, 1, 2, … in order). Unset or empty, the id is the first two bytes of the chip's
+//! unique ID, which gives no such guarantee: four robots share a tag about one time in three,
+//! and robots sharing a tag drop each other's messages. The boot log says which. A malformed
+//! id fails the build.
+//!
 //! `cargo firmware` builds the release image; `cargo run -p firmware --release --target
 //! thumbv7em-none-eabihf --features board-nucleo-l476 --bin nucleo_l476` flashes it with
 //! probe-rs and prints the logs (see `docs/firmware.md`).
@@ -64,6 +72,37 @@ const SWARM_KEY: Option<SwarmKey> = match option_env!("CIMAX_SWARM_KEY") {
         }
     },
 };
+
+/// The robot's id, from the environment variable `CIMAX_ROBOT_ID` at build time (decimal,
+/// `0..=65535`); `None` (the id comes from the chip's unique ID) if it is unset or empty.
+/// Parsed at compile time: a malformed id is a build error.
+const ROBOT_ID: Option<u16> = match option_env!("CIMAX_ROBOT_ID") {
+    None => None,
+    Some(text) if text.is_empty() => None,
+    Some(text) => match parse_id(text) {
+        Some(id) => Some(id),
+        None => panic!("CIMAX_ROBOT_ID must be a decimal number from 0 to 65535"),
+    },
+};
+
+/// A decimal `u16`: digits only, no sign, at most 65535.
+const fn parse_id(text: &str) -> Option<u16> {
+    let digits = text.as_bytes();
+    let mut value: u32 = 0;
+    let mut i = 0;
+    while i < digits.len() {
+        let d = digits[i];
+        if !d.is_ascii_digit() {
+            return None;
+        }
+        value = value * 10 + (d - b'0') as u32;
+        if value > u16::MAX as u32 {
+            return None;
+        }
+        i += 1;
+    }
+    Some(value as u16)
+}
 
 bind_interrupts!(struct Irqs {
     USART3 => usart::InterruptHandler<peripherals::USART3>;
@@ -192,8 +231,18 @@ async fn main(_spawner: Spawner) {
         u64::from_le_bytes([a, b, c, d, e, f, g, h]),
         u64::from(u32::from_le_bytes([i, j, k, l])),
     );
+    let id = match ROBOT_ID {
+        Some(id) => id,
+        None => {
+            defmt::warn!(
+                "CIMAX_ROBOT_ID not set at build time: id from the chip's unique ID, its tag may \
+                 collide with a neighbour's"
+            );
+            u16::from_le_bytes([a, b])
+        }
+    };
     let config = Config {
-        id: u16::from_le_bytes([a, b]),
+        id,
         key: SWARM_KEY,
         ..Config::robots()
     };

@@ -17,8 +17,8 @@ use crate::keyed::{
     KEY_TEXT, STREAM, reference_frame,
 };
 use crate::reference::{
-    GOLDEN_FOUR_HOPS, GOLDEN_ONE_HOP, GOLDEN_S_BYTES, four_hops, frame_payload, hop, one_hop,
-    payload_of, s_bytes,
+    GOLDEN_FOUR_HOPS, GOLDEN_ONE_HOP, GOLDEN_S_BYTES, GOLDEN_TAGGED_FOUR, four_hops, frame_payload,
+    hop, one_hop, payload_of, s_bytes, tagged, tagged_four,
 };
 use crate::scenario::{Custom, ParamsChoice, Setup, Start, TimeStep};
 use crate::{deframer, fused_node, roundtrip, three_phase};
@@ -96,6 +96,24 @@ pub fn deframer() -> Vec<DeframerSeed> {
     use FrameError::*;
     vec![
         seed("golden-one-hop", &[], one.to_vec(), vec![Ok(one_hop())]),
+        seed(
+            "golden-tagged-four-hops",
+            &[5],
+            GOLDEN_TAGGED_FOUR.to_vec(),
+            vec![Ok(tagged_four())],
+        ),
+        seed(
+            "max-length-tag-15",
+            &[],
+            frame_payload(&payload_of(&msg(&[tagged(0xFF, 15, Some(7)); MAX_HOPS]))),
+            vec![Ok(msg(&[tagged(0xFF, 15, Some(7)); MAX_HOPS]))],
+        ),
+        seed(
+            "preference-nibble-9-with-tag",
+            &[],
+            frame_payload(&[1, 0, 0x39]),
+            vec![Err(FrameError::Undecodable)],
+        ),
         seed(
             "golden-four-hops-cut-3-5",
             &[3, 5],
@@ -319,6 +337,21 @@ pub fn message_decode() -> Vec<DecodeSeed> {
             Err(Undecodable),
         ),
         payload("payload-preference-byte-9", vec![1, 0, 9], Err(Undecodable)),
+        payload(
+            "payload-tag-15-no-preference",
+            vec![1, 7, 0xF0],
+            Ok(msg(&[tagged(7, 15, None)])),
+        ),
+        payload(
+            "payload-tag-3-preference-nibble-9",
+            vec![1, 7, 0x39],
+            Err(Undecodable),
+        ),
+        payload(
+            "payload-tagged-four-hops",
+            payload_of(&tagged_four()),
+            Ok(tagged_four()),
+        ),
         payload("payload-all-s", vec![DELIMITER; 8], Err(Undecodable)),
         frame(
             "frame-golden-one-hop",
@@ -424,7 +457,12 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
     };
     let deadlines = |n| (0..n).map(|_| d(Action::Timeout(TimeStep::Deadline)));
     let message = |sector, hops: Vec<Hop>, time| Action::Message { sector, hops, time };
-    let input = |setup, steps: Vec<Step>| Input { setup, steps };
+    // The robot is tag 9 unless a seed says otherwise; `hop` is tag 0.
+    let input = |setup, steps: Vec<Step>| Input {
+        setup,
+        tag: 9,
+        steps,
+    };
     let later = TimeStep::Forward(6_000);
     let quick = ParamsChoice::Quick {
         sectors: 3,
@@ -434,8 +472,12 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
 
     let mut lab = vec![
         d(Action::Reading(1)),
-        d(message(1, vec![hop(1, Some(0))], later)),
-        d(message(0, vec![hop(0, Some(1)), hop(0, Some(1))], later)),
+        d(message(1, vec![tagged(1, 0, Some(0))], later)),
+        d(message(
+            0,
+            vec![tagged(0, 3, Some(1)), tagged(0, 2, Some(1))],
+            later,
+        )),
     ];
     lab.extend(deadlines(40));
 
@@ -470,7 +512,7 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
         .map(|s| {
             d(message(
                 s,
-                vec![hop(s * 30, Some(s))],
+                vec![tagged(s * 30, s, Some(s))],
                 TimeStep::Forward(11_000),
             ))
         })
@@ -514,7 +556,7 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
     full.push(d(message(0, widest(MAX_HOPS), later)));
     full.push(d(message(
         1,
-        (0..12).map(|r| hop(r, Some(0))).collect(),
+        (0..12).map(|r| tagged(r, r, Some(0))).collect(),
         later,
     )));
     full.extend(deadlines(25));
@@ -526,6 +568,33 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
         d(message(0, vec![hop(2, None)], TimeStep::Same)),
         d(Action::Timeout(TimeStep::Deadline)),
     ];
+
+    // Robot 5: an echo of its own relay, a replay holding its tag among others, and a
+    // message where one tag appears twice (its newest hop counts).
+    let mut own_tag = vec![
+        d(Action::Reading(2)),
+        d(message(1, vec![tagged(1, 4, Some(0))], later)),
+        d(message(
+            0,
+            vec![
+                tagged(1, 4, Some(0)),
+                tagged(2, 5, Some(1)),
+                tagged(0, 6, Some(1)),
+            ],
+            later,
+        )),
+        d(message(0, vec![tagged(0, 5, None)], later)),
+        d(message(
+            0,
+            vec![
+                tagged(0, 7, Some(0)),
+                tagged(0, 6, Some(1)),
+                tagged(0, 7, Some(1)),
+            ],
+            later,
+        )),
+    ];
+    own_tag.extend(deadlines(30));
 
     vec![
         (
@@ -576,6 +645,13 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
         (
             "empty-message-and-unknown-sector",
             input(setup(ParamsChoice::Robots, Start::Zero), odd),
+        ),
+        (
+            "own-tag-echo-replay-and-repeated-tag",
+            Input {
+                tag: 5,
+                ..input(setup(ParamsChoice::Robots, Start::Zero), own_tag)
+            },
         ),
     ]
 }

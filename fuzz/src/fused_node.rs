@@ -1,7 +1,7 @@
 //! `fused_node`: the robot state machine [`FusedNode`] driven by an arbitrary sequence of inputs.
 //!
-//! Input: a [`Setup`] (RNG seed for `rand_pcg::Pcg32`, parameters, start instant), then up to
-//! [`MAX_STEPS`] steps: a sensor reading; a message from any sector (also sectors `≥ K`, and the
+//! Input: a [`Setup`] (RNG seed for `rand_pcg::Pcg32`, parameters, start instant), the robot's
+//! tag (modulo 16), then up to [`MAX_STEPS`] steps: a sensor reading; a message from any sector (also sectors `≥ K`, and the
 //! empty message); received bytes for a sector's [`Deframer`]; noise then a whole frame; or a
 //! bare `handle_timeout`. Each step moves time first ([`TimeStep`]: forward, backward, to the
 //! deadline). After each step the outputs are drained, unless the step says to hold them.
@@ -9,21 +9,25 @@
 //! After every `handle_*` call the harness checks, through the public API only, against a
 //! small model of what `docs/protocol.md` §5 and §9 promise:
 //!
-//! - nothing panics; `new` refuses exactly what `Params::validate` refuses;
+//! - nothing panics; `new` refuses exactly what `Params::validate` refuses, and keeps the tag;
 //! - `poll_transmit` and `poll_event` run dry within 2 and 8 items (§5.4), as many messages
 //!   come out as were queued minus those counted lost, and a loss means the queue was full;
 //! - every transmitted message has 1..=MAX_HOPS hops and frames and deframes back to itself; an
-//!   initiation is the robot's own hop, a relay is the accepted message plus its own hop, its
-//!   oldest hops dropped to keep at most `Params::max_hops` (counted in `hops_evicted`);
+//!   initiation is the robot's own hop (reading, preference, tag), a relay is the accepted
+//!   message plus its own hop, its oldest hops dropped to keep at most `Params::max_hops`
+//!   (counted in `hops_evicted`);
 //! - `poll_timeout()` is after `now` (or "never", `Instant::MAX`) and at most one longest cycle
 //!   after the latest instant seen; an input before the deadline changes nothing due to time;
-//! - receptions: `UnknownSector` exactly for sectors `≥ K`, `Ignored` for the empty message or a
-//!   node that is not inactive, `Accepted` leaves it active with its relay due within the relay
-//!   delay; counters move by one accordingly;
+//! - receptions: `UnknownSector` exactly for sectors `≥ K`; then `OwnTag` exactly for a message
+//!   holding a hop with the robot's own tag, which changes nothing but `own_tag` (no
+//!   activation, no score, no vote, not counted as ignored); `Ignored` for the empty message or
+//!   a node that is not inactive; `Accepted` leaves it active with its relay due within the
+//!   relay delay; counters move by one accordingly;
 //! - preference and decision are `None` or a sector below K; a preference, once set, is never
 //!   cleared; after an accepted message it is the strictly heaviest sector by `weight()` if
 //!   there is one, else unchanged; weights are finite, in `[0, 127.5²]`, and only below K;
-//! - `votes()` equals the count over a model of the (sector, distance) slots plus the own
+//! - `votes()` equals the count over a model of the per-tag slots (each accepted message's hops,
+//!   oldest first, overwrite their tag's slot; the own tag's slot never counts) plus the own
 //!   preference, the slots being emptied at each period end;
 //! - with every event of a call seen: the `State` events chain valid transitions ending in
 //!   `state()`, one `Refractory` per transmission and one `Active` per acceptance; `Decided`
@@ -34,6 +38,7 @@
 use arbitrary::Unstructured;
 use protocol::frame::{self, Deframer, FrameError};
 use protocol::fused::{NodeStats, Votes};
+use protocol::message::{MAX_TAGS, Tag};
 use protocol::wave::WaveStats;
 use protocol::{
     Event, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, Message, Params, Reception,
@@ -178,6 +183,8 @@ impl Step {
 pub struct Input {
     /// Seed, parameters, start.
     pub setup: Setup,
+    /// The robot's tag, before the modulo.
+    pub tag: u8,
     /// The steps.
     pub steps: Vec<Step>,
 }
@@ -187,14 +194,16 @@ impl Input {
     pub fn read(data: &[u8]) -> Self {
         let mut u = Unstructured::new(data);
         let setup = Setup::read(&mut u);
+        let tag = get(&mut u);
         let steps = list(&mut u, MAX_STEPS, Step::read);
-        Input { setup, steps }
+        Input { setup, tag, steps }
     }
 
     /// The bytes [`read`](Self::read) turns into this input.
     pub fn write(&self) -> Vec<u8> {
         let mut w = Writer::new();
         self.setup.write(&mut w);
+        w.u8(self.tag);
         for s in &self.steps {
             w.item();
             s.write(&mut w);
@@ -235,7 +244,8 @@ pub fn run(input: &Input) -> Vec<Out> {
     let params = setup.params.params();
     let start = setup.start.instant();
     let mut rng = setup.rng();
-    let node = match FusedNode::new(params, start, &mut rng) {
+    let tag = reference::tag(input.tag);
+    let node = match FusedNode::new(params, tag, start, &mut rng) {
         Ok(n) => {
             assert_eq!(params.validate(), Ok(()));
             n
@@ -245,6 +255,7 @@ pub fn run(input: &Input) -> Vec<Out> {
             return Vec::new();
         }
     };
+    assert_eq!(node.tag(), tag);
     assert_eq!(node.state(), WaveState::Inactive);
     assert_eq!((node.preference(), node.decision()), (None, None));
     assert_eq!(node.periods(), 0);
@@ -258,11 +269,12 @@ pub fn run(input: &Input) -> Vec<Out> {
         rng,
         params,
         k: usize::from(params.sectors),
+        tag,
         setup: *setup,
         deframers: core::array::from_fn(|_| Deframer::new()),
         now: start,
         latest: start,
-        views: EMPTY_VIEWS,
+        heard: NOTHING_HEARD,
         pending: None,
         outbox: 0,
         events_clean: true,
@@ -274,15 +286,20 @@ pub fn run(input: &Input) -> Vec<Out> {
     r.trace
 }
 
-type Views = [[Option<Sector>; MAX_HOPS]; MAX_SECTORS];
-const EMPTY_VIEWS: Views = [[None; MAX_HOPS]; MAX_SECTORS];
+/// The latest preference heard per robot tag this period.
+pub type Heard = [Option<Sector>; MAX_TAGS];
+const NOTHING_HEARD: Heard = [None; MAX_TAGS];
 
-/// The votes §5.3 counts: one per slot of a sector below K holding a sector below K, plus the
-/// own preference.
-pub fn votes_of(views: &Views, pref: Option<Sector>, k: usize) -> Votes {
+/// The votes counted: one per tag other than the own one holding a sector below K (its latest
+/// preference this period), plus the own preference.
+pub fn votes_of(heard: &Heard, own: Tag, pref: Option<Sector>, k: usize) -> Votes {
     let mut v = [0u16; MAX_SECTORS];
-    let heard = views[..k].iter().flatten();
-    for s in heard.chain(core::iter::once(&pref)).flatten() {
+    let others = heard
+        .iter()
+        .enumerate()
+        .filter(|&(t, _)| t != usize::from(own.index()))
+        .map(|(_, p)| p);
+    for s in others.chain(core::iter::once(&pref)).flatten() {
         if usize::from(s.index()) < k {
             v[usize::from(s.index())] += 1;
         }
@@ -319,12 +336,13 @@ struct Run {
     rng: rand_pcg::Pcg32,
     params: Params,
     k: usize,
+    tag: Tag,
     setup: Setup,
     deframers: [Deframer; MAX_SECTORS],
     now: Instant,
     latest: Instant,
-    /// Model of the node's (sector, distance) preference slots.
-    views: Views,
+    /// Model of the node's per-tag preference slots.
+    heard: Heard,
     /// Model of the message waiting to be relayed.
     pending: Option<Message>,
     /// Messages left in the outbox by held steps.
@@ -343,7 +361,8 @@ struct Before {
     stats: NodeStats,
     wave: WaveStats,
     timeout: Instant,
-    views: Views,
+    heard: Heard,
+    weights: [Option<f32>; MAX_SECTORS],
 }
 
 enum Call<'a> {
@@ -465,7 +484,8 @@ impl Run {
             stats: *n.stats(),
             wave: *n.wave_stats(),
             timeout: n.poll_timeout(),
-            views: self.views,
+            heard: self.heard,
+            weights: core::array::from_fn(|i| n.weight(reference::sector(i as u8))),
         }
     }
 
@@ -520,6 +540,7 @@ impl Run {
         );
         let d_accepted = delta(stats.accepted, before.stats.accepted, "accepted");
         let d_unknown = delta(stats.unknown_sector, before.stats.unknown_sector, "unknown");
+        let d_own = delta(stats.own_tag, before.stats.own_tag, "own_tag");
         let d_evicted = delta(stats.hops_evicted, before.stats.hops_evicted, "evicted");
         let d_tlost = delta(stats.transmits_lost, before.stats.transmits_lost, "tlost");
         let d_elost = delta(stats.events_lost, before.stats.events_lost, "elost");
@@ -554,27 +575,42 @@ impl Run {
 
         // Period ends empty the slots (before any message of this call is noted).
         if d_periods > 0 {
-            self.views = EMPTY_VIEWS;
+            self.heard = NOTHING_HEARD;
         }
 
         // The reception.
         let mut accepted = None;
         match call {
-            Call::Timeout => assert_eq!((d_accepted, d_unknown), (0, 0)),
+            Call::Timeout => assert_eq!((d_accepted, d_unknown, d_own), (0, 0, 0)),
             Call::Message {
                 from,
                 msg,
                 reception,
             } => {
                 let known = usize::from(from.index()) < k;
+                let own_tag = msg.has_tag(self.tag);
+                let before_weight = before.weights[usize::from(from.index())];
+                assert_eq!(own_tag, msg.hops().iter().any(|h| h.tag == self.tag));
                 match reception {
                     Reception::UnknownSector => {
                         assert!(!known, "{from:?} is known with K = {k}");
-                        assert_eq!((d_unknown, d_accepted), (1, 0));
+                        assert_eq!((d_unknown, d_accepted, d_own), (1, 0, 0));
+                    }
+                    Reception::OwnTag => {
+                        assert!(known && own_tag, "OwnTag for {msg:?}");
+                        assert_eq!((d_unknown, d_accepted, d_own, d_ignored), (0, 0, 1, 0));
+                        assert_eq!(
+                            self.node.weight(from),
+                            before_weight,
+                            "scored a message with the own tag"
+                        );
+                        if now < before.timeout {
+                            assert_eq!(state, before.state, "activated by the own tag");
+                        }
                     }
                     Reception::Ignored => {
-                        assert!(known);
-                        assert_eq!((d_unknown, d_accepted), (0, 0));
+                        assert!(known && !own_tag);
+                        assert_eq!((d_unknown, d_accepted, d_own), (0, 0, 0));
                         if msg.is_empty() {
                             assert_eq!(d_ignored, 0, "the empty message is not counted");
                         } else {
@@ -583,14 +619,13 @@ impl Run {
                         }
                     }
                     Reception::Accepted => {
-                        assert!(known && !msg.is_empty());
-                        assert_eq!((d_unknown, d_accepted, d_ignored), (0, 1, 0));
+                        assert!(known && !own_tag && !msg.is_empty());
+                        assert_eq!((d_unknown, d_accepted, d_ignored, d_own), (0, 1, 0, 0));
                         assert_eq!(state, WaveState::Active);
                         assert!(t <= now + self.params.wave.relay_delay, "relay at {t:?}");
                         assert!(self.node.weight(from).is_some());
-                        let slots = &mut self.views[usize::from(from.index())];
-                        for (slot, h) in slots.iter_mut().zip(msg.hops().iter().rev()) {
-                            *slot = h.pref;
+                        for h in msg.hops() {
+                            self.heard[usize::from(h.tag.index())] = h.pref;
                         }
                         match self.heaviest() {
                             Some(best) => assert_eq!(pref, Some(best), "not the heaviest"),
@@ -604,7 +639,11 @@ impl Run {
         if accepted.is_none() {
             assert_eq!(pref, before.pref, "preference changed without a message");
         }
-        assert_eq!(self.node.votes(), votes_of(&self.views, pref, k), "votes");
+        assert_eq!(
+            self.node.votes(),
+            votes_of(&self.heard, self.tag, pref, k),
+            "votes"
+        );
 
         // Transmissions.
         let pushed = (d_init + d_relayed) as usize;
@@ -619,7 +658,8 @@ impl Run {
             );
         }
         let reading = self.node.reading();
-        let own = |pref: Option<Sector>| Hop { reading, pref };
+        let tag = self.tag;
+        let own = |pref: Option<Sector>| Hop { reading, pref, tag };
         // The relay this call made, if any, as the model expects it, and the hops it dropped.
         let cap = usize::from(self.params.max_hops);
         let relayed = (d_relayed > 0).then(|| {
@@ -749,14 +789,18 @@ impl Run {
                         changed,
                         votes,
                     } => {
-                        let views = if period == before.periods {
-                            &before.views
+                        let heard = if period == before.periods {
+                            &before.heard
                         } else {
-                            &EMPTY_VIEWS
+                            &NOTHING_HEARD
                         };
                         period += 1;
                         assert_eq!(p, period);
-                        assert_eq!(votes, votes_of(views, before.pref, k), "votes of {e:?}");
+                        assert_eq!(
+                            votes,
+                            votes_of(heard, self.tag, before.pref, k),
+                            "votes of {e:?}"
+                        );
                         assert_eq!(d, decision_of(&votes, k, before.pref, previous), "{e:?}");
                         assert_eq!(changed, d != previous);
                         previous = d;
@@ -819,6 +863,7 @@ mod tests {
                 },
                 start: Start::Zero,
             },
+            tag: 3,
             steps,
         };
         assert_eq!(Input::read(&input.write()), input);

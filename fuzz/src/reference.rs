@@ -4,6 +4,7 @@
 
 use arbitrary::{Arbitrary, Unstructured};
 use protocol::frame::{self, BODY_MAX, CRC_LEN, DELIMITER, FRAME_MAX, FrameError};
+use protocol::message::{MAX_TAGS, Tag};
 use protocol::{Hop, Level, MAX_HOPS, MAX_SECTORS, Message, Sector};
 
 /// `docs/protocol.md` §1.6: one hop, reading 1, no preference.
@@ -19,12 +20,34 @@ pub const CRC16: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_3740);
 /// Largest variance of 8-bit readings, (255 / 2)², with room for `f32` rounding.
 pub const MAX_LEVEL_VARIANCE: f32 = 16_257.0;
 
-/// A hop; `pref` is a sector index below [`MAX_SECTORS`].
+/// A hop of the robot with tag 0; `pref` is a sector index below [`MAX_SECTORS`].
 pub fn hop(reading: u8, pref: Option<u8>) -> Hop {
+    tagged(reading, 0, pref)
+}
+
+/// A hop of the robot with tag `tag % 16`.
+pub fn tagged(reading: u8, tag_index: u8, pref: Option<u8>) -> Hop {
     Hop {
         reading: Level(reading),
         pref: pref.map(sector),
+        tag: tag(tag_index),
     }
+}
+
+/// The robot tag `index % MAX_TAGS`, through the public constructor, which must accept exactly
+/// the values below [`MAX_TAGS`].
+pub fn tag(index: u8) -> Tag {
+    let t = Tag::new(index);
+    assert_eq!(
+        t.is_some(),
+        usize::from(index) < MAX_TAGS,
+        "Tag::new({index})"
+    );
+    assert_eq!(
+        Tag::from_id(u16::from(index)).index(),
+        index % MAX_TAGS as u8
+    );
+    Tag::new(index % MAX_TAGS as u8).expect("a value below MAX_TAGS is a tag")
 }
 
 /// The sector `index % MAX_SECTORS`, through the public constructor, which must accept exactly
@@ -55,19 +78,37 @@ pub fn four_hops() -> Message {
     .expect("four hops fit")
 }
 
+/// `frame.rs` tests: pattern `1100` as robot 3 relays it, (1, tag 0, RIGHT), (1, tag 1,
+/// RIGHT), (0, tag 2, LEFT), (0, tag 3, LEFT).
+pub const GOLDEN_TAGGED_FOUR: &[u8] = b"ss\x75\x77\x72\x72\x72\x62\x71\x51\x77\x41\x40\x1dss";
+
+/// The message of [`GOLDEN_TAGGED_FOUR`].
+pub fn tagged_four() -> Message {
+    Message::from_hops(&[
+        tagged(1, 0, Some(0)),
+        tagged(1, 1, Some(0)),
+        tagged(0, 2, Some(1)),
+        tagged(0, 3, Some(1)),
+    ])
+    .expect("four hops fit")
+}
+
 /// The message of [`GOLDEN_S_BYTES`].
 pub fn s_bytes() -> Message {
     Message::from_hops(&[hop(b's', None), hop(b's', None)]).expect("two hops fit")
 }
 
-/// A hop as the fuzz input spells it: a reading byte and an optional sector byte (taken
-/// modulo [`MAX_SECTORS`]). Read with the `arbitrary` crate: `u8`, then `Option<u8>`.
+/// A hop as the fuzz input spells it: a reading byte, an optional sector byte (taken modulo
+/// [`MAX_SECTORS`]) and a robot tag byte (modulo [`MAX_TAGS`]). Read with the `arbitrary`
+/// crate: `u8`, `Option<u8>`, `u8`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ArbHop {
     /// The reading.
     pub reading: u8,
     /// The preference's sector index, before the modulo.
     pub pref: Option<u8>,
+    /// The robot's tag, before the modulo.
+    pub tag: u8,
 }
 
 impl<'a> Arbitrary<'a> for ArbHop {
@@ -75,6 +116,7 @@ impl<'a> Arbitrary<'a> for ArbHop {
         Ok(ArbHop {
             reading: u.arbitrary()?,
             pref: u.arbitrary()?,
+            tag: u.arbitrary()?,
         })
     }
 }
@@ -82,7 +124,7 @@ impl<'a> Arbitrary<'a> for ArbHop {
 impl ArbHop {
     /// The protocol's hop.
     pub fn hop(self) -> Hop {
-        hop(self.reading, self.pref)
+        tagged(self.reading, self.tag, self.pref)
     }
 
     /// Writes this hop in the input format (see [`crate::input`]).
@@ -92,6 +134,7 @@ impl ArbHop {
             Some(p) => w.bool(true).u8(p),
             None => w.bool(false),
         };
+        w.u8(self.tag);
     }
 }
 
@@ -102,6 +145,7 @@ pub fn read_hops(u: &mut Unstructured<'_>, max: usize) -> Vec<Hop> {
             .unwrap_or(ArbHop {
                 reading: 0,
                 pref: None,
+                tag: 0,
             })
             .hop()
     })
@@ -114,6 +158,7 @@ pub fn write_hops(w: &mut crate::input::Writer, hops: &[Hop]) {
         ArbHop {
             reading: h.reading.0,
             pref: h.pref.map(Sector::index),
+            tag: h.tag.index(),
         }
         .write(w);
     }
@@ -125,14 +170,20 @@ pub fn message(hops: &[Hop]) -> Message {
     Message::from_hops(hops).unwrap_or_default()
 }
 
-/// The payload of §1.2: hop count, then reading and preference byte per hop.
+/// The payload of §1.2: hop count, then per hop the reading and the preference byte, whose
+/// high nibble is the robot's tag and low nibble 0 for no preference or `sector + 1`.
 pub fn payload_of(msg: &Message) -> Vec<u8> {
     let mut p = vec![u8::try_from(msg.len()).expect("at most MAX_HOPS hops")];
     for h in msg.hops() {
         p.push(h.reading.0);
-        p.push(h.pref.map_or(0, |s| s.index() + 1));
+        p.push(pref_byte(h));
     }
     p
+}
+
+/// A hop's preference byte: `tag << 4 | (0 or sector + 1)`.
+pub fn pref_byte(h: &Hop) -> u8 {
+    h.tag.index() << 4 | h.pref.map_or(0, |s| s.index() + 1)
 }
 
 /// COBS encoding (Cheshire and Baker), from the algorithm: blocks of up to 254 non-zero bytes,
@@ -248,6 +299,7 @@ mod tests {
             (GOLDEN_ONE_HOP, one_hop()),
             (GOLDEN_FOUR_HOPS, four_hops()),
             (GOLDEN_S_BYTES, s_bytes()),
+            (GOLDEN_TAGGED_FOUR, tagged_four()),
         ] {
             assert_eq!(frame::encode(&msg).unwrap().as_slice(), bytes);
             assert_eq!(frame_payload(&payload_of(&msg)), bytes);
@@ -270,8 +322,10 @@ mod tests {
     }
 
     #[test]
-    fn sector_takes_the_index_modulo_eight() {
+    fn sector_and_tag_take_their_modulo() {
         assert_eq!(sector(9).index(), 1);
         assert_eq!(sector(7).index(), 7);
+        assert_eq!(tag(17).index(), 1);
+        assert_eq!(pref_byte(&tagged(0, 15, Some(7))), 0xF8);
     }
 }

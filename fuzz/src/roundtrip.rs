@@ -2,7 +2,7 @@
 //!
 //! Input (read with the `arbitrary` crate, format in [`crate::input`]): a list of up to
 //! [`MAX_INPUT_HOPS`] hops ([`reference::ArbHop`]: `u8` reading, `Option<u8>` sector taken
-//! modulo MAX_SECTORS), then a byte position and an XOR mask for a corruption. Checks:
+//! modulo MAX_SECTORS, `u8` robot tag taken modulo 16), then a byte position and an XOR mask for a corruption. Checks:
 //!
 //! - `Message::from_hops` gives `None` exactly for no hop or more than MAX_HOPS, and else the
 //!   hops; `Message::initiate` plus `push_evicting` keeps the last MAX_HOPS hops and returns
@@ -141,12 +141,16 @@ fn check_framed(m: &Message, at: u8, mask: u8) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::reference::hop;
+    use crate::reference::{hop, tagged};
 
     #[test]
     fn inputs_read_back() {
         let input = Input {
-            hops: vec![hop(1, Some(0)), hop(b's', None), hop(255, Some(7))],
+            hops: vec![
+                hop(1, Some(0)),
+                tagged(b's', 7, None),
+                tagged(255, 15, Some(7)),
+            ],
             at: 3,
             mask: 0x80,
         };
@@ -157,8 +161,8 @@ mod tests {
     #[test]
     fn sector_bytes_wrap() {
         let mut w = Writer::new();
-        w.item().u8(4).bool(true).u8(10).end();
-        assert_eq!(Input::read(&w.finish()).hops, [hop(4, Some(2))]);
+        w.item().u8(4).bool(true).u8(10).u8(18).end();
+        assert_eq!(Input::read(&w.finish()).hops, [tagged(4, 2, Some(2))]);
     }
 
     #[test]

@@ -24,8 +24,10 @@ use crate::medium::{Medium, MediumParams, MediumStats, SharedMedium, TraceEvent}
 pub struct ArenaConfig {
     /// Robot positions, metres.
     pub positions: Vec<Point2<f64>>,
-    /// The robot program's configuration (its `id` is set per robot). Robots here have two
-    /// receivers (left and right), so `robot.params.sectors` must be 2.
+    /// The robot program's configuration. Its `id` is set per robot: robot `i` gets id `i`,
+    /// hence the tag `i mod 16` on the wire (distinct within any 16 robots of a line numbered in
+    /// order). Robots here have two receivers (left and right), so `robot.params.sectors` must
+    /// be 2.
     pub robot: Config,
     /// The light medium.
     pub medium: MediumParams,

@@ -102,6 +102,14 @@ pub fn expected_without(p: &[bool], absent: &[usize]) -> Option<Vec<LedColor>> {
     Some(out)
 }
 
+/// How long a lab run lasts unless told otherwise (`cimax arena` and its campaign): three
+/// negotiation periods of the longest cycle, plus 1 s, so that every robot decides at least
+/// twice.
+pub fn default_duration(p: &protocol::Params) -> Duration {
+    let longest = p.wave.cycle + p.wave.cycle_spread;
+    longest.saturating_mul(3 * u64::from(p.negotiation_cycles)) + Duration::from_secs(1)
+}
+
 /// The outcome of one run, as the paper's table reports it.
 #[derive(Clone, Debug)]
 pub struct LabRun {

@@ -164,10 +164,9 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
             args.spacing
         ));
     }
-    let longest = params.wave.cycle + params.wave.cycle_spread;
-    let default_run =
-        longest.saturating_mul(3 * u64::from(params.negotiation_cycles)) + Duration::from_secs(1);
-    let run = args.duration.map_or(default_run, Duration::from_secs);
+    let run = args
+        .duration
+        .map_or(hal_emu::lab::default_duration(&params), Duration::from_secs);
 
     let lights = args.lights.as_deref().map(parse_pattern).transpose()?;
     let robots = args

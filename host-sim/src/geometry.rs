@@ -27,9 +27,10 @@ pub enum Shape {
     },
     /// Not random: the N nodes of a triangular lattice nearest the centre (a node at the
     /// centre; ties broken by angle). With a spacing of 0.75 R, 61 agents are exactly the nodes
-    /// within 3 R, a hexagon of five rings filling a disk of diameter 6 R, and have 5.1
-    /// neighbours on average: the paper's N = 61, D = 6 R and "on average five neighbours"
-    /// (uniform random placement in that disk gives about 6.4).
+    /// within 3 R, a hexagon of the centre and four rings (1 + 6 + 12 + 18 + 24) filling a disk
+    /// of diameter 6 R, and have 5.1 neighbours on average: the paper's N = 61, D = 6 R and "on
+    /// average five neighbours" (random placement in that disk, redrawn until connected, gives
+    /// about 6.8; see docs/reproduction.md).
     Lattice {
         /// Distance between neighbouring nodes, in R.
         spacing: f64,
@@ -51,15 +52,6 @@ impl Shape {
                 height * (rng.random::<f64>() - 0.5),
             ),
         })
-    }
-
-    /// Area in R² (for a lattice: the area of one node's cell).
-    pub fn area(&self) -> f64 {
-        match *self {
-            Shape::Lattice { spacing } => 0.5 * 3f64.sqrt() * spacing * spacing,
-            Shape::Disk { diameter } => std::f64::consts::PI * 0.25 * diameter * diameter,
-            Shape::Rectangle { width, height } => width * height,
-        }
     }
 
     /// The same outline scaled so that `to` agents have the density `from` agents had (a

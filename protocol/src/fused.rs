@@ -322,10 +322,9 @@ impl<D: Diversity> FusedNode<D> {
                     if let Some(mut m) = self.pending.take() {
                         // Room for the own hop within the capacity (`validate`: at least 1).
                         let cap = usize::from(self.params.max_hops).max(1);
-                        let mut dropped = m.keep_newest(cap - 1);
-                        if m.push_evicting(self.own_hop()).is_some() {
-                            dropped += 1;
-                        }
+                        let dropped = m.keep_newest(cap - 1);
+                        // Cannot evict: at most cap - 1 < MAX_HOPS hops remain.
+                        m.push_evicting(self.own_hop());
                         let dropped = u32::try_from(dropped).unwrap_or(u32::MAX);
                         self.stats.hops_evicted = self.stats.hops_evicted.wrapping_add(dropped);
                         self.transmit(m);
@@ -387,11 +386,14 @@ impl<D: Diversity> FusedNode<D> {
     pub fn votes(&self) -> Votes {
         let k = usize::from(self.params.sectors);
         let mut votes = [0u16; MAX_SECTORS];
-        let own = usize::from(self.tag.index());
-        let heard = (self.heard.iter().enumerate())
-            .filter(|&(t, _)| t != own)
-            .map(|(_, p)| p);
-        for s in heard.chain(core::iter::once(&self.pref)).flatten() {
+        // The own tag's slot is never written: messages holding it are dropped on reception.
+        debug_assert!(self.heard[usize::from(self.tag.index())].is_none());
+        for s in self
+            .heard
+            .iter()
+            .chain(core::iter::once(&self.pref))
+            .flatten()
+        {
             let i = usize::from(s.index());
             if i < k {
                 votes[i] = votes[i].saturating_add(1);

@@ -2,8 +2,8 @@
 //! success criteria are applied, and results do not depend on the number of threads.
 
 use host_sim::experiment::{self, Progress, direction_map, radial_profile, sweep};
-use host_sim::report;
 use host_sim::geometry::Shape;
+use host_sim::report;
 use host_sim::scenario::{GridSpec, LATTICE_SPACING, Scenario};
 use nalgebra::Point2;
 

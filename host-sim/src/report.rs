@@ -298,6 +298,9 @@ fn outward_limit(profile: &[RadialPoint], threshold: f64) -> Option<f64> {
         .fold(None, |m: Option<f64>, d| Some(m.map_or(d, |m| m.max(d))))
 }
 
+/// Swarm sizes of the speed figures.
+const BENCH_AGENTS: [usize; 3] = [61, 1000, 10_000];
+
 /// Results of `swarm reproduce` that the command prints.
 #[derive(Clone, Debug)]
 pub struct Summary {
@@ -542,8 +545,15 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         true,
     )?;
 
+    // Speed: one negotiation period per size on one thread (`swarm bench`).
+    let mut speed = Vec::new();
+    for n in BENCH_AGENTS {
+        speed.push(experiment::bench(&sharp, n, seed(70 + n as u64))?);
+    }
+
     let wall_s = t0.elapsed().as_secs_f64();
     let md = markdown(&Report {
+        speed: &speed,
         seed: opts.seed,
         wall_s,
         threads: rayon::current_num_threads(),
@@ -574,6 +584,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
 }
 
 struct Report<'a> {
+    speed: &'a [experiment::BenchResult],
     seed: u64,
     wall_s: f64,
     threads: usize,
@@ -980,6 +991,33 @@ fn markdown(r: &Report<'_>) -> String {
             " (about {:.0} of {} waves reach an agent: 61 waves of about 15 s each in a cycle often overlap)",
             row.waves_heard, r.sharp.agents
         ))
+    );
+
+    let _ = writeln!(md, "## Speed\n");
+    let _ = writeln!(
+        md,
+        "`swarm bench` runs one negotiation period ({} simulated seconds) of the sharp scenario \
+         per swarm size on one thread, the disk grown to keep the density; agent-steps are agents \
+         × simulated seconds. The simulator is event-driven (a timing wheel of one-second \
+         buckets), so idle seconds cost nothing. The figures of the run that wrote this page (they \
+         vary with the machine and its load; the line is left out when CI checks that this page is \
+         current):\n",
+        r.sharp.run.period_secs()
+    );
+    let _ = writeln!(
+        md,
+        "Speed: {}; the whole page in {:.0} s on {} threads.\n",
+        r.speed
+            .iter()
+            .map(|b| format!(
+                "{} agents {:.2e} agent-steps/s",
+                b.agents,
+                b.agent_steps_per_s()
+            ))
+            .collect::<Vec<_>>()
+            .join(", "),
+        r.wall_s,
+        r.threads
     );
 
     let _ = writeln!(md, "## Reproducing\n");

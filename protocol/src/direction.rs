@@ -57,11 +57,12 @@ impl Sector {
     }
 }
 
-/// `angle` wrapped into `[0, 2π)`.
+/// `angle` wrapped into `[0, 2π)`; −0 becomes +0, so one direction has one bit pattern.
 pub fn wrap_positive(angle: f32) -> f32 {
     let a = libm::fmodf(angle, TAU);
     let a = if a < 0.0 { a + TAU } else { a };
-    if a >= TAU { 0.0 } else { a }
+    // `a == 0.0` also holds for −0.0 (found by fuzz/three_phase).
+    if a >= TAU || a == 0.0 { 0.0 } else { a }
 }
 
 /// `angle` wrapped into `(−π, π]`: the signed shorter arc.
@@ -82,6 +83,13 @@ pub fn turn_toward(from: f32, to: f32, fraction: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn minus_zero_wraps_to_plus_zero() {
+        assert_eq!(wrap_positive(-0.0).to_bits(), 0.0f32.to_bits());
+        assert_eq!(wrap_positive(TAU).to_bits(), 0.0f32.to_bits());
+        assert_eq!(wrap_signed(-0.0).to_bits(), 0.0f32.to_bits());
+    }
 
     #[test]
     fn two_sectors_are_right_and_left() {

@@ -30,7 +30,7 @@ pub enum Shape {
     /// within 3 R, a hexagon of the centre and four rings (1 + 6 + 12 + 18 + 24) filling a disk
     /// of diameter 6 R, and have 5.1 neighbours on average: the paper's N = 61, D = 6 R and "on
     /// average five neighbours" (random placement in that disk, redrawn until connected, gives
-    /// about 6.8; see docs/reproduction.md).
+    /// about 6.1, 5.8 without the redraw; see docs/reproduction.md).
     Lattice {
         /// Distance between neighbouring nodes, in R.
         spacing: f64,

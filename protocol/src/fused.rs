@@ -54,7 +54,7 @@ use rand_core::RngCore;
 
 use crate::direction::{MAX_SECTORS, Sector};
 use crate::diversity::{Diversity, Variance};
-use crate::message::{Hop, Level, MAX_TAGS, Message, Tag};
+use crate::message::{Hop, Level, Message, Ray, Tag};
 use crate::params::{ParamError, Params};
 use crate::time::Instant;
 use crate::wave::{WaveAction, WaveNode, WaveState, WaveStats};
@@ -119,6 +119,11 @@ pub struct NodeStats {
     pub own_tag: u32,
     /// Hops dropped because a relayed message was full.
     pub hops_evicted: u32,
+    /// Rays taken into the robot's picture of a direction (§ *Rays* in the module docs).
+    pub rays: u32,
+    /// Rays not taken: for another sector than the one they were heard from, from a robot
+    /// with another number of sectors, or shorter than a fresh one already held.
+    pub rays_refused: u32,
     /// Transmissions dropped because `poll_transmit` was not called in time.
     pub transmits_lost: u32,
     /// Events dropped because `poll_event` was not called in time.
@@ -145,11 +150,14 @@ pub struct FusedNode<D: Diversity = Variance> {
     pref: Option<Sector>,
     decision: Option<Sector>,
     weights: DirectionWeights<Sector, MAX_SECTORS>,
-    /// Latest preference heard this period, per tag (never the own tag's slot).
-    heard: [Option<Sector>; MAX_TAGS],
+    /// The latest ray heard from each sector, with when it was heard.
+    rays: [Option<(Ray, Instant)>; MAX_SECTORS],
+    /// The sector whose ray the next initiation carries (round robin).
+    next_initiation_ray: u8,
     period_cycles: u16,
     periods: u32,
-    pending: Option<Message>,
+    /// The accepted message waiting for its relay, and the sector it came from.
+    pending: Option<(Message, Sector)>,
     outbox: Deque<Message, OUTBOX>,
     events: Deque<Event, EVENT_QUEUE>,
     stats: NodeStats,
@@ -194,7 +202,8 @@ impl<D: Diversity> FusedNode<D> {
             pref: None,
             decision: None,
             weights: DirectionWeights::default(),
-            heard: [None; MAX_TAGS],
+            rays: [None; MAX_SECTORS],
+            next_initiation_ray: 0,
             period_cycles: 0,
             periods: 0,
             pending: None,
@@ -280,24 +289,27 @@ impl<D: Diversity> FusedNode<D> {
             self.stats.own_tag = self.stats.own_tag.wrapping_add(1);
             return Reception::OwnTag;
         }
+        if let Some(ray) = msg.ray() {
+            self.take_ray(now, from, ray);
+        }
         if msg.is_empty() || !self.wave.on_receive(now) {
             return Reception::Ignored;
         }
         self.stats.accepted = self.stats.accepted.wrapping_add(1);
         self.push_event(Event::State(WaveState::Active));
 
-        let own = f32::from(self.reading);
-        let v = self
-            .diversity
-            .measure(msg.readings().chain(core::iter::once(own)));
-        self.weights.add(from, v);
-
-        // Oldest first: if a tag appears twice, its newest hop is the latest preference.
-        for hop in msg.hops() {
-            if let Some(slot) = self.heard.get_mut(usize::from(hop.tag.index())) {
-                *slot = hop.pref;
+        // The diversity of the direction: of the whole ray beyond, with the own reading, if
+        // one is known (its moments are the variance's sufficient statistics); else of the
+        // message's readings with the own (Alg. 1).
+        let v = match self.ray_from(from) {
+            Some(ray) => ray.extended(self.reading, None).variance(),
+            None => {
+                let own = f32::from(self.reading);
+                self.diversity
+                    .measure(msg.readings().chain(core::iter::once(own)))
             }
-        }
+        };
+        self.weights.add(from, v);
 
         if let Some(best) = self.weights.heaviest()
             && self.pref != Some(best)
@@ -305,7 +317,7 @@ impl<D: Diversity> FusedNode<D> {
             self.pref = Some(best);
             self.push_event(Event::Preference(self.pref));
         }
-        self.pending = Some(msg.clone());
+        self.pending = Some((msg.clone(), from));
         Reception::Accepted
     }
 
@@ -315,26 +327,28 @@ impl<D: Diversity> FusedNode<D> {
         while let Some(action) = self.wave.poll(now, rng) {
             match action {
                 WaveAction::Initiate => {
+                    let k = self.params.sectors.max(1);
+                    let sector = Sector::new(self.next_initiation_ray % k).unwrap_or(Sector::RIGHT);
+                    self.next_initiation_ray = (self.next_initiation_ray + 1) % k;
                     let m = Message::initiate(self.own_hop());
-                    self.transmit(m);
+                    self.send_with_ray(m, sector);
                 }
                 WaveAction::Relay => {
-                    if let Some(mut m) = self.pending.take() {
+                    if let Some((mut m, from)) = self.pending.take() {
                         // Room for the own hop within the capacity (`validate`: at least 1).
                         let cap = usize::from(self.params.max_hops).max(1);
                         let dropped = m.keep_newest(cap - 1);
                         // Cannot evict: at most cap - 1 < MAX_HOPS hops remain.
                         m.push_evicting(self.own_hop());
-                        let dropped = u32::try_from(dropped).unwrap_or(u32::MAX);
-                        self.stats.hops_evicted = self.stats.hops_evicted.wrapping_add(dropped);
-                        self.transmit(m);
+                        self.count_evicted(dropped);
+                        self.send_with_ray(m, from);
                     }
                 }
                 WaveAction::Rested => self.push_event(Event::State(WaveState::Inactive)),
                 WaveAction::CycleEnded(_) => {
                     self.period_cycles = self.period_cycles.saturating_add(1);
                     if self.period_cycles >= self.params.negotiation_cycles {
-                        self.decide();
+                        self.decide(now);
                     }
                 }
             }
@@ -364,6 +378,61 @@ impl<D: Diversity> FusedNode<D> {
         }
     }
 
+    /// Attaches the ray of `sector` extended by this robot (what lies that way, and itself),
+    /// trims the message to the payload budget of `max_hops` and transmits it.
+    fn send_with_ray(&mut self, mut m: Message, sector: Sector) {
+        let ray = match self.ray_from(sector) {
+            Some(r) => Some(r.extended(self.reading, self.pref)),
+            None => Ray::single(sector, self.params.sectors, self.reading, self.pref),
+        };
+        let mut dropped = m.set_ray(ray);
+        // The payload a frame of `max_hops` plain hops would have (keyed frames: 11 hops).
+        dropped += m.fit(1 + 2 * usize::from(self.params.max_hops.max(1)));
+        self.count_evicted(dropped);
+        self.transmit(m);
+    }
+
+    fn count_evicted(&mut self, dropped: usize) {
+        let dropped = u32::try_from(dropped).unwrap_or(u32::MAX);
+        self.stats.hops_evicted = self.stats.hops_evicted.wrapping_add(dropped);
+    }
+
+    /// The ray held for `sector`, if any.
+    fn ray_from(&self, sector: Sector) -> Option<&Ray> {
+        self.rays
+            .get(usize::from(sector.index()))
+            .and_then(|r| r.as_ref())
+            .map(|(ray, _)| ray)
+    }
+
+    /// The longest cycle a robot can draw: within it every neighbour sends at least once.
+    fn longest_cycle(&self) -> crate::time::Duration {
+        self.params.wave.cycle + self.params.wave.cycle_spread
+    }
+
+    /// Takes `ray`, heard at `now` from `from`, as this robot's picture of that direction if
+    /// it describes that direction (a relay from the far side of the sender, or an initiation
+    /// meant for this side), comes from a robot with as many sectors, and is not shorter than
+    /// a ray taken within the last cycle (a stale replay of a shorter chain, or a chain that
+    /// reaches less far).
+    fn take_ray(&mut self, now: Instant, from: Sector, ray: &Ray) {
+        let fresh_cutoff = now - self.longest_cycle();
+        let Some(slot) = self.rays.get_mut(usize::from(from.index())) else {
+            return;
+        };
+        let fits = ray.sector == from && ray.sectors == self.params.sectors;
+        let longer = match slot {
+            Some((held, at)) => ray.robots >= held.robots || *at < fresh_cutoff,
+            None => true,
+        };
+        if fits && longer {
+            *slot = Some((*ray, now));
+            self.stats.rays = self.stats.rays.wrapping_add(1);
+        } else {
+            self.stats.rays_refused = self.stats.rays_refused.wrapping_add(1);
+        }
+    }
+
     fn transmit(&mut self, m: Message) {
         if self.outbox.is_full() {
             self.outbox.pop_front();
@@ -381,37 +450,52 @@ impl<D: Diversity> FusedNode<D> {
         let _ = self.events.push_back(e);
     }
 
-    /// The votes: the robot's own preference plus the latest preference heard this period from
-    /// each other tag; sectors `≥ K` are not counted.
+    /// The votes: the robot's own preference plus, for each sector, the votes of the ray held
+    /// from it (every robot on that side, once); sectors `≥ K` are not counted.
     pub fn votes(&self) -> Votes {
         let k = usize::from(self.params.sectors);
         let mut votes = [0u16; MAX_SECTORS];
-        // The own tag's slot is never written: messages holding it are dropped on reception.
-        debug_assert!(self.heard[usize::from(self.tag.index())].is_none());
-        for s in self
-            .heard
-            .iter()
-            .chain(core::iter::once(&self.pref))
-            .flatten()
-        {
-            let i = usize::from(s.index());
-            if i < k {
-                votes[i] = votes[i].saturating_add(1);
+        for (ray, _) in self.rays.iter().flatten() {
+            for (v, &r) in votes.iter_mut().zip(&ray.votes).take(k) {
+                *v = v.saturating_add(u16::from(r));
             }
+        }
+        if let Some(i) = self.pref.map(|p| usize::from(p.index())).filter(|&i| i < k) {
+            votes[i] = votes[i].saturating_add(1);
         }
         votes
     }
 
-    fn decide(&mut self) {
+    /// Forgets rays not refreshed within the last negotiation period (a robot that died, a
+    /// neighbour that moved away).
+    fn expire_rays(&mut self, now: Instant) {
+        let period = self
+            .longest_cycle()
+            .saturating_mul(u64::from(self.params.negotiation_cycles));
+        let cutoff = now - period;
+        for slot in &mut self.rays {
+            if slot.is_some_and(|(_, at)| at < cutoff) {
+                *slot = None;
+            }
+        }
+    }
+
+    fn decide(&mut self, now: Instant) {
+        self.expire_rays(now);
         let votes = self.votes();
         let k = usize::from(self.params.sectors);
-        let max = votes[..k].iter().copied().max().unwrap_or(0);
-        let is_top = |s: Option<Sector>| s.is_some_and(|s| votes[usize::from(s.index())] == max);
-        let tops = votes[..k].iter().filter(|&&v| v == max).count();
-        let decision = if max == 0 {
+        let scores = resultant_scores(&votes, self.params.sectors);
+        let scores = &scores[..k];
+        let max = scores.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+        let is_top = |s: Option<Sector>| {
+            s.and_then(|s| scores.get(usize::from(s.index())))
+                .is_some_and(|&v| v == max)
+        };
+        let tops = scores.iter().filter(|&&v| v == max).count();
+        let decision = if votes.iter().all(|&v| v == 0) {
             None
         } else if tops == 1 {
-            votes[..k]
+            scores
                 .iter()
                 .position(|&v| v == max)
                 .and_then(|i| Sector::new(i as u8))
@@ -432,9 +516,32 @@ impl<D: Diversity> FusedNode<D> {
             votes,
         });
         self.weights.shrink_to_prior();
-        self.heard = [None; MAX_TAGS];
         self.period_cycles = 0;
     }
+}
+
+/// Each sector's score: the votes projected on its direction, `Σ_t votes[t] · cos(θ_s − θ_t)`.
+/// With K = 2 that is the difference of the two counts (a plain majority); in the plane the
+/// sector nearest the votes' resultant scores highest, so votes for neighbouring sectors add
+/// up instead of splitting. The cosines are rounded to 2⁻²⁰, so that those that are exactly
+/// 0 or ±½ (K = 4, 6) are, and exact ties stay ties.
+fn resultant_scores(votes: &Votes, sectors: u8) -> [f32; MAX_SECTORS] {
+    let k = usize::from(sectors.clamp(1, MAX_SECTORS as u8));
+    let mut cos = [0f32; MAX_SECTORS];
+    for (d, c) in cos.iter_mut().enumerate().take(k) {
+        let a = core::f32::consts::TAU * d as f32 / k as f32;
+        *c = libm::roundf(libm::cosf(a) * 1_048_576.0) / 1_048_576.0;
+    }
+    let mut scores = [0f32; MAX_SECTORS];
+    for (s, score) in scores.iter_mut().enumerate().take(k) {
+        *score = votes
+            .iter()
+            .enumerate()
+            .take(k)
+            .map(|(t, &v)| f32::from(v) * cos[(s + k - t) % k])
+            .sum();
+    }
+    scores
 }
 
 #[cfg(test)]

@@ -18,7 +18,7 @@ use heapless::Vec;
 use serde::de::{Error as _, Unexpected};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
-use crate::direction::Sector;
+use crate::direction::{MAX_SECTORS, Sector};
 
 /// Hops per message: the most that fit a 32-byte frame in the worst case (12).
 pub const MAX_HOPS: usize = 12;
@@ -125,11 +125,237 @@ impl<'de> Deserialize<'de> for Hop {
     }
 }
 
-/// A wave's message: at least one hop, at most [`MAX_HOPS`].
-#[derive(Clone, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+/// Version bits of the payload's first byte (its top three bits): `0b001` for this format.
+///
+/// The first format (before rays) began with the hop count as a varint, `1..=12`, whose top
+/// three bits are zero: each format refuses the other's payloads as undecodable.
+pub const FORMAT_BITS: u8 = 0x20;
+/// Header bit set when a [`Ray`] follows the hops.
+const RAY_BIT: u8 = 0x10;
+/// Mask of the header's hop count.
+const COUNT_MASK: u8 = 0x0F;
+/// Mask of the header's version bits.
+const VERSION_MASK: u8 = 0xE0;
+/// Largest payload of any message: the header and [`MAX_HOPS`] hops, or fewer hops and a ray.
+pub const PAYLOAD_BUDGET: usize = 1 + MAX_HOPS * 2;
+
+/// What a robot knows of everything beyond it in one direction: a summary of the robots on
+/// that side (the robot itself included), built hop by hop along the waves.
+///
+/// A message's hops are the last robots of its path (at most [`MAX_HOPS`]); a ray is the
+/// *sufficient statistics* of the whole chain of robots beyond, however long: how many there
+/// are, the mean and variance of their readings, and how many prefer each sector. A robot
+/// keeps the latest ray heard from each of its sectors and, when it transmits, extends the
+/// ray of one sector by itself ([`Ray::extended`]). See `docs/protocol.md` §5.3.
+///
+/// On the wire `6 + sectors` bytes: `sector << 4 | sectors`, `robots`, `mean` (u16 LE),
+/// `var` (u16 LE), then `votes[..sectors]`, one byte each.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Ray {
+    /// The direction summarised, in the sender's sectors (the swarm's common frame): the robots
+    /// that lie in this sector of the sender, and the sender.
+    pub sector: Sector,
+    /// The sender's number of sectors K, `2..=8`; `votes` has this many entries.
+    pub sectors: u8,
+    /// Robots summarised, `1..=255` (saturating).
+    pub robots: u8,
+    /// Mean of their readings, fixed point 8.8 (`256` = 1.0).
+    pub mean: u16,
+    /// Population variance of their readings, in quarters (`4` = 1.0, at most 16256.25).
+    pub var: u16,
+    /// Robots preferring each sector (saturating); entries `sectors..` are zero.
+    pub votes: [u8; MAX_SECTORS],
+}
+
+impl Ray {
+    /// The ray of one robot alone: `sector` of a robot with `sectors` sectors, its reading and
+    /// preference. `None` if `sectors` is not `2..=8` or `sector` is not below it.
+    pub fn single(sector: Sector, sectors: u8, reading: Level, pref: Option<Sector>) -> Option<Ray> {
+        if !(2..=MAX_SECTORS as u8).contains(&sectors) || sector.index() >= sectors {
+            return None;
+        }
+        let mut ray = Ray {
+            sector,
+            sectors,
+            robots: 1,
+            mean: u16::from(reading.0) << 8,
+            var: 0,
+            votes: [0; MAX_SECTORS],
+        };
+        ray.vote(pref);
+        Some(ray)
+    }
+
+    /// This ray with one more robot, nearer than all it holds (the relaying robot): its reading
+    /// joins the moments (Welford's update) and its preference the votes.
+    pub fn extended(&self, reading: Level, pref: Option<Sector>) -> Ray {
+        let n1 = f32::from(self.robots);
+        let n = n1 + 1.0;
+        let m1 = self.mean_level();
+        let x = f32::from(reading);
+        let m = m1 + (x - m1) / n;
+        // Sum of squared deviations: n1 · var1 + (x − m1)(x − m).
+        let m2 = n1 * self.variance() + (x - m1) * (x - m);
+        let mut ray = Ray {
+            robots: self.robots.saturating_add(1),
+            mean: quantise(m * 256.0),
+            var: quantise(m2 / n * 4.0),
+            ..*self
+        };
+        ray.vote(pref);
+        ray
+    }
+
+    /// The mean reading, in [`Level`] units.
+    pub fn mean_level(&self) -> f32 {
+        f32::from(self.mean) / 256.0
+    }
+
+    /// The population variance of the readings, in [`Level`] units squared.
+    pub fn variance(&self) -> f32 {
+        f32::from(self.var) / 4.0
+    }
+
+    /// Bytes on the wire.
+    pub fn encoded_len(&self) -> usize {
+        6 + usize::from(self.sectors)
+    }
+
+    /// True if the fields are consistent: `2 <= sectors <= 8`, `sector < sectors`,
+    /// `robots >= 1`, no vote beyond `sectors`, no sector with more votes than robots.
+    pub fn is_valid(&self) -> bool {
+        let k = usize::from(self.sectors);
+        (2..=MAX_SECTORS).contains(&k)
+            && usize::from(self.sector.index()) < k
+            && self.robots >= 1
+            && self.votes[k..].iter().all(|&v| v == 0)
+            && self.votes.iter().all(|&v| v <= self.robots)
+    }
+
+    fn vote(&mut self, pref: Option<Sector>) {
+        if let Some(v) = pref
+            .map(|p| usize::from(p.index()))
+            .filter(|&i| i < usize::from(self.sectors))
+            .and_then(|i| self.votes.get_mut(i))
+        {
+            *v = v.saturating_add(1);
+        }
+    }
+}
+
+/// `x` rounded to the nearest `u16`, saturating (NaN gives 0).
+fn quantise(x: f32) -> u16 {
+    // `as` saturates and maps NaN to 0.
+    (x + 0.5) as u16
+}
+
+/// A wave's message: at least one hop, at most [`MAX_HOPS`], and optionally the sender's
+/// [`Ray`]. Every message fits [`PAYLOAD_BUDGET`] bytes: adding a ray or a hop drops the
+/// oldest hops to make room.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Message {
     hops: Vec<Hop, MAX_HOPS>,
+    ray: Option<Ray>,
+}
+
+impl Serialize for Message {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeTuple;
+        let ray_len = self.ray.map_or(0, |r| r.encoded_len());
+        let mut t = s.serialize_tuple(1 + self.hops.len() + ray_len)?;
+        // len <= MAX_HOPS = 12 fits the count nibble.
+        let ray_bit = if self.ray.is_some() { RAY_BIT } else { 0 };
+        t.serialize_element(&(FORMAT_BITS | ray_bit | self.hops.len() as u8))?;
+        for h in &self.hops {
+            t.serialize_element(h)?;
+        }
+        if let Some(r) = &self.ray {
+            let k = usize::from(r.sectors);
+            t.serialize_element(&(r.sector.index() << 4 | r.sectors))?;
+            t.serialize_element(&r.robots)?;
+            t.serialize_element(&r.mean.to_le_bytes())?;
+            t.serialize_element(&r.var.to_le_bytes())?;
+            for v in r.votes.get(..k).unwrap_or(&[]) {
+                t.serialize_element(v)?;
+            }
+        }
+        t.end()
+    }
+}
+
+/// Serde's "expected" text for a bad header.
+const HEADER_EXPECTED: &str = "a header 0b001r_nnnn with 1..=12 hops";
+/// Serde's "expected" text for a bad ray.
+const RAY_EXPECTED: &str = "a ray with 2..=8 sectors, sector < sectors, robots >= votes >= 0";
+
+struct MessageVisitor;
+
+impl<'de> serde::de::Visitor<'de> for MessageVisitor {
+    type Value = Message;
+
+    fn expecting(&self, f: &mut core::fmt::Formatter) -> core::fmt::Result {
+        f.write_str("a CIMAX message: header, hops, optional ray")
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Message, A::Error> {
+        let missing = || A::Error::custom("message ends early");
+        let header: u8 = seq.next_element()?.ok_or_else(missing)?;
+        let n = usize::from(header & COUNT_MASK);
+        if header & VERSION_MASK != FORMAT_BITS || n == 0 || n > MAX_HOPS {
+            return Err(A::Error::invalid_value(
+                Unexpected::Unsigned(u64::from(header)),
+                &HEADER_EXPECTED,
+            ));
+        }
+        let mut hops = Vec::new();
+        for _ in 0..n {
+            let h: Hop = seq.next_element()?.ok_or_else(missing)?;
+            // Cannot fail: n <= MAX_HOPS.
+            let _ = hops.push(h);
+        }
+        let ray = if header & RAY_BIT != 0 {
+            let sk: u8 = seq.next_element()?.ok_or_else(missing)?;
+            let robots: u8 = seq.next_element()?.ok_or_else(missing)?;
+            let mean: [u8; 2] = seq.next_element()?.ok_or_else(missing)?;
+            let var: [u8; 2] = seq.next_element()?.ok_or_else(missing)?;
+            let sectors = sk & 0x0F;
+            let bad = || A::Error::invalid_value(Unexpected::Unsigned(u64::from(sk)), &RAY_EXPECTED);
+            let mut ray = Ray {
+                sector: Sector::new(sk >> 4).ok_or_else(bad)?,
+                sectors,
+                robots,
+                mean: u16::from_le_bytes(mean),
+                var: u16::from_le_bytes(var),
+                votes: [0; MAX_SECTORS],
+            };
+            if !(2..=MAX_SECTORS as u8).contains(&sectors) {
+                return Err(bad());
+            }
+            for v in ray.votes.iter_mut().take(usize::from(sectors)) {
+                *v = seq.next_element()?.ok_or_else(missing)?;
+            }
+            if !ray.is_valid() {
+                return Err(bad());
+            }
+            Some(ray)
+        } else {
+            None
+        };
+        let m = Message { hops, ray };
+        if m.encoded_len() > PAYLOAD_BUDGET {
+            return Err(A::Error::custom("message longer than a frame holds"));
+        }
+        Ok(m)
+    }
+}
+
+impl<'de> Deserialize<'de> for Message {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        // Longest possible tuple: header, MAX_HOPS hops, a ray of 4 + MAX_SECTORS elements.
+        d.deserialize_tuple(1 + MAX_HOPS + 4 + MAX_SECTORS, MessageVisitor)
+    }
 }
 
 impl Message {
@@ -140,12 +366,39 @@ impl Message {
         m
     }
 
-    /// A message from a list of hops, oldest first; `None` if the list is empty or too long.
+    /// A message from a list of hops, oldest first, without a ray; `None` if the list is
+    /// empty or too long.
     pub fn from_hops(hops: &[Hop]) -> Option<Self> {
         if hops.is_empty() {
             return None;
         }
-        Vec::from_slice(hops).ok().map(|hops| Message { hops })
+        Vec::from_slice(hops).ok().map(|hops| Message { hops, ray: None })
+    }
+
+    /// The sender's ray, if the message carries one.
+    pub fn ray(&self) -> Option<&Ray> {
+        self.ray.as_ref()
+    }
+
+    /// Sets (or removes) the ray, dropping the oldest hops until the message fits
+    /// [`PAYLOAD_BUDGET`] (at least the newest hop stays: every ray fits beside it). Returns
+    /// how many hops were dropped.
+    pub fn set_ray(&mut self, ray: Option<Ray>) -> usize {
+        self.ray = ray;
+        self.fit(PAYLOAD_BUDGET)
+    }
+
+    /// Bytes of the postcard payload: header, two per hop, the ray's.
+    pub fn encoded_len(&self) -> usize {
+        1 + self.hops.len() * 2 + self.ray.map_or(0, |r| r.encoded_len())
+    }
+
+    /// Drops the oldest hops until the payload is at most `budget` bytes or one hop is left;
+    /// returns how many were dropped.
+    pub fn fit(&mut self, budget: usize) -> usize {
+        let over = self.encoded_len().saturating_sub(budget);
+        let drop = over.div_ceil(2).min(self.hops.len().saturating_sub(1));
+        self.keep_newest(self.hops.len() - drop)
     }
 
     /// The hops, oldest first.
@@ -165,12 +418,20 @@ impl Message {
 
     /// True if the next relay will drop the oldest hop.
     pub fn is_full(&self) -> bool {
-        self.hops.is_full()
+        self.hops.is_full() || self.encoded_len() + 2 > PAYLOAD_BUDGET
     }
 
     /// Appends `hop`, dropping the oldest hop first if the message is full (the module's
-    /// full-message rule). Returns the dropped hop, if any.
+    /// full-message rule: [`MAX_HOPS`] hops, or [`PAYLOAD_BUDGET`] bytes with a ray). Returns
+    /// the dropped hop, if any.
     pub fn push_evicting(&mut self, hop: Hop) -> Option<Hop> {
+        if self.encoded_len() + 2 > PAYLOAD_BUDGET && self.hops.len() > 1 {
+            let old = self.hops.first().copied();
+            self.keep_newest(self.hops.len() - 1);
+            // Now there is room for a hop in the budget, and so in the list.
+            let _ = self.hops.push(hop);
+            return old;
+        }
         push_evicting(&mut self.hops, hop)
     }
 

@@ -66,6 +66,20 @@ const EVENT_QUEUE: usize = 8;
 /// finds more than one; a caller late by more than a cycle loses the oldest (counted).
 const OUTBOX: usize = 2;
 
+/// Cycles without a ray from the neighbour followed in a direction before a ray from another
+/// neighbour is taken instead (`FusedNode::take_ray`).
+const SENDER_SWITCH_CYCLES: u32 = 3;
+
+/// The ray held for one direction.
+#[derive(Clone, Copy, Debug)]
+struct Held {
+    ray: Ray,
+    /// When it was heard.
+    at: Instant,
+    /// The tag of the neighbour it came from (the message's last hop).
+    sender: Tag,
+}
+
 /// Votes per sector at a decision.
 pub type Votes = [u16; MAX_SECTORS];
 
@@ -150,8 +164,8 @@ pub struct FusedNode<D: Diversity = Variance> {
     pref: Option<Sector>,
     decision: Option<Sector>,
     weights: DirectionWeights<Sector, MAX_SECTORS>,
-    /// The latest ray heard from each sector, with when it was heard.
-    rays: [Option<(Ray, Instant)>; MAX_SECTORS],
+    /// The latest ray heard from each sector, when, and from whom.
+    rays: [Option<Held>; MAX_SECTORS],
     /// The sector whose ray the next initiation carries (round robin).
     next_initiation_ray: u8,
     period_cycles: u16,
@@ -289,8 +303,8 @@ impl<D: Diversity> FusedNode<D> {
             self.stats.own_tag = self.stats.own_tag.wrapping_add(1);
             return Reception::OwnTag;
         }
-        if let Some(ray) = msg.ray() {
-            self.take_ray(now, from, ray);
+        if let (Some(ray), Some(sender)) = (msg.ray(), msg.hops().last()) {
+            self.take_ray(now, from, ray, sender.tag);
         }
         if msg.is_empty() || !self.wave.on_receive(now) {
             return Reception::Ignored;
@@ -327,9 +341,7 @@ impl<D: Diversity> FusedNode<D> {
         while let Some(action) = self.wave.poll(now, rng) {
             match action {
                 WaveAction::Initiate => {
-                    let k = self.params.sectors.max(1);
-                    let sector = Sector::new(self.next_initiation_ray % k).unwrap_or(Sector::RIGHT);
-                    self.next_initiation_ray = (self.next_initiation_ray + 1) % k;
+                    let sector = self.initiation_ray();
                     let m = Message::initiate(self.own_hop());
                     self.send_with_ray(m, sector);
                 }
@@ -402,7 +414,32 @@ impl<D: Diversity> FusedNode<D> {
         self.rays
             .get(usize::from(sector.index()))
             .and_then(|r| r.as_ref())
-            .map(|(ray, _)| ray)
+            .map(|h| &h.ray)
+    }
+
+    /// The sector whose ray an initiation carries: one with the fewest robots held (none
+    /// held counts as zero), the next such after the last one chosen. An initiation is heard
+    /// on every side, but its ray is only taken on one; relays carry the rays along the waves,
+    /// so initiations matter for the robots at the swarm's edge, whose outward sectors hold
+    /// nothing and are never relayed from. Sending the short side also keeps a replayer that
+    /// moves an initiation to the other side of its sender from planting a ray that counts
+    /// the receiver itself (`docs/protocol.md` §5.3).
+    fn initiation_ray(&mut self) -> Sector {
+        let k = self.params.sectors.clamp(1, MAX_SECTORS as u8);
+        let held = |i: u8| {
+            self.rays
+                .get(usize::from(i))
+                .and_then(|r| r.as_ref())
+                .map_or(0, |h| h.ray.robots)
+        };
+        let fewest = (0..k).map(held).min().unwrap_or(0);
+        let start = self.next_initiation_ray % k;
+        let i = (0..k)
+            .map(|j| (start + j) % k)
+            .find(|&i| held(i) == fewest)
+            .unwrap_or(start);
+        self.next_initiation_ray = (i + 1) % k;
+        Sector::new(i).unwrap_or(Sector::RIGHT)
     }
 
     /// The longest cycle a robot can draw: within it every neighbour sends at least once.
@@ -410,23 +447,44 @@ impl<D: Diversity> FusedNode<D> {
         self.params.wave.cycle + self.params.wave.cycle_spread
     }
 
-    /// Takes `ray`, heard at `now` from `from`, as this robot's picture of that direction if
-    /// it describes that direction (a relay from the far side of the sender, or an initiation
-    /// meant for this side), comes from a robot with as many sectors, and is not shorter than
-    /// a ray taken within the last cycle (a stale replay of a shorter chain, or a chain that
-    /// reaches less far).
-    fn take_ray(&mut self, now: Instant, from: Sector, ray: &Ray) {
-        let fresh_cutoff = now - self.longest_cycle();
-        let Some(slot) = self.rays.get_mut(usize::from(from.index())) else {
+    /// Takes `ray`, heard at `now` from `from` in a message last relayed by `sender`, as this
+    /// robot's picture of that direction, if
+    /// - it describes that direction (a relay from the far side of the sender, or an
+    ///   initiation meant for this side) and comes from a robot with as many sectors;
+    /// - the sender is not the neighbour followed in another direction (a robot heard on one
+    ///   side cannot be on another: its frame was moved by a replayer);
+    /// - it comes from the neighbour followed in this direction, or reaches farther (more
+    ///   robots) than what that neighbour last sent, or that was more than
+    ///   [`SENDER_SWITCH_CYCLES`] cycles ago.
+    ///
+    /// In a line the neighbour's ray always reaches farthest, so a robot follows its
+    /// neighbour and ignores what a replayer brings of robots farther along.
+    fn take_ray(&mut self, now: Instant, from: Sector, ray: &Ray, sender: Tag) {
+        let switch_after = self
+            .longest_cycle()
+            .saturating_mul(u64::from(SENDER_SWITCH_CYCLES));
+        let i = usize::from(from.index());
+        let fits = ray.sector == from && ray.sectors == self.params.sectors;
+        let elsewhere = self.rays.iter().enumerate().any(|(j, h)| {
+            j != i && h.is_some_and(|h| h.sender == sender && now - h.at <= switch_after)
+        });
+        let Some(slot) = self.rays.get_mut(i) else {
             return;
         };
-        let fits = ray.sector == from && ray.sectors == self.params.sectors;
-        let longer = match slot {
-            Some((held, at)) => ray.robots >= held.robots || *at < fresh_cutoff,
+        let follows = match slot {
+            Some(held) => {
+                held.sender == sender
+                    || ray.robots > held.ray.robots
+                    || now - held.at > switch_after
+            }
             None => true,
         };
-        if fits && longer {
-            *slot = Some((*ray, now));
+        if fits && !elsewhere && follows {
+            *slot = Some(Held {
+                ray: *ray,
+                at: now,
+                sender,
+            });
             self.stats.rays = self.stats.rays.wrapping_add(1);
         } else {
             self.stats.rays_refused = self.stats.rays_refused.wrapping_add(1);
@@ -455,8 +513,8 @@ impl<D: Diversity> FusedNode<D> {
     pub fn votes(&self) -> Votes {
         let k = usize::from(self.params.sectors);
         let mut votes = [0u16; MAX_SECTORS];
-        for (ray, _) in self.rays.iter().flatten() {
-            for (v, &r) in votes.iter_mut().zip(&ray.votes).take(k) {
+        for held in self.rays.iter().flatten() {
+            for (v, &r) in votes.iter_mut().zip(&held.ray.votes).take(k) {
                 *v = v.saturating_add(u16::from(r));
             }
         }
@@ -474,7 +532,7 @@ impl<D: Diversity> FusedNode<D> {
             .saturating_mul(u64::from(self.params.negotiation_cycles));
         let cutoff = now - period;
         for slot in &mut self.rays {
-            if slot.is_some_and(|(_, at)| at < cutoff) {
+            if slot.is_some_and(|h| h.at < cutoff) {
                 *slot = None;
             }
         }

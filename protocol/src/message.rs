@@ -171,7 +171,12 @@ pub struct Ray {
 impl Ray {
     /// The ray of one robot alone: `sector` of a robot with `sectors` sectors, its reading and
     /// preference. `None` if `sectors` is not `2..=8` or `sector` is not below it.
-    pub fn single(sector: Sector, sectors: u8, reading: Level, pref: Option<Sector>) -> Option<Ray> {
+    pub fn single(
+        sector: Sector,
+        sectors: u8,
+        reading: Level,
+        pref: Option<Sector>,
+    ) -> Option<Ray> {
         if !(2..=MAX_SECTORS as u8).contains(&sectors) || sector.index() >= sectors {
             return None;
         }
@@ -321,7 +326,8 @@ impl<'de> serde::de::Visitor<'de> for MessageVisitor {
             let mean: [u8; 2] = seq.next_element()?.ok_or_else(missing)?;
             let var: [u8; 2] = seq.next_element()?.ok_or_else(missing)?;
             let sectors = sk & 0x0F;
-            let bad = || A::Error::invalid_value(Unexpected::Unsigned(u64::from(sk)), &RAY_EXPECTED);
+            let bad =
+                || A::Error::invalid_value(Unexpected::Unsigned(u64::from(sk)), &RAY_EXPECTED);
             let mut ray = Ray {
                 sector: Sector::new(sk >> 4).ok_or_else(bad)?,
                 sectors,
@@ -372,7 +378,9 @@ impl Message {
         if hops.is_empty() {
             return None;
         }
-        Vec::from_slice(hops).ok().map(|hops| Message { hops, ray: None })
+        Vec::from_slice(hops)
+            .ok()
+            .map(|hops| Message { hops, ray: None })
     }
 
     /// The sender's ray, if the message carries one.

@@ -757,17 +757,52 @@ mod tests {
         assert_eq!(n.stats().own_tag, 3);
     }
 
+    /// The ray robots `far..near` (readings and preferences, farthest first) send toward a
+    /// robot that hears the nearest of them from `from`.
+    fn ray(from: Sector, robots: &[(u8, Option<Sector>)]) -> Ray {
+        let (&(r0, p0), rest) = robots.split_first().unwrap();
+        let first = Ray::single(from, 2, Level(r0), p0).unwrap();
+        rest.iter()
+            .fold(first, |ray, &(r, p)| ray.extended(Level(r), p))
+    }
+
+    /// Like [`hear`], for a message carrying `ray`.
+    fn hear_ray(
+        n: &mut FusedNode,
+        rng: &mut Pcg32,
+        t: &mut Instant,
+        from: Sector,
+        msg: &[Hop],
+        ray: Ray,
+    ) -> Message {
+        *t += Duration::from_secs(6);
+        let mut m = Message::from_hops(msg).unwrap();
+        m.set_ray(Some(ray));
+        assert_eq!(n.handle_message(*t, from, &m, rng), Reception::Accepted);
+        n.handle_timeout(*t + Duration::from_secs(1), rng);
+        n.poll_transmit().expect("relayed")
+    }
+
     #[test]
-    fn full_message_relay_drops_the_oldest_hop() {
+    fn full_message_relay_drops_the_oldest_hops_to_make_room_for_the_ray() {
         let (mut n, mut rng) = node(15, 9);
         let mut t = Instant::from_secs(1);
         let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, r, None)).collect();
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full);
-        assert_eq!(out.len(), MAX_HOPS);
-        assert_eq!(out.hops()[0], hop(1, 1, None));
-        let last = out.hops()[MAX_HOPS - 1];
+        // 25 payload bytes: header, a two-sector ray (8 bytes), 8 hops.
+        assert_eq!(out.len(), 8);
+        assert_eq!(out.encoded_len(), 25);
+        assert_eq!(out.hops()[0], hop(5, 5, None));
+        let last = out.hops()[7];
         assert_eq!((last.reading, last.tag), (Level(9), n.tag()));
-        assert_eq!(n.stats().hops_evicted, 1);
+        assert_eq!(n.stats().hops_evicted, 5);
+        // Nothing held from the left yet: the ray is the robot alone.
+        let ray = out.ray().unwrap();
+        assert_eq!(
+            (ray.sector, ray.robots, ray.mean_level()),
+            (Sector::LEFT, 1, 9.0)
+        );
+        assert!(crate::frame::encode(&out).is_ok());
     }
 
     #[test]
@@ -778,91 +813,216 @@ mod tests {
         n = FusedNode::new(p, n.tag(), Instant::ZERO, &mut rng).unwrap();
         n.handle_reading(Level(9));
         let mut t = Instant::from_secs(1);
-        // A full plain message (12 hops) relayed by an 11-hop node: the two oldest go.
+        // A full plain message (12 hops) relayed by an 11-hop node: a payload of 23 bytes,
+        // the ray's 8 and 7 hops.
         let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, r, None)).collect();
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full);
-        assert_eq!(out.len(), 11);
-        assert_eq!(out.hops()[0], hop(2, 2, None));
-        assert_eq!(out.hops()[10].reading, Level(9));
-        assert_eq!(n.stats().hops_evicted, 2);
-        // An 11-hop message: one goes.
-        let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full[..11]);
-        assert_eq!(out.len(), 11);
-        assert_eq!(out.hops()[0], hop(1, 1, None));
-        assert_eq!(n.stats().hops_evicted, 3);
+        assert_eq!(out.len(), 7);
+        assert_eq!(out.encoded_len(), 23);
+        assert_eq!(out.hops()[0], hop(6, 6, None));
+        assert_eq!(out.hops()[6].reading, Level(9));
+        assert_eq!(n.stats().hops_evicted, 6);
         // Shorter ones just grow, and an encoded relay always fits a keyed frame.
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full[..3]);
         assert_eq!(out.len(), 4);
-        assert_eq!(n.stats().hops_evicted, 3);
+        assert_eq!(n.stats().hops_evicted, 6);
         let key = crate::auth::SwarmKey::new([5; 16]);
         assert!(crate::frame::encode_keyed(&out, &key).is_ok());
     }
 
     #[test]
-    fn decides_by_one_vote_per_robot_with_latest_preferences() {
-        let (mut n, mut rng) = node(1, 0);
+    fn rays_count_every_robot_beyond_the_horizon_once() {
+        // Robot 20 of a long line: 20 robots to its left (12 preferring R, 8 L), 30 to its
+        // right preferring L; the messages hold only the nearest few.
+        let (mut n, mut rng) = node(4, 30);
         let mut t = Instant::from_secs(1);
-        // Robot 3 on the right rides in many messages with its preference R; robot 2 prefers
-        // L. Each robot counts once, with its latest preference.
-        for _ in 0..5 {
-            hear(
-                &mut n,
-                &mut rng,
-                &mut t,
-                Sector::RIGHT,
-                &[hop(3, 0, R), hop(2, 0, L)],
-            );
-        }
-        hear(
-            &mut n,
-            &mut rng,
-            &mut t,
-            Sector::RIGHT,
-            &[hop(3, 0, L), hop(2, 0, L)],
-        );
-        hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(0, 1, L)]);
-        let votes = n.votes();
-        // Own: L (left is the diverse side); robots 0, 2 and 3: L.
-        assert_eq!(n.preference(), L);
-        assert_eq!(votes[usize::from(Sector::LEFT.index())], 4);
-        assert_eq!(votes[usize::from(Sector::RIGHT.index())], 0);
-    }
-
-    #[test]
-    fn a_replay_from_the_other_side_counts_each_robot_once() {
-        // Pattern 1100, robot 2 (dark): robots 0 and 1 prefer R, robot 3 and it L; the 2-2 tie
-        // keeps its own L. A replayer between robots 1 and 2 sent robot 1's old relay (robots 0
-        // and 1) again; robot 3 relayed it, and robot 2 hears robots 0 and 1 from the right.
-        // Counted per (sector, distance) that was robots 0 and 1 twice: R 4-2, the wrong way.
-        let (mut n, mut rng) = node(2, 0);
-        let mut t = Instant::from_secs(1);
-        hear(
+        let mut left: std::vec::Vec<(u8, Option<Sector>)> = std::vec![(200, R); 12];
+        left.extend([(30, L); 8]);
+        let right = std::vec![(30, L); 30];
+        let out = hear_ray(
             &mut n,
             &mut rng,
             &mut t,
             Sector::LEFT,
-            &[hop(0, 1, R), hop(1, 1, R)],
+            &[hop(2, 30, L), hop(3, 30, L)],
+            ray(Sector::LEFT, &left),
         );
-        hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(3, 0, L)]);
+        // The left is diverse (a border somewhere beyond), the right uniform.
         assert_eq!(n.preference(), L);
-        assert_eq!(n.votes()[..2], [2, 2]);
-        hear(
+        // The relay goes right with the left's ray extended by this robot.
+        let sent = out.ray().unwrap();
+        assert_eq!((sent.sector, sent.robots), (Sector::LEFT, 21));
+        assert_eq!(sent.votes[..2], [12, 9]);
+        hear_ray(
             &mut n,
             &mut rng,
             &mut t,
             Sector::RIGHT,
-            &[hop(0, 1, R), hop(1, 1, R), hop(3, 0, L)],
+            &[hop(6, 30, L), hop(5, 30, L)],
+            ray(Sector::RIGHT, &right),
         );
-        assert_eq!(n.preference(), L, "the left is still the diverse side");
-        assert_eq!(n.votes()[..2], [2, 2], "one vote per robot");
-        let Event::Decided {
-            decision, votes, ..
-        } = run_to_decision(&mut n, &mut rng)
-        else {
+        assert_eq!(n.preference(), L, "the right is uniform");
+        assert_eq!(n.votes()[..2], [12, 39]);
+        assert_eq!(n.stats().rays, 2);
+        let Event::Decided { decision, .. } = run_to_decision(&mut n, &mut rng) else {
             unreachable!()
         };
         assert_eq!(decision, L);
-        assert_eq!(votes[..2], [2, 2]);
+    }
+
+    #[test]
+    fn the_direction_is_scored_by_its_whole_ray() {
+        // Robot far to the right of a border: the nearest hops are dark like itself, but the
+        // ray from the left holds lit robots beyond the horizon.
+        let (mut n, mut rng) = node(4, 30);
+        let mut t = Instant::from_secs(1);
+        let mut left = std::vec![(200, R); 5];
+        left.extend([(30, L); 20]);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(2, 30, L), hop(3, 30, L)],
+            ray(Sector::LEFT, &left),
+        );
+        let expected = ray(Sector::LEFT, &left)
+            .extended(Level(30), None)
+            .variance();
+        assert_eq!(n.weight(Sector::LEFT), Some(expected));
+        assert!(expected > 1000.0);
+        // Without a ray: the message's readings with the own (Alg. 1), here uniform.
+        hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(6, 30, L)]);
+        assert_eq!(n.weight(Sector::RIGHT), Some(0.0));
+        assert_eq!(n.preference(), L);
+    }
+
+    #[test]
+    fn a_ray_is_taken_only_for_its_own_sector_and_from_the_followed_neighbour() {
+        let (mut n, mut rng) = node(1, 0);
+        let mut t = Instant::from_secs(1);
+        let far = [(0, L), (0, L), (0, L)];
+        // A ray of the left heard from the right (an initiation meant for the other side).
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 0, L)],
+            ray(Sector::LEFT, &far),
+        );
+        assert_eq!((n.stats().rays, n.stats().rays_refused), (0, 1));
+        // Robot 2's ray of the right: followed from now on.
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 0, L)],
+            ray(Sector::RIGHT, &far),
+        );
+        assert_eq!(n.votes()[..2], [0, 3]);
+        // Robot 3 (two away) sends a shorter ray: refused while robot 2 is heard.
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(3, 0, R)],
+            ray(Sector::RIGHT, &[(0, R), (0, R)]),
+        );
+        assert_eq!(n.votes()[..2], [0, 3]);
+        // Robot 2 again, preferences changed: it replaces its own ray, shorter or not.
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 0, R)],
+            ray(Sector::RIGHT, &[(0, R), (0, R)]),
+        );
+        assert_eq!(n.votes()[..2], [2, 0]);
+        // A ray reaching farther, from another neighbour, is taken.
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(7, 0, L)],
+            ray(Sector::RIGHT, &[(0, L); 4]),
+        );
+        assert_eq!(n.votes()[..2], [0, 4]);
+        // Robot 0 on the left; a frame of robot 0 moved to the right by a replayer, with a ray
+        // that reaches farther, is refused: robot 0 is followed on the left.
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 1, R)],
+            ray(Sector::LEFT, &[(1, R)]),
+        );
+        let before = n.votes();
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(0, 1, R)],
+            ray(Sector::RIGHT, &[(1, R); 9]),
+        );
+        assert_eq!(n.votes(), before);
+        // After three silent cycles of its neighbour another sender is taken, shorter or not.
+        t += Duration::from_secs(3 * 600 + 1);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(3, 0, R)],
+            ray(Sector::RIGHT, &[(0, R)]),
+        );
+        assert_eq!(n.votes()[..2], [2, 1], "robot 3 R; its own L");
+    }
+
+    #[test]
+    fn initiations_carry_the_shortest_sides_ray() {
+        let (mut n, mut rng) = node(1, 7);
+        let mut t = Instant::from_secs(1);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 0, L)],
+            ray(Sector::RIGHT, &[(0, L); 3]),
+        );
+        let initiate = |n: &mut FusedNode, rng: &mut Pcg32| loop {
+            let at = n.poll_timeout();
+            n.handle_timeout(at, rng);
+            if let Some(m) = n.poll_transmit() {
+                return m;
+            }
+        };
+        // Nothing held on the left: the edge's own ray goes out, meant for the right.
+        let m = initiate(&mut n, &mut rng);
+        assert_eq!(m.hops(), &[hop(1, 7, R)]);
+        let r = m.ray().unwrap();
+        assert_eq!((r.sector, r.robots, r.votes[0]), (Sector::LEFT, 1, 1));
+        // With a longer left, the right is the short side.
+        // Rested after the initiation.
+        t = n.poll_timeout();
+        n.handle_timeout(t, &mut rng);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 0, R)],
+            ray(Sector::LEFT, &[(0, R); 5]),
+        );
+        let r = *initiate(&mut n, &mut rng).ray().unwrap();
+        assert_eq!((r.sector, r.robots), (Sector::RIGHT, 4));
     }
 
     fn run_to_decision(n: &mut FusedNode, rng: &mut Pcg32) -> Event {
@@ -879,17 +1039,25 @@ mod tests {
     }
 
     #[test]
-    fn tie_keeps_own_preference_and_a_period_starts_empty() {
+    fn tie_keeps_own_preference_and_rays_expire_after_a_period() {
         let (mut n, mut rng) = node(1, 1);
         let mut t = Instant::from_secs(1);
         // 1100 seen by the second robot: left lit (pref R), right dark (prefs L, L).
-        hear(&mut n, &mut rng, &mut t, Sector::LEFT, &[hop(0, 1, R)]);
-        hear(
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 1, R)],
+            ray(Sector::LEFT, &[(1, R)]),
+        );
+        hear_ray(
             &mut n,
             &mut rng,
             &mut t,
             Sector::RIGHT,
             &[hop(3, 0, L), hop(2, 0, L)],
+            ray(Sector::RIGHT, &[(0, L), (0, L)]),
         );
         assert_eq!(n.preference(), R);
         let e = run_to_decision(&mut n, &mut rng);
@@ -905,7 +1073,7 @@ mod tests {
         assert_eq!((decision, period, changed), (R, 1, true));
         assert_eq!(votes[..2], [2, 2]);
         assert_eq!(n.decision(), R);
-        // Nothing heard in the next period: only its own vote.
+        // Nothing heard in the next period: the rays are a period old and forgotten.
         let Event::Decided {
             decision,
             votes,
@@ -916,7 +1084,7 @@ mod tests {
             unreachable!()
         };
         assert_eq!((decision, changed), (R, false));
-        assert_eq!(votes[..2], [1, 0], "stored preferences emptied");
+        assert_eq!(votes[..2], [1, 0], "rays expired");
         // The diversities carry over as one-message priors: one uniform message from the
         // left (diversity 0) halves the left's weight but does not flip the preference.
         let right = n.weight(Sector::RIGHT).unwrap();
@@ -932,6 +1100,23 @@ mod tests {
         );
         assert_eq!(n.weight(Sector::LEFT), Some(0.0));
         assert_eq!(n.preference(), R);
+    }
+
+    #[test]
+    fn plane_votes_add_up_along_their_resultant() {
+        // K = 6: sector 1 has the plurality, but sectors 0, 1 and 5 all point to +x and
+        // sector 0 is nearest their resultant.
+        let votes = [2, 3, 0, 0, 0, 2, 0, 0];
+        let s = resultant_scores(&votes, 6);
+        assert_eq!(s[0], 4.5);
+        assert_eq!(s[1], 3.0);
+        assert!(s[..6].iter().all(|&x| x <= s[0]));
+        // K = 2: the difference of the counts, exact ties stay ties.
+        let s = resultant_scores(&[3, 3, 0, 0, 0, 0, 0, 0], 2);
+        assert_eq!(s[..2], [0.0, 0.0]);
+        // K = 4: perpendicular votes do not count.
+        let s = resultant_scores(&[1, 5, 0, 0, 0, 0, 0, 0], 4);
+        assert_eq!(s[..4], [1.0, 5.0, -1.0, -5.0]);
     }
 
     #[test]

@@ -12,7 +12,8 @@ use firmware::{Clock, Config, Hardware, LedColor, Robot, Stats};
 use hal_emu::lab::{PAPER_PATTERNS, expected, judge, leds_str, parse_pattern};
 use hal_emu::medium::Medium;
 use hal_emu::{ArenaConfig, EmuClock, MediumParams, TraceEvent};
-use protocol::{Duration, Instant, KEYED_MAX_HOPS, Level, SwarmKey};
+use protocol::frame::FRAME_MAX;
+use protocol::{Duration, Instant, Level, SwarmKey};
 use rand_pcg::Pcg32;
 
 /// Three negotiation periods of the longest (70 s) cycles.
@@ -54,15 +55,16 @@ fn with_a_key_the_six_patterns_light_the_expected_leds() {
             let messages: u32 = r.report.robots.iter().map(|s| s.messages).sum();
             assert!(messages > 200, "pattern {pattern}, seed {seed}: {messages}");
             if cfg.trace {
-                // Keyed frames: 10 + 2 × hops bytes (a plain one-hop frame is 10).
+                // Keyed frames: 10 + 2 × hops bytes and the two-sector ray's 8 (a plain
+                // one-hop frame with its ray is 18), at most 32.
                 let lens = sent_lengths(&r.report.trace);
                 assert!(!lens.is_empty());
                 assert!(
                     lens.iter()
-                        .all(|&n| n % 2 == 0 && (12..=10 + 2 * KEYED_MAX_HOPS).contains(&n)),
+                        .all(|&n| n % 2 == 0 && (20..=FRAME_MAX).contains(&n)),
                     "{lens:?}"
                 );
-                assert!(lens.contains(&12), "initiations are 12 bytes: {lens:?}");
+                assert!(lens.contains(&20), "initiations are 20 bytes: {lens:?}");
             }
         }
     }
@@ -70,13 +72,13 @@ fn with_a_key_the_six_patterns_light_the_expected_leds() {
 
 #[test]
 fn a_plain_run_sends_plain_frames() {
-    // The control for the length check above: without a key an initiation is 10 bytes.
+    // The control for the length check above: without a key an initiation is 18 bytes.
     let mut cfg = lab("1000", 1, None);
     cfg.trace = true;
     let r = judge(&cfg).unwrap();
     assert!(r.success);
     let lens = sent_lengths(&r.report.trace);
-    assert!(lens.contains(&10), "{lens:?}");
+    assert!(lens.contains(&18), "{lens:?}");
     assert!(r.report.robots.iter().all(|s| s.bad_mac == 0));
 }
 

@@ -578,18 +578,57 @@ impl<D: Diversity> FusedNode<D> {
     }
 }
 
+/// `COSINES[k][d]` = cos(2π·d/k), rounded to 2⁻²⁰ so that exact zeros and halves stay exact:
+/// the cosine between two sectors `d` apart of a robot with `k` sectors. A table rather than
+/// `libm::cosf`, which computes in `f64` and would pull software double arithmetic into the
+/// robot's image (the Cortex-M4F has a single-precision FPU only).
+#[allow(clippy::approx_constant, clippy::excessive_precision)]
+const COSINES: [[f32; MAX_SECTORS]; MAX_SECTORS + 1] = [
+    [0.0; MAX_SECTORS],
+    [0.0; MAX_SECTORS],
+    [1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, -0.5, -0.5, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+    [
+        1.0,
+        0.3090171813964844,
+        -0.8090171813964844,
+        -0.8090171813964844,
+        0.3090171813964844,
+        0.0,
+        0.0,
+        0.0,
+    ],
+    [1.0, 0.5, -0.5, -1.0, -0.5, 0.5, 0.0, 0.0],
+    [
+        1.0,
+        0.6234893798828125,
+        -0.2225208282470703,
+        -0.9009685516357422,
+        -0.9009685516357422,
+        -0.2225208282470703,
+        0.6234893798828125,
+        0.0,
+    ],
+    [
+        1.0,
+        0.7071065902709961,
+        0.0,
+        -0.7071065902709961,
+        -1.0,
+        -0.7071065902709961,
+        0.0,
+        0.7071065902709961,
+    ],
+];
+
 /// Each sector's score: the votes projected on its direction, `Σ_t votes[t] · cos(θ_s − θ_t)`.
 /// With K = 2 that is the difference of the two counts (a plain majority); in the plane the
 /// sector nearest the votes' resultant scores highest, so votes for neighbouring sectors add
-/// up instead of splitting. The cosines are rounded to 2⁻²⁰, so that those that are exactly
-/// 0 or ±½ (K = 4, 6) are, and exact ties stay ties.
+/// up instead of splitting.
 fn resultant_scores(votes: &Votes, sectors: u8) -> [f32; MAX_SECTORS] {
     let k = usize::from(sectors.clamp(1, MAX_SECTORS as u8));
-    let mut cos = [0f32; MAX_SECTORS];
-    for (d, c) in cos.iter_mut().enumerate().take(k) {
-        let a = core::f32::consts::TAU * d as f32 / k as f32;
-        *c = libm::roundf(libm::cosf(a) * 1_048_576.0) / 1_048_576.0;
-    }
+    let cos = &COSINES[k];
     let mut scores = [0f32; MAX_SECTORS];
     for (s, score) in scores.iter_mut().enumerate().take(k) {
         *score = votes
@@ -1100,6 +1139,19 @@ mod tests {
         );
         assert_eq!(n.weight(Sector::LEFT), Some(0.0));
         assert_eq!(n.preference(), R);
+    }
+
+    #[test]
+    fn the_cosine_table_is_the_cosine() {
+        for k in 2..=MAX_SECTORS {
+            for d in 0..k {
+                let c = libm::cos(core::f64::consts::TAU * d as f64 / k as f64);
+                assert!((f64::from(COSINES[k][d]) - c).abs() < 1e-6, "{k} {d}");
+            }
+            assert!(COSINES[k][k..].iter().all(|&c| c == 0.0));
+        }
+        assert_eq!(COSINES[4][1], 0.0);
+        assert_eq!(COSINES[6][1], 0.5);
     }
 
     #[test]

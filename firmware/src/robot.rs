@@ -63,8 +63,9 @@ const RX_CHUNK: usize = 32;
 pub struct Config {
     /// The robot's number: in the logs, and its tag on the wire (`id mod 16`,
     /// [`Tag::from_id`]), which it writes into every hop it adds and by which it recognises
-    /// (and drops) messages that passed through it already. Robots within 12 hops of each
-    /// other must differ in `id mod 16`: number a line in order (`docs/protocol.md` §5.3).
+    /// (and drops) messages that passed through it already, and by which its neighbours follow
+    /// it. Robots within 8 hops of each other must differ in `id mod 16`: number a line in
+    /// order (`docs/protocol.md` §5.3).
     pub id: u16,
     /// The protocol's parameters; `params.sectors` must equal the number of receivers.
     pub params: Params,

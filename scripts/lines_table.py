@@ -1,0 +1,57 @@
+#!/usr/bin/env python3
+"""Swarm-wide agreement in long lines: the table of docs/lab-experiment.md ("Long lines").
+
+Runs `cimax arena --lights P --runs R --json` for lines of 8, 16, 32 and 64 robots with the
+border at three positions (and the exact tie), at 0 % and 10 % frame loss, and prints a
+Markdown table of successful runs. Build first: `cargo build --release -p host-sim`.
+
+    python3 scripts/lines_table.py [--runs 50] [--seed 1] [--cimax target/release/cimax]
+"""
+import argparse
+import json
+import subprocess
+import sys
+
+LINES = {8: (1, 2, 3), 16: (2, 4, 7), 32: (4, 8, 14), 64: (8, 16, 28)}
+
+
+def run(cimax, pattern, runs, seed, loss):
+    out = subprocess.run(
+        [cimax, "arena", "--lights", pattern, "--runs", str(runs), "--seed", str(seed),
+         "--loss", str(loss), "--json"],
+        capture_output=True, text=True, check=False)
+    if out.returncode not in (0, 1):
+        sys.exit(f"cimax failed on {pattern}: {out.stderr}")
+    d = json.loads(out.stdout)
+    failed = [r["seed"] for r in d["runs"] if not r["success"]]
+    return d["summary"]["successes"], d["summary"]["runs"], failed
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--runs", type=int, default=50)
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--cimax", default="target/release/cimax")
+    a = ap.parse_args()
+    print("| robots | lit (border after) | majority | 0 % loss | 10 % loss |")
+    print("|---:|---:|---|---:|---:|")
+    failures = []
+    for n, borders in LINES.items():
+        for b in borders + (n // 2,):
+            pattern = "1" * b + "0" * (n - b)
+            big = max(b, n - b)
+            majority = "tie: each half toward the border" if b * 2 == n else \
+                f"{big}/{n} = {100 * big / n:.0f} % prefer {'left' if n - b > b else 'right'}"
+            cells = []
+            for loss in (0.0, 0.1):
+                ok, total, failed = run(a.cimax, pattern, a.runs, a.seed, loss)
+                cells.append(f"{ok}/{total}")
+                failures += [(pattern, s, loss) for s in failed]
+            print(f"| {n} | {b} | {majority} | {cells[0]} | {cells[1]} |", flush=True)
+    for pattern, s, loss in failures:
+        print(f"FAILED: cimax arena --lights {pattern} --seed {s} --runs 1 --loss {loss}",
+              file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()

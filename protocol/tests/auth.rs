@@ -3,9 +3,10 @@
 
 use proptest::prelude::*;
 use protocol::frame::{
-    DELIMITER, Deframer, EncodeError, FrameError, KEYED_MAX_HOPS, decode_frame_keyed, encode,
-    encode_keyed,
+    DELIMITER, Deframer, EncodeError, FrameError, KEYED_MAX_HOPS, KEYED_PAYLOAD_MAX,
+    decode_frame_keyed, encode, encode_keyed,
 };
+use protocol::message::Ray;
 use protocol::{
     Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, MAX_TAGS, Message, Params,
     Sector, SwarmKey, Tag,
@@ -26,8 +27,45 @@ fn hop() -> impl Strategy<Value = Hop> {
         })
 }
 
+/// Any valid ray: 2..=8 sectors, a sector below that, 1..=255 robots, any moments, votes of
+/// at most `robots` each.
+fn ray() -> impl Strategy<Value = Ray> {
+    (
+        2..=MAX_SECTORS as u8,
+        any::<u8>(),
+        1..=255u8,
+        any::<u16>(),
+        any::<u16>(),
+    )
+        .prop_flat_map(|(k, s, robots, mean, var)| {
+            proptest::collection::vec(0..=robots, usize::from(k)).prop_map(move |v| {
+                let mut votes = [0; MAX_SECTORS];
+                votes[..v.len()].copy_from_slice(&v);
+                Ray {
+                    sector: Sector::new(s % k).unwrap(),
+                    sectors: k,
+                    robots,
+                    mean,
+                    var,
+                    votes,
+                }
+            })
+        })
+}
+
+/// Any message of at most `max` hops and, half the time, a ray; cut (oldest hops first) to
+/// the payload of `max` plain hops, `1 + 2·max` bytes, as a node with `max_hops = max` does.
 fn message(max: usize) -> impl Strategy<Value = Message> {
-    proptest::collection::vec(hop(), 1..=max).prop_map(|h| Message::from_hops(&h).unwrap())
+    (
+        proptest::collection::vec(hop(), 1..=max),
+        proptest::option::of(ray()),
+    )
+        .prop_map(move |(h, r)| {
+            let mut m = Message::from_hops(&h).unwrap();
+            m.set_ray(r);
+            m.fit(1 + 2 * max);
+            m
+        })
 }
 
 fn key() -> impl Strategy<Value = SwarmKey> {
@@ -82,11 +120,16 @@ proptest! {
     #[test]
     fn messages_over_eleven_hops_are_refused_not_cut(m in message(MAX_HOPS), k in key()) {
         let r = encode_keyed(&m, &k);
-        if m.len() > KEYED_MAX_HOPS {
+        if m.len() > KEYED_MAX_HOPS || m.encoded_len() > KEYED_PAYLOAD_MAX {
             prop_assert_eq!(r, Err(EncodeError::TooManyHops));
         } else {
             prop_assert!(r.is_ok());
         }
+        // Refused, not cut: the same message cut to the keyed payload encodes.
+        let mut short = m.clone();
+        short.fit(KEYED_PAYLOAD_MAX);
+        let f = encode_keyed(&short, &k).unwrap();
+        prop_assert_eq!(decode_frame_keyed(&f, &k), Ok(short));
     }
 
     #[test]
@@ -184,6 +227,7 @@ proptest! {
             n.handle_timeout(t + Duration::from_secs(1), &mut rng);
             while let Some(out) = n.poll_transmit() {
                 prop_assert!(out.len() <= KEYED_MAX_HOPS);
+                prop_assert!(out.encoded_len() <= KEYED_PAYLOAD_MAX);
                 prop_assert!(encode_keyed(&out, &k).is_ok());
                 relayed += 1;
             }

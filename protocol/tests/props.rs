@@ -4,6 +4,7 @@
 use proptest::prelude::*;
 use protocol::frame::{Deframer, decode_frame, encode};
 use protocol::fused::Reception;
+use protocol::message::Ray;
 use protocol::{
     Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, MAX_TAGS, Message, Params,
     Sector, Tag,
@@ -23,8 +24,44 @@ fn hop() -> impl Strategy<Value = Hop> {
         })
 }
 
+/// Any valid ray: 2..=8 sectors, a sector below that, 1..=255 robots, any moments, votes of
+/// at most `robots` each.
+fn ray() -> impl Strategy<Value = Ray> {
+    (
+        2..=MAX_SECTORS as u8,
+        any::<u8>(),
+        1..=255u8,
+        any::<u16>(),
+        any::<u16>(),
+    )
+        .prop_flat_map(|(k, s, robots, mean, var)| {
+            proptest::collection::vec(0..=robots, usize::from(k)).prop_map(move |v| {
+                let mut votes = [0; MAX_SECTORS];
+                votes[..v.len()].copy_from_slice(&v);
+                Ray {
+                    sector: Sector::new(s % k).unwrap(),
+                    sectors: k,
+                    robots,
+                    mean,
+                    var,
+                    votes,
+                }
+            })
+        })
+}
+
+/// Any message: 1..=MAX_HOPS hops and, half the time, a ray (which drops the oldest hops
+/// until the payload fits its 25 bytes).
 fn message() -> impl Strategy<Value = Message> {
-    proptest::collection::vec(hop(), 1..=MAX_HOPS).prop_map(|h| Message::from_hops(&h).unwrap())
+    (
+        proptest::collection::vec(hop(), 1..=MAX_HOPS),
+        proptest::option::of(ray()),
+    )
+        .prop_map(|(h, r)| {
+            let mut m = Message::from_hops(&h).unwrap();
+            m.set_ray(r);
+            m
+        })
 }
 
 proptest! {

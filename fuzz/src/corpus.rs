@@ -393,7 +393,12 @@ pub fn message_decode() -> Vec<DecodeSeed> {
 
 /// Seeds of the `roundtrip` target.
 pub fn roundtrip() -> Vec<(&'static str, roundtrip::Input)> {
-    let input = |hops: Vec<Hop>, at, mask| roundtrip::Input { hops, at, mask };
+    let input = |hops: Vec<Hop>, at, mask| roundtrip::Input {
+        hops,
+        at,
+        mask,
+        ray: None,
+    };
     let four: Vec<Hop> = four_hops().hops().to_vec();
     // Body byte 3 of the one-hop golden frame is 0x70; XOR 0x03 makes it an `s`.
     vec![
@@ -830,6 +835,7 @@ pub fn keyed() -> Vec<KeyedSeed> {
                 hops,
                 at: 9,
                 mask: 0x40,
+                ray: None,
             }
             .write(),
         ),

@@ -9,11 +9,15 @@
 //!   bytes, stream) for a keyed deframer. Every check of [`crate::deframer`] holds with the
 //!   keyed counters (`bad_mac` in place of `bad_check`, which a keyed deframer never reports),
 //!   frames of at least 10 bytes, `decode_frame_keyed` as the first result, and keyed frames for
-//!   the recovery checks; every decoded message has 1..=KEYED_MAX_HOPS hops and re-encodes
-//!   with `encode_keyed` to a frame that decodes back to it.
-//! - **1, framing**: a 16-byte key, then a `roundtrip` input (hops, position, mask). No hop:
-//!   `Empty`; more than KEYED_MAX_HOPS (of the newest 12): `TooManyHops`; else the frame is
-//!   `10 + 2·len` ≤ FRAME_MAX bytes, `ss`…`ss` with no `s` inside, and is exactly the §10.1
+//!   the recovery checks; every decoded message has 1..=KEYED_MAX_HOPS hops, a payload of at
+//!   most KEYED_PAYLOAD_MAX (23) bytes, and re-encodes with `encode_keyed` to a frame that
+//!   decodes back to it.
+//! - **1, framing**: a 16-byte key, then a `roundtrip` input (hops, position, mask, ray): the
+//!   newest 12 hops with the ray set (`set_ray`). No hop: `Empty`; a payload over
+//!   KEYED_PAYLOAD_MAX (23 bytes: more than KEYED_MAX_HOPS hops, or a ray and too many hops):
+//!   `TooManyHops`, and the message cut by `fit(23)` is checked instead; the frame is
+//!   `9 + payload` ≤ FRAME_MAX bytes (`10 + 2·len` without a ray), `ss`…`ss` with no `s`
+//!   inside, and is exactly the §10.1
 //!   layout: the payload and the first 4 little-endian bytes of SipHash-2-4 (an independent
 //!   implementation, [`siphash24`], checked against the SipHash paper's vector) over it. It
 //!   decodes back under the key (also twice back to back through a keyed deframer), is
@@ -27,8 +31,8 @@
 
 use protocol::auth::{KEY_LEN, KeyError, TAG_LEN};
 use protocol::frame::{
-    DELIMITER, DeframerStats, EncodeError, FRAME_MAX, FrameError, decode_frame, decode_frame_keyed,
-    encode, encode_keyed,
+    DELIMITER, DeframerStats, EncodeError, FRAME_MAX, FrameError, KEYED_PAYLOAD_MAX, decode_frame,
+    decode_frame_keyed, encode, encode_keyed,
 };
 use protocol::{Deframer, KEYED_MAX_HOPS, MAX_HOPS, Message, SwarmKey};
 
@@ -40,13 +44,18 @@ type Outcome = Result<Message, FrameError>;
 
 /// The key of `docs/protocol.md` §10.3: bytes 0, 1, … 15.
 pub const GOLDEN_KEY: [u8; KEY_LEN] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
-/// §10.3: the one-hop message under [`GOLDEN_KEY`].
-pub const GOLDEN_KEYED_ONE_HOP: &[u8] = b"ss\x70\x72\x72\x76\xd4\x77\x6c\xfess";
-/// §10.3: the four-hop message under [`GOLDEN_KEY`].
+// Keyed golden vectors of payload format 2, as in `frame.rs`'s tests (computed by
+// `protocol/tests/golden/gen_golden.py`).
+/// The one-hop message under [`GOLDEN_KEY`].
+pub const GOLDEN_KEYED_ONE_HOP: &[u8] = b"ss\x70\x52\x72\x76\x08\x86\xac\x48ss";
+/// The four-hop message under [`GOLDEN_KEY`].
 pub const GOLDEN_KEYED_FOUR_HOPS: &[u8] =
-    b"ss\x77\x77\x72\x72\x71\x71\x71\x71\x72\x76\x90\x29\x6f\xecss";
-/// §10.3: the `s` message under [`GOLDEN_KEY`]; its tag holds an `s` too.
-pub const GOLDEN_KEYED_S_BYTES: &[u8] = b"ss\x70\x71\x00\x71\x00\x76\x3f\x90\x00\x54ss";
+    b"ss\x77\x57\x72\x72\x71\x71\x71\x71\x72\x76\xfb\x6a\x0b\xb9ss";
+/// The `s` message under [`GOLDEN_KEY`].
+pub const GOLDEN_KEYED_S_BYTES: &[u8] = b"ss\x70\x51\x00\x71\x00\x76\xfc\xd8\x3e\x84ss";
+/// The ray message ([`reference::GOLDEN_RAY_FOUR`]'s) under [`GOLDEN_KEY`].
+pub const GOLDEN_KEYED_RAY_FOUR: &[u8] =
+    b"ss\x75\x47\x72\x72\x72\x62\x71\x51\x77\x41\x61\x77\x79\x00\x97\x03\x71\x71\x88\xc2\xd0\x67ss";
 
 /// The mode bytes.
 pub const STREAM: u8 = 0;
@@ -163,8 +172,13 @@ pub fn check_keyed_message(key: &SwarmKey, m: &Message) {
         "keyed message of {} hops",
         m.len()
     );
+    let payload = payload_of(m);
+    assert!(payload.len() <= KEYED_PAYLOAD_MAX, "keyed {m:?}");
+    if let Some(r) = m.ray() {
+        assert!(reference::ray_is_valid(r), "{m:?}");
+    }
     let f = encode_keyed(m, key).expect("a decoded keyed message encodes");
-    assert_eq!(f.len(), 10 + 2 * m.len());
+    assert_eq!(f.len(), 9 + payload.len());
     assert_eq!(decode_frame_keyed(&f, key).as_ref(), Ok(m));
 }
 
@@ -195,24 +209,32 @@ fn framing(key_bytes: &[u8; KEY_LEN], input: &roundtrip::Input) {
     assert_eq!(key.to_bytes(), *key_bytes);
     let hops = &input.hops;
     let newest = &hops[hops.len().saturating_sub(MAX_HOPS)..];
-    let Some(m) = Message::from_hops(newest) else {
+    let Some(mut m) = Message::from_hops(newest) else {
         assert_eq!(
             encode_keyed(&Message::default(), &key),
             Err(EncodeError::Empty)
         );
         return;
     };
-    if m.len() > KEYED_MAX_HOPS {
+    m.set_ray(input.ray);
+    let len = payload_of(&m).len();
+    if m.len() > KEYED_MAX_HOPS || len > KEYED_PAYLOAD_MAX {
+        assert!(len > KEYED_PAYLOAD_MAX, "{m:?}");
         assert_eq!(encode_keyed(&m, &key), Err(EncodeError::TooManyHops));
-        return;
+        let dropped = m.fit(KEYED_PAYLOAD_MAX);
+        assert_eq!(dropped, (len - KEYED_PAYLOAD_MAX).div_ceil(2));
     }
-    let f = encode_keyed(&m, &key).expect("at most KEYED_MAX_HOPS hops encode");
-    assert_eq!(f.len(), 10 + 2 * m.len());
+    let payload = payload_of(&m);
+    assert!(payload.len() <= KEYED_PAYLOAD_MAX && m.len() <= KEYED_MAX_HOPS);
+    let f = encode_keyed(&m, &key).expect("a payload of at most 23 bytes encodes");
+    assert_eq!(f.len(), 9 + payload.len());
+    if m.ray().is_none() {
+        assert_eq!(f.len(), 10 + 2 * m.len());
+    }
     assert!(f.len() <= FRAME_MAX);
     assert!(f.starts_with(b"ss") && f.ends_with(b"ss"));
     let body = &f[2..f.len() - 2];
     assert!(!body.contains(&DELIMITER), "an `s` in the body: {f:02x?}");
-    let payload = payload_of(&m);
     let unxored: Vec<u8> = body.iter().map(|b| b ^ DELIMITER).collect();
     let raw = cobs_decode(&unxored).expect("valid COBS");
     assert_eq!(raw[..payload.len()], payload[..]);
@@ -309,17 +331,18 @@ mod tests {
             (GOLDEN_KEYED_ONE_HOP, reference::one_hop()),
             (GOLDEN_KEYED_FOUR_HOPS, reference::four_hops()),
             (GOLDEN_KEYED_S_BYTES, reference::s_bytes()),
+            (GOLDEN_KEYED_RAY_FOUR, reference::ray_four()),
         ] {
             assert_eq!(encode_keyed(&m, &k).unwrap().as_slice(), bytes);
             assert_eq!(reference_frame(&GOLDEN_KEY, &payload_of(&m)), bytes);
             assert_eq!(decode_frame_keyed(bytes, &k), Ok(m));
         }
-        // §10.3: the eleven-hop frame's tag.
+        // The eleven-hop frame's tag (`frame.rs`'s GOLDEN_KEYED_ELEVEN).
         let eleven = [0xFF, 8].repeat(11);
-        let payload = [&[11u8][..], &eleven].concat();
+        let payload = [&[0x2Bu8][..], &eleven].concat();
         assert_eq!(
             reference_tag(&GOLDEN_KEY, &payload),
-            [0x9a, 0xcb, 0x87, 0x0f]
+            [0x11, 0xfa, 0x3d, 0x3f]
         );
     }
 
@@ -347,6 +370,12 @@ mod tests {
             hops: vec![reference::hop(1, None); 11],
             at: 1,
             mask: 2,
+            ray: None,
+        };
+        check(&input(FRAMING, &GOLDEN_KEY, &rt.write()));
+        let rt = roundtrip::Input {
+            ray: Some(reference::ray_left_k2()),
+            ..rt
         };
         check(&input(FRAMING, &GOLDEN_KEY, &rt.write()));
         check(&[KEY_TEXT, b'a']);

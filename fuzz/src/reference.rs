@@ -1,18 +1,30 @@
 //! What the checks compare the protocol against: the golden vectors and an independent
-//! implementation of the frame layout of `docs/protocol.md` §1 (payload layout, CRC-16/IBM-3740,
-//! COBS, XOR with `s`), written from the document rather than from `frame.rs`.
+//! implementation of the frame layout of `docs/protocol.md` §1 (payload format 2: header, hops,
+//! optional ray, 25-byte budget; CRC-16/IBM-3740, COBS, XOR with `s`), written from the
+//! document rather than from `frame.rs` or `message.rs` (the payload parser below does not
+//! call postcard or the protocol's `Deserialize`).
 
 use arbitrary::{Arbitrary, Unstructured};
 use protocol::frame::{self, BODY_MAX, CRC_LEN, DELIMITER, FRAME_MAX, FrameError};
-use protocol::message::{MAX_TAGS, Tag};
+use protocol::message::{MAX_TAGS, PAYLOAD_BUDGET, Ray, Tag};
 use protocol::{Hop, Level, MAX_HOPS, MAX_SECTORS, Message, Sector};
 
-/// `docs/protocol.md` §1.6: one hop, reading 1, no preference.
-pub const GOLDEN_ONE_HOP: &[u8] = b"ss\x70\x72\x72\x70\xee\xbbss";
-/// `docs/protocol.md` §1.6: (1, RIGHT), (0, LEFT), (0, LEFT), (0, none).
-pub const GOLDEN_FOUR_HOPS: &[u8] = b"ss\x77\x77\x72\x72\x71\x71\x71\x71\x72\x70\xbf\x22ss";
-/// `docs/protocol.md` §1.6: two hops with reading `s` (0x73) and no preference.
-pub const GOLDEN_S_BYTES: &[u8] = b"ss\x70\x71\x00\x71\x00\x70\x5f\xa2ss";
+// The golden vectors of payload format 2, as in `frame.rs`'s tests, computed by
+// `protocol/tests/golden/gen_golden.py` (independently of the Rust encoder).
+
+/// One hop, reading 1, no preference (payload `21 01 00`).
+pub const GOLDEN_ONE_HOP: &[u8] = b"ss\x70\x52\x72\x70\x28\x3dss";
+/// (1, RIGHT), (0, LEFT), (0, LEFT), (0, none) (payload `24 01 01 00 02 00 02 00 00`).
+pub const GOLDEN_FOUR_HOPS: &[u8] = b"ss\x77\x57\x72\x72\x71\x71\x71\x71\x72\x70\x43\x85ss";
+/// Two hops with reading `s` (0x73) and no preference (payload `22 73 00 73 00`).
+pub const GOLDEN_S_BYTES: &[u8] = b"ss\x70\x51\x00\x71\x00\x70\xeb\xaass";
+/// [`GOLDEN_TAGGED_FOUR`]'s hops and the ray of the LEFT side of a robot with K = 2: 4 robots,
+/// mean 115.0 (0x7300), variance 7225.0 (28900 quarters), votes [2, 2] (17-byte payload).
+pub const GOLDEN_RAY_FOUR: &[u8] =
+    b"ss\x75\x47\x72\x72\x72\x62\x71\x51\x77\x41\x61\x77\x7b\x00\x97\x03\x71\x71\x65\x93ss";
+/// The first byte of a format-1 payload was the hop count; the old one-hop golden frame is
+/// `Undecodable` now.
+pub const GOLDEN_V1_ONE_HOP: &[u8] = b"ss\x70\x72\x72\x70\xee\xbbss";
 
 /// The frame check of §1.3.
 pub const CRC16: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_3740);
@@ -80,7 +92,7 @@ pub fn four_hops() -> Message {
 
 /// `frame.rs` tests: pattern `1100` as robot 3 relays it, (1, tag 0, RIGHT), (1, tag 1,
 /// RIGHT), (0, tag 2, LEFT), (0, tag 3, LEFT).
-pub const GOLDEN_TAGGED_FOUR: &[u8] = b"ss\x75\x77\x72\x72\x72\x62\x71\x51\x77\x41\x40\x1dss";
+pub const GOLDEN_TAGGED_FOUR: &[u8] = b"ss\x75\x57\x72\x72\x72\x62\x71\x51\x77\x41\xbc\xbass";
 
 /// The message of [`GOLDEN_TAGGED_FOUR`].
 pub fn tagged_four() -> Message {
@@ -91,6 +103,27 @@ pub fn tagged_four() -> Message {
         tagged(0, 3, Some(1)),
     ])
     .expect("four hops fit")
+}
+
+/// The ray of [`GOLDEN_RAY_FOUR`].
+pub fn ray_left_k2() -> Ray {
+    let mut votes = [0; MAX_SECTORS];
+    votes[..2].copy_from_slice(&[2, 2]);
+    Ray {
+        sector: sector(1),
+        sectors: 2,
+        robots: 4,
+        mean: 0x7300,
+        var: 28900,
+        votes,
+    }
+}
+
+/// The message of [`GOLDEN_RAY_FOUR`].
+pub fn ray_four() -> Message {
+    let mut m = tagged_four();
+    assert_eq!(m.set_ray(Some(ray_left_k2())), 0);
+    m
 }
 
 /// The message of [`GOLDEN_S_BYTES`].
@@ -138,6 +171,51 @@ impl ArbHop {
     }
 }
 
+/// A ray as the fuzz input spells it, always made valid: `sectors` taken as `2 + sectors % 7`,
+/// `sector` modulo that, `robots` 0 read as 1, each vote modulo `robots + 1`. Read with the
+/// `arbitrary` crate: `u8` sectors, `u8` sector, `u8` robots, `u16` mean, `u16` var, 8 `u8`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ArbRay(pub Ray);
+
+impl<'a> Arbitrary<'a> for ArbRay {
+    fn arbitrary(u: &mut Unstructured<'a>) -> arbitrary::Result<Self> {
+        let k = 2 + u.arbitrary::<u8>()? % 7;
+        let s = u.arbitrary::<u8>()? % k;
+        let robots = u.arbitrary::<u8>()?.max(1);
+        let mean = u.arbitrary()?;
+        let var = u.arbitrary()?;
+        let raw: [u8; MAX_SECTORS] = u.arbitrary()?;
+        let mut votes = [0; MAX_SECTORS];
+        for (v, r) in votes.iter_mut().zip(raw).take(usize::from(k)) {
+            *v = if robots == u8::MAX {
+                r
+            } else {
+                r % (robots + 1)
+            };
+        }
+        Ok(ArbRay(Ray {
+            sector: sector(s),
+            sectors: k,
+            robots,
+            mean,
+            var,
+            votes,
+        }))
+    }
+}
+
+impl ArbRay {
+    /// Writes a valid ray so that it reads back as itself.
+    pub fn write(self, w: &mut crate::input::Writer) {
+        let r = self.0;
+        w.u8(r.sectors - 2).u8(r.sector.index()).u8(r.robots);
+        w.u16(r.mean).u16(r.var);
+        for v in r.votes {
+            w.u8(v);
+        }
+    }
+}
+
 /// Reads a list of hops (at most `max`), as written by [`write_hops`].
 pub fn read_hops(u: &mut Unstructured<'_>, max: usize) -> Vec<Hop> {
     crate::input::list(u, max, |u| {
@@ -170,15 +248,121 @@ pub fn message(hops: &[Hop]) -> Message {
     Message::from_hops(hops).unwrap_or_default()
 }
 
-/// The payload of §1.2: hop count, then per hop the reading and the preference byte, whose
-/// high nibble is the robot's tag and low nibble 0 for no preference or `sector + 1`.
+/// Version bits of a format-2 header (its top three bits, `001`).
+pub const FORMAT_2: u8 = 0x20;
+/// The header's ray bit.
+pub const RAY_BIT: u8 = 0x10;
+
+/// The payload of format 2: the header `0b001r_nnnn` (r = a ray follows, n = hops), then per
+/// hop the reading and the preference byte, whose high nibble is the robot's tag and low
+/// nibble 0 for no preference or `sector + 1`, then the ray if any: `sector << 4 | sectors`,
+/// robots, mean (u16 LE), variance (u16 LE), one vote byte per sector.
 pub fn payload_of(msg: &Message) -> Vec<u8> {
-    let mut p = vec![u8::try_from(msg.len()).expect("at most MAX_HOPS hops")];
+    let n = u8::try_from(msg.len()).expect("at most MAX_HOPS hops");
+    assert!(n <= 0x0F);
+    let r = msg.ray().map_or(0, |_| RAY_BIT);
+    let mut p = vec![FORMAT_2 | r | n];
     for h in msg.hops() {
         p.push(h.reading.0);
         p.push(pref_byte(h));
     }
+    if let Some(ray) = msg.ray() {
+        p.extend_from_slice(&ray_bytes(ray));
+    }
     p
+}
+
+/// A ray's bytes: `sector << 4 | sectors`, robots, mean LE, variance LE, `votes[..sectors]`.
+pub fn ray_bytes(r: &Ray) -> Vec<u8> {
+    let mut p = vec![r.sector.index() << 4 | r.sectors, r.robots];
+    p.extend_from_slice(&r.mean.to_le_bytes());
+    p.extend_from_slice(&r.var.to_le_bytes());
+    p.extend_from_slice(&r.votes[..usize::from(r.sectors).min(MAX_SECTORS)]);
+    p
+}
+
+/// True if a ray satisfies the rules of format 2: 2..=8 sectors, its sector below that, at
+/// least one robot, no vote above `robots`, nothing beyond `sectors` votes.
+pub fn ray_is_valid(r: &Ray) -> bool {
+    let k = usize::from(r.sectors);
+    (2..=MAX_SECTORS).contains(&k)
+        && usize::from(r.sector.index()) < k
+        && r.robots >= 1
+        && r.votes.iter().all(|&v| v <= r.robots)
+        && r.votes[k..].iter().all(|&v| v == 0)
+}
+
+/// Why [`parse_prefix`] refused bytes (for messages only).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ParseError {
+    /// No byte, or fewer than the header announces.
+    Short,
+    /// Top three bits not `001`, or a hop count of 0 or above MAX_HOPS.
+    Header,
+    /// A preference nibble above 8.
+    Pref,
+    /// A ray's sector byte, robots or votes break the rules.
+    Ray,
+    /// Header, hops and ray are longer than the 25-byte budget.
+    Budget,
+}
+
+/// Reads one format-2 message from the start of `data`, independently of the protocol's
+/// decoder: returns it (built through the public API) and the bytes it used.
+pub fn parse_prefix(data: &[u8]) -> Result<(Message, usize), ParseError> {
+    let &header = data.first().ok_or(ParseError::Short)?;
+    let n = usize::from(header & 0x0F);
+    if header & 0xE0 != FORMAT_2 || n == 0 || n > MAX_HOPS {
+        return Err(ParseError::Header);
+    }
+    let hop_bytes = data.get(1..1 + 2 * n).ok_or(ParseError::Short)?;
+    let mut hops = Vec::with_capacity(n);
+    for c in hop_bytes.chunks(2) {
+        let p = c[1] & 0x0F;
+        if p > MAX_SECTORS as u8 {
+            return Err(ParseError::Pref);
+        }
+        hops.push(tagged(c[0], c[1] >> 4, p.checked_sub(1)));
+    }
+    let mut used = 1 + 2 * n;
+    let ray = if header & RAY_BIT != 0 {
+        let fixed = data.get(used..used + 6).ok_or(ParseError::Short)?;
+        let (s, k) = (fixed[0] >> 4, fixed[0] & 0x0F);
+        let robots = fixed[1];
+        // The sector byte is checked before the votes are read: its K says how many follow.
+        if !(2..=MAX_SECTORS as u8).contains(&k) || s >= k || robots == 0 {
+            return Err(ParseError::Ray);
+        }
+        let v = data
+            .get(used + 6..used + 6 + usize::from(k))
+            .ok_or(ParseError::Short)?;
+        if v.iter().any(|&x| x > robots) {
+            return Err(ParseError::Ray);
+        }
+        let mut votes = [0; MAX_SECTORS];
+        votes[..v.len()].copy_from_slice(v);
+        used += 6 + usize::from(k);
+        Some(Ray {
+            sector: sector(s),
+            sectors: k,
+            robots,
+            mean: u16::from_le_bytes([fixed[2], fixed[3]]),
+            var: u16::from_le_bytes([fixed[4], fixed[5]]),
+            votes,
+        })
+    } else {
+        None
+    };
+    if used > PAYLOAD_BUDGET {
+        return Err(ParseError::Budget);
+    }
+    let mut m = Message::from_hops(&hops).expect("1..=MAX_HOPS hops");
+    assert_eq!(
+        m.set_ray(ray),
+        0,
+        "a message within the budget keeps its hops"
+    );
+    Ok((m, used))
 }
 
 /// A hop's preference byte: `tag << 4 | (0 or sector + 1)`.
@@ -262,26 +446,34 @@ pub fn decode_body(body: &[u8]) -> Result<Message, FrameError> {
     decode_payload(payload)
 }
 
-/// A payload with a good frame check: a message if postcard reads one that uses every byte and
-/// has at least one hop.
+/// A payload with a good frame check: a message if the independent parser reads one that
+/// uses every byte.
 pub fn decode_payload(payload: &[u8]) -> Result<Message, FrameError> {
-    match postcard::take_from_bytes::<Message>(payload) {
-        Ok((m, rest)) if rest.is_empty() && !m.is_empty() => Ok(m),
+    match parse_prefix(payload) {
+        Ok((m, used)) if used == payload.len() => Ok(m),
         _ => Err(FrameError::Undecodable),
     }
 }
 
-/// What every message that came out of a decoder must satisfy: 1..=MAX_HOPS hops, and its
-/// frame (exactly `8 + 2·len` bytes, at most [`FRAME_MAX`]) decodes back to it.
+/// What every message that came out of a decoder must satisfy: 1..=MAX_HOPS hops, a valid ray
+/// if any, a payload of at most 25 bytes, and its frame (exactly `7 + payload` bytes, at most
+/// [`FRAME_MAX`]) is the independent encoder's and decodes back to it.
 pub fn check_decoded(msg: &Message) {
     assert!(
         (1..=MAX_HOPS).contains(&msg.len()),
         "decoded message with {} hops",
         msg.len()
     );
+    if let Some(r) = msg.ray() {
+        assert!(ray_is_valid(r), "invalid ray in {msg:?}");
+    }
+    let payload = payload_of(msg);
+    assert!(payload.len() <= PAYLOAD_BUDGET, "{msg:?} over the budget");
+    assert_eq!(msg.encoded_len(), payload.len(), "encoded_len of {msg:?}");
     let f = frame::encode(msg).expect("a decoded message encodes");
-    assert_eq!(f.len(), 8 + 2 * msg.len(), "frame length of {msg:?}");
+    assert_eq!(f.len(), 7 + payload.len(), "frame length of {msg:?}");
     assert!(f.len() <= FRAME_MAX);
+    assert_eq!(f.as_slice(), frame_payload(&payload).as_slice());
     assert_eq!(
         frame::decode_frame(&f).as_ref(),
         Ok(msg),
@@ -300,12 +492,52 @@ mod tests {
             (GOLDEN_FOUR_HOPS, four_hops()),
             (GOLDEN_S_BYTES, s_bytes()),
             (GOLDEN_TAGGED_FOUR, tagged_four()),
+            (GOLDEN_RAY_FOUR, ray_four()),
         ] {
             assert_eq!(frame::encode(&msg).unwrap().as_slice(), bytes);
             assert_eq!(frame_payload(&payload_of(&msg)), bytes);
             assert_eq!(frame::decode_frame(bytes), Ok(msg.clone()));
-            assert_eq!(decode_body(&bytes[2..bytes.len() - 2]), Ok(msg));
+            assert_eq!(decode_body(&bytes[2..bytes.len() - 2]), Ok(msg.clone()));
+            check_decoded(&msg);
         }
+        assert_eq!(
+            frame::decode_frame(GOLDEN_V1_ONE_HOP),
+            Err(FrameError::Undecodable)
+        );
+        assert_eq!(
+            decode_body(&GOLDEN_V1_ONE_HOP[2..GOLDEN_V1_ONE_HOP.len() - 2]),
+            Err(FrameError::Undecodable)
+        );
+    }
+
+    #[test]
+    fn the_parser_refuses_what_format_2_refuses() {
+        let ok = |p: &[u8]| parse_prefix(p).map(|(m, used)| (m.len(), used));
+        assert_eq!(ok(&[0x21, 1, 0]), Ok((1, 3)));
+        assert_eq!(ok(&[0x21, 1, 0, 9]), Ok((1, 3)));
+        assert_eq!(ok(&[]), Err(ParseError::Short));
+        assert_eq!(ok(&[0x22, 1, 0]), Err(ParseError::Short));
+        for h in [0x20, 0x2D, 0x2F, 0x30, 0x01, 0x04, 0x41, 0xE1] {
+            assert_eq!(ok(&[h, 1, 0, 1, 0]), Err(ParseError::Header), "{h:#x}");
+        }
+        assert_eq!(ok(&[0x21, 1, 9]), Err(ParseError::Pref));
+        let ray = |r: &[u8]| {
+            let mut p = vec![0x31, 1, 0];
+            p.extend_from_slice(r);
+            ok(&p)
+        };
+        assert_eq!(ray(&[0x12, 2, 0, 1, 0, 0, 2, 2]), Ok((1, 11)));
+        assert_eq!(ray(&[0x01, 2, 0, 1, 0, 0, 2]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x09, 2, 0, 1, 0, 0]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x22, 2, 0, 1, 0, 0, 2, 2]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x02, 0, 0, 1, 0, 0, 0, 0]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x02, 2, 0, 1, 0, 0, 3, 0]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x02, 2, 0, 1, 0, 0, 1]), Err(ParseError::Short));
+        let mut big = vec![0x39];
+        big.extend_from_slice(&[1, 0].repeat(9));
+        big.extend_from_slice(&[0x02, 1, 0, 1, 0, 0, 1, 0]);
+        assert_eq!(ok(&big), Err(ParseError::Budget));
+        assert!(postcard::from_bytes::<Message>(&big).is_err());
     }
 
     #[test]

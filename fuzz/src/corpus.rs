@@ -10,15 +10,17 @@ use std::io;
 use std::path::Path;
 
 use protocol::frame::{DELIMITER, FrameError};
-use protocol::{Hop, MAX_HOPS, Message};
+use protocol::message::Ray;
+use protocol::{Hop, MAX_HOPS, MAX_SECTORS, Message};
 
 use crate::keyed::{
-    self, FRAMING, GOLDEN_KEY, GOLDEN_KEYED_FOUR_HOPS, GOLDEN_KEYED_ONE_HOP, GOLDEN_KEYED_S_BYTES,
-    KEY_TEXT, STREAM, reference_frame,
+    self, FRAMING, GOLDEN_KEY, GOLDEN_KEYED_FOUR_HOPS, GOLDEN_KEYED_ONE_HOP, GOLDEN_KEYED_RAY_FOUR,
+    GOLDEN_KEYED_S_BYTES, KEY_TEXT, STREAM, reference_frame,
 };
 use crate::reference::{
-    GOLDEN_FOUR_HOPS, GOLDEN_ONE_HOP, GOLDEN_S_BYTES, GOLDEN_TAGGED_FOUR, four_hops, frame_payload,
-    hop, one_hop, payload_of, s_bytes, tagged, tagged_four,
+    self, GOLDEN_FOUR_HOPS, GOLDEN_ONE_HOP, GOLDEN_RAY_FOUR, GOLDEN_S_BYTES, GOLDEN_TAGGED_FOUR,
+    GOLDEN_V1_ONE_HOP, four_hops, frame_payload, hop, one_hop, payload_of, ray_four, s_bytes,
+    tagged, tagged_four,
 };
 use crate::scenario::{Custom, ParamsChoice, Setup, Start, TimeStep};
 use crate::{deframer, fused_node, roundtrip, three_phase};
@@ -65,14 +67,35 @@ fn msg(hops: &[Hop]) -> Message {
     Message::from_hops(hops).expect("1..=12 hops")
 }
 
-/// A payload claiming `n` hops of (0xFF, sector 7), with all of them present.
+/// The message of a valid payload, by the independent parser.
+fn decoded(payload: &[u8]) -> Message {
+    reference::decode_payload(payload).expect("a valid payload")
+}
+
+/// A format-2 payload claiming `n` hops of (0xFF, sector 7) (header `0x20 | n`, so 13 is
+/// `0x2D`), with all of them present.
 fn wide_payload(n: u8) -> Vec<u8> {
-    let mut p = vec![n];
+    let mut p = vec![0x20 | n];
     for _ in 0..n {
         p.extend_from_slice(&[0xFF, 8]);
     }
     p
 }
+
+/// A payload of `n` hops of (1, no preference) and the ray bytes `ray` (header `0x30 | n`).
+fn ray_payload(n: u8, ray: &[u8]) -> Vec<u8> {
+    let mut p = vec![0x30 | n];
+    for _ in 0..n {
+        p.extend_from_slice(&[1, 0]);
+    }
+    p.extend_from_slice(ray);
+    p
+}
+
+/// The 8-sector ray bytes of `frame.rs`'s GOLDEN_RAY_LARGEST: sector 7, 200 robots.
+const RAY_K8: [u8; 14] = [
+    0x78, 200, 0x73, 0x73, 0x01, 0x04, 10, 20, 30, 40, 50, 0, 0, 50,
+];
 
 /// Seeds of the `deframer` target.
 pub fn deframer() -> Vec<DeframerSeed> {
@@ -111,8 +134,32 @@ pub fn deframer() -> Vec<DeframerSeed> {
         seed(
             "preference-nibble-9-with-tag",
             &[],
-            frame_payload(&[1, 0, 0x39]),
+            frame_payload(&[0x21, 0, 0x39]),
             vec![Err(FrameError::Undecodable)],
+        ),
+        seed(
+            "golden-ray-four-then-one-hop",
+            &[6],
+            cat(&[GOLDEN_RAY_FOUR, one]),
+            vec![Ok(ray_four()), Ok(one_hop())],
+        ),
+        seed(
+            "max-length-ray-5-hops-8-sectors",
+            &[],
+            frame_payload(&ray_payload(5, &RAY_K8)),
+            vec![Ok(decoded(&ray_payload(5, &RAY_K8)))],
+        ),
+        seed(
+            "over-budget-ray-6-hops-8-sectors",
+            &[],
+            frame_payload(&ray_payload(6, &RAY_K8)),
+            vec![Err(TooLong)],
+        ),
+        seed(
+            "ray-vote-over-robots",
+            &[],
+            frame_payload(&ray_payload(1, &[0x12, 2, 0, 1, 0, 0, 3, 0])),
+            vec![Err(Undecodable)],
         ),
         seed(
             "golden-four-hops-cut-3-5",
@@ -214,37 +261,37 @@ pub fn deframer() -> Vec<DeframerSeed> {
         seed(
             "zero-hops",
             &[],
-            frame_payload(&[0]),
+            frame_payload(&[0x20]),
             vec![Err(Undecodable)],
         ),
         seed(
             "length-lies-more",
             &[],
-            frame_payload(&[2, 1, 0]),
+            frame_payload(&[0x22, 1, 0]),
             vec![Err(Undecodable)],
         ),
         seed(
             "length-lies-less",
             &[],
-            frame_payload(&[1, 1, 0, 0, 0]),
+            frame_payload(&[0x21, 1, 0, 0, 0]),
             vec![Err(Undecodable)],
         ),
         seed(
-            "length-lies-huge-varint",
+            "header-other-version-bits",
             &[],
-            frame_payload(&[0xFF, 0xFF, 0xFF, 0xFF, 0x0F]),
+            frame_payload(&[0xE1, 1, 0]),
             vec![Err(Undecodable)],
         ),
         seed(
-            "length-overlong-varint",
+            "format-1-one-hop",
             &[],
-            frame_payload(&[0x81, 0x00, 1, 0]),
-            vec![Ok(one_hop())],
+            frame_payload(&[0x01, 1, 0]),
+            vec![Err(Undecodable)],
         ),
         seed(
             "preference-byte-9",
             &[],
-            frame_payload(&[1, 0, 9]),
+            frame_payload(&[0x21, 0, 9]),
             vec![Err(Undecodable)],
         ),
         seed("bad-crc", &[], bad_crc, vec![Err(BadCheck)]),
@@ -305,7 +352,58 @@ pub fn message_decode() -> Vec<DecodeSeed> {
     };
     let four = GOLDEN_FOUR_HOPS;
     vec![
-        payload("payload-one-hop", vec![1, 1, 0], Ok(one_hop())),
+        payload("payload-one-hop", vec![0x21, 1, 0], Ok(one_hop())),
+        payload("payload-ray-four", payload_of(&ray_four()), Ok(ray_four())),
+        payload(
+            "payload-ray-largest",
+            ray_payload(5, &RAY_K8),
+            Ok(decoded(&ray_payload(5, &RAY_K8))),
+        ),
+        payload(
+            "payload-ray-over-budget",
+            ray_payload(6, &RAY_K8),
+            Err(TooLong),
+        ),
+        payload(
+            "payload-ray-1-sector",
+            ray_payload(1, &[0x01, 1, 0, 1, 0, 0, 1]),
+            Err(Undecodable),
+        ),
+        payload(
+            "payload-ray-9-sectors",
+            ray_payload(1, &[0x09, 1, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0]),
+            Err(Undecodable),
+        ),
+        payload(
+            "payload-ray-sector-not-below-k",
+            ray_payload(1, &[0x22, 1, 0, 1, 0, 0, 1, 0]),
+            Err(Undecodable),
+        ),
+        payload(
+            "payload-ray-no-robots",
+            ray_payload(1, &[0x02, 0, 0, 1, 0, 0, 0, 0]),
+            Err(Undecodable),
+        ),
+        payload(
+            "payload-ray-vote-over-robots",
+            ray_payload(1, &[0x12, 2, 0, 1, 0, 0, 3, 0]),
+            Err(Undecodable),
+        ),
+        payload(
+            "payload-ray-cut-short",
+            ray_payload(2, &[0x12, 2, 0, 1, 0, 0, 1]),
+            Err(Undecodable),
+        ),
+        payload(
+            "payload-ray-bit-no-ray",
+            ray_payload(2, &[]),
+            Err(Undecodable),
+        ),
+        payload(
+            "payload-format-1-tagged-four",
+            vec![0x04, 1, 0x01, 1, 0x11, 0, 0x22, 0, 0x32],
+            Err(Undecodable),
+        ),
         payload(
             "payload-four-hops",
             payload_of(&four_hops()),
@@ -319,32 +417,36 @@ pub fn message_decode() -> Vec<DecodeSeed> {
         ),
         payload("payload-13-hops", wide_payload(13), Err(TooLong)),
         payload("payload-zero-length", vec![], Err(TooShort)),
-        payload("payload-zero-hops", vec![0], Err(Undecodable)),
-        payload("payload-length-lies-more", vec![2, 1, 0], Err(Undecodable)),
+        payload("payload-zero-hops", vec![0x20], Err(Undecodable)),
+        payload("payload-13-hops-header", vec![0x2D, 1, 0], Err(Undecodable)),
+        payload(
+            "payload-length-lies-more",
+            vec![0x22, 1, 0],
+            Err(Undecodable),
+        ),
         payload(
             "payload-length-lies-less",
-            vec![1, 1, 0, 0, 0],
+            vec![0x21, 1, 0, 0, 0],
             Err(Undecodable),
         ),
         payload(
-            "payload-length-overlong-varint",
-            vec![0x81, 0x00, 1, 0],
-            Ok(one_hop()),
-        ),
-        payload(
-            "payload-length-huge-varint",
-            vec![0xFF, 0xFF, 0xFF, 0xFF, 0x0F],
+            "payload-format-1-one-hop",
+            vec![0x01, 1, 0],
             Err(Undecodable),
         ),
-        payload("payload-preference-byte-9", vec![1, 0, 9], Err(Undecodable)),
+        payload(
+            "payload-preference-byte-9",
+            vec![0x21, 0, 9],
+            Err(Undecodable),
+        ),
         payload(
             "payload-tag-15-no-preference",
-            vec![1, 7, 0xF0],
+            vec![0x21, 7, 0xF0],
             Ok(msg(&[tagged(7, 15, None)])),
         ),
         payload(
             "payload-tag-3-preference-nibble-9",
-            vec![1, 7, 0x39],
+            vec![0x21, 7, 0x39],
             Err(Undecodable),
         ),
         payload(
@@ -375,7 +477,17 @@ pub fn message_decode() -> Vec<DecodeSeed> {
         ),
         frame(
             "frame-length-lies",
-            frame_payload(&[2, 1, 0]),
+            frame_payload(&[0x22, 1, 0]),
+            Err(Undecodable),
+        ),
+        frame(
+            "frame-golden-ray-four",
+            GOLDEN_RAY_FOUR.to_vec(),
+            Ok(ray_four()),
+        ),
+        frame(
+            "frame-format-1-golden-one-hop",
+            GOLDEN_V1_ONE_HOP.to_vec(),
             Err(Undecodable),
         ),
         frame(
@@ -384,9 +496,9 @@ pub fn message_decode() -> Vec<DecodeSeed> {
             Err(TooLong),
         ),
         frame(
-            "frame-overlong-varint",
-            frame_payload(&[0x81, 0x00, 1, 0]),
-            Ok(one_hop()),
+            "frame-format-1-one-hop",
+            frame_payload(&[0x01, 1, 0]),
+            Err(Undecodable),
         ),
     ]
 }
@@ -421,6 +533,22 @@ pub fn roundtrip() -> Vec<(&'static str, roundtrip::Input)> {
         (
             "36-hops-evict-many",
             input((0..36).map(|r| hop(r * 7, None)).collect(), 200, 0x55),
+        ),
+        (
+            "12-hops-ray-k2-drops-4",
+            roundtrip::Input {
+                ray: Some(reference::ray_left_k2()),
+                ..input(widest(MAX_HOPS), 5, 0x20)
+            },
+        ),
+        (
+            "20-hops-ray-k8-keeps-5",
+            roundtrip::Input {
+                ray: reference::decode_payload(&ray_payload(1, &RAY_K8))
+                    .ok()
+                    .and_then(|m| m.ray().copied()),
+                ..input((0..20).map(|r| hop(r, Some(r % 8))).collect(), 17, 0x73)
+            },
         ),
     ]
 }
@@ -461,7 +589,32 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
         hold: true,
     };
     let deadlines = |n| (0..n).map(|_| d(Action::Timeout(TimeStep::Deadline)));
-    let message = |sector, hops: Vec<Hop>, time| Action::Message { sector, hops, time };
+    let message = |sector, hops: Vec<Hop>, time| Action::Message {
+        sector,
+        hops,
+        ray: None,
+        time,
+    };
+    let with_ray = |sector, hops: Vec<Hop>, ray: Ray, time| Action::Message {
+        sector,
+        hops,
+        ray: Some(ray),
+        time,
+    };
+    // A ray of `sector` (of `k`), with `robots` robots of mean reading `mean`, variance `var`
+    // (quarters) and `votes`.
+    let ray = |sector: u8, k: u8, robots: u8, mean: u8, var: u16, v: &[u8]| {
+        let mut votes = [0; MAX_SECTORS];
+        votes[..v.len()].copy_from_slice(v);
+        Ray {
+            sector: reference::sector(sector),
+            sectors: k,
+            robots,
+            mean: u16::from(mean) << 8,
+            var,
+            votes,
+        }
+    };
     // The robot is tag 9 unless a seed says otherwise; `hop` is tag 0.
     let input = |setup, steps: Vec<Step>| Input {
         setup,
@@ -492,6 +645,7 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
             sector: 4,
             noise: b"\x00\xffsx".to_vec(),
             hops: four_hops().hops().to_vec(),
+            ray: None,
             time: later,
         }),
         d(Action::Bytes {
@@ -503,6 +657,7 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
             sector: 7,
             noise: vec![],
             hops: vec![hop(9, None)],
+            ray: Some(ray(7, 8, 3, 9, 100, &[0, 0, 0, 0, 0, 0, 0, 3])),
             time: later,
         }),
         d(Action::Bytes {
@@ -601,10 +756,83 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
     ];
     own_tag.extend(deadlines(30));
 
+    // The lab's line with rays (K = 2): the left neighbour (tag 0) sends the left side's ray,
+    // the right neighbour (tag 3) the right side's; then a ray for the wrong side, one of
+    // another K, the left neighbour's frame replayed on the right (followed elsewhere), a
+    // farther-reaching ray from another sender, and an implausible variance.
+    let mut rays = vec![
+        d(Action::Reading(1)),
+        d(with_ray(
+            1,
+            vec![tagged(1, 1, Some(1)), tagged(1, 0, Some(1))],
+            ray(1, 2, 2, 1, 0, &[0, 2]),
+            later,
+        )),
+        d(with_ray(
+            0,
+            vec![tagged(0, 2, Some(0)), tagged(0, 3, Some(0))],
+            ray(0, 2, 2, 0, 0, &[2, 0]),
+            later,
+        )),
+        d(with_ray(
+            0,
+            vec![tagged(0, 3, None)],
+            ray(1, 2, 1, 0, 0, &[0, 0]),
+            later,
+        )),
+        d(with_ray(
+            1,
+            vec![tagged(1, 0, None)],
+            ray(1, 3, 3, 1, 0, &[0, 3, 0]),
+            later,
+        )),
+        d(with_ray(
+            0,
+            vec![tagged(1, 0, Some(1))],
+            ray(0, 2, 9, 1, 0, &[0, 9]),
+            TimeStep::Nudge(3),
+        )),
+        d(with_ray(
+            1,
+            vec![tagged(1, 5, Some(1))],
+            ray(1, 2, 30, 1, 4, &[1, 29]),
+            later,
+        )),
+        d(with_ray(
+            1,
+            vec![tagged(0, 0, Some(1))],
+            ray(1, 2, 3, 0, 0xFFFF, &[0, 3]),
+            later,
+        )),
+    ];
+    rays.extend(deadlines(40));
+
+    // K = 8: full 8-sector rays beside 5 hops (25 bytes), from every sector, and a relay
+    // capacity the ray leaves no room in.
+    let mut rays_k8: Vec<Step> = (0..8u8)
+        .map(|s| {
+            d(with_ray(
+                s,
+                widest(5),
+                ray(s, 8, 200, s * 30, 400, &[25; 8]),
+                later,
+            ))
+        })
+        .collect();
+    rays_k8.extend(deadlines(12));
+
     vec![
         (
             "robots-lit-left-dark-right-to-decision",
             input(setup(ParamsChoice::Robots, Start::Zero), lab),
+        ),
+        (
+            "robots-rays-taken-refused-replayed",
+            input(setup(ParamsChoice::Robots, Start::Zero), rays),
+        ),
+        (
+            "sim2d-k8-full-rays",
+            input(setup(ParamsChoice::Simulation2d, Start::Zero), rays_k8),
         ),
         (
             "quick-k5-frames-noise-unknown-sector",
@@ -910,14 +1138,52 @@ pub fn keyed() -> Vec<KeyedSeed> {
             "stream-length-lies-with-good-tag",
             k,
             &[],
-            reference_frame(k, &[2, 1, 0]),
+            reference_frame(k, &[0x22, 1, 0]),
             vec![Err(Undecodable)],
+        ),
+        stream(
+            "stream-golden-keyed-ray-four",
+            k,
+            &[],
+            GOLDEN_KEYED_RAY_FOUR.to_vec(),
+            vec![Ok(ray_four())],
+        ),
+        stream(
+            "stream-keyed-max-ray-4-hops-8-sectors",
+            k,
+            &[],
+            reference_frame(k, &ray_payload(4, &RAY_K8)),
+            vec![Ok(decoded(&ray_payload(4, &RAY_K8)))],
+        ),
+        stream(
+            "stream-keyed-ray-5-hops-8-sectors-too-long",
+            k,
+            &[],
+            reference_frame(k, &ray_payload(5, &RAY_K8)),
+            vec![Err(TooLong)],
         ),
         framing("framing-no-hops", k, vec![]),
         framing("framing-one-hop-zero-key", &[0; 16], vec![hop(1, None)]),
         framing("framing-max-11-hops", &[0xFF; 16], widest(11)),
         framing("framing-12-hops-too-many", k, widest(MAX_HOPS)),
         framing("framing-s-readings", k, vec![hop(DELIMITER, Some(3)); 6]),
+        KeyedSeed {
+            name: "framing-ray-k8-too-long-then-fit",
+            bytes: keyed::input(
+                FRAMING,
+                k,
+                &roundtrip::Input {
+                    hops: widest(MAX_HOPS),
+                    at: 3,
+                    mask: 0x11,
+                    ray: reference::decode_payload(&ray_payload(1, &RAY_K8))
+                        .ok()
+                        .and_then(|m| m.ray().copied()),
+                }
+                .write(),
+            ),
+            expect: None,
+        },
         text("key-text-golden", "000102030405060708090a0b0c0d0e0f"),
         text("key-text-uppercase", "000102030405060708090A0B0C0D0E0F"),
         text("key-text-31-digits", "000102030405060708090a0b0c0d0e0"),

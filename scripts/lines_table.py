@@ -6,6 +6,10 @@ border at three positions (and the exact tie), at 0 % and 10 % frame loss, and p
 Markdown table of successful runs. Build first: `cargo build --release -p host-sim`.
 
     python3 scripts/lines_table.py [--runs 50] [--seed 1] [--cimax target/release/cimax]
+
+With `--sweep`, every line of 3 to 64 robots in the list below, every border whose majority is
+at least 55 %, lit on either side, `--runs` seeds each (docs: `--sweep --runs 5 --seed 7000`,
+once with `--loss 0` and once with `--loss 0.1`); prints the totals and each failing run.
 """
 import argparse
 import json
@@ -13,6 +17,23 @@ import subprocess
 import sys
 
 LINES = {8: (1, 2, 3), 16: (2, 4, 7), 32: (4, 8, 14), 64: (8, 16, 28)}
+SWEEP = (3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 16, 17, 20, 24, 31, 32, 40, 48, 63, 64)
+
+
+def sweep(a):
+    ok = total = 0
+    for n in SWEEP:
+        for b in range(1, n):
+            if max(b, n - b) / n < 0.55:
+                continue
+            for pattern in ("1" * b + "0" * (n - b), "0" * b + "1" * (n - b)):
+                good, runs, failed = run(a.cimax, pattern, a.runs, a.seed, a.loss)
+                ok, total = ok + good, total + runs
+                for s in failed:
+                    print(f"FAILED: cimax arena --lights {pattern} --seed {s} --runs 1 "
+                          f"--loss {a.loss}")
+        print(f"up to {n} robots: {ok}/{total}", flush=True)
+    print(f"total: {ok}/{total} successful runs at loss {a.loss}")
 
 
 def run(cimax, pattern, runs, seed, loss):
@@ -32,7 +53,12 @@ def main():
     ap.add_argument("--runs", type=int, default=50)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--cimax", default="target/release/cimax")
+    ap.add_argument("--sweep", action="store_true")
+    ap.add_argument("--loss", type=float, default=0.0, help="with --sweep")
     a = ap.parse_args()
+    if a.sweep:
+        sweep(a)
+        return
     print("| robots | lit (border after) | majority | 0 % loss | 10 % loss |")
     print("|---:|---:|---|---:|---:|")
     failures = []

@@ -12,10 +12,13 @@
 //! - nothing panics; `new` refuses exactly what `Params::validate` refuses, and keeps the tag;
 //! - `poll_transmit` and `poll_event` run dry within 2 and 8 items (§5.4), as many messages
 //!   come out as were queued minus those counted lost, and a loss means the queue was full;
-//! - every transmitted message has 1..=MAX_HOPS hops and frames and deframes back to itself; an
-//!   initiation is the robot's own hop (reading, preference, tag), a relay is the accepted
-//!   message plus its own hop, its oldest hops dropped to keep at most `Params::max_hops`
-//!   (counted in `hops_evicted`);
+//! - every transmitted message encodes and frames back, has at most `max_hops` hops, a payload
+//!   of at most 25 bytes (and `1 + 2·max_hops` unless one hop is left), the own tag last and a
+//!   valid ray of K sectors with robots ≥ 1; an initiation is the robot's own hop with the ray of
+//!   a side holding the fewest robots; a relay is the accepted message cut to `max_hops − 1`
+//!   hops plus its own hop, cut again to what fits beside the ray of the side it came from,
+//!   which is the held ray of that side extended by the robot (or the robot alone); the cuts
+//!   are counted in `hops_evicted` (but see finding 5 of README.md);
 //! - `poll_timeout()` is after `now` (or "never", `Instant::MAX`) and at most one longest cycle
 //!   after the latest instant seen; an input before the deadline changes nothing due to time;
 //! - receptions: `UnknownSector` exactly for sectors `≥ K`; then `OwnTag` exactly for a message
@@ -26,13 +29,15 @@
 //! - preference and decision are `None` or a sector below K; a preference, once set, is never
 //!   cleared; after an accepted message it is the strictly heaviest sector by `weight()` if
 //!   there is one, else unchanged; weights are finite, in `[0, 127.5²]`, and only below K;
-//! - `votes()` equals the count over a model of the per-tag slots (each accepted message's hops,
-//!   oldest first, overwrite their tag's slot; the own tag's slot never counts) plus the own
-//!   preference, the slots being emptied at each period end;
+//! - rays: a message heard (accepted or ignored) with a ray counts in `rays` or `rays_refused`
+//!   exactly as the taking rules of §5.3 say, and the model holds what was taken; rays older
+//!   than a negotiation period are forgotten at its end;
+//! - `votes()` equals the own preference plus the votes of every ray held (this replaces the
+//!   per-tag slots of the first format, which the node no longer keeps);
 //! - with every event of a call seen: the `State` events chain valid transitions ending in
 //!   `state()`, one `Refractory` per transmission and one `Active` per acceptance; `Decided`
-//!   events number the periods, carry the model's votes and follow the decision and tie rules
-//!   of §5.3, and `changed` is right;
+//!   events number the periods, carry the model's votes and follow the decision by resultant
+//!   scores and the tie rules of §5.3 ([`check_decision`]), and `changed` is right;
 //! - the same seed and inputs give the same outputs (the input is run twice).
 
 use arbitrary::Unstructured;

@@ -801,7 +801,7 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
         d(with_ray(
             1,
             vec![tagged(0, 0, Some(1))],
-            ray(1, 2, 3, 0, 0xFFFF, &[0, 3]),
+            ray(1, 2, 3, 0, 65025, &[0, 3]),
             later,
         )),
     ];

@@ -904,10 +904,9 @@ impl Run {
             })
         };
         // The relay this call made, if any, as the model expects its hops: the accepted
-        // message cut to `max_hops − 1` hops, the own hop appended by `push_evicting` while the
-        // message still holds the ray it came with (which drops the oldest hop if that ray
-        // leaves no room: finding 5 of README.md, not counted in `hops_evicted`), then as many
-        // as fit beside the own ray of the side it came from.
+        // message without its ray, cut to `max_hops − 1` hops, the own hop appended, then as
+        // many as fit beside the own ray of the side it came from; every dropped hop counted
+        // in `hops_evicted` (finding 5 of README.md, fixed).
         let relayed = (d_relayed > 0).then(|| {
             let (m, from) = self
                 .pending
@@ -915,14 +914,10 @@ impl Run {
                 .expect("relayed without an accepted message");
             let mut hops = m.hops()[m.len().saturating_sub(cap - 1)..].to_vec();
             let cut = m.len() - hops.len();
-            let in_ray = m.ray().map_or(0, |r| 6 + usize::from(r.sectors));
-            let uncounted =
-                usize::from(1 + 2 * hops.len() + in_ray + 2 > PAYLOAD_BUDGET && hops.len() > 1);
-            hops.drain(..uncounted);
             hops.push(own);
             let kept = hops[hops.len().saturating_sub(room)..].to_vec();
             let counted = cut + hops.len() - kept.len();
-            assert_eq!(m.len() + 1 - kept.len(), counted + uncounted);
+            assert_eq!(m.len() + 1 - kept.len(), counted);
             (kept, from, counted)
         });
         assert_eq!(

@@ -172,7 +172,8 @@ impl ArbHop {
 }
 
 /// A ray as the fuzz input spells it, always made valid: `sectors` taken as `2 + sectors % 7`,
-/// `sector` modulo that, `robots` 0 read as 1, each vote modulo `robots + 1`. Read with the
+/// `sector` modulo that, `robots` 0 read as 1, `mean` modulo 0xFF01, `var` modulo 65026, each
+/// vote modulo `robots + 1`. Read with the
 /// `arbitrary` crate: `u8` sectors, `u8` sector, `u8` robots, `u16` mean, `u16` var, 8 `u8`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ArbRay(pub Ray);
@@ -182,8 +183,8 @@ impl<'a> Arbitrary<'a> for ArbRay {
         let k = 2 + u.arbitrary::<u8>()? % 7;
         let s = u.arbitrary::<u8>()? % k;
         let robots = u.arbitrary::<u8>()?.max(1);
-        let mean = u.arbitrary()?;
-        let var = u.arbitrary()?;
+        let mean = u.arbitrary::<u16>()? % (0xFF00 + 1);
+        let var = u.arbitrary::<u16>()? % (65025 + 1);
         let raw: [u8; MAX_SECTORS] = u.arbitrary()?;
         let mut votes = [0; MAX_SECTORS];
         for (v, r) in votes.iter_mut().zip(raw).take(usize::from(k)) {
@@ -282,12 +283,15 @@ pub fn ray_bytes(r: &Ray) -> Vec<u8> {
 }
 
 /// True if a ray satisfies the rules of format 2: 2..=8 sectors, its sector below that, at
-/// least one robot, no vote above `robots`, nothing beyond `sectors` votes.
+/// least one robot, a mean of at most 255.0 (0xFF00) and a variance of at most 127.5² (65025
+/// quarters), no vote above `robots`, nothing beyond `sectors` votes.
 pub fn ray_is_valid(r: &Ray) -> bool {
     let k = usize::from(r.sectors);
     (2..=MAX_SECTORS).contains(&k)
         && usize::from(r.sector.index()) < k
         && r.robots >= 1
+        && r.mean <= 0xFF00
+        && r.var <= 65025
         && r.votes.iter().all(|&v| v <= r.robots)
         && r.votes[k..].iter().all(|&v| v == 0)
 }
@@ -336,7 +340,12 @@ pub fn parse_prefix(data: &[u8]) -> Result<(Message, usize), ParseError> {
         let v = data
             .get(used + 6..used + 6 + usize::from(k))
             .ok_or(ParseError::Short)?;
-        if v.iter().any(|&x| x > robots) {
+        let (mean, var) = (
+            u16::from_le_bytes([fixed[2], fixed[3]]),
+            u16::from_le_bytes([fixed[4], fixed[5]]),
+        );
+        // Moments of 8-bit readings: a mean of at most 255.0, a variance of at most 127.5².
+        if v.iter().any(|&x| x > robots) || mean > 0xFF00 || var > 65025 {
             return Err(ParseError::Ray);
         }
         let mut votes = [0; MAX_SECTORS];
@@ -346,8 +355,8 @@ pub fn parse_prefix(data: &[u8]) -> Result<(Message, usize), ParseError> {
             sector: sector(s),
             sectors: k,
             robots,
-            mean: u16::from_le_bytes([fixed[2], fixed[3]]),
-            var: u16::from_le_bytes([fixed[4], fixed[5]]),
+            mean,
+            var,
             votes,
         })
     } else {

@@ -238,7 +238,7 @@ mod tests {
                 sectors: k,
                 robots: 255,
                 mean: 0x7373,
-                var: 0xFFFF,
+                var: 65025,
                 votes,
             };
             let with = Input {

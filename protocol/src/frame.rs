@@ -965,7 +965,7 @@ mod tests {
         let good: &[&[u8]] = &[
             &[0x02, 1, 0, 7, 0, 0, 1, 0],
             &[0x12, 2, 0, 7, 0, 0, 1, 1],
-            &[0x78, 255, 0, 0xFF, 0xFF, 0xFF, 0, 0, 0, 0, 0, 0, 0, 255],
+            &[0x78, 255, 0, 0xFF, 0x01, 0xFE, 0, 0, 0, 0, 0, 0, 0, 255],
             &[0x13, 5, 0, 0, 0, 0, 5, 5, 5],
         ];
         for ray in good {
@@ -996,6 +996,8 @@ mod tests {
             ),
             ("sector 15", &[0xF8, 1, 0, 7, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0]),
             ("robots 0", &[0x02, 0, 0, 7, 0, 0, 0, 0]),
+            ("mean above 255.0", &[0x02, 1, 0x01, 0xFF, 0, 0, 1, 0]),
+            ("variance above 127.5²", &[0x02, 1, 0, 7, 0x02, 0xFE, 1, 0]),
             ("vote > robots", &[0x02, 4, 0, 7, 0, 0, 5, 0]),
             ("last vote > robots", &[0x03, 4, 0, 7, 0, 0, 0, 0, 5]),
             ("a vote missing", &[0x03, 4, 0, 7, 0, 0, 1, 1]),
@@ -1077,8 +1079,8 @@ mod tests {
                         sector: Sector::new(sector).unwrap(),
                         sectors: k,
                         robots: 3,
-                        mean: 0xFFFF,
-                        var: 0xFFFF,
+                        mean: 0xFF00,
+                        var: 65025,
                         votes,
                     };
                     let ray_len = 6 + usize::from(k);

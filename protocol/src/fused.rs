@@ -347,10 +347,12 @@ impl<D: Diversity> FusedNode<D> {
                 }
                 WaveAction::Relay => {
                     if let Some((mut m, from)) = self.pending.take() {
-                        // Room for the own hop within the capacity (`validate`: at least 1).
+                        // The received ray goes (this robot sends its own), then room for the
+                        // own hop within the capacity (`validate`: at least 1).
+                        m.set_ray(None);
                         let cap = usize::from(self.params.max_hops).max(1);
                         let dropped = m.keep_newest(cap - 1);
-                        // Cannot evict: at most cap - 1 < MAX_HOPS hops remain.
+                        // Cannot evict: no ray, and at most cap - 1 < MAX_HOPS hops remain.
                         m.push_evicting(self.own_hop());
                         self.count_evicted(dropped);
                         self.send_with_ray(m, from);

@@ -204,8 +204,8 @@ impl Ray {
         let m2 = n1 * self.variance() + (x - m1) * (x - m);
         let mut ray = Ray {
             robots: self.robots.saturating_add(1),
-            mean: quantise(m * 256.0),
-            var: quantise(m2 / n * 4.0),
+            mean: quantise(m * 256.0).min(MEAN_MAX),
+            var: quantise(m2 / n * 4.0).min(VAR_MAX),
             ..*self
         };
         ray.vote(pref);
@@ -228,12 +228,15 @@ impl Ray {
     }
 
     /// True if the fields are consistent: `2 <= sectors <= 8`, `sector < sectors`,
-    /// `robots >= 1`, no vote beyond `sectors`, no sector with more votes than robots.
+    /// `robots >= 1`, a mean of at most 255.0 (`0xFF00`) and a variance of at most 127.5²
+    /// (65025 quarters), no vote beyond `sectors`, no sector with more votes than robots.
     pub fn is_valid(&self) -> bool {
         let k = usize::from(self.sectors);
         (2..=MAX_SECTORS).contains(&k)
             && usize::from(self.sector.index()) < k
             && self.robots >= 1
+            && self.mean <= MEAN_MAX
+            && self.var <= VAR_MAX
             && self.votes[k..].iter().all(|&v| v == 0)
             && self.votes.iter().all(|&v| v <= self.robots)
     }
@@ -248,6 +251,11 @@ impl Ray {
         }
     }
 }
+
+/// The largest mean a ray can hold: 255.0 in 8.8 fixed point.
+const MEAN_MAX: u16 = 255 << 8;
+/// The largest population variance of readings in `0..=255`: 127.5², in quarters.
+const VAR_MAX: u16 = 65025;
 
 /// `x` rounded to the nearest `u16`, saturating (NaN gives 0).
 fn quantise(x: f32) -> u16 {
@@ -389,10 +397,11 @@ impl Message {
     }
 
     /// Sets (or removes) the ray, dropping the oldest hops until the message fits
-    /// [`PAYLOAD_BUDGET`] (at least the newest hop stays: every ray fits beside it). Returns
-    /// how many hops were dropped.
+    /// [`PAYLOAD_BUDGET`] (at least the newest hop stays: every ray fits beside it). A ray that
+    /// is not [valid](Ray::is_valid) (it would encode into a frame every decoder refuses) is
+    /// not set: the message is left without one. Returns how many hops were dropped.
     pub fn set_ray(&mut self, ray: Option<Ray>) -> usize {
-        self.ray = ray;
+        self.ray = ray.filter(Ray::is_valid);
         self.fit(PAYLOAD_BUDGET)
     }
 

@@ -131,6 +131,9 @@ pub enum LedColor {
     Green,
     /// Blue: the robot decided to go right.
     Blue,
+    /// A robot with more than two sectors decided to go toward this sector (its index): the
+    /// top cap shows the sector's direction (a ring of LEDs, or a code on the two).
+    Sector(u8),
 }
 
 impl LedColor {
@@ -144,12 +147,22 @@ impl LedColor {
         }
     }
 
+    /// The color for a decision of a robot with `sectors` receive sectors: as
+    /// [`for_decision`](Self::for_decision) for two, [`LedColor::Sector`] for more.
+    pub fn for_decision_of(decision: Option<Sector>, sectors: u8) -> LedColor {
+        match decision {
+            Some(s) if sectors > 2 => LedColor::Sector(s.index()),
+            _ => LedColor::for_decision(decision),
+        }
+    }
+
     /// The decision this color shows, if any.
     pub fn decision(self) -> Option<Sector> {
         match self {
             LedColor::Off => None,
             LedColor::Green => Some(Sector::LEFT),
             LedColor::Blue => Some(Sector::RIGHT),
+            LedColor::Sector(i) => Sector::new(i),
         }
     }
 }

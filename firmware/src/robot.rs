@@ -603,7 +603,7 @@ impl<G: RngCore, O: Observer> Main<'_, G, O> {
             };
             self.stats.decisions = self.stats.decisions.wrapping_add(1);
             let k = usize::from(self.config.params.sectors).min(votes.len());
-            let color = LedColor::for_decision(decision);
+            let color = LedColor::for_decision_of(decision, self.config.params.sectors);
             info!(
                 "robot {}: period {} decided {:?} ({:?}), votes {:?}",
                 id,

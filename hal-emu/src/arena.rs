@@ -1,7 +1,7 @@
 //! A whole emulated run: robots, medium, environment, scheduled kills and restarts, and the
 //! LED changes a camera would have seen.
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
 use embassy_futures::select::select;
@@ -9,7 +9,7 @@ use firmware::hal::ErrorType;
 use firmware::{
     Clock, Config, ErrorKind, Hardware, LedColor, Leds, Observer, Robot, SetupError, Stats,
 };
-use nalgebra::Point2;
+use nalgebra::{Point2, Vector2};
 use protocol::{Duration, Event, Instant, Sector, WaveState};
 use rand_pcg::Pcg32;
 use tokio::sync::oneshot;
@@ -24,11 +24,15 @@ use crate::medium::{Medium, MediumParams, MediumStats, SharedMedium, TraceEvent}
 pub struct ArenaConfig {
     /// Robot positions, metres.
     pub positions: Vec<Point2<f64>>,
-    /// The robot program's configuration. Its `id` is set per robot: robot `i` gets id `i`,
-    /// hence the tag `i mod 16` on the wire (distinct within any 16 robots of a line numbered in
-    /// order). Robots here have two receivers (left and right), so `robot.params.sectors` must
-    /// be 2.
+    /// The robot program's configuration. Its `id` is set per robot: robot `i` gets `ids[i]`,
+    /// or `i` without `ids`, hence the tag `id mod 16` on the wire. Each robot has
+    /// `robot.params.sectors` receivers (2 to 8), receiver `s` facing sector `s` of the swarm's
+    /// common frame.
     pub robot: Config,
+    /// Robot ids, if not `0..n` (on a plane, ids whose tags differ between neighbours).
+    pub ids: Option<Vec<u16>>,
+    /// How the swarm moves as it decides, if it does (robots on a plane over a field).
+    pub motion: Option<Motion>,
     /// The light medium.
     pub medium: MediumParams,
     /// What the sensors read.
@@ -70,10 +74,59 @@ impl ArenaConfig {
             duration,
             seed,
             trace: false,
+            ids: None,
+            motion: None,
         }
     }
 }
 
+/// The swarm's motion over a [`PlaneField`](crate::env::PlaneField), as in the paper's 2D
+/// simulations: every `period` (a negotiation period) the swarm moves rigidly by `step` R along
+/// its decision, the circular mean of the sectors the robots' LEDs show ([`swarm_heading`]).
+/// Relative positions do not change, so neither does what the robots hear: only what they
+/// sense.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Motion {
+    /// Time between moves.
+    pub period: Duration,
+    /// Length of a move, in R.
+    pub step: f64,
+}
+
+/// One move of the swarm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Move {
+    /// When.
+    pub t: Instant,
+    /// The centre of mass before the move, in R.
+    pub centre: Point2<f64>,
+    /// The swarm's heading (radians), if any robot had decided.
+    pub heading: Option<f64>,
+    /// Fraction of all robots whose LEDs show the sector nearest the heading.
+    pub consensus: f64,
+}
+
+/// The swarm's decision from its LEDs: the circular mean of the directions of the sectors the
+/// decided robots show (`sectors` per robot), or `None` if none has decided or they cancel
+/// out. Also the fraction of all robots showing the sector nearest that heading.
+pub fn swarm_heading(leds: &[LedColor], sectors: u8) -> (Option<f64>, f64) {
+    let (mut x, mut y) = (0.0, 0.0);
+    for s in leds.iter().filter_map(|c| c.decision()) {
+        let b = f64::from(s.bearing(sectors));
+        x += b.cos();
+        y += b.sin();
+    }
+    if x.hypot(y) < 1e-9 {
+        return (None, 0.0);
+    }
+    let heading = y.atan2(x);
+    let nearest = Sector::from_bearing(heading as f32, sectors);
+    let agree = leds
+        .iter()
+        .filter(|c| c.decision() == Some(nearest))
+        .count();
+    (Some(heading), agree as f64 / leds.len().max(1) as f64)
+}
 /// Why a run could not start.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ArenaError {
@@ -131,6 +184,8 @@ pub struct RunReport {
     pub emulated: Duration,
     /// Wall time the run took.
     pub wall: std::time::Duration,
+    /// The swarm's moves, with [`ArenaConfig::motion`].
+    pub moves: Vec<Move>,
 }
 
 impl RunReport {
@@ -155,6 +210,11 @@ impl RunReport {
     }
 }
 
+/// Trace names of the LEDs of robots with more than two sectors.
+const SECTOR_NAMES: [&str; 8] = [
+    "sector 0", "sector 1", "sector 2", "sector 3", "sector 4", "sector 5", "sector 6", "sector 7",
+];
+
 /// What the robots' hardware shares in one run.
 struct Shared {
     medium: SharedMedium,
@@ -162,7 +222,10 @@ struct Shared {
     env: Rc<Environment>,
     leds: RefCell<Vec<LedChange>>,
     config: Config,
+    ids: Option<Vec<u16>>,
     seed: u64,
+    /// The swarm's displacement over a plane field.
+    offset: Rc<Cell<Vector2<f64>>>,
 }
 
 /// The top-cap LEDs of one emulated robot: each change is recorded with its time.
@@ -183,6 +246,17 @@ impl Leds for EmuLeds {
 }
 
 impl Shared {
+    /// Every robot's LEDs now.
+    fn leds_now(&self, n: usize) -> Vec<LedColor> {
+        let mut out = vec![LedColor::Off; n];
+        for c in self.leds.borrow().iter() {
+            if let Some(o) = out.get_mut(c.robot) {
+                *o = c.color;
+            }
+        }
+        out
+    }
+
     fn record_led(&self, robot: usize, color: LedColor) {
         let t = self.clock.now();
         let mut leds = self.leds.borrow_mut();
@@ -200,6 +274,10 @@ impl Shared {
                     LedColor::Green => "green",
                     LedColor::Blue => "blue",
                     LedColor::Off => "off",
+                    LedColor::Sector(i) => SECTOR_NAMES
+                        .get(usize::from(i))
+                        .copied()
+                        .unwrap_or("sector ?"),
                 },
             });
         }
@@ -257,9 +335,29 @@ const RNG_ADVERSARY: u64 = 4;
 
 /// One life of one robot: boot, run the unchanged robot program until told to stop.
 async fn life(shared: Rc<Shared>, robot: usize, life: u32, stop: oneshot::Receiver<()>) -> Stats {
-    let (tx, mut rx) = Medium::attach(&shared.medium, robot);
-    // Receivers come indexed by sector: [right, left].
-    let (Some(left), Some(right)) = (rx.pop(), rx.pop()) else {
+    match shared.config.params.sectors {
+        2 => life_of::<2>(shared, robot, life, stop).await,
+        3 => life_of::<3>(shared, robot, life, stop).await,
+        4 => life_of::<4>(shared, robot, life, stop).await,
+        5 => life_of::<5>(shared, robot, life, stop).await,
+        6 => life_of::<6>(shared, robot, life, stop).await,
+        7 => life_of::<7>(shared, robot, life, stop).await,
+        8 => life_of::<8>(shared, robot, life, stop).await,
+        // `run` checked the configuration.
+        _ => Stats::default(),
+    }
+}
+
+/// [`life`] of a robot with `N` receivers: the same robot program for every `N`.
+async fn life_of<const N: usize>(
+    shared: Rc<Shared>,
+    robot: usize,
+    life: u32,
+    stop: oneshot::Receiver<()>,
+) -> Stats {
+    let (tx, rx) = Medium::attach(&shared.medium, robot);
+    // Receivers come indexed by sector (with two: right, left).
+    let Ok(receivers) = <[_; N]>::try_from(rx) else {
         return Stats::default();
     };
     let clock = shared.clock;
@@ -268,17 +366,29 @@ async fn life(shared: Rc<Shared>, robot: usize, life: u32, stop: oneshot::Receiv
         robot,
         clock,
         rng(shared.seed, RNG_SENSOR, robot, life),
-    );
+    )
+    .moving_with(shared.offset.clone());
     let leds = EmuLeds {
         shared: shared.clone(),
         robot,
     };
-    let mut hw = Hardware::line(tx, left, right, sensor, leds, clock);
+    let mut hw = Hardware {
+        transmitter: tx,
+        receivers,
+        sensor,
+        leds,
+        clock,
+    };
+    let id = shared
+        .ids
+        .as_ref()
+        .and_then(|ids| ids.get(robot).copied())
+        .unwrap_or(robot as u16);
     let config = Config {
-        id: robot as u16,
+        id,
         ..shared.config
     };
-    let Ok(mut r) = Robot::<Pcg32, 2>::new(
+    let Ok(mut r) = Robot::<Pcg32, N>::new(
         config,
         clock.now(),
         rng(shared.seed, RNG_PROTOCOL, robot, life),
@@ -291,6 +401,50 @@ async fn life(shared: Rc<Shared>, robot: usize, life: u32, stop: oneshot::Receiv
     };
     select(r.run_observed(&mut hw, &mut tracer), stop).await;
     *r.stats()
+}
+
+/// Checks that the robot program accepts `config` with as many receivers as it has sectors.
+fn check_robot(config: Config) -> Result<(), SetupError> {
+    fn with<const N: usize>(config: Config) -> Result<(), SetupError> {
+        Robot::<Pcg32, N>::new(config, Instant::ZERO, rng(0, 0, 0, 0)).map(|_| ())
+    }
+    match config.params.sectors {
+        2 => with::<2>(config),
+        3 => with::<3>(config),
+        4 => with::<4>(config),
+        5 => with::<5>(config),
+        6 => with::<6>(config),
+        7 => with::<7>(config),
+        _ => with::<8>(config),
+    }
+}
+
+/// Moves the swarm every `motion.period` along the heading of the LEDs, for ever.
+async fn mover(shared: Rc<Shared>, motion: Motion, moves: Rc<RefCell<Vec<Move>>>) {
+    let Some(plane) = shared.env.field.clone() else {
+        return;
+    };
+    let sectors = shared.config.params.sectors;
+    let n = plane.positions.len();
+    let mut t = Instant::ZERO;
+    loop {
+        t += motion.period;
+        shared.clock.sleep_until(t).await;
+        let leds = shared.leds_now(n);
+        let (heading, consensus) = swarm_heading(&leds, sectors);
+        let offset = shared.offset.get();
+        moves.borrow_mut().push(Move {
+            t,
+            centre: plane.centre(offset),
+            heading,
+            consensus,
+        });
+        if let Some(h) = heading {
+            shared
+                .offset
+                .set(offset + Vector2::new(h.cos(), h.sin()) * motion.step);
+        }
+    }
 }
 
 enum Control {
@@ -306,7 +460,7 @@ enum Control {
 /// An [`ArenaError`] if the configuration is unusable; nothing is run then.
 pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
     let n = cfg.positions.len();
-    Robot::<Pcg32, 2>::new(cfg.robot, Instant::ZERO, rng(0, 0, 0, 0)).map_err(ArenaError::Setup)?;
+    check_robot(cfg.robot).map_err(ArenaError::Setup)?;
     cfg.medium.validate().map_err(ArenaError::Medium)?;
     for a in &cfg.adversaries {
         a.validate().map_err(ArenaError::Adversary)?;
@@ -358,8 +512,16 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             env: Rc::new(cfg.env.clone()),
             leds: RefCell::new(Vec::new()),
             config: cfg.robot,
+            ids: cfg.ids.clone(),
             seed: cfg.seed,
+            offset: Rc::new(Cell::new(
+                cfg.env.field.as_ref().map_or(Vector2::zeros(), |f| f.start),
+            )),
         });
+        let moves = Rc::new(RefCell::new(Vec::new()));
+        if let Some(motion) = cfg.motion {
+            tokio::task::spawn_local(mover(shared.clone(), motion, moves.clone()));
+        }
         let mut lives: Vec<u32> = vec![0; n];
         let mut stops: Vec<Option<oneshot::Sender<()>>> = (0..n).map(|_| None).collect();
         let mut handles: Vec<Option<tokio::task::JoinHandle<Stats>>> =
@@ -428,8 +590,10 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             }
         }
         let leds = shared.leds.borrow().clone();
+        let moves = moves.borrow().clone();
         let mut m = medium.borrow_mut();
         RunReport {
+            moves,
             final_leds: Vec::new(),
             leds,
             trace: m.take_trace(),

@@ -1,6 +1,10 @@
-//! The environment the robots sense: a light pattern per robot, changing at scheduled times.
+//! The environment the robots sense: a light pattern per robot, changing at scheduled times, or
+//! a scalar field over the plane ([`PlaneField`]) sampled where each robot is as the swarm moves.
+
+use std::cell::Cell;
 
 use firmware::{ErrorKind, Sensor, hal::ErrorType};
+use nalgebra::{Point2, Vector2};
 use protocol::{Instant, Level};
 use rand::Rng;
 use rand_pcg::Pcg32;
@@ -21,6 +25,77 @@ pub struct Environment {
     pub noise: u8,
     /// The oxygen level every robot reads (the lab experiment used light only).
     pub oxygen: u8,
+    /// A field over the plane instead of the light pattern, if set: each robot reads it where
+    /// it is (`schedule`, `lit` and `dark` are then not used).
+    pub field: Option<PlaneField>,
+}
+
+/// A scalar field over the plane as the robots' sensors read it (the swarm simulator's fields,
+/// [`crate::field`]).
+///
+/// Robot `i` at `positions[i]` (in R, the light's range) reads the field's mean at
+/// `positions[i] + offset`, where `offset` is the swarm's displacement (`start` at first, then
+/// moved by the arena as the swarm decides, [`crate::arena::Motion`]), mapped to a sensor level by `level = base + gain × X`, rounded and
+/// saturated to `0..=255`, plus the environment's noise. With the defaults (base 30, gain 34)
+/// the sharp border's 0 and 5 read as 30 and 200, the lab's dark and lit, and the paper's
+/// noise of width 1 is about ±17 levels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlaneField {
+    /// The field.
+    pub field: crate::field::Field,
+    /// Each robot's position relative to the swarm, in R.
+    pub positions: Vec<Point2<f64>>,
+    /// The swarm's displacement at the start, in R.
+    pub start: Vector2<f64>,
+    /// Level of X = 0.
+    pub base: f64,
+    /// Levels per unit of X.
+    pub gain: f64,
+}
+
+impl PlaneField {
+    /// `field` read by robots at `positions` (in R), the swarm displaced by `start`; base 30,
+    /// gain 34.
+    pub fn new(
+        field: crate::field::Field,
+        positions: Vec<Point2<f64>>,
+        start: Vector2<f64>,
+    ) -> Self {
+        PlaneField {
+            field,
+            positions,
+            start,
+            base: 30.0,
+            gain: 34.0,
+        }
+    }
+
+    /// Where robot `i` is with the swarm displaced by `offset`, in R (the origin for a robot
+    /// beyond `positions`).
+    pub fn position(&self, i: usize, offset: Vector2<f64>) -> Point2<f64> {
+        self.positions
+            .get(i)
+            .copied()
+            .unwrap_or_else(Point2::origin)
+            + offset
+    }
+
+    /// The swarm's centre of mass with the swarm displaced by `offset`, in R.
+    pub fn centre(&self, offset: Vector2<f64>) -> Point2<f64> {
+        let n = self.positions.len().max(1) as f64;
+        let sum = self
+            .positions
+            .iter()
+            .fold(Vector2::zeros(), |s, p| s + p.coords);
+        Point2::from(sum / n) + offset
+    }
+
+    /// The noiseless level robot `i` reads with the swarm displaced by `offset`.
+    pub fn level(&self, i: usize, offset: Vector2<f64>) -> u8 {
+        let x = self.base + self.gain * self.field.mean(self.position(i, offset));
+        // `as` saturates and maps NaN to 0.
+        x.round().clamp(0.0, 255.0) as u8
+    }
 }
 
 impl Environment {
@@ -32,6 +107,22 @@ impl Environment {
             dark: 30,
             noise: 10,
             oxygen: 128,
+            field: None,
+        }
+    }
+
+    /// `field` over the plane, read by robots at `positions` (in R) with the swarm displaced by
+    /// `start`, noise ±17 levels (the paper's noise of width 1 at the default gain).
+    pub fn plane(
+        field: crate::field::Field,
+        positions: Vec<Point2<f64>>,
+        start: Vector2<f64>,
+    ) -> Self {
+        Environment {
+            schedule: vec![(Instant::ZERO, Vec::new())],
+            noise: 17,
+            field: Some(PlaneField::new(field, positions, start)),
+            ..Environment::constant(Vec::new())
         }
     }
 
@@ -68,18 +159,30 @@ pub struct EmuSensor {
     rng: Pcg32,
     /// Reads that fail from now on (to test a failing sensor); shared so a test can flip it.
     pub failing: Rc<RefCell<bool>>,
+    /// The swarm's displacement over a [`PlaneField`], shared with whatever moves the swarm.
+    offset: Rc<Cell<Vector2<f64>>>,
 }
 
 impl EmuSensor {
-    /// The sensor of robot `robot`, with its own noise RNG.
+    /// The sensor of robot `robot`, with its own noise RNG; over a [`PlaneField`] the swarm
+    /// stays at the field's `start`.
     pub fn new(env: Rc<Environment>, robot: usize, clock: crate::EmuClock, rng: Pcg32) -> Self {
+        let start = env.field.as_ref().map_or(Vector2::zeros(), |f| f.start);
         EmuSensor {
             env,
             robot,
             clock,
             rng,
             failing: Rc::new(RefCell::new(false)),
+            offset: Rc::new(Cell::new(start)),
         }
+    }
+
+    /// The same sensor, reading a [`PlaneField`] where `offset` (shared with the arena's
+    /// motion) says the swarm is.
+    pub fn moving_with(mut self, offset: Rc<Cell<Vector2<f64>>>) -> Self {
+        self.offset = offset;
+        self
     }
 }
 
@@ -91,6 +194,10 @@ impl Sensor for EmuSensor {
     async fn ambient_light(&mut self) -> Result<Level, ErrorKind> {
         if *self.failing.borrow() {
             return Err(ErrorKind::Bus);
+        }
+        if let Some(f) = &self.env.field {
+            let level = f.level(self.robot, self.offset.get());
+            return Ok(self.env.noisy(level, &mut self.rng));
         }
         let t = firmware::Clock::now(&self.clock);
         let base = if self.env.is_lit(self.robot, t) {

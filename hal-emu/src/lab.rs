@@ -47,6 +47,7 @@ pub fn leds_str(leds: &[LedColor]) -> String {
             LedColor::Green => 'L',
             LedColor::Blue => 'R',
             LedColor::Off => '-',
+            LedColor::Sector(i) => char::from_digit(u32::from(*i), 10).unwrap_or('?'),
         })
         .collect()
 }

@@ -32,6 +32,7 @@ pub mod adversary;
 pub mod arena;
 pub mod clock;
 pub mod env;
+pub mod field;
 pub mod lab;
 pub mod medium;
 

@@ -166,7 +166,7 @@ pub enum TraceEvent {
         t_ms: u64,
         /// Robot.
         robot: usize,
-        /// `green` (left), `blue` (right) or `off`.
+        /// `green` (left), `blue` (right), `off`, or `sector N` (robots with more than two sectors).
         color: &'static str,
     },
     /// A robot's wave state changed (from the robot program's protocol events).

@@ -14,6 +14,7 @@ use firmware::LedColor;
 use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, mirrored, parse_pattern, pattern_str};
 use hal_emu::{ArenaConfig, MediumParams, TraceEvent};
 use host_sim::campaign::ArenaCommand;
+use host_sim::plane::{Placement, PlaneSpec};
 use indicatif::{ProgressBar, ProgressStyle};
 use protocol::{Duration, Instant, Params, SwarmKey};
 use rayon::prelude::*;
@@ -24,9 +25,27 @@ use serde::Serialize;
 #[derive(Args, Debug, Clone)]
 #[command(args_conflicts_with_subcommands = true)]
 pub struct ArenaArgs {
-    /// Number of robots in the line (2 to 64); defaults to the pattern's length, else 4.
-    #[arg(long, value_parser = clap::value_parser!(u16).range(2..=64))]
+    /// Number of robots: in a line with light patterns 2 to 64 (default: the pattern's length,
+    /// else 4); with --field 2 to 1000 (default 61).
+    #[arg(long, value_parser = clap::value_parser!(u16).range(2..=1000))]
     pub robots: Option<u16>,
+    /// With --field: how the robots are placed (a line, the paper's hexagonal lattice 0.75 R
+    /// apart, or a random disk of the paper's density).
+    #[arg(long, value_enum, default_value_t = Placement::Lattice, requires = "field")]
+    pub shape: Placement,
+    /// With --field: receive sectors (receivers) per robot, 2 to 8.
+    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8), requires = "field")]
+    pub sectors: u8,
+    /// Robots on a plane over a field instead of light patterns: a `cimax swarm` scenario
+    /// (sharp, gradient, cloud) or its TOML file. The swarm moves as it decides.
+    #[arg(long)]
+    pub field: Option<String>,
+    /// With --field: where the centre of mass starts, in R along x.
+    #[arg(long, default_value_t = -2.0, allow_hyphen_values = true, requires = "field")]
+    pub x_init: f64,
+    /// With --field: negotiation periods (moves of 0.33 R) per run.
+    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1000), requires = "field")]
+    pub moves: u32,
     /// Metres between neighbours (the light carries --range metres).
     #[arg(long, default_value_t = 1.0)]
     pub spacing: f64,
@@ -299,8 +318,13 @@ struct JsonReport {
 /// Runs `cimax arena`; the exit code is non-zero if any run with a verdict failed or an option
 /// was bad.
 pub fn main(args: &ArenaArgs) -> ExitCode {
-    if let Some(ArenaCommand::Campaign(c)) = args.command.as_deref() {
-        return host_sim::campaign::main(c);
+    match args.command.as_deref() {
+        Some(ArenaCommand::Campaign(c)) => return host_sim::campaign::main(c),
+        Some(ArenaCommand::Sweep(s)) => return host_sim::plane::sweep_main(s),
+        None => {}
+    }
+    if args.field.is_some() {
+        return plane_main(args);
     }
     let experiments = match build(args) {
         Ok(e) => e,
@@ -528,6 +552,7 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
                 LedColor::Green => "#2e9d4a",
                 LedColor::Blue => "#2b6cd6",
                 LedColor::Off => "#d8d8d8",
+                LedColor::Sector(_) => "#8a4fd6",
             };
             s += &format!(
                 r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="12" fill="{fill}"/>"#,
@@ -601,4 +626,75 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
     }
     s += "</svg>\n";
     s
+}
+
+/// `cimax arena --field ...`: robots on a plane over a field, moving as they decide.
+fn plane_main(args: &ArenaArgs) -> ExitCode {
+    let spec = match plane_spec(args) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let wall = std::time::Instant::now();
+    let seeds: Vec<u64> = (0..args.runs).map(|k| args.seed.wrapping_add(k)).collect();
+    let results: Result<Vec<_>, _> = seeds
+        .par_iter()
+        .map(|&s| host_sim::plane::run(&spec, s))
+        .collect();
+    let runs = match results {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    host_sim::plane::print_runs(&spec, &runs, wall.elapsed().as_secs_f64(), args.json)
+}
+
+/// The plane experiment the options describe.
+fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
+    let field = args.field.as_deref().unwrap_or("sharp");
+    let scenario = host_sim::scenario::Scenario::load(field).map_err(|e| e.to_string())?;
+    if !args.x_init.is_finite() {
+        return Err(format!(
+            "--x-init must be a number of R, not {}",
+            args.x_init
+        ));
+    }
+    if args.lights.is_some()
+        || args.then.is_some()
+        || !args.kill.is_empty()
+        || !args.restart.is_empty()
+    {
+        return Err(
+            "--field runs over a field: --lights, --then, --kill and --restart do not apply".into(),
+        );
+    }
+    let mut params = Params::robots();
+    params.negotiation_cycles = args.negotiation.unwrap_or(params.negotiation_cycles);
+    let medium = MediumParams {
+        bitrate: args.bitrate,
+        range: args.range,
+        loss: args.loss,
+        byte_error_rate: args.byte_error_rate,
+        collisions: !args.no_collisions,
+        ..MediumParams::default()
+    };
+    medium.validate()?;
+    params.sectors = args.sectors;
+    params
+        .validate()
+        .map_err(|e| format!("protocol parameters: {e}"))?;
+    Ok(PlaneSpec {
+        scenario,
+        placement: args.shape,
+        robots: args.robots.map_or(61, usize::from),
+        sectors: args.sectors,
+        x_init: args.x_init,
+        moves: args.moves,
+        medium,
+        params,
+    })
 }

@@ -36,6 +36,9 @@ pub enum ArenaCommand {
     /// Fault-injection campaign: every scenario over many seeds, with bars to meet; writes
     /// docs/reliability.md and exits 1 if a bar is missed.
     Campaign(CampaignArgs),
+    /// Robots on a plane over a field: success rate and moves to success against the initial
+    /// position, beside the 2D simulator's and the paper's (Figs. 5 and 8).
+    Sweep(crate::plane::SweepArgs),
 }
 
 /// Options of `cimax arena campaign`.

@@ -19,8 +19,10 @@
 
 pub mod campaign;
 pub mod experiment;
-pub mod field;
+/// The environment's fields, shared with the emulated arena (they live in `hal-emu`).
+pub use hal_emu::field;
 pub mod geometry;
+pub mod plane;
 pub mod plot;
 pub mod report;
 pub mod scenario;

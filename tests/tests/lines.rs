@@ -23,7 +23,9 @@ fn assert_agree(n: usize, lit: usize, seeds: std::ops::Range<u64>, loss: f64) {
              (replay: cimax arena --lights {} --seed {seed} --runs 1 --loss {loss})",
             leds_str(&r.leds),
             leds_str(r.expected.as_deref().unwrap_or_default()),
-            (0..n).map(|i| if i < lit { '1' } else { '0' }).collect::<String>(),
+            (0..n)
+                .map(|i| if i < lit { '1' } else { '0' })
+                .collect::<String>(),
         );
     }
 }

@@ -321,6 +321,7 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
     match args.command.as_deref() {
         Some(ArenaCommand::Campaign(c)) => return host_sim::campaign::main(c),
         Some(ArenaCommand::Sweep(s)) => return host_sim::plane::sweep_main(s),
+        Some(ArenaCommand::Bench(b)) => return host_sim::plane::bench_main(b),
         None => {}
     }
     if args.field.is_some() {

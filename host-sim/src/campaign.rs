@@ -39,6 +39,9 @@ pub enum ArenaCommand {
     /// Robots on a plane over a field: success rate and moves to success against the initial
     /// position, beside the 2D simulator's and the paper's (Figs. 5 and 8).
     Sweep(crate::plane::SweepArgs),
+    /// Speed of the robot program over the emulated medium: robot-seconds per wall second for
+    /// 4, 64 and 1000 robots on a plane, one negotiation period, one core.
+    Bench(crate::plane::BenchArgs),
 }
 
 /// Options of `cimax arena campaign`.

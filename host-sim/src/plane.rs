@@ -564,3 +564,61 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
     println!("wrote {} and {}", csv.display(), svg.display());
     Ok(())
 }
+
+/// Options of `cimax arena bench`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// Swarm sizes to time (robots on the hexagonal lattice).
+    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000])]
+    pub robots: Vec<u16>,
+    /// Receive sectors per robot.
+    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
+    pub sectors: u8,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// `cimax arena bench`: robot-seconds per wall second of the robot program over the emulated
+/// medium, one negotiation period (550 s) of the sharp field 2 R from the border, on one core
+/// (one run at a time on the calling thread).
+pub fn bench_main(a: &BenchArgs) -> std::process::ExitCode {
+    let scenario = match Scenario::load("sharp") {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("cimax arena bench: {e}");
+            return std::process::ExitCode::from(2);
+        }
+    };
+    println!("robots  emulated s  wall s  robot-s per wall s  x real time");
+    for &n in &a.robots {
+        let spec = PlaneSpec {
+            scenario: scenario.clone(),
+            placement: Placement::Lattice,
+            robots: usize::from(n.max(2)),
+            sectors: a.sectors,
+            x_init: -2.0,
+            moves: 1,
+            medium: MediumParams::default(),
+            params: Params::robots(),
+        };
+        match run(&spec, a.seed) {
+            Ok(r) => {
+                let rate = r.emulated_s * spec.robots as f64 / r.wall_s.max(1e-9);
+                println!(
+                    "{:>6}  {:>10.0}  {:>6.2}  {:>18.3e}  {:>11.0}",
+                    spec.robots,
+                    r.emulated_s,
+                    r.wall_s,
+                    rate,
+                    r.emulated_s / r.wall_s.max(1e-9)
+                );
+            }
+            Err(e) => {
+                eprintln!("cimax arena bench: {e}");
+                return std::process::ExitCode::from(2);
+            }
+        }
+    }
+    std::process::ExitCode::SUCCESS
+}

@@ -110,13 +110,15 @@ pub struct Move {
 /// decided robots show (`sectors` per robot), or `None` if none has decided or they cancel
 /// out. Also the fraction of all robots showing the sector nearest that heading.
 pub fn swarm_heading(leds: &[LedColor], sectors: u8) -> (Option<f64>, f64) {
-    let (mut x, mut y) = (0.0, 0.0);
+    let (mut x, mut y, mut n) = (0.0, 0.0, 0.0f64);
     for s in leds.iter().filter_map(|c| c.decision()) {
         let b = f64::from(s.bearing(sectors));
         x += b.cos();
         y += b.sin();
+        n += 1.0;
     }
-    if x.hypot(y) < 1e-9 {
+    // Bearings are `f32`: opposite sectors cancel to within a rounding, not exactly.
+    if x.hypot(y) < 1e-5 * n.max(1.0) {
         return (None, 0.0);
     }
     let heading = y.atan2(x);

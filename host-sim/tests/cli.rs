@@ -165,3 +165,40 @@ fn arena_with_a_swarm_key() {
         );
     }
 }
+
+#[test]
+fn bad_plane_options_exit_2_naming_the_problem() {
+    for (args, says) in [
+        (&["arena", "--field", "nosuch"][..], "nosuch"),
+        (
+            &["arena", "--field", "sharp", "--lights", "1010"],
+            "--lights",
+        ),
+        (
+            &["arena", "--field", "sharp", "--x-init", "NaN"],
+            "--x-init",
+        ),
+        (&["arena", "--field", "sharp", "--sectors", "9"], "9"),
+        (&["arena", "--sectors", "6"], "--field"),
+        (&["arena", "sweep", "--from", "2", "--to", "1"], "--from"),
+    ] {
+        let out = cimax(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn a_small_lattice_over_the_sharp_field_reports_json() {
+    let out = cimax(&[
+        "arena", "--field", "sharp", "--robots", "19", "--x-init", "-1", "--moves", "4", "--runs",
+        "1", "--json",
+    ]);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let run = &v["runs"][0];
+    assert_eq!(run["consensus"].as_array().unwrap().len(), 4);
+    assert!(run["final_position"][0].as_f64().unwrap() > -1.0, "{run}");
+    assert_eq!(v["summary"]["runs"], 1);
+}

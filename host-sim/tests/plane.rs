@@ -1,0 +1,72 @@
+//! The robot program on a plane: robots with six receivers on the hexagonal lattice, over the
+//! swarm simulator's sharp field, moving as their LEDs decide.
+
+use hal_emu::arena::swarm_heading;
+use hal_emu::run;
+use host_sim::plane::{Placement, PlaneSpec, config};
+use host_sim::scenario::Scenario;
+use protocol::Params;
+
+fn spec(robots: usize, x_init: f64, moves: u32) -> PlaneSpec {
+    PlaneSpec {
+        scenario: Scenario::load("sharp").unwrap(),
+        placement: Placement::Lattice,
+        robots,
+        sectors: 6,
+        x_init,
+        moves,
+        medium: hal_emu::MediumParams::default(),
+        params: Params::robots(),
+    }
+}
+
+#[test]
+fn a_lattice_left_of_the_border_moves_to_it() {
+    // 37 robots (three rings), the centre 1.5 R left of the border: every move heads toward
+    // +x, and the swarm reaches the border.
+    let r = run(&config(&spec(37, -1.5, 6), 3).unwrap()).unwrap();
+    assert_eq!(r.moves.len(), 6);
+    let decided: Vec<_> = r.moves.iter().filter_map(|m| m.heading).collect();
+    assert!(!decided.is_empty());
+    // Until the border is reached, every move heads for it, and most robots agree.
+    let before: Vec<_> = r.moves.iter().filter(|m| m.centre.x < -0.33).collect();
+    assert!(before.len() >= 3, "{:?}", r.moves);
+    for m in &before {
+        assert!(m.heading.is_some_and(|h| h.cos() > 0.8), "{:?}", r.moves);
+    }
+    assert!(before.iter().any(|m| m.consensus > 0.7), "{:?}", r.moves);
+    // It gets there: the centre of mass within 0.33 R of the border at some move.
+    assert!(
+        r.moves.iter().any(|m| m.centre.x.abs() < 0.33),
+        "{:?}",
+        r.moves
+    );
+    // Every robot decided a sector on the LEDs (K = 6: the sector is shown).
+    assert!(
+        r.final_leds.iter().all(|c| c.decision().is_some()),
+        "{:?}",
+        r.final_leds
+    );
+}
+
+#[test]
+fn a_plane_run_is_reproducible() {
+    let cfg = config(&spec(19, -1.0, 2), 11).unwrap();
+    let (a, b) = (run(&cfg).unwrap(), run(&cfg).unwrap());
+    assert_eq!(a.leds, b.leds);
+    assert_eq!(a.moves, b.moves);
+    let other = run(&config(&spec(19, -1.0, 2), 12).unwrap()).unwrap();
+    assert_ne!(a.leds, other.leds, "another seed, another run");
+}
+
+#[test]
+fn the_swarm_heads_along_the_mean_of_its_leds() {
+    use firmware::LedColor::{Off, Sector};
+    // K = 6: two robots at 0°, one at 60°, one undecided: heading 20°, consensus 2 of 4.
+    let (h, c) = swarm_heading(&[Sector(0), Sector(0), Sector(1), Off], 6);
+    assert!((h.unwrap().to_degrees() - 19.1).abs() < 0.1, "{h:?}");
+    assert_eq!(c, 0.5);
+    // Opposite LEDs cancel: no move.
+    assert_eq!(swarm_heading(&[Sector(0), Sector(3)], 6).0, None);
+    assert_eq!(swarm_heading(&[Off, Off], 6), (None, 0.0));
+}

@@ -33,6 +33,9 @@ pub struct ArenaArgs {
     /// apart, or a random disk of the paper's density).
     #[arg(long, value_enum, default_value_t = Placement::Lattice, requires = "field")]
     pub shape: Placement,
+    /// With --field --shape file: the robots' positions, one `x y` per line, in R.
+    #[arg(long, value_name = "FILE", requires = "field")]
+    pub positions: Option<PathBuf>,
     /// With --field: receive sectors (receivers) per robot, 2 to 8.
     #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8), requires = "field")]
     pub sectors: u8,
@@ -688,10 +691,26 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
     params
         .validate()
         .map_err(|e| format!("protocol parameters: {e}"))?;
+    let file_positions = match (&args.positions, args.shape) {
+        (Some(path), Placement::File) => {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            host_sim::plane::read_positions(&text, &path.display().to_string())?
+        }
+        (None, Placement::File) => return Err("--shape file needs --positions FILE".into()),
+        (Some(_), _) => return Err("--positions needs --shape file".into()),
+        (None, _) => Vec::new(),
+    };
+    let robots = if file_positions.is_empty() {
+        args.robots.map_or(61, usize::from)
+    } else {
+        file_positions.len()
+    };
     Ok(PlaneSpec {
+        file_positions,
         scenario,
         placement: args.shape,
-        robots: args.robots.map_or(61, usize::from),
+        robots,
         sectors: args.sectors,
         x_init: args.x_init,
         moves: args.moves,

@@ -31,6 +31,8 @@ pub enum Placement {
     /// Uniformly at random in a disk with the density of the paper's (61 robots in 6 R), redrawn
     /// until connected.
     Disk,
+    /// Where a file says (`--positions FILE`, [`read_positions`]).
+    File,
 }
 
 /// Spacing of the line and the lattice, in R: 61 lattice robots fill the paper's 6 R disk.
@@ -55,6 +57,50 @@ pub struct PlaneSpec {
     pub medium: MediumParams,
     /// Protocol parameters (`sectors` is set from `sectors`).
     pub params: Params,
+    /// Positions relative to the swarm, in R, for [`Placement::File`] (recentred on their
+    /// centre of mass).
+    pub file_positions: Vec<Vector2<f64>>,
+}
+
+/// Reads robot positions, in R: one robot per line, `x y` or `x,y`; empty lines and lines
+/// starting with `#` are skipped. The positions are recentred on their centre of mass.
+///
+/// # Errors
+/// A message naming the line and what is wrong with it, or that there are fewer than two
+/// robots or more than 1000.
+pub fn read_positions(text: &str, source: &str) -> Result<Vec<Vector2<f64>>, String> {
+    let mut out = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = line
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|f| !f.is_empty())
+            .collect();
+        let [x, y] = fields.as_slice() else {
+            return Err(format!(
+                "{source}:{}: expected two numbers `x y` (in R), got {line:?}",
+                i + 1
+            ));
+        };
+        let num = |f: &str| {
+            f.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| format!("{source}:{}: {f:?} is not a finite number", i + 1))
+        };
+        out.push(Vector2::new(num(x)?, num(y)?));
+    }
+    if !(2..=1000).contains(&out.len()) {
+        return Err(format!(
+            "{source}: {} robots; 2 to 1000 are needed",
+            out.len()
+        ));
+    }
+    let centre = out.iter().fold(Vector2::zeros(), |s, p| s + p) / out.len() as f64;
+    Ok(out.into_iter().map(|p| p - centre).collect())
 }
 
 /// What one run did.
@@ -84,7 +130,7 @@ pub enum PlaneError {
     Placement(PlacementError),
     /// The emulator refused the configuration.
     Arena(String),
-    /// The scenario has no success criterion.
+    /// A sweep over a scenario without a success criterion.
     NoCriterion(String),
 }
 
@@ -113,6 +159,7 @@ pub fn positions(spec: &PlaneSpec, seed: u64) -> Result<Vec<Vector2<f64>>, Place
                 .map(|i| Vector2::new((i as f64 - mid) * SPACING, 0.0))
                 .collect());
         }
+        Placement::File => return Ok(spec.file_positions.clone()),
         Placement::Lattice => Shape::Lattice { spacing: SPACING },
         // The paper's density: 61 robots in a disk of diameter 6 R.
         Placement::Disk => Shape::Disk { diameter: 6.0 }.scaled_for(61, n),
@@ -216,12 +263,11 @@ fn judge(moves: &[Move], step: f64, success: &Success) -> (Option<u32>, Point2<f
 /// # Errors
 /// A [`PlaneError`] if it cannot be set up.
 pub fn run(spec: &PlaneSpec, seed: u64) -> Result<PlaneRun, PlaneError> {
-    let success = spec
-        .scenario
-        .success
-        .ok_or_else(|| PlaneError::NoCriterion(spec.scenario.name.clone()))?;
     let cfg = config(spec, seed)?;
     let report = hal_emu::run(&cfg).map_err(|e| PlaneError::Arena(e.to_string()))?;
+    // A field without a criterion (the cloud) is reported, never a success.
+    let never = Success::BeyondX { x: f64::INFINITY };
+    let success = spec.scenario.success.unwrap_or(never);
     let (first, end) = judge(&report.moves, spec.scenario.run.step, &success);
     Ok(PlaneRun {
         seed,
@@ -237,6 +283,24 @@ pub fn run(spec: &PlaneSpec, seed: u64) -> Result<PlaneRun, PlaneError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn positions_files_are_read_and_their_errors_name_the_line() {
+        let p = read_positions("# a triangle\n0 0\n\n1.5,0\n0.75 1.3\n", "t.txt").unwrap();
+        assert_eq!(p.len(), 3);
+        assert!((p.iter().fold(Vector2::zeros(), |s, q| s + q)).norm() < 1e-12);
+        let e = read_positions("0 0\n1 x\n", "t.txt").unwrap_err();
+        assert!(e.starts_with("t.txt:2:") && e.contains("\"x\""), "{e}");
+        let e = read_positions("0 0\n1 2 3\n", "t.txt").unwrap_err();
+        assert!(e.starts_with("t.txt:2:"), "{e}");
+        let e = read_positions("0 inf\n1 2\n", "t.txt").unwrap_err();
+        assert!(e.starts_with("t.txt:1:"), "{e}");
+        assert!(
+            read_positions("0 0\n", "t.txt")
+                .unwrap_err()
+                .contains("1 robots")
+        );
+    }
 
     #[test]
     fn spread_ids_keep_equal_tags_apart_on_the_lattice() {
@@ -270,10 +334,12 @@ mod tests {
             x: 0.0,
             within: 0.33,
         };
-        let moves = [m(-0.99, Some(0.0)), m(-0.66, Some(0.0)), m(-0.33, None)];
+        // From -0.9: -0.57 after the first move, -0.24 after the second (success), then no
+        // decision, no move.
+        let moves = [m(-0.9, Some(0.0)), m(-0.57, Some(0.0)), m(-0.24, None)];
         let (first, end) = judge(&moves, 0.33, &near);
         assert_eq!(first, Some(2));
-        assert!((end.x + 0.33).abs() < 1e-12);
+        assert!((end.x + 0.24).abs() < 1e-12, "{end}");
         let (first, _) = judge(&moves[..1], 0.33, &near);
         assert_eq!(first, None);
     }
@@ -438,6 +504,12 @@ pub fn sweep_main(a: &SweepArgs) -> std::process::ExitCode {
 fn sweep(a: &SweepArgs) -> Result<(), String> {
     use rayon::prelude::*;
     let scenario = Scenario::load(&a.field).map_err(|e| e.to_string())?;
+    if scenario.success.is_none() {
+        return Err(PlaneError::NoCriterion(scenario.name).to_string());
+    }
+    if a.shape == Placement::File {
+        return Err("sweep places robots on a line, the lattice or a disk, not from a file".into());
+    }
     if !(a.step > 0.0 && a.from.is_finite() && a.to.is_finite() && a.from <= a.to) {
         return Err(format!(
             "--from {} --to {} --step {}: need from <= to and a positive step",
@@ -460,6 +532,7 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
         moves: a.moves,
         medium,
         params: Params::robots(),
+        file_positions: Vec::new(),
     };
     let jobs: Vec<(usize, u64)> = (0..xs.len())
         .flat_map(|p| (0..a.runs).map(move |k| (p, a.seed.wrapping_add(k))))
@@ -601,6 +674,7 @@ pub fn bench_main(a: &BenchArgs) -> std::process::ExitCode {
             moves: 1,
             medium: MediumParams::default(),
             params: Params::robots(),
+            file_positions: Vec::new(),
         };
         match run(&spec, a.seed) {
             Ok(r) => {

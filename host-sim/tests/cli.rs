@@ -181,6 +181,26 @@ fn bad_plane_options_exit_2_naming_the_problem() {
         (&["arena", "--field", "sharp", "--sectors", "9"], "9"),
         (&["arena", "--sectors", "6"], "--field"),
         (&["arena", "sweep", "--from", "2", "--to", "1"], "--from"),
+        (
+            &["arena", "sweep", "--field", "cloud"],
+            "no success criterion",
+        ),
+        (
+            &["arena", "--field", "sharp", "--shape", "file"],
+            "--positions",
+        ),
+        (
+            &[
+                "arena",
+                "--field",
+                "sharp",
+                "--shape",
+                "file",
+                "--positions",
+                "/no/such/file",
+            ],
+            "/no/such/file",
+        ),
     ] {
         let out = cimax(args);
         assert_eq!(out.status.code(), Some(2), "{args:?}");

@@ -17,6 +17,7 @@ fn spec(robots: usize, x_init: f64, moves: u32) -> PlaneSpec {
         moves,
         medium: hal_emu::MediumParams::default(),
         params: Params::robots(),
+        file_positions: Vec::new(),
     }
 }
 

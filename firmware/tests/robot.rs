@@ -675,10 +675,13 @@ async fn a_keyed_robot_relays_at_most_eleven_hops() {
         .collect();
     assert!(relays.len() > 5, "{sent:?}");
     for m in relays {
-        // The oldest hop made room for the robot's own.
-        assert_eq!(m.len(), KEYED_MAX_HOPS);
-        assert_eq!(m.hops()[0].reading, Level(2));
-        assert_eq!(m.hops()[KEYED_MAX_HOPS - 1].reading, Level(0));
+        // The oldest hops made room for the robot's own and its two-sector ray (8 bytes): a
+        // keyed payload holds 23 bytes, 1 + 2 × 7 + 8.
+        assert_eq!(m.len(), 7);
+        assert_eq!(m.encoded_len(), protocol::frame::KEYED_PAYLOAD_MAX);
+        assert_eq!(m.hops()[0].reading, Level(6));
+        assert_eq!(m.hops()[6].reading, Level(0));
+        assert_eq!(m.ray().map(|r| r.sector), Some(Sector::LEFT));
     }
     assert!(robot.node().stats().hops_evicted > 5);
     assert_eq!(robot.stats().tx_errors, 0);

@@ -229,11 +229,30 @@ pub fn config(spec: &PlaneSpec, seed: u64) -> Result<ArenaConfig, PlaneError> {
         rel.iter().map(|v| Point2::from(*v)).collect(),
         Vector2::new(spec.x_init, 0.0),
     );
+    let (base, gain, noise) = sensor_scale(&spec.scenario);
+    if let Some(f) = c.env.field.as_mut() {
+        f.base = base;
+        f.gain = gain;
+    }
+    c.env.noise = noise;
     c.motion = Some(Motion {
         period,
         step: spec.scenario.run.step,
     });
     Ok(c)
+}
+
+/// How the sensor reads the scenario's field: `(base, gain, noise)`, the level of X being
+/// `base + gain · X` and the noise ± `noise` levels. The field's range where a swarm can go
+/// (|x|, |y| ≤ 10 R) maps into 30..=255 with at most 34 levels per unit of X (the sharp border's
+/// 0 and 5 read 30 and 200, the lab's dark and lit); the paper's noise of width `noise` in X
+/// becomes ± `gain · noise / 2` levels. A steeper gain would saturate the gradient's ramp
+/// (2.5 per R) 2.6 R into it, where the swarm must go, and stall it there.
+pub fn sensor_scale(scenario: &Scenario) -> (f64, f64, u8) {
+    let (lo, hi) = scenario.field.range_over((-10.0, 10.0), (-10.0, 10.0));
+    let gain = if hi > lo { (225.0 / (hi - lo)).min(34.0) } else { 34.0 };
+    let noise = (gain * scenario.run.noise / 2.0).round().clamp(0.0, 255.0) as u8;
+    (30.0 - gain * lo, gain, noise)
 }
 
 /// A negotiation period of mean cycles: the time between two moves.
@@ -300,6 +319,16 @@ mod tests {
                 .unwrap_err()
                 .contains("1 robots")
         );
+    }
+
+    #[test]
+    fn the_sharp_border_reads_as_the_lab_and_the_gradient_does_not_saturate() {
+        let sharp = Scenario::load("sharp").unwrap();
+        assert_eq!(sensor_scale(&sharp), (30.0, 34.0, 17));
+        let gradient = Scenario::load("gradient").unwrap();
+        let (base, gain, noise) = sensor_scale(&gradient);
+        // X reaches 25 at x = 10 R: 30 + 9 × 25 = 255.
+        assert_eq!((base, gain, noise), (30.0, 9.0, 5));
     }
 
     #[test]

@@ -250,7 +250,11 @@ pub fn config(spec: &PlaneSpec, seed: u64) -> Result<ArenaConfig, PlaneError> {
 /// (2.5 per R) 2.6 R into it, where the swarm must go, and stall it there.
 pub fn sensor_scale(scenario: &Scenario) -> (f64, f64, u8) {
     let (lo, hi) = scenario.field.range_over((-10.0, 10.0), (-10.0, 10.0));
-    let gain = if hi > lo { (225.0 / (hi - lo)).min(34.0) } else { 34.0 };
+    let gain = if hi > lo {
+        (225.0 / (hi - lo)).min(34.0)
+    } else {
+        34.0
+    };
     let noise = (gain * scenario.run.noise / 2.0).round().clamp(0.0, 255.0) as u8;
     (30.0 - gain * lo, gain, noise)
 }

@@ -148,6 +148,20 @@ fn secs(s: f64, what: &str) -> Result<Duration, String> {
     }
 }
 
+/// The light medium the options describe.
+fn medium(args: &ArenaArgs) -> Result<MediumParams, String> {
+    let medium = MediumParams {
+        bitrate: args.bitrate,
+        range: args.range,
+        loss: args.loss,
+        byte_error_rate: args.byte_error_rate,
+        collisions: !args.no_collisions,
+        ..MediumParams::default()
+    };
+    medium.validate()?;
+    Ok(medium)
+}
+
 /// One experiment: a list of runs sharing a label and an expected outcome.
 struct Experiment {
     label: String,
@@ -171,15 +185,7 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
     params
         .validate()
         .map_err(|e| format!("protocol parameters: {e}"))?;
-    let medium = MediumParams {
-        bitrate: args.bitrate,
-        range: args.range,
-        loss: args.loss,
-        byte_error_rate: args.byte_error_rate,
-        collisions: !args.no_collisions,
-        ..MediumParams::default()
-    };
-    medium.validate()?;
+    let medium = medium(args)?;
     if !(args.spacing.is_finite() && args.spacing > 0.0) {
         return Err(format!(
             "--spacing must be a positive number of metres, not {}",
@@ -678,15 +684,7 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
     }
     let mut params = Params::robots();
     params.negotiation_cycles = args.negotiation.unwrap_or(params.negotiation_cycles);
-    let medium = MediumParams {
-        bitrate: args.bitrate,
-        range: args.range,
-        loss: args.loss,
-        byte_error_rate: args.byte_error_rate,
-        collisions: !args.no_collisions,
-        ..MediumParams::default()
-    };
-    medium.validate()?;
+    let medium = medium(args)?;
     params.sectors = args.sectors;
     params
         .validate()

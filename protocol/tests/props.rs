@@ -1,10 +1,12 @@
 //! Property tests: framing round trips, resynchronisation in garbage, and robots that never
 //! panic whatever they are fed.
 
+mod common;
+
+use common::ray;
 use proptest::prelude::*;
 use protocol::frame::{Deframer, decode_frame, encode};
 use protocol::fused::Reception;
-use protocol::message::Ray;
 use protocol::{
     Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, MAX_TAGS, Message, Params,
     Sector, Tag,
@@ -21,32 +23,6 @@ fn hop() -> impl Strategy<Value = Hop> {
             reading: Level(r),
             pref: p.and_then(Sector::new),
             tag: Tag::new(t).unwrap(),
-        })
-}
-
-/// Any valid ray: 2..=8 sectors, a sector below that, 1..=255 robots, any moments, votes of
-/// at most `robots` each.
-fn ray() -> impl Strategy<Value = Ray> {
-    (
-        2..=MAX_SECTORS as u8,
-        any::<u8>(),
-        1..=255u8,
-        any::<u16>(),
-        any::<u16>(),
-    )
-        .prop_flat_map(|(k, s, robots, mean, var)| {
-            proptest::collection::vec(0..=robots, usize::from(k)).prop_map(move |v| {
-                let mut votes = [0; MAX_SECTORS];
-                votes[..v.len()].copy_from_slice(&v);
-                Ray {
-                    sector: Sector::new(s % k).unwrap(),
-                    sectors: k,
-                    robots,
-                    mean,
-                    var,
-                    votes,
-                }
-            })
         })
 }
 

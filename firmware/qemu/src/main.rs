@@ -153,6 +153,8 @@ fn letters(decisions: [Option<Sector>; 4]) -> [u8; 4] {
         LedColor::Green => b'G',
         LedColor::Blue => b'B',
         LedColor::Off => b'-',
+        // Robots in a line have two sectors: never shown.
+        LedColor::Sector(_) => b'?',
     })
 }
 

@@ -193,11 +193,7 @@ pub struct RunReport {
 impl RunReport {
     /// The LEDs of every robot at `t` (the last change at or before `t`).
     pub fn leds_at(&self, t: Instant) -> Vec<LedColor> {
-        let mut out = vec![LedColor::Off; self.robots.len()];
-        for c in self.leds.iter().take_while(|c| c.t <= t) {
-            out[c.robot] = c.color;
-        }
-        out
+        leds_at(&self.leds, self.robots.len(), t)
     }
 
     /// The earliest time from which every robot's LEDs showed `expected` without a change
@@ -210,6 +206,18 @@ impl RunReport {
         let last = self.leds.iter().rev().find(|c| c.t <= until).map(|c| c.t);
         Some(last.unwrap_or(Instant::ZERO))
     }
+}
+
+/// The LEDs of `n` robots at `t`: the last of `changes` (in time order) at or before `t` for
+/// each robot, off before its first.
+fn leds_at(changes: &[LedChange], n: usize, t: Instant) -> Vec<LedColor> {
+    let mut out = vec![LedColor::Off; n];
+    for c in changes.iter().take_while(|c| c.t <= t) {
+        if let Some(o) = out.get_mut(c.robot) {
+            *o = c.color;
+        }
+    }
+    out
 }
 
 /// Trace names of the LEDs of robots with more than two sectors.
@@ -250,13 +258,7 @@ impl Leds for EmuLeds {
 impl Shared {
     /// Every robot's LEDs now.
     fn leds_now(&self, n: usize) -> Vec<LedColor> {
-        let mut out = vec![LedColor::Off; n];
-        for c in self.leds.borrow().iter() {
-            if let Some(o) = out.get_mut(c.robot) {
-                *o = c.color;
-            }
-        }
-        out
+        leds_at(&self.leds.borrow(), n, Instant::MAX)
     }
 
     fn record_led(&self, robot: usize, color: LedColor) {

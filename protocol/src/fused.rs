@@ -1,23 +1,24 @@
 //! The fused CIMAX variant the aMussels ran (paper section 4).
 //!
 //! Gathering and negotiation are one phase. Every hop of a message carries the relaying robot's
-//! (reading, preferred direction). A robot that is activated by a message from sector `d`:
+//! (reading, preferred direction), and every message its sender's [`Ray`] of one direction: the
+//! summary of every robot that lies that way (see *Rays* below). A robot that is activated by a
+//! message from sector `d`:
 //!
-//! 1. scores it: the diversity of the message's readings plus its own (Alg. 1 appends its own
-//!    reading before computing the variance), added to `d`'s running average;
-//! 2. notes the preferences it carries (see *Counting* below);
-//! 3. re-evaluates its preference at once: the sector with the strictly largest average
+//! 1. scores it: the variance of the ray held for `d` with its own reading (the diversity of
+//!    everything that way), or without a ray the diversity of the message's readings plus its
+//!    own (Alg. 1), added to `d`'s running average;
+//! 2. re-evaluates its preference at once: the sector with the strictly largest average
 //!    diversity, if any (no evidence, uniform readings or an exact tie keep the preference);
-//! 4. after the relay delay appends `(reading, preference)` as they are then and relays
-//!    (a full message first drops its oldest hop, see [`crate::message`]).
+//! 3. after the relay delay appends `(reading, preference)` as they are then, replaces the ray
+//!    by its own ray of `d` and relays (the oldest hops make room, see [`crate::message`]).
 //!
 //! At the end of every negotiation period (`negotiation_cycles` of its own cycles, 10 on the
 //! robots: "every aMussel initiated at least 10 messages") it decides by majority, emits
-//! [`Event::Decided`] for the top-cap LEDs, and starts the next period from empty storage, so the
-//! swarm re-decides when the environment changes. The preference itself carries over.
+//! [`Event::Decided`] for the top-cap LEDs, and starts the next period, so the swarm re-decides
+//! when the environment changes. The preference itself carries over.
 //!
-//! **The diversity memory across periods.** The stored preferences are emptied; the per-sector
-//! average diversities are not thrown away but shrunk to a *one-message prior*: each keeps its
+//! **The diversity memory across periods.** The per-sector average diversities are not thrown away but shrunk to a *one-message prior*: each keeps its
 //! average with the weight of a single message. With noisy sensors a uniform side has a small
 //! but positive diversity, and emptying the averages outright lets the first message after the
 //! boundary, from whichever side it comes, set the preference on its own until the other side
@@ -35,14 +36,19 @@
 //! is refractory (it ignores every message then), so the rule never drops a message the robot
 //! would have used.
 //!
-//! # Counting: one vote per robot
-//! A robot far away rides in many messages; counting every hop of every stored message would
-//! count it many times and can tip a tie the wrong way (`shared/paper-notes.md`). Instead a robot
-//! keeps, for each tag, the **latest** preference heard from it in this period: each other robot
-//! counts once, with its most recent preference, whichever way and however often it was heard
-//! (a replayed message from the other side included). The decision is the plurality of those
-//! slots plus the robot's own preference. This needs distinct tags among robots within
-//! [`MAX_HOPS`](crate::message::MAX_HOPS) hops of each other (see [`Tag`]).
+//! # Rays: counting every robot once, however far
+//! A robot keeps the latest ray taken from each sector ([`FusedNode::votes`], `take_ray`): how
+//! many robots lie that way, the mean and variance of their readings and their votes. Relaying
+//! a wave from `d` it sends its ray of `d` extended by itself, which the robots ahead of the wave
+//! hear from their own side `d`; initiations carry the ray of the side holding the fewest
+//! robots (at a swarm's edge, the empty outward side). A ray grows one robot per hop and so
+//! summarises a whole line, beyond any message's horizon and without ids: each robot is counted
+//! once, in the one ray that reaches it. The decision is the sector nearest the resultant of the
+//! robot's own preference and every held ray's votes (K = 2: a plain majority). A robot follows
+//! one neighbour per direction (the one whose ray reaches farthest) and refuses a robot it
+//! follows on another side, so a replayed frame does not replace its neighbour's ray; rays not
+//! refreshed within a period are forgotten. `docs/protocol.md` §5.3 says why rays and not the
+//! other designs measured.
 //!
 //! **Tie rule**: if several sectors share the most votes, the robot keeps its own preference if
 //! it is one of them, else its previous decision if that is one of them, else it is undecided.

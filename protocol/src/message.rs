@@ -6,13 +6,14 @@
 //! robot `d` places away in the direction of reception.
 //!
 //! # Capacity and the full-message rule
-//! A message holds at most [`MAX_HOPS`] hops: what fits the 32-byte frame in the worst case (see
-//! [`crate::frame`], which proves it at compile time). A robot relaying a full message **drops
-//! the oldest hop** (the one farthest away along the wave's path) before appending its own. The
-//! wave keeps travelling, each receiver still sees the [`MAX_HOPS`] robots nearest to it along
-//! the path with fresh preferences, and a message's diversity becomes that of a sliding window:
-//! a horizon of [`MAX_HOPS`] hops. Relaying unchanged would freeze the far end of the path and
-//! hide the neighbours; refusing to relay would stop the wave.
+//! A message holds at most [`MAX_HOPS`] hops and at most [`PAYLOAD_BUDGET`] bytes encoded, its
+//! optional [`Ray`] included (payload format 2, see [`crate::frame`], which proves the sizes at
+//! compile time). A robot relaying a full message **drops the oldest hops** (those farthest away
+//! along the wave's path) to make room for its own hop and its ray: 8 hops fit beside a
+//! two-sector ray. The wave keeps travelling, each receiver still sees the robots nearest to it
+//! along the path with fresh preferences, and a message's diversity becomes that of a sliding
+//! window; what lies beyond the window is summarised by the ray. Relaying unchanged would freeze
+//! the far end of the path and hide the neighbours; refusing to relay would stop the wave.
 
 use heapless::Vec;
 use serde::de::{Error as _, Unexpected};

@@ -463,8 +463,9 @@ pub fn ray_matches(
     let m = m1 + (x - m1) / n;
     let var = (n1 * v1 + (x - m1) * (x - m)) / n;
     let mean_ok = (f64::from(ray.mean) / 256.0 - m).abs() <= 0.5 / 256.0 + 1e-3;
-    let var_ok = if var * 4.0 >= f64::from(u16::MAX) - 1.0 {
-        ray.var >= u16::MAX - 4
+    // The variance is clamped to 127.5² (65025 quarters; finding 7), within a rounding.
+    let var_ok = if var * 4.0 >= 65025.0 - 1.0 {
+        ray.var >= 65025 - 4
     } else {
         (f64::from(ray.var) / 4.0 - var.max(0.0)).abs() <= 0.125 + 1e-3 + var.abs() * 1e-5
     };

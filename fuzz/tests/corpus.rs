@@ -182,3 +182,34 @@ fn fused_seeds_reach_what_they_are_named_for() {
         "{end:?}"
     );
 }
+
+/// Inputs that once failed a check (fuzz/README.md, "Findings"), kept under
+/// `tests/regressions/<target>/`: each must pass now.
+#[test]
+fn past_failures_pass() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/regressions");
+    let mut n = 0;
+    for t in TARGETS {
+        let Ok(dir) = std::fs::read_dir(root.join(t)) else {
+            continue;
+        };
+        for entry in dir {
+            let path = entry.unwrap().path();
+            let bytes = std::fs::read(&path).unwrap();
+            let check: fn(&[u8]) = match t {
+                "deframer" => deframer::check,
+                "message_decode" => message_decode::check,
+                "roundtrip" => roundtrip::check,
+                "fused_node" => fused_node::check,
+                "three_phase" => three_phase::check,
+                "keyed" => keyed::check,
+                other => panic!("unknown target {other}"),
+            };
+            if std::panic::catch_unwind(|| check(&bytes)).is_err() {
+                panic!("{} fails its check again", path.display());
+            }
+            n += 1;
+        }
+    }
+    assert!(n >= 1, "the regression inputs are missing");
+}

@@ -383,7 +383,10 @@ pub fn scores_of(votes: &Votes, k: usize) -> Vec<f64> {
             (0..k)
                 .map(|t| {
                     let d = (s as f64 - t as f64) / k as f64;
-                    f64::from(votes[t]) * (core::f64::consts::TAU * d).cos()
+                    // Rounded to 1e-9 so that the cosines of K = 2 and 4 are exactly 0 and ±1
+                    // (`cos(π/2)` is 6e-17 in f64, which broke exact ties: finding 8).
+                    let c = ((core::f64::consts::TAU * d).cos() * 1e9).round() / 1e9;
+                    f64::from(votes[t]) * c
                 })
                 .sum()
         })

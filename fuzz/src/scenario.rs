@@ -2,6 +2,7 @@
 //! seed, the parameters, the start instant and how time moves between two inputs.
 
 use arbitrary::Unstructured;
+use protocol::params::DecisionRule;
 use protocol::{Duration, InitiationPoint, Instant, MAX_HOPS, Params, WaveParams};
 
 use crate::input::{Writer, get};
@@ -98,6 +99,9 @@ impl ParamsChoice {
                 decide_cycles: c.decide.into(),
                 diffusion: c.diffusion,
                 max_hops: c.max_hops,
+                // The model (`fused_node.rs`) knows the fixed rule only; the adaptive rule is
+                // not fuzzed yet (README, "Targets").
+                decide: DecisionRule::Fixed,
             },
         }
     }

@@ -125,6 +125,11 @@ pub struct LabRun {
     /// Seconds from the start (or the last pattern change) until the LEDs reached the state
     /// they kept to the end, if it was the expected one.
     pub consensus_s: Option<f64>,
+    /// The first LED change after the LEDs had reached the expected state, if any (seconds
+    /// from the start, robot): a flicker, and the run fails. Changes from the first kill of a
+    /// robot on do not count (it goes dark, decides anew after a restart, and its neighbours
+    /// may follow; the campaign's reboot scenario judges the recovery by its own bar).
+    pub flicker: Option<(f64, usize)>,
     /// The seed that replays it.
     pub seed: u64,
     /// The whole report (LED log, medium counters, trace if asked).
@@ -150,12 +155,27 @@ pub fn judge(cfg: &ArenaConfig) -> Result<LabRun, ArenaError> {
     let absent = absent(cfg);
     let exp = expected_without(&lights, &absent);
     let mut success = exp.as_ref().is_none_or(|e| report.final_leds == *e);
-    // Every earlier pattern must have been reached before it changed.
-    for w in schedule.windows(2) {
-        if let Some(e) = expected_without(&w[0].1, &absent) {
-            success &= report.leds_at(w[1].0 - Duration::from_millis(1)) == e;
+    // Every earlier pattern must have been reached before it changed, and no LED may change
+    // once the expected state was reached, until the pattern changes.
+    let mut flicker = None;
+    let mut phases: Vec<(Instant, Instant, Option<Vec<LedColor>>)> = schedule
+        .windows(2)
+        .map(|w| (w[0].0, w[1].0, expected_without(&w[0].1, &absent)))
+        .collect();
+    phases.push((last_change, end, exp.clone()));
+    if schedule.is_empty() {
+        phases[0].0 = Instant::ZERO;
+    }
+    for (i, (from, to, e)) in phases.iter().enumerate() {
+        let Some(e) = e else { continue };
+        if i + 1 < phases.len() {
+            success &= report.leds_at(*to - Duration::from_millis(1)) == *e;
+        }
+        if flicker.is_none() {
+            flicker = first_change_after_consensus(&report, e, *from, *to, &cfg.kills);
         }
     }
+    success &= flicker.is_none();
     let consensus_s = exp
         .as_ref()
         .and_then(|e| report.consensus_since(e, end))
@@ -170,9 +190,39 @@ pub fn judge(cfg: &ArenaConfig) -> Result<LabRun, ArenaError> {
         leds: report.final_leds.clone(),
         success,
         consensus_s,
+        flicker,
         seed: cfg.seed,
         report,
     })
+}
+
+/// The first LED change in `[from, to)` after the LEDs first showed `expected` there, as
+/// (seconds from the start, robot); changes at or after the first kill do not count.
+fn first_change_after_consensus(
+    report: &RunReport,
+    expected: &[LedColor],
+    from: Instant,
+    to: Instant,
+    kills: &[(Instant, usize)],
+) -> Option<(f64, usize)> {
+    let in_window: Vec<_> = report
+        .leds
+        .iter()
+        .filter(|c| c.t >= from && c.t < to)
+        .collect();
+    let reached = if report.leds_at(from) == expected {
+        Some(from)
+    } else {
+        in_window
+            .iter()
+            .map(|c| c.t)
+            .find(|&t| report.leds_at(t) == expected)
+    }?;
+    in_window
+        .iter()
+        .filter(|c| c.t > reached)
+        .find(|c| !kills.iter().any(|&(k, _)| c.t >= k))
+        .map(|c| (c.t.saturating_since(Instant::ZERO).as_secs_f64(), c.robot))
 }
 
 #[cfg(test)]

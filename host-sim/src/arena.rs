@@ -13,7 +13,7 @@ use clap::Args;
 use firmware::LedColor;
 use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, mirrored, parse_pattern, pattern_str};
 use hal_emu::{ArenaConfig, MediumParams, TraceEvent};
-use host_sim::campaign::ArenaCommand;
+use host_sim::campaign::{ArenaCommand, Decide};
 use host_sim::plane::{Placement, PlaneSpec};
 use indicatif::{ProgressBar, ProgressStyle};
 use protocol::{Duration, Instant, Params, SwarmKey};
@@ -98,6 +98,10 @@ pub struct ArenaArgs {
     /// Negotiation period, cycles (the paper's 10).
     #[arg(long)]
     pub negotiation: Option<u16>,
+    /// When a robot decides: at the end of each negotiation period (the paper's), or as soon as
+    /// its evidence settles, at the latest at a period's end (docs/protocol.md §5.4).
+    #[arg(long, value_enum, default_value_t = Decide::Fixed)]
+    pub decide: Decide,
     /// Kill a robot: ROBOT@SECONDS (robots count from 0); repeatable.
     #[arg(long, value_parser = parse_at)]
     pub kill: Vec<(usize, u64)>,
@@ -182,6 +186,7 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
     if let Some(n) = args.negotiation {
         params.negotiation_cycles = n;
     }
+    params.decide = args.decide.into();
     params
         .validate()
         .map_err(|e| format!("protocol parameters: {e}"))?;
@@ -684,6 +689,7 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
     }
     let mut params = Params::robots();
     params.negotiation_cycles = args.negotiation.unwrap_or(params.negotiation_cycles);
+    params.decide = args.decide.into();
     let medium = medium(args)?;
     params.sectors = args.sectors;
     params

@@ -29,6 +29,7 @@ use rayon::prelude::*;
 
 use crate::experiment::Progress;
 use crate::seeds;
+use protocol::params::DecisionRule;
 
 /// Subcommands of `cimax arena`.
 #[derive(Subcommand, Debug, Clone)]
@@ -59,6 +60,9 @@ pub struct CampaignArgs {
     /// Frame loss at every receiver in every scenario, replacing the scenario's own.
     #[arg(long)]
     pub loss: Option<f64>,
+    /// The robots' decision rule (docs/protocol.md §5.4); the documented campaign is `fixed`.
+    #[arg(long, value_enum, default_value_t = Decide::Fixed)]
+    pub decide: Decide,
     /// The Markdown report (default: docs/reliability.md for the documented campaign only,
     /// every scenario over 200 seeds from seed 1 at the scenarios' own loss; any other campaign
     /// writes nothing unless --out is given).
@@ -70,6 +74,25 @@ pub struct CampaignArgs {
     /// Write the trace of the first run as JSON lines (to look into a replayed seed).
     #[arg(long)]
     pub trace: Option<PathBuf>,
+}
+
+/// `--decide`: the protocol's [`DecisionRule`] on the command line.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Decide {
+    /// At the end of every negotiation period (the paper's robots).
+    #[default]
+    Fixed,
+    /// When the evidence settles; the negotiation period is the cap.
+    Adaptive,
+}
+
+impl From<Decide> for DecisionRule {
+    fn from(d: Decide) -> Self {
+        match d {
+            Decide::Fixed => DecisionRule::Fixed,
+            Decide::Adaptive => DecisionRule::Adaptive,
+        }
+    }
 }
 
 /// The fault a scenario injects.
@@ -214,6 +237,8 @@ pub struct Plan {
     pub seeds: u64,
     /// Frame loss replacing every scenario's own.
     pub loss: Option<f64>,
+    /// The robots' decision rule.
+    pub decide: Decide,
 }
 
 /// One scenario's runs and what they add up to.
@@ -357,7 +382,10 @@ fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<(LabRun, Outcom
     let run = judge(cfg).map_err(|e| e.to_string())?;
     let expected = run.expected.clone();
     let mut success = run.success;
-    let mut why = (!success).then(|| "wrong LEDs at the end".to_string());
+    let mut why = (!success).then(|| match run.flicker {
+        Some((t, r)) => format!("robot {r}'s LEDs changed at {t:.0} s, after consensus"),
+        None => "wrong LEDs at the end".to_string(),
+    });
     let mut restore_s = None;
     if let (Some(t), Some(e)) = (reboot, &expected) {
         let before = run.report.leds_at(t - Duration::from_millis(1));
@@ -405,8 +433,14 @@ fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<(LabRun, Outcom
 ///
 /// # Errors
 /// A message if the run cannot start.
-pub fn run_one(scenario: &Scenario, seed: u64, loss: Option<f64>) -> Result<Outcome, String> {
-    let (cfg, reboot) = config(scenario, seed, loss)?;
+pub fn run_one(
+    scenario: &Scenario,
+    seed: u64,
+    loss: Option<f64>,
+    decide: Decide,
+) -> Result<Outcome, String> {
+    let (mut cfg, reboot) = config(scenario, seed, loss)?;
+    cfg.robot.params.decide = decide.into();
     outcome(&cfg, reboot).map(|(_, o)| o)
 }
 
@@ -435,7 +469,7 @@ pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
     let outcomes: Vec<Result<Outcome, String>> = jobs
         .par_iter()
         .map(|&(s, seed)| {
-            let o = run_one(&SCENARIOS[s], seed, plan.loss);
+            let o = run_one(&SCENARIOS[s], seed, plan.loss, plan.decide);
             progress.inc();
             o
         })
@@ -497,6 +531,9 @@ fn command(plan: &Plan) -> String {
     }
     if let Some(p) = plan.loss {
         let _ = write!(c, " --loss {p}");
+    }
+    if plan.decide != Decide::Fixed {
+        let _ = write!(c, " --decide adaptive");
     }
     c
 }
@@ -870,9 +907,11 @@ fn write_trace(
     scenario: &Scenario,
     seed: u64,
     loss: Option<f64>,
+    decide: Decide,
     path: &Path,
 ) -> Result<(), String> {
     let (mut cfg, _) = config(scenario, seed, loss)?;
+    cfg.robot.params.decide = decide.into();
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
     let mut out = String::new();
@@ -919,6 +958,7 @@ pub fn main(args: &CampaignArgs) -> ExitCode {
         seed: args.seed,
         seeds: args.seeds,
         loss: args.loss,
+        decide: args.decide,
     };
     let total = plan.scenarios.len() as u64 * plan.seeds;
     let progress = if total > 1 {
@@ -934,7 +974,7 @@ pub fn main(args: &CampaignArgs) -> ExitCode {
         }
     };
     if let (Some(path), Some(&s)) = (&args.trace, plan.scenarios.first())
-        && let Err(e) = write_trace(&SCENARIOS[s], plan.seed, plan.loss, path)
+        && let Err(e) = write_trace(&SCENARIOS[s], plan.seed, plan.loss, plan.decide, path)
     {
         eprintln!("cimax arena campaign: {e}");
         return ExitCode::from(2);
@@ -966,8 +1006,11 @@ pub fn main(args: &CampaignArgs) -> ExitCode {
             }
         }
     }
-    let documented =
-        args.scenario.is_empty() && args.seeds == 200 && args.seed == 1 && args.loss.is_none();
+    let documented = args.scenario.is_empty()
+        && args.seeds == 200
+        && args.seed == 1
+        && args.loss.is_none()
+        && args.decide == Decide::Fixed;
     let out = args
         .out
         .clone()

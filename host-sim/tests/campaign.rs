@@ -4,7 +4,7 @@
 
 use std::process::Command;
 
-use host_sim::campaign::{self, Plan, SCENARIOS};
+use host_sim::campaign::{self, Decide, Plan, SCENARIOS};
 use host_sim::experiment::Progress;
 
 fn cimax(args: &[&str]) -> std::process::Output {
@@ -30,6 +30,7 @@ fn a_small_campaign_meets_the_bars() {
         seed: 1,
         seeds: 6,
         loss: None,
+        decide: Decide::Fixed,
     };
     let report = campaign::run(&plan, &Progress::hidden()).unwrap();
     assert_eq!(report.results.len(), SCENARIOS.len());
@@ -79,6 +80,7 @@ fn results_do_not_depend_on_the_number_of_threads() {
         seed: 40,
         seeds: 3,
         loss: None,
+        decide: Decide::Fixed,
     };
     let on = |threads| {
         let pool = rayon::ThreadPoolBuilder::new()

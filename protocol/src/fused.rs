@@ -61,7 +61,7 @@ use rand_core::RngCore;
 use crate::direction::{MAX_SECTORS, Sector};
 use crate::diversity::{Diversity, Variance};
 use crate::message::{Hop, Level, Message, Ray, Tag};
-use crate::params::{ParamError, Params};
+use crate::params::{DecisionRule, ParamError, Params};
 use crate::time::Instant;
 use crate::wave::{WaveAction, WaveNode, WaveState, WaveStats};
 use crate::weights::DirectionWeights;
@@ -97,9 +97,11 @@ pub enum Event {
     State(WaveState),
     /// The preferred direction changed.
     Preference(Option<Sector>),
-    /// A negotiation period ended with this decision: show it on the LEDs.
+    /// A decision to show on the LEDs: at the end of a negotiation period
+    /// ([`DecisionRule::Fixed`]), or when the evidence settled ([`DecisionRule::Adaptive`]).
     Decided {
-        /// Periods completed so far (1 for the first decision).
+        /// The negotiation period it belongs to, counted from 1 (fixed rule: the period that
+        /// just ended; adaptive rule: the one under way, or the one that ended at the cap).
         period: u32,
         /// The decision; `None` if undecided.
         decision: Option<Sector>,
@@ -176,6 +178,23 @@ pub struct FusedNode<D: Diversity = Variance> {
     next_initiation_ray: u8,
     period_cycles: u16,
     periods: u32,
+    /// When the node started: a whole cycle later every neighbour has initiated once.
+    born: Instant,
+    /// Sectors a ray was ever taken from (bit `i` for sector `i`).
+    heard: u8,
+    /// Adaptive rule: the direction the held votes give now ([`FusedNode::tally`]).
+    candidate: Option<Sector>,
+    /// Adaptive rule: the sectors whose rays confirmed `candidate` after it was last set.
+    confirmed: u8,
+    /// Adaptive rule: a decision was shown during the period under way.
+    shown_in_period: bool,
+    /// The vote the last ray sent carried, and the sectors whose rays carried it since.
+    last_vote: Option<Sector>,
+    voted_to: u8,
+    /// Adaptive rule: the sector whose ray a pending extra initiation carries.
+    trigger: Option<Sector>,
+    /// Adaptive rule: extra initiations asked for in the cycle under way.
+    triggered_in_cycle: u8,
     /// The accepted message waiting for its relay, and the sector it came from.
     pending: Option<(Message, Sector)>,
     outbox: Deque<Message, OUTBOX>,
@@ -226,6 +245,15 @@ impl<D: Diversity> FusedNode<D> {
             next_initiation_ray: 0,
             period_cycles: 0,
             periods: 0,
+            born: now,
+            heard: 0,
+            candidate: None,
+            confirmed: 0,
+            shown_in_period: false,
+            last_vote: None,
+            voted_to: 0,
+            trigger: None,
+            triggered_in_cycle: 0,
             pending: None,
             outbox: Deque::new(),
             events: Deque::new(),
@@ -301,6 +329,18 @@ impl<D: Diversity> FusedNode<D> {
         rng: &mut impl RngCore,
     ) -> Reception {
         self.handle_timeout(now, rng);
+        let rays = self.stats.rays;
+        let r = self.receive(now, from, msg);
+        if self.params.decide == DecisionRule::Adaptive {
+            let confirming = (self.stats.rays != rays).then_some(from);
+            self.settle(now, confirming);
+            self.spread_vote(now, rng);
+        }
+        r
+    }
+
+    /// [`handle_message`](Self::handle_message) once what was due is done.
+    fn receive(&mut self, now: Instant, from: Sector, msg: &Message) -> Reception {
         if from.index() >= self.params.sectors {
             self.stats.unknown_sector = self.stats.unknown_sector.wrapping_add(1);
             return Reception::UnknownSector;
@@ -309,18 +349,30 @@ impl<D: Diversity> FusedNode<D> {
             self.stats.own_tag = self.stats.own_tag.wrapping_add(1);
             return Reception::OwnTag;
         }
-        if let (Some(ray), Some(sender)) = (msg.ray(), msg.hops().last()) {
-            self.take_ray(now, from, ray, sender.tag);
-        }
+        let took = match (msg.ray(), msg.hops().last()) {
+            (Some(ray), Some(sender)) => self.take_ray(now, from, ray, sender.tag),
+            _ => false,
+        };
         if msg.is_empty() || !self.wave.on_receive(now) {
+            // The adaptive rule scores a ray also while the robot is busy: a neighbour whose
+            // initiations fall while it relays would otherwise never be scored.
+            if took && self.params.decide == DecisionRule::Adaptive {
+                self.score(from, msg);
+            }
             return Reception::Ignored;
         }
         self.stats.accepted = self.stats.accepted.wrapping_add(1);
         self.push_event(Event::State(WaveState::Active));
+        self.score(from, msg);
+        self.pending = Some((msg.clone(), from));
+        Reception::Accepted
+    }
 
-        // The diversity of the direction: of the whole ray beyond, with the own reading, if
-        // one is known (its moments are the variance's sufficient statistics); else of the
-        // message's readings with the own (Alg. 1).
+    /// Adds the diversity of direction `from` to its average and re-evaluates the preference:
+    /// the diversity of the whole ray held for it with the own reading, if one is held (its
+    /// moments are the variance's sufficient statistics); else of `msg`'s readings with the own
+    /// (Alg. 1).
+    fn score(&mut self, from: Sector, msg: &Message) {
         let v = match self.ray_from(from) {
             Some(ray) => ray.extended(self.reading, None).variance(),
             None => {
@@ -330,15 +382,12 @@ impl<D: Diversity> FusedNode<D> {
             }
         };
         self.weights.add(from, v);
-
         if let Some(best) = self.weights.heaviest()
             && self.pref != Some(best)
         {
             self.pref = Some(best);
             self.push_event(Event::Preference(self.pref));
         }
-        self.pending = Some((msg.clone(), from));
-        Reception::Accepted
     }
 
     /// Does whatever is due at `now`: relays, initiations, the end of the refractory time,
@@ -347,9 +396,16 @@ impl<D: Diversity> FusedNode<D> {
         while let Some(action) = self.wave.poll(now, rng) {
             match action {
                 WaveAction::Initiate => {
-                    let sector = self.initiation_ray();
+                    self.wave.cancel_extra();
+                    let sector = match self.trigger.take() {
+                        Some(s) => s,
+                        None => self.initiation_ray(),
+                    };
                     let m = Message::initiate(self.own_hop());
-                    self.send_with_ray(m, sector);
+                    self.send_with_ray(now, m, sector);
+                    if self.params.decide == DecisionRule::Adaptive {
+                        self.spread_vote(now, rng);
+                    }
                 }
                 WaveAction::Relay => {
                     if let Some((mut m, from)) = self.pending.take() {
@@ -361,14 +417,27 @@ impl<D: Diversity> FusedNode<D> {
                         // Cannot evict: no ray, and at most cap - 1 < MAX_HOPS hops remain.
                         m.push_evicting(self.own_hop());
                         self.count_evicted(dropped);
-                        self.send_with_ray(m, from);
+                        self.send_with_ray(now, m, from);
                     }
                 }
                 WaveAction::Rested => self.push_event(Event::State(WaveState::Inactive)),
                 WaveAction::CycleEnded(_) => {
                     self.period_cycles = self.period_cycles.saturating_add(1);
-                    if self.period_cycles >= self.params.negotiation_cycles {
-                        self.decide(now);
+                    let period_ends = self.period_cycles >= self.params.negotiation_cycles;
+                    match self.params.decide {
+                        DecisionRule::Fixed if period_ends => self.decide(now),
+                        DecisionRule::Fixed => {}
+                        DecisionRule::Adaptive => {
+                            // Evidence of the last cycle only (and a one-message prior), so
+                            // that a changed environment shows within a cycle or two.
+                            self.weights.shrink_to_prior();
+                            if period_ends {
+                                self.end_period(now);
+                            }
+                            self.settle(now, None);
+                            self.triggered_in_cycle = 0;
+                            self.spread_vote(now, rng);
+                        }
                     }
                 }
             }
@@ -400,10 +469,16 @@ impl<D: Diversity> FusedNode<D> {
 
     /// Attaches the ray of `sector` extended by this robot (what lies that way, and itself),
     /// trims the message to the payload budget of `max_hops` and transmits it.
-    fn send_with_ray(&mut self, mut m: Message, sector: Sector) {
+    fn send_with_ray(&mut self, now: Instant, mut m: Message, sector: Sector) {
+        let vote = self.vote(now);
+        if vote != self.last_vote {
+            self.last_vote = vote;
+            self.voted_to = 0;
+        }
+        self.voted_to |= 1 << sector.index();
         let ray = match self.ray_from(sector) {
-            Some(r) => Some(r.extended(self.reading, self.pref)),
-            None => Ray::single(sector, self.params.sectors, self.reading, self.pref),
+            Some(r) => Some(r.extended(self.reading, vote)),
+            None => Ray::single(sector, self.params.sectors, self.reading, vote),
         };
         let mut dropped = m.set_ray(ray);
         // The payload a frame of `max_hops` plain hops would have (keyed frames: 11 hops).
@@ -467,7 +542,8 @@ impl<D: Diversity> FusedNode<D> {
     ///
     /// In a line the neighbour's ray always reaches farthest, so a robot follows its
     /// neighbour and ignores what a replayer brings of robots farther along.
-    fn take_ray(&mut self, now: Instant, from: Sector, ray: &Ray, sender: Tag) {
+    /// Returns `true` if it was taken.
+    fn take_ray(&mut self, now: Instant, from: Sector, ray: &Ray, sender: Tag) -> bool {
         let switch_after = self
             .longest_cycle()
             .saturating_mul(u64::from(SENDER_SWITCH_CYCLES));
@@ -477,7 +553,7 @@ impl<D: Diversity> FusedNode<D> {
             j != i && h.is_some_and(|h| h.sender == sender && now - h.at <= switch_after)
         });
         let Some(slot) = self.rays.get_mut(i) else {
-            return;
+            return false;
         };
         let follows = match slot {
             Some(held) => {
@@ -493,9 +569,12 @@ impl<D: Diversity> FusedNode<D> {
                 at: now,
                 sender,
             });
+            self.heard |= 1 << from.index();
             self.stats.rays = self.stats.rays.wrapping_add(1);
+            true
         } else {
             self.stats.rays_refused = self.stats.rays_refused.wrapping_add(1);
+            false
         }
     }
 
@@ -546,11 +625,11 @@ impl<D: Diversity> FusedNode<D> {
         }
     }
 
-    fn decide(&mut self, now: Instant) {
-        self.expire_rays(now);
-        let votes = self.votes();
+    /// The direction `votes` give: the sector with the highest [`resultant_scores`]; on a tie
+    /// the own preference if it is among the top, else the shown decision if it is, else none.
+    fn tally(&self, votes: &Votes) -> Option<Sector> {
         let k = usize::from(self.params.sectors);
-        let scores = resultant_scores(&votes, self.params.sectors);
+        let scores = resultant_scores(votes, self.params.sectors);
         let scores = &scores[..k];
         let max = scores.iter().copied().fold(f32::NEG_INFINITY, f32::max);
         let is_top = |s: Option<Sector>| {
@@ -558,7 +637,7 @@ impl<D: Diversity> FusedNode<D> {
                 .is_some_and(|&v| v == max)
         };
         let tops = scores.iter().filter(|&&v| v == max).count();
-        let decision = if votes.iter().all(|&v| v == 0) {
+        if votes.iter().all(|&v| v == 0) {
             None
         } else if tops == 1 {
             scores
@@ -571,18 +650,155 @@ impl<D: Diversity> FusedNode<D> {
             self.decision
         } else {
             None
-        };
+        }
+    }
+
+    /// The fixed rule at the end of a negotiation period: decide by the votes held.
+    fn decide(&mut self, now: Instant) {
+        self.expire_rays(now);
+        let votes = self.votes();
+        let decision = self.tally(&votes);
+        self.periods = self.periods.wrapping_add(1);
+        self.show(decision, votes, self.periods);
+        self.weights.shrink_to_prior();
+        self.period_cycles = 0;
+    }
+
+    /// Shows `decision` (emits [`Event::Decided`]).
+    fn show(&mut self, decision: Option<Sector>, votes: Votes, period: u32) {
         let changed = decision != self.decision;
         self.decision = decision;
-        self.periods = self.periods.wrapping_add(1);
         self.push_event(Event::Decided {
-            period: self.periods,
+            period,
             decision,
             changed,
             votes,
         });
-        self.weights.shrink_to_prior();
+    }
+
+    /// What this robot votes in the rays it sends: its preference, except under the adaptive
+    /// rule before it [`is_informed`](Self::is_informed) (a preference formed from one side of
+    /// a line is no vote yet).
+    fn vote(&self, now: Instant) -> Option<Sector> {
+        match self.params.decide {
+            DecisionRule::Fixed => self.pref,
+            DecisionRule::Adaptive => self.pref.filter(|_| self.is_informed(now)),
+        }
+    }
+
+    /// True once the robot has taken a ray from each of its K sectors, or a whole longest
+    /// cycle has passed since it started (by then every neighbour in range initiated once; a
+    /// robot at the swarm's edge never hears its outward sides).
+    fn is_informed(&self, now: Instant) -> bool {
+        let all = (1u16 << self.params.sectors.min(MAX_SECTORS as u8)) - 1;
+        u16::from(self.heard) == all || now - self.born >= self.longest_cycle()
+    }
+
+    /// Adaptive rule: if the robot's vote changed since it last sent the ray that carries it to
+    /// the neighbours of some side (the ray of the opposite sector), asks for one extra
+    /// initiation carrying that ray, a refractory time plus up to a tenth of a cycle from now,
+    /// at most once per cycle. A relay carries the new vote only ahead of the wave that changed
+    /// it; the robots behind the wave would otherwise wait for this robot's next initiation.
+    fn spread_vote(&mut self, now: Instant, rng: &mut impl RngCore) {
+        let k = self.params.sectors.clamp(1, MAX_SECTORS as u8);
+        if self.triggered_in_cycle >= k || self.wave.extra_pending() {
+            return;
+        }
+        let vote = self.vote(now);
+        let current = if vote == self.last_vote {
+            self.voted_to
+        } else {
+            0
+        };
+        let needed = (0..k).find(|&s| {
+            let opposite = usize::from((s + k / 2) % k);
+            current & (1 << s) == 0 && self.rays.get(opposite).is_some_and(|h| h.is_some())
+        });
+        let Some(s) = needed.and_then(Sector::new) else {
+            return;
+        };
+        if vote.is_none() && self.last_vote.is_none() {
+            return;
+        }
+        let w = &self.params.wave;
+        let tick = w.tick.as_millis().max(1);
+        let spread = (w.cycle.as_millis() / 10 / tick).max(1);
+        let jitter = crate::time::Duration::from_millis(
+            (u64::from(rng.next_u32()) % (spread + 1)).saturating_mul(tick),
+        );
+        if self
+            .wave
+            .initiate_extra(now + w.relay_delay + w.refractory + jitter)
+        {
+            self.trigger = Some(s);
+            self.triggered_in_cycle += 1;
+        }
+    }
+
+    /// The adaptive rule's cap at the end of a negotiation period: rays not refreshed within
+    /// it are forgotten, and a robot that showed nothing during the period decides by the
+    /// fixed rule.
+    fn end_period(&mut self, now: Instant) {
+        self.expire_rays(now);
+        self.periods = self.periods.wrapping_add(1);
         self.period_cycles = 0;
+        if !core::mem::take(&mut self.shown_in_period) {
+            let votes = self.votes();
+            let decision = self.tally(&votes);
+            self.show(decision, votes, self.periods);
+            self.candidate = decision;
+        }
+    }
+
+    /// The adaptive rule, after a reception (`confirming`: the sector whose ray was just
+    /// taken) or a cycle's end. The held votes give a candidate direction; each taken ray that
+    /// gives the same candidate again confirms it for its sector. The robot shows the candidate
+    /// once (`docs/protocol.md` §5.4)
+    /// 1. it is informed ([`is_informed`](Self::is_informed)) and has a preference;
+    /// 2. every sector it holds a ray from confirmed the candidate after it was last set;
+    /// 3. the robots it holds without a vote could not overturn it, even all for one sector.
+    ///
+    /// A shown decision changes only by the same test: a new candidate confirmed by every side.
+    fn settle(&mut self, now: Instant, confirming: Option<Sector>) {
+        let votes = self.votes();
+        let candidate = self.tally(&votes);
+        if candidate != self.candidate {
+            self.candidate = candidate;
+            self.confirmed = 0;
+        } else if let Some(s) = confirming {
+            self.confirmed |= 1 << s.index();
+        }
+        if candidate.is_none()
+            || candidate == self.decision
+            || self.pref.is_none()
+            || !self.is_informed(now)
+        {
+            return;
+        }
+        let mut held = 0u8;
+        let mut undecided = 0u16;
+        for (i, h) in self.rays.iter().enumerate() {
+            if let Some(h) = h {
+                held |= 1 << i;
+                let voted: u16 = h.ray.votes.iter().map(|&v| u16::from(v)).sum();
+                undecided = undecided.saturating_add(u16::from(h.ray.robots).saturating_sub(voted));
+            }
+        }
+        if held == 0 || held & !self.confirmed != 0 {
+            return;
+        }
+        let k = usize::from(self.params.sectors);
+        let overturned = undecided > 0
+            && (0..k).any(|s| {
+                let mut v = votes;
+                v[s] = v[s].saturating_add(undecided);
+                self.tally(&v) != candidate
+            });
+        if overturned {
+            return;
+        }
+        self.shown_in_period = true;
+        self.show(candidate, votes, self.periods.wrapping_add(1));
     }
 }
 
@@ -1083,6 +1299,238 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// An adaptive robot (cycle 600 s, so no wave of its own disturbs the test) and the
+    /// `Decided` events waiting in it.
+    fn adaptive(negotiation: u16) -> (FusedNode, Pcg32) {
+        let (n, _) = node(1, 30);
+        let mut rng = Pcg32::new(11, 13);
+        let mut p = *n.params();
+        p.decide = DecisionRule::Adaptive;
+        p.negotiation_cycles = negotiation;
+        let mut n = FusedNode::new(p, n.tag(), Instant::ZERO, &mut rng).unwrap();
+        n.handle_reading(Level(30));
+        (n, rng)
+    }
+
+    fn decisions(n: &mut FusedNode) -> std::vec::Vec<(u32, Option<Sector>)> {
+        core::iter::from_fn(|| n.poll_event())
+            .filter_map(|e| match e {
+                Event::Decided {
+                    period, decision, ..
+                } => Some((period, decision)),
+                _ => None,
+            })
+            .collect()
+    }
+
+    #[test]
+    fn adaptive_decides_as_soon_as_every_side_confirmed_clear_votes() {
+        // Robot 1 of `1000`: left the lit robot 0 (pref R), right robots 2 and 3 (L, L).
+        let (mut n, mut rng) = adaptive(10);
+        let mut t = Instant::from_secs(1);
+        let left = || ray(Sector::LEFT, &[(200, R)]);
+        let right = || ray(Sector::RIGHT, &[(30, L), (30, L)]);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 200, R)],
+            left(),
+        );
+        assert_eq!(n.preference(), L);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 30, L)],
+            right(),
+        );
+        // Both sides heard, votes 3 L to 1 R, but the left has not confirmed L since.
+        assert_eq!(decisions(&mut n), []);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 200, R)],
+            left(),
+        );
+        assert_eq!(
+            decisions(&mut n),
+            [(1, L)],
+            "decided at {t:?}, in the first cycle"
+        );
+        assert_eq!(n.decision(), L);
+        // Nothing new: no event, however many more rays confirm it.
+        for _ in 0..3 {
+            hear_ray(
+                &mut n,
+                &mut rng,
+                &mut t,
+                Sector::RIGHT,
+                &[hop(2, 30, L)],
+                right(),
+            );
+            hear_ray(
+                &mut n,
+                &mut rng,
+                &mut t,
+                Sector::LEFT,
+                &[hop(0, 200, R)],
+                left(),
+            );
+        }
+        assert_eq!(decisions(&mut n), []);
+    }
+
+    #[test]
+    fn adaptive_waits_while_robots_without_a_vote_could_overturn_it_then_the_cap_decides() {
+        let (mut n, mut rng) = adaptive(1);
+        let mut t = Instant::from_secs(1);
+        // Left one robot for R; right two robots without a preference yet: 1 L (own) to 1 R,
+        // and two undecided robots could tip it either way.
+        let left = || ray(Sector::LEFT, &[(200, R)]);
+        let right = || ray(Sector::RIGHT, &[(30, None), (30, None)]);
+        for _ in 0..4 {
+            hear_ray(
+                &mut n,
+                &mut rng,
+                &mut t,
+                Sector::LEFT,
+                &[hop(0, 200, R)],
+                left(),
+            );
+            hear_ray(
+                &mut n,
+                &mut rng,
+                &mut t,
+                Sector::RIGHT,
+                &[hop(2, 30, None)],
+                right(),
+            );
+        }
+        assert_eq!(decisions(&mut n), [], "ambiguous evidence: no decision");
+        // The cap: at the end of the period (one 600 s cycle) the fixed rule decides (a tie:
+        // the own preference).
+        let Event::Decided {
+            period, decision, ..
+        } = run_to_decision(&mut n, &mut rng)
+        else {
+            unreachable!()
+        };
+        assert_eq!((period, decision), (1, L));
+    }
+
+    #[test]
+    fn adaptive_changes_a_shown_decision_only_once_every_side_confirmed_the_change() {
+        let (mut n, mut rng) = adaptive(10);
+        let mut t = Instant::from_secs(1);
+        let left = || ray(Sector::LEFT, &[(200, R)]);
+        let right_l = || ray(Sector::RIGHT, &[(30, L), (30, L)]);
+        // Three robots on the right, now all for R: 4 R to 1 L.
+        let right_r = || ray(Sector::RIGHT, &[(30, R), (30, R), (30, R)]);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 200, R)],
+            left(),
+        );
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 30, L)],
+            right_l(),
+        );
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 200, R)],
+            left(),
+        );
+        assert_eq!(decisions(&mut n), [(1, L)]);
+        // One ray with other votes is not enough to change the LEDs...
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 30, R)],
+            right_r(),
+        );
+        assert_eq!(decisions(&mut n), []);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 30, R)],
+            right_r(),
+        );
+        assert_eq!(decisions(&mut n), [], "the left has not confirmed it");
+        // ...the left confirming it is.
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 200, R)],
+            left(),
+        );
+        assert_eq!(decisions(&mut n), [(1, R)]);
+    }
+
+    #[test]
+    fn adaptive_votes_only_once_informed_and_spreads_a_new_vote_backwards() {
+        let (mut n, mut rng) = adaptive(10);
+        let mut t = Instant::from_secs(1);
+        // Heard from the left only: a preference (L), but no vote in the ray it relays.
+        let out = hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 200, R)],
+            ray(Sector::LEFT, &[(200, R)]),
+        );
+        assert_eq!(n.preference(), L);
+        assert_eq!(out.ray().unwrap().votes[..2], [1, 0], "robot 0's vote only");
+        // Heard from both sides: informed, its vote goes out; the relay carried it to the
+        // right, and one extra initiation carries it back to the left (the ray of the right).
+        let out = hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 30, L)],
+            ray(Sector::RIGHT, &[(30, L)]),
+        );
+        assert_eq!(out.ray().unwrap().votes[..2], [0, 2]);
+        // Within relay delay + refractory + a tenth of the 600 s cycle.
+        let soon = t + Duration::from_secs(1 + 4 + 60);
+        let extra = loop {
+            let at = n.poll_timeout();
+            assert!(at <= soon, "no extra initiation in time");
+            n.handle_timeout(at, &mut rng);
+            if let Some(m) = n.poll_transmit() {
+                break m;
+            }
+        };
+        assert_eq!(extra.len(), 1, "an initiation");
+        let r = extra.ray().unwrap();
+        assert_eq!(
+            (r.sector, r.robots, r.votes[..2].to_vec()),
+            (Sector::RIGHT, 2, std::vec![0, 2])
+        );
     }
 
     #[test]

@@ -38,6 +38,22 @@ pub struct WaveParams {
     pub tick: Duration,
 }
 
+/// When a robot of the fused variant decides, i.e. shows a decision on its LEDs
+/// (`docs/protocol.md` §5.4).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum DecisionRule {
+    /// At the end of every negotiation period of [`Params::negotiation_cycles`] cycles, as the
+    /// paper's robots did ("every aMussel initiated at least 10 messages").
+    #[default]
+    Fixed,
+    /// As soon as the evidence is settled: the robot has heard every side it can hear or a
+    /// whole cycle has passed, the votes it holds give one direction that the robots it holds
+    /// without a vote cannot overturn, and every side confirmed that direction with a later ray.
+    /// At the latest at the end of a negotiation period, by the fixed rule (the cap).
+    Adaptive,
+}
+
 /// All protocol parameters. [`Params::robots`] (also `Default`) is the aMussel lab; [`Params::simulation_2d`]
 /// the paper's 2D simulations.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,6 +76,9 @@ pub struct Params {
     /// authenticated frames hold [`crate::frame::KEYED_MAX_HOPS`] (11), and the firmware
     /// lowers it to that when a swarm key is set.
     pub max_hops: u8,
+    /// Fused variant: when a robot decides ([`DecisionRule::Fixed`] on the robots, as in the
+    /// paper).
+    pub decide: DecisionRule,
 }
 
 impl Params {
@@ -82,6 +101,7 @@ impl Params {
             decide_cycles: 1,
             diffusion: 0.1,
             max_hops: MAX_HOPS as u8,
+            decide: DecisionRule::Fixed,
         }
     }
 
@@ -107,6 +127,7 @@ impl Params {
             decide_cycles: 1,
             diffusion: 0.1,
             max_hops: MAX_HOPS as u8,
+            decide: DecisionRule::Fixed,
         }
     }
 

@@ -76,6 +76,8 @@ pub struct WaveNode {
     refractory_until: Instant,
     cycle_end: Instant,
     initiate_at: Option<Instant>,
+    /// An extra initiation asked for by the variant ([`WaveNode::initiate_extra`]).
+    extra_at: Option<Instant>,
     cycles: u32,
     stats: WaveStats,
 }
@@ -91,6 +93,7 @@ impl WaveNode {
             refractory_until: Instant::MAX,
             cycle_end: now,
             initiate_at: None,
+            extra_at: None,
             cycles: 0,
             stats: WaveStats::default(),
         };
@@ -126,10 +129,32 @@ impl WaveNode {
         true
     }
 
+    /// Asks for one initiation at `at`, beside the cycle's own: the variant has news that the
+    /// passing waves do not carry. Like the cycle's, it is skipped if the node is active or
+    /// refractory then. Replaces an extra initiation still pending; returns `false` (and does
+    /// nothing) if `at` is `Instant::MAX`.
+    pub fn initiate_extra(&mut self, at: Instant) -> bool {
+        if at == Instant::MAX {
+            return false;
+        }
+        self.extra_at = Some(at);
+        true
+    }
+
+    /// True while an extra initiation is pending.
+    pub fn extra_pending(&self) -> bool {
+        self.extra_at.is_some()
+    }
+
+    /// Forgets a pending extra initiation.
+    pub fn cancel_extra(&mut self) {
+        self.extra_at = None;
+    }
+
     /// The next instant at which [`poll`](Self::poll) has something to do.
     pub fn poll_timeout(&self) -> Instant {
         let mut t = self.cycle_end;
-        if let Some(i) = self.initiate_at {
+        for i in [self.initiate_at, self.extra_at].into_iter().flatten() {
             t = t.min(i);
         }
         match self.state {
@@ -150,7 +175,13 @@ impl WaveNode {
         let rest = (self.state == WaveState::Refractory).then_some(self.refractory_until);
         let relay = (self.state == WaveState::Active).then_some(self.relay_at);
         let due = |t: Option<Instant>| t.filter(|&t| t <= now && t != Instant::MAX);
-        let candidates = [rest, relay, self.initiate_at, Some(self.cycle_end)];
+        let candidates = [
+            rest,
+            relay,
+            self.initiate_at,
+            Some(self.cycle_end),
+            self.extra_at,
+        ];
         let (which, at) = candidates
             .iter()
             .enumerate()
@@ -166,8 +197,12 @@ impl WaveNode {
                 self.transmitted(at);
                 WaveAction::Relay
             }
-            2 => {
-                self.initiate_at = None;
+            2 | 4 => {
+                if which == 2 {
+                    self.initiate_at = None;
+                } else {
+                    self.extra_at = None;
+                }
                 if self.state != WaveState::Inactive {
                     self.stats.skipped_initiations = self.stats.skipped_initiations.wrapping_add(1);
                     return self.poll(now, rng);
@@ -176,11 +211,12 @@ impl WaveNode {
                 self.transmitted(at);
                 WaveAction::Initiate
             }
-            _ => {
+            3 => {
                 self.cycles = self.cycles.wrapping_add(1);
                 self.start_cycle(at, rng);
                 WaveAction::CycleEnded(self.cycles)
             }
+            _ => return None,
         })
     }
 

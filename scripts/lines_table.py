@@ -36,16 +36,25 @@ def sweep(a):
     print(f"total: {ok}/{total} successful runs at loss {a.loss}")
 
 
+DECIDE = "fixed"
+
+
 def run(cimax, pattern, runs, seed, loss):
     out = subprocess.run(
         [cimax, "arena", "--lights", pattern, "--runs", str(runs), "--seed", str(seed),
-         "--loss", str(loss), "--json"],
+         "--loss", str(loss), "--decide", DECIDE, "--json"],
         capture_output=True, text=True, check=False)
     if out.returncode not in (0, 1):
         sys.exit(f"cimax failed on {pattern}: {out.stderr}")
     d = json.loads(out.stdout)
     failed = [r["seed"] for r in d["runs"] if not r["success"]]
+    times = sorted(r["consensus_s"] for r in d["runs"] if r["consensus_s"] is not None)
+    if times:
+        TIMES.setdefault(loss, []).extend(times)
     return d["summary"]["successes"], d["summary"]["runs"], failed
+
+
+TIMES = {}
 
 
 def main():
@@ -55,7 +64,11 @@ def main():
     ap.add_argument("--cimax", default="target/release/cimax")
     ap.add_argument("--sweep", action="store_true")
     ap.add_argument("--loss", type=float, default=0.0, help="with --sweep")
+    ap.add_argument("--decide", choices=["fixed", "adaptive"], default="fixed",
+                    help="the robots' decision rule (cimax arena --decide)")
     a = ap.parse_args()
+    global DECIDE
+    DECIDE = a.decide
     if a.sweep:
         sweep(a)
         return
@@ -74,6 +87,10 @@ def main():
                 cells.append(f"{ok}/{total}")
                 failures += [(pattern, s, loss) for s in failed]
             print(f"| {n} | {b} | {majority} | {cells[0]} | {cells[1]} |", flush=True)
+    for loss, t in sorted(TIMES.items()):
+        t.sort()
+        print(f"\ntime to consensus at {loss:.0%} loss over every line: median "
+              f"{t[len(t) // 2]:.0f} s, p95 {t[min(len(t) - 1, int(0.95 * len(t)))]:.0f} s")
     for pattern, s, loss in failures:
         print(f"FAILED: cimax arena --lights {pattern} --seed {s} --runs 1 --loss {loss}",
               file=sys.stderr)

@@ -439,9 +439,22 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
             emulated_s / wall_s.max(1e-9)
         );
     }
+    let mut extra = String::new();
+    if args.decide != Decide::Fixed {
+        extra += " --decide adaptive";
+    }
+    if args.loss > 0.0 {
+        extra += &format!(" --loss {}", args.loss);
+    }
     for r in &failures {
+        let flicker = r
+            .flicker
+            .map(|(t, robot)| {
+                format!("; robot {robot}'s LEDs changed at {t:.0} s, after consensus")
+            })
+            .unwrap_or_default();
         eprintln!(
-            "FAILED {} seed {}: LEDs {}, expected {} (replay: cimax arena --lights {} --seed {} --runs 1)",
+            "FAILED {} seed {}: LEDs {}, expected {}{flicker} (replay: cimax arena --lights {} --seed {} --runs 1{extra})",
             pattern_str(&r.lights),
             r.seed,
             leds_str(&r.leds),

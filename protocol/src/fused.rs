@@ -76,6 +76,27 @@ const OUTBOX: usize = 2;
 /// neighbour is taken instead (`FusedNode::take_ray`).
 const SENDER_SWITCH_CYCLES: u32 = 3;
 
+/// Rays taken per sector remembered by the adaptive rule (`FusedNode::take_ray`).
+const RAY_HISTORY: usize = 4;
+
+/// What of a ray the adaptive rule remembers: who sent it, how many robots it counts and
+/// their votes, hashed (FNV-1a), and when it was taken.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Seen {
+    digest: u32,
+    at: Instant,
+}
+
+/// The digest of the decision-relevant part of a ray from `sender`: robots and votes.
+fn ray_digest(ray: &Ray, sender: Tag) -> u32 {
+    let mut h: u32 = 0x811c_9dc5;
+    let bytes = [sender.index(), ray.robots].into_iter().chain(ray.votes);
+    for b in bytes {
+        h = (h ^ u32::from(b)).wrapping_mul(0x0100_0193);
+    }
+    h
+}
+
 /// The ray held for one direction.
 #[derive(Clone, Copy, Debug)]
 struct Held {
@@ -182,12 +203,16 @@ pub struct FusedNode<D: Diversity = Variance> {
     born: Instant,
     /// Sectors a ray was ever taken from (bit `i` for sector `i`).
     heard: u8,
+    /// Adaptive rule: sectors any message was heard from this period (a neighbour is there).
+    neighbours: u8,
     /// Adaptive rule: the direction the held votes give now ([`FusedNode::tally`]).
     candidate: Option<Sector>,
     /// Adaptive rule: the sectors whose rays confirmed `candidate` after it was last set.
     confirmed: u8,
-    /// Adaptive rule: a decision was shown during the period under way.
-    shown_in_period: bool,
+    /// Adaptive rule: since when the candidate has differed from the shown decision.
+    differs_since: Option<Instant>,
+    /// Adaptive rule: per sector, the last rays taken (digest and time), newest last.
+    seen: [[Seen; RAY_HISTORY]; MAX_SECTORS],
     /// The vote the last ray sent carried, and the sectors whose rays carried it since.
     last_vote: Option<Sector>,
     voted_to: u8,
@@ -247,9 +272,11 @@ impl<D: Diversity> FusedNode<D> {
             periods: 0,
             born: now,
             heard: 0,
+            neighbours: 0,
             candidate: None,
             confirmed: 0,
-            shown_in_period: false,
+            differs_since: None,
+            seen: [[Seen::default(); RAY_HISTORY]; MAX_SECTORS],
             last_vote: None,
             voted_to: 0,
             trigger: None,
@@ -345,14 +372,21 @@ impl<D: Diversity> FusedNode<D> {
             self.stats.unknown_sector = self.stats.unknown_sector.wrapping_add(1);
             return Reception::UnknownSector;
         }
+        self.neighbours |= 1 << from.index();
         if msg.has_tag(self.tag) {
             self.stats.own_tag = self.stats.own_tag.wrapping_add(1);
             return Reception::OwnTag;
         }
-        let took = match (msg.ray(), msg.hops().last()) {
+        let mut took = match (msg.ray(), msg.hops().last()) {
             (Some(ray), Some(sender)) => self.take_ray(now, from, ray, sender.tag),
             _ => false,
         };
+        if !took && self.params.decide == DecisionRule::Adaptive && self.ray_from(from).is_none() {
+            // Nothing known of that side: the robots the message passed stand for it.
+            if let (Some(ray), Some(sender)) = (self.ray_of_hops(from, msg), msg.hops().last()) {
+                took = self.take_ray(now, from, &ray, sender.tag);
+            }
+        }
         if msg.is_empty() || !self.wave.on_receive(now) {
             // The adaptive rule scores a ray also while the robot is busy: a neighbour whose
             // initiations fall while it relays would otherwise never be scored.
@@ -366,6 +400,19 @@ impl<D: Diversity> FusedNode<D> {
         self.score(from, msg);
         self.pending = Some((msg.clone(), from));
         Reception::Accepted
+    }
+
+    /// The ray of the robots `msg` passed, as seen from sector `from`: their readings and
+    /// preferences as votes.
+    fn ray_of_hops(&self, from: Sector, msg: &Message) -> Option<Ray> {
+        let (first, rest) = msg.hops().split_first()?;
+        let k = self.params.sectors;
+        let vote = |p: Option<Sector>| p.filter(|s| s.index() < k);
+        let ray = Ray::single(from, k, first.reading, vote(first.pref))?;
+        Some(
+            rest.iter()
+                .fold(ray, |r, h| r.extended(h.reading, vote(h.pref))),
+        )
     }
 
     /// Adds the diversity of direction `from` to its average and re-evaluates the preference:
@@ -393,6 +440,26 @@ impl<D: Diversity> FusedNode<D> {
     /// Does whatever is due at `now`: relays, initiations, the end of the refractory time,
     /// cycle and period ends.
     pub fn handle_timeout(&mut self, now: Instant, rng: &mut impl RngCore) {
+        let skipped = self.wave.stats().skipped_initiations;
+        self.poll_wave(now, rng);
+        if self.params.decide == DecisionRule::Adaptive
+            && self.wave.stats().skipped_initiations != skipped
+            && !self.wave.extra_pending()
+        {
+            // The adaptive rule defers a skipped initiation to after the refractory time (plus
+            // a random wait, so that neighbours skipped by the same wave do not collide).
+            let w = &self.params.wave;
+            let tick = w.tick.as_millis().max(1);
+            let spread = (w.cycle.as_millis() / 10 / tick).max(1);
+            let jitter = crate::time::Duration::from_millis(
+                (u64::from(rng.next_u32()) % (spread + 1)).saturating_mul(tick),
+            );
+            self.wave
+                .initiate_extra(now + w.relay_delay + w.refractory + jitter);
+        }
+    }
+
+    fn poll_wave(&mut self, now: Instant, rng: &mut impl RngCore) {
         while let Some(action) = self.wave.poll(now, rng) {
             match action {
                 WaveAction::Initiate => {
@@ -549,21 +616,47 @@ impl<D: Diversity> FusedNode<D> {
             .saturating_mul(u64::from(SENDER_SWITCH_CYCLES));
         let i = usize::from(from.index());
         let fits = ray.sector == from && ray.sectors == self.params.sectors;
+        let adaptive = self.params.decide == DecisionRule::Adaptive;
         let elsewhere = self.rays.iter().enumerate().any(|(j, h)| {
-            j != i && h.is_some_and(|h| h.sender == sender && now - h.at <= switch_after)
+            j != i
+                && h.is_some_and(|h| h.sender == sender && (now - h.at <= switch_after || adaptive))
         });
         let Some(slot) = self.rays.get_mut(i) else {
             return false;
         };
         let follows = match slot {
             Some(held) => {
-                held.sender == sender
+                let total = |r: &Ray| r.votes.iter().map(|&v| u16::from(v)).sum::<u16>();
+                let older = adaptive
+                    && now - held.at <= switch_after
+                    && (ray.robots, total(ray)) < (held.ray.robots, total(&held.ray));
+                (held.sender == sender && !older)
                     || ray.robots > held.ray.robots
-                    || now - held.at > switch_after
+                    || (now - held.at > switch_after && !adaptive)
             }
             None => true,
         };
-        if fits && !elsewhere && follows {
+        let digest = ray_digest(ray, sender);
+        let back_in_time = adaptive
+            && slot.is_some_and(|h| ray_digest(&h.ray, h.sender) != digest)
+            && self.seen.get(i).is_some_and(|seen| {
+                seen.iter().any(|s| {
+                    s.digest == digest
+                        && s.at != Instant::ZERO
+                        && now - s.at <= self.params.wave.cycle + self.params.wave.cycle_spread
+                })
+            });
+        if fits && !elsewhere && follows && !back_in_time {
+            if let Some(seen) = self.seen.get_mut(i) {
+                // Only changes take a place: a neighbour's ray is mostly the same.
+                if seen[RAY_HISTORY - 1].digest != digest {
+                    seen.rotate_left(1);
+                }
+                seen[RAY_HISTORY - 1] = Seen { digest, at: now };
+            }
+            if slot.is_none_or(|h| h.ray.robots != ray.robots || h.ray.votes != ray.votes) {
+                self.voted_to &= !(1 << from.index());
+            }
             *slot = Some(Held {
                 ray: *ray,
                 at: now,
@@ -682,8 +775,23 @@ impl<D: Diversity> FusedNode<D> {
     fn vote(&self, now: Instant) -> Option<Sector> {
         match self.params.decide {
             DecisionRule::Fixed => self.pref,
-            DecisionRule::Adaptive => self.pref.filter(|_| self.is_informed(now)),
+            DecisionRule::Adaptive => self
+                .pref
+                .filter(|_| self.is_informed(now) && self.is_clear()),
         }
+    }
+
+    /// True if the preferred direction's average diversity is more than twice every other's:
+    /// a preference between near-equal diversities (a robot amid a uniform stretch of a long
+    /// line, whose rays do not reach a border yet) is no vote.
+    fn is_clear(&self) -> bool {
+        let Some(p) = self.pref else { return false };
+        let Some(best) = self.weights.weight(p) else {
+            return false;
+        };
+        self.weights
+            .iter()
+            .all(|(d, w, _)| d == p || best > 2.0 * w)
     }
 
     /// True once the robot has taken a ray from each of its K sectors, or a whole longest
@@ -717,9 +825,6 @@ impl<D: Diversity> FusedNode<D> {
         let Some(s) = needed.and_then(Sector::new) else {
             return;
         };
-        if vote.is_none() && self.last_vote.is_none() {
-            return;
-        }
         let w = &self.params.wave;
         let tick = w.tick.as_millis().max(1);
         let spread = (w.cycle.as_millis() / 10 / tick).max(1);
@@ -742,11 +847,18 @@ impl<D: Diversity> FusedNode<D> {
         self.expire_rays(now);
         self.periods = self.periods.wrapping_add(1);
         self.period_cycles = 0;
-        if !core::mem::take(&mut self.shown_in_period) {
+        self.neighbours = 0;
+        let period = self
+            .longest_cycle()
+            .saturating_mul(u64::from(self.params.negotiation_cycles));
+        let stuck = self.differs_since.is_some_and(|t| now - t >= period);
+        let cap = self.decision.is_none() || stuck;
+        if cap {
             let votes = self.votes();
             let decision = self.tally(&votes);
             self.show(decision, votes, self.periods);
             self.candidate = decision;
+            self.differs_since = None;
         }
     }
 
@@ -762,6 +874,11 @@ impl<D: Diversity> FusedNode<D> {
     fn settle(&mut self, now: Instant, confirming: Option<Sector>) {
         let votes = self.votes();
         let candidate = self.tally(&votes);
+        if candidate == self.decision {
+            self.differs_since = None;
+        } else if self.differs_since.is_none() {
+            self.differs_since = Some(now);
+        }
         if candidate != self.candidate {
             self.candidate = candidate;
             self.confirmed = 0;
@@ -784,7 +901,11 @@ impl<D: Diversity> FusedNode<D> {
                 undecided = undecided.saturating_add(u16::from(h.ray.robots).saturating_sub(voted));
             }
         }
-        if held == 0 || held & !self.confirmed != 0 {
+        if self.neighbours & !held != 0 {
+            return;
+        }
+        // A first decision needs no confirmation; a change needs every side's.
+        if held == 0 || (self.decision.is_some() && held & !self.confirmed != 0) {
             return;
         }
         let k = usize::from(self.params.sectors);
@@ -797,7 +918,6 @@ impl<D: Diversity> FusedNode<D> {
         if overturned {
             return;
         }
-        self.shown_in_period = true;
         self.show(candidate, votes, self.periods.wrapping_add(1));
     }
 }
@@ -1326,7 +1446,7 @@ mod tests {
     }
 
     #[test]
-    fn adaptive_decides_as_soon_as_every_side_confirmed_clear_votes() {
+    fn adaptive_decides_as_soon_as_both_sides_are_heard_and_the_votes_are_clear() {
         // Robot 1 of `1000`: left the lit robot 0 (pref R), right robots 2 and 3 (L, L).
         let (mut n, mut rng) = adaptive(10);
         let mut t = Instant::from_secs(1);
@@ -1341,6 +1461,8 @@ mod tests {
             left(),
         );
         assert_eq!(n.preference(), L);
+        // One side heard, and less than a cycle gone: not informed, no decision.
+        assert_eq!(decisions(&mut n), []);
         hear_ray(
             &mut n,
             &mut rng,
@@ -1349,16 +1471,7 @@ mod tests {
             &[hop(2, 30, L)],
             right(),
         );
-        // Both sides heard, votes 3 L to 1 R, but the left has not confirmed L since.
-        assert_eq!(decisions(&mut n), []);
-        hear_ray(
-            &mut n,
-            &mut rng,
-            &mut t,
-            Sector::LEFT,
-            &[hop(0, 200, R)],
-            left(),
-        );
+        // Both sides heard, votes 3 L to 1 R, nobody without a vote: decided, 13 s in.
         assert_eq!(
             decisions(&mut n),
             [(1, L)],
@@ -1385,6 +1498,57 @@ mod tests {
             );
         }
         assert_eq!(decisions(&mut n), []);
+    }
+
+    #[test]
+    fn adaptive_a_message_without_a_ray_stands_for_its_side() {
+        let (mut n, mut rng) = adaptive(10);
+        let mut t = Instant::from_secs(1);
+        let left = ray(Sector::LEFT, &[(200, R)]);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 200, R)],
+            left,
+        );
+        // A message from the right without a ray: the robots it passed stand for that side
+        // until a ray comes (1 L), with the own preference (L).
+        hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(2, 30, L)]);
+        assert_eq!(n.votes()[..2], [1, 2]);
+        assert_eq!(decisions(&mut n), [(1, L)]);
+    }
+
+    #[test]
+    fn adaptive_waits_for_a_side_it_hears_but_holds_no_ray_from() {
+        let (mut n, mut rng) = adaptive(10);
+        let mut t = Instant::from_secs(1);
+        let left = ray(Sector::LEFT, &[(200, R)]);
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::LEFT,
+            &[hop(0, 200, R)],
+            left,
+        );
+        // An echo of its own relay from the right: dropped, but a neighbour is there.
+        let echo = Message::from_hops(&[hop(0, 200, R), hop(1, 30, L), hop(2, 30, L)]).unwrap();
+        t += Duration::from_secs(2);
+        assert_eq!(
+            n.handle_message(t, Sector::RIGHT, &echo, &mut rng),
+            Reception::OwnTag
+        );
+        // A whole cycle later it is informed by time, and still waits for that side's ray.
+        let end = Instant::from_secs(700);
+        while n.poll_timeout() <= end {
+            let at = n.poll_timeout();
+            n.handle_timeout(at, &mut rng);
+            while n.poll_transmit().is_some() {}
+        }
+        assert_eq!(decisions(&mut n), []);
+        assert_eq!(n.decision(), None);
     }
 
     #[test]

@@ -335,6 +335,31 @@ mod tests {
     }
 
     #[test]
+    fn an_extra_initiation_fires_once_and_is_skipped_while_busy() {
+        let mut rng = Pcg32::new(5, 5);
+        let p = Params::robots().wave;
+        let mut n = WaveNode::new(p, Instant::ZERO, &mut rng);
+        assert!(!n.initiate_extra(Instant::MAX));
+        assert!(n.initiate_extra(Instant::from_secs(10)));
+        assert!(n.extra_pending());
+        assert_eq!(n.poll_timeout(), Instant::from_secs(10));
+        let acts = drain(&mut n, Instant::from_secs(10), &mut rng);
+        assert_eq!(acts.as_slice(), [WaveAction::Initiate]);
+        assert!(!n.extra_pending());
+        assert_eq!(n.stats().initiated, 1);
+        // While refractory (until 14 s) an extra initiation is skipped and counted.
+        assert!(n.initiate_extra(Instant::from_secs(12)));
+        let acts = drain(&mut n, Instant::from_secs(12), &mut rng);
+        assert!(!acts.contains(&WaveAction::Initiate), "{acts:?}");
+        assert_eq!(n.stats().skipped_initiations, 1);
+        // Cancelled, it never fires.
+        assert!(n.initiate_extra(Instant::from_secs(20)));
+        n.cancel_extra();
+        let acts = drain(&mut n, Instant::from_secs(30), &mut rng);
+        assert!(!acts.contains(&WaveAction::Initiate), "{acts:?}");
+    }
+
+    #[test]
     fn initiation_while_refractory_is_skipped() {
         let mut rng = Pcg32::new(5, 5);
         let p = Params::robots().wave;

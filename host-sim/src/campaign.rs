@@ -60,9 +60,10 @@ pub struct CampaignArgs {
     /// Frame loss at every receiver in every scenario, replacing the scenario's own.
     #[arg(long)]
     pub loss: Option<f64>,
-    /// The robots' decision rule (docs/protocol.md §5.4); the documented campaign is `fixed`.
-    #[arg(long, value_enum, default_value_t = Decide::Fixed)]
-    pub decide: Decide,
+    /// Run only this decision rule (docs/protocol.md §5.4); default: both, side by side (the
+    /// documented campaign).
+    #[arg(long, value_enum)]
+    pub decide: Option<Decide>,
     /// The Markdown report (default: docs/reliability.md for the documented campaign only,
     /// every scenario over 200 seeds from seed 1 at the scenarios' own loss; any other campaign
     /// writes nothing unless --out is given).
@@ -84,6 +85,16 @@ pub enum Decide {
     Fixed,
     /// When the evidence settles; the negotiation period is the cap.
     Adaptive,
+}
+
+impl Decide {
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Decide::Fixed => "fixed",
+            Decide::Adaptive => "adaptive",
+        }
+    }
 }
 
 impl From<Decide> for DecisionRule {
@@ -507,11 +518,12 @@ pub fn quantile(xs: &[f64], p: f64) -> Option<f64> {
 }
 
 /// The command that replays one run.
-pub fn replay_command(scenario: &str, seed: u64, loss: Option<f64>) -> String {
+pub fn replay_command(scenario: &str, seed: u64, loss: Option<f64>, decide: Decide) -> String {
     let mut c = format!("cimax arena campaign --scenario {scenario} --seed {seed} --seeds 1");
     if let Some(p) = loss {
         let _ = write!(c, " --loss {p}");
     }
+    let _ = write!(c, " --decide {}", decide.name());
     c
 }
 
@@ -531,9 +543,6 @@ fn command(plan: &Plan) -> String {
     }
     if let Some(p) = plan.loss {
         let _ = write!(c, " --loss {p}");
-    }
-    if plan.decide != Decide::Fixed {
-        let _ = write!(c, " --decide adaptive");
     }
     c
 }
@@ -605,6 +614,287 @@ pub fn table(report: &Report) -> String {
         );
     }
     s
+}
+
+/// The time a run is judged by in the comparison of the rules: consensus from the start, or
+/// for a reboot the time from the reboot until consensus was back.
+fn decision_time(o: &Outcome) -> Option<f64> {
+    o.restore_s.or(o.consensus_s)
+}
+
+/// Median and 95th percentile of [`decision_time`] over a scenario's runs.
+fn decision_times(r: &ScenarioResult) -> (Option<f64>, Option<f64>) {
+    let t: Vec<f64> = r.runs.iter().filter_map(decision_time).collect();
+    (quantile(&t, 0.5), quantile(&t, 0.95))
+}
+
+/// One experiment of the lab suite (`cimax arena` with no options) under one rule: success
+/// and the time to consensus of each run (from the start, or from the mirroring).
+#[derive(Clone, Debug)]
+pub struct SuiteResult {
+    /// The experiment: a pattern, or `1000>0001` for the alternating one.
+    pub label: String,
+    /// Per run: success and time to consensus.
+    pub runs: Vec<(bool, Option<f64>)>,
+}
+
+/// The lab suite under `decide`: the paper's six patterns and the alternating experiment
+/// (`1000`, mirrored once the run's duration has passed), seeds `seed..seed + seeds`, no
+/// fault, as `cimax arena --runs SEEDS --decide RULE` runs it.
+///
+/// # Errors
+/// A message if a run cannot start.
+pub fn lab_suite(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<SuiteResult>, String> {
+    let mut params = Params::robots();
+    params.decide = decide.into();
+    let run = hal_emu::lab::default_duration(&params);
+    let mut experiments: Vec<(String, Vec<bool>, Option<Vec<bool>>)> = PAPER_PATTERNS
+        .iter()
+        .map(|p| Ok((p.to_string(), parse_pattern(p)?, None)))
+        .collect::<Result<_, String>>()?;
+    let a = parse_pattern("1000")?;
+    let b = hal_emu::lab::mirrored(&a);
+    experiments.push(("1000>0001".into(), a, Some(b)));
+    experiments
+        .iter()
+        .map(|(label, pattern, then)| {
+            let runs = (0..seeds)
+                .into_par_iter()
+                .map(|k| {
+                    let mut cfg = ArenaConfig::line(pattern.clone(), 1.0, run, seed + k);
+                    cfg.robot.params = params;
+                    if let Some(t) = then {
+                        cfg.env.schedule.push((Instant::ZERO + run, t.clone()));
+                        cfg.duration = run.saturating_mul(2);
+                    }
+                    judge(&cfg)
+                        .map(|r| (r.success, r.consensus_s))
+                        .map_err(|e| e.to_string())
+                })
+                .collect::<Result<Vec<_>, String>>()?;
+            Ok(SuiteResult {
+                label: label.clone(),
+                runs,
+            })
+        })
+        .collect()
+}
+
+/// The lab suite of both rules as a Markdown section (success, median and p95 time).
+pub fn suite_section(fixed: &[SuiteResult], adaptive: &[SuiteResult], seeds: u64) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "\n### The lab suite\n");
+    let _ = writeln!(
+        s,
+        "`cimax arena --runs {seeds} --decide fixed|adaptive`: the paper's six patterns and the \
+         alternating experiment (`1000`, mirrored after a run's duration; its time counts from \
+         the mirroring), {seeds} seeds each, no fault.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| experiment | fixed: success | adaptive: success | fixed: median s | adaptive: median s | fixed: p95 s | adaptive: p95 s |"
+    );
+    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|");
+    let stats = |r: &SuiteResult| {
+        let ok = r.runs.iter().filter(|x| x.0).count();
+        let t: Vec<f64> = r.runs.iter().filter_map(|x| x.1).collect();
+        (
+            format!("{ok}/{}", r.runs.len()),
+            quantile(&t, 0.5),
+            quantile(&t, 0.95),
+        )
+    };
+    let mut all = [Vec::new(), Vec::new()];
+    for (f, a) in fixed.iter().zip(adaptive) {
+        let (fs, fm, fp) = stats(f);
+        let (as_, am, ap) = stats(a);
+        all[0].extend(f.runs.iter().filter_map(|x| x.1));
+        all[1].extend(a.runs.iter().filter_map(|x| x.1));
+        let _ = writeln!(
+            s,
+            "| `{}` | {fs} | {as_} | {} | {} | {} | {} |",
+            f.label,
+            secs(fm),
+            secs(am),
+            secs(fp),
+            secs(ap)
+        );
+    }
+    let ok = |r: &[SuiteResult]| r.iter().flat_map(|x| &x.runs).filter(|x| x.0).count();
+    let n = |r: &[SuiteResult]| r.iter().map(|x| x.runs.len()).sum::<usize>();
+    let _ = writeln!(
+        s,
+        "| all | {}/{} | {}/{} | {} | {} | {} | {} |",
+        ok(fixed),
+        n(fixed),
+        ok(adaptive),
+        n(adaptive),
+        secs(quantile(&all[0], 0.5)),
+        secs(quantile(&all[1], 0.5)),
+        secs(quantile(&all[0], 0.95)),
+        secs(quantile(&all[1], 0.95))
+    );
+    s
+}
+
+/// The section of `docs/reliability.md` that sets the adaptive rule's campaign beside the fixed
+/// rule's: success, median and p95 time per scenario, the adaptive runs' failing seeds and its
+/// verdict, and the figure (`figure`, relative to the page).
+pub fn rules_section(fixed: &Report, adaptive: &Report, figure: Option<&str>) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "\n## The fixed and the adaptive decision rule\n");
+    let _ = writeln!(
+        s,
+        "The same scenarios and seeds with `Params::decide = DecisionRule::Adaptive` \
+         (`cimax arena campaign --decide adaptive`; docs/protocol.md §5.4): a robot shows a \
+         direction as soon as its evidence is settled instead of at the end of each 10-cycle \
+         period. Its runs are judged the same way, and a run whose LEDs change after consensus \
+         fails (both rules). Time: from the start to consensus; for `reboot`, from the reboot \
+         until consensus was back. The lab suite's bars for the adaptive rule: median at most \
+         2 cycles (110 s), 95th percentile at most 3 cycles (165 s) on the fault-free baseline \
+         (`cycle-spread`).\n"
+    );
+    let _ = writeln!(
+        s,
+        "| scenario | bar | fixed: success | adaptive: success | fixed: median s | adaptive: median s | fixed: p95 s | adaptive: p95 s |"
+    );
+    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|");
+    for (f, a) in fixed.results.iter().zip(&adaptive.results) {
+        let (fm, fp) = decision_times(f);
+        let (am, ap) = decision_times(a);
+        let _ = writeln!(
+            s,
+            "| `{}` | {} | {} ({}) | {} ({}) | {} | {} | {} | {} |",
+            f.scenario.name,
+            bar_str(f),
+            pct(f.rate()),
+            verdict(f),
+            pct(a.rate()),
+            verdict(a),
+            secs(fm),
+            secs(am),
+            secs(fp),
+            secs(ap)
+        );
+    }
+    if let Some(fig) = figure {
+        let _ = writeln!(
+            s,
+            "\n![Time to consensus per scenario and rule: median (bar) and 95th percentile (line)]({fig})"
+        );
+    }
+    let _ = writeln!(s, "\n### Failing seeds of the adaptive rule\n");
+    let mut any = false;
+    for r in &adaptive.results {
+        let failed: Vec<&Outcome> = r.failures().collect();
+        if failed.is_empty() {
+            continue;
+        }
+        any = true;
+        let _ = writeln!(
+            s,
+            "**`{}`** ({} of {}):\n",
+            r.scenario.name,
+            failed.len(),
+            r.runs.len()
+        );
+        for o in failed {
+            let _ = writeln!(
+                s,
+                "- {}",
+                failure_line(r.scenario.name, o, adaptive.plan.loss, adaptive.plan.decide)
+            );
+        }
+        let _ = writeln!(s);
+    }
+    if !any {
+        let _ = writeln!(s, "None.\n");
+    }
+    let missed = adaptive.missed();
+    if missed.is_empty() {
+        let _ = writeln!(s, "Every bar is met by the adaptive rule too.");
+    } else {
+        for r in missed {
+            let _ = writeln!(s, "- adaptive rule: {}", missed_line(r));
+        }
+    }
+    s
+}
+
+/// The figure of [`rules_section`]: per scenario, the median time (bar) and the 95th
+/// percentile (whisker) of each rule, on a common axis of seconds.
+pub fn rules_chart(
+    fixed: &Report,
+    adaptive: &Report,
+    path: &Path,
+) -> Result<(), Box<dyn std::error::Error>> {
+    let n = fixed.results.len().max(1);
+    let root = SVGBackend::new(path, (760, 110 + 46 * n as u32)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let rows: Vec<[(Option<f64>, Option<f64>); 2]> = fixed
+        .results
+        .iter()
+        .zip(&adaptive.results)
+        .map(|(f, a)| [decision_times(f), decision_times(a)])
+        .collect();
+    let top = rows
+        .iter()
+        .flat_map(|r| r.iter().filter_map(|t| t.1))
+        .fold(100.0f64, f64::max)
+        * 1.05;
+    let y = |i: usize| (n - 1 - i) as f64;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "Time to consensus (reboot: to restored consensus), s",
+            ("sans-serif", 16),
+        )
+        .margin(12)
+        .x_label_area_size(36)
+        .y_label_area_size(100)
+        .build_cartesian_2d(0.0..top, -0.5..(n as f64 - 0.5))?;
+    chart
+        .configure_mesh()
+        .disable_y_mesh()
+        .y_labels(0)
+        .x_desc("seconds (one cycle: 55 s)")
+        .draw()?;
+    let colours = [RGBColor(160, 160, 160), RGBColor(67, 147, 195)];
+    for (k, (name, colour)) in ["fixed", "adaptive"].iter().zip(colours).enumerate() {
+        let off = if k == 0 { 0.18 } else { -0.18 };
+        chart
+            .draw_series(rows.iter().enumerate().filter_map(|(i, r)| {
+                let m = r[k].0?;
+                Some(Rectangle::new(
+                    [(0.0, y(i) + off - 0.15), (m, y(i) + off + 0.15)],
+                    colour.filled(),
+                ))
+            }))?
+            .label(*name)
+            .legend(move |(x, yy)| {
+                Rectangle::new([(x, yy - 5), (x + 12, yy + 5)], colour.filled())
+            });
+        chart.draw_series(rows.iter().enumerate().filter_map(|(i, r)| {
+            let (m, p) = (r[k].0?, r[k].1?);
+            Some(PathElement::new(
+                vec![(m, y(i) + off), (p, y(i) + off)],
+                BLACK.stroke_width(1),
+            ))
+        }))?;
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .draw()?;
+    let right =
+        TextStyle::from(("sans-serif", 13).into_font()).pos(Pos::new(HPos::Right, VPos::Center));
+    for (i, r) in fixed.results.iter().enumerate() {
+        let (x0, yc) = chart.backend_coord(&(0.0, y(i)));
+        root.draw(&Text::new(r.scenario.name, (x0 - 8, yc), right.clone()))?;
+    }
+    root.present()?;
+    Ok(())
 }
 
 /// The report as Markdown (what `docs/reliability.md` holds).
@@ -802,7 +1092,11 @@ pub fn markdown(report: &Report, figure: Option<&str>) -> String {
             r.runs.len()
         );
         for o in f {
-            let _ = writeln!(s, "- {}", failure_line(r.scenario.name, o, plan.loss));
+            let _ = writeln!(
+                s,
+                "- {}",
+                failure_line(r.scenario.name, o, plan.loss, plan.decide)
+            );
         }
         let _ = writeln!(s);
     }
@@ -821,7 +1115,7 @@ pub fn markdown(report: &Report, figure: Option<&str>) -> String {
     s
 }
 
-fn failure_line(scenario: &str, o: &Outcome, loss: Option<f64>) -> String {
+fn failure_line(scenario: &str, o: &Outcome, loss: Option<f64>, decide: Decide) -> String {
     format!(
         "seed {}: pattern {}, LEDs {}, expected {} ({}); replay: `{}`",
         o.seed,
@@ -829,7 +1123,7 @@ fn failure_line(scenario: &str, o: &Outcome, loss: Option<f64>) -> String {
         o.leds,
         o.expected,
         o.why.as_deref().unwrap_or("failed"),
-        replay_command(scenario, o.seed, loss)
+        replay_command(scenario, o.seed, loss, decide)
     )
 }
 
@@ -953,34 +1247,88 @@ pub fn main(args: &CampaignArgs) -> ExitCode {
         v.dedup();
         v
     };
-    let plan = Plan {
-        scenarios,
-        seed: args.seed,
-        seeds: args.seeds,
-        loss: args.loss,
-        decide: args.decide,
-    };
+    let rules = args
+        .decide
+        .map_or(vec![Decide::Fixed, Decide::Adaptive], |d| vec![d]);
+    let mut reports = Vec::new();
+    for &decide in &rules {
+        let plan = Plan {
+            scenarios: scenarios.clone(),
+            seed: args.seed,
+            seeds: args.seeds,
+            loss: args.loss,
+            decide,
+        };
+        match run_rule(&plan, args) {
+            Ok(r) => reports.push(r),
+            Err(code) => return code,
+        }
+    }
+    let documented = args.scenario.is_empty()
+        && args.seeds == 200
+        && args.seed == 1
+        && args.loss.is_none()
+        && args.decide.is_none();
+    let out = args
+        .out
+        .clone()
+        .or_else(|| documented.then(|| crate::report::default_docs_dir().join("reliability.md")));
+    if let Some(out) = out
+        && let Err(e) = write_page(&reports, &out, args.figure.clone())
+    {
+        eprintln!("cimax arena campaign: {}: {e}", out.display());
+        return ExitCode::from(2);
+    }
+    let mut missed_any = false;
+    for report in &reports {
+        let plan = &report.plan;
+        for r in &report.results {
+            for o in r.failures() {
+                eprintln!(
+                    "FAILED {} {}",
+                    r.scenario.name,
+                    failure_line(r.scenario.name, o, plan.loss, plan.decide).replace('`', "")
+                );
+            }
+        }
+        for r in report.missed() {
+            missed_any = true;
+            eprintln!(
+                "{} rule: {}",
+                plan.decide.name(),
+                missed_line(r).replace('`', "")
+            );
+        }
+    }
+    if missed_any {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// Runs one rule's campaign and prints its table (and each run, for a single seed); writes the
+/// trace if asked. `Err` holds the exit code of a bad option.
+fn run_rule(plan: &Plan, args: &CampaignArgs) -> Result<Report, ExitCode> {
     let total = plan.scenarios.len() as u64 * plan.seeds;
     let progress = if total > 1 {
         Progress::new(total, "campaign", false)
     } else {
         Progress::hidden()
     };
-    let report = match run(&plan, &progress) {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("cimax arena campaign: {e}");
-            return ExitCode::from(2);
-        }
-    };
+    let report = run(plan, &progress).map_err(|e| {
+        eprintln!("cimax arena campaign: {e}");
+        ExitCode::from(2)
+    })?;
     if let (Some(path), Some(&s)) = (&args.trace, plan.scenarios.first())
         && let Err(e) = write_trace(&SCENARIOS[s], plan.seed, plan.loss, plan.decide, path)
     {
         eprintln!("cimax arena campaign: {e}");
-        return ExitCode::from(2);
+        return Err(ExitCode::from(2));
     }
     println!(
-        "CIMAX fault campaign: {} scenarios x {} seeds in the emulated arena ({:.1} s wall, {} threads)",
+        "CIMAX fault campaign, {} rule: {} scenarios x {} seeds in the emulated arena ({:.1} s wall, {} threads)",
+        plan.decide.name(),
         plan.scenarios.len(),
         plan.seeds,
         report.wall_s,
@@ -1006,56 +1354,45 @@ pub fn main(args: &CampaignArgs) -> ExitCode {
             }
         }
     }
-    let documented = args.scenario.is_empty()
-        && args.seeds == 200
-        && args.seed == 1
-        && args.loss.is_none()
-        && args.decide == Decide::Fixed;
-    let out = args
-        .out
-        .clone()
-        .or_else(|| documented.then(|| crate::report::default_docs_dir().join("reliability.md")));
-    if let Some(out) = out {
-        let figure = args.figure.clone().unwrap_or_else(|| {
-            out.parent()
-                .unwrap_or(Path::new("."))
-                .join("figures")
-                .join("reliability.svg")
-        });
-        let written = ensure_parent(&out)
-            .and_then(|()| ensure_parent(&figure))
-            .map_err(|e| e.to_string())
-            .and_then(|()| chart(&report, &figure).map_err(|e| e.to_string()))
-            .and_then(|()| {
-                std::fs::write(&out, markdown(&report, Some(&relative(&figure, &out))))
-                    .map_err(|e| e.to_string())
-            });
-        match written {
-            Ok(()) => println!("wrote {} and {}", out.display(), figure.display()),
-            Err(e) => {
-                eprintln!("cimax arena campaign: {}: {e}", out.display());
-                return ExitCode::from(2);
-            }
-        }
-    }
-    for r in &report.results {
-        for o in r.failures() {
-            eprintln!(
-                "FAILED {} {}",
-                r.scenario.name,
-                failure_line(r.scenario.name, o, plan.loss).replace('`', "")
-            );
-        }
-    }
-    let missed = report.missed();
-    for r in &missed {
-        eprintln!("{}", missed_line(r).replace('`', ""));
-    }
-    if missed.is_empty() {
-        ExitCode::SUCCESS
+    Ok(report)
+}
+
+/// Writes the page `out` with its figures beside it (`figures/reliability.svg`, or `figure`,
+/// and `reliability-rules.svg` next to it): the first report's page and, with two rules, the
+/// section setting them side by side.
+fn write_page(reports: &[Report], out: &Path, figure: Option<PathBuf>) -> Result<(), String> {
+    let Some(first) = reports.first() else {
+        return Ok(());
+    };
+    let figure = figure.unwrap_or_else(|| {
+        out.parent()
+            .unwrap_or(Path::new("."))
+            .join("figures")
+            .join("reliability.svg")
+    });
+    let rules_figure = figure.with_file_name("reliability-rules.svg");
+    ensure_parent(out)
+        .and_then(|()| ensure_parent(&figure))
+        .map_err(|e| e.to_string())?;
+    chart(first, &figure).map_err(|e| e.to_string())?;
+    let mut page = markdown(first, Some(&relative(&figure, out)));
+    if let [fixed, adaptive] = reports {
+        rules_chart(fixed, adaptive, &rules_figure).map_err(|e| e.to_string())?;
+        page += &rules_section(fixed, adaptive, Some(&relative(&rules_figure, out)));
+        let (seed, seeds) = (fixed.plan.seed, fixed.plan.seeds);
+        let f = lab_suite(Decide::Fixed, seed, seeds)?;
+        let a = lab_suite(Decide::Adaptive, seed, seeds)?;
+        page += &suite_section(&f, &a, seeds);
+        println!(
+            "wrote {}, {} and {}",
+            out.display(),
+            figure.display(),
+            rules_figure.display()
+        );
     } else {
-        ExitCode::FAILURE
+        println!("wrote {} and {}", out.display(), figure.display());
     }
+    std::fs::write(out, page).map_err(|e| e.to_string())
 }
 
 #[cfg(test)]

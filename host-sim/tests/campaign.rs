@@ -114,6 +114,17 @@ fn a_missed_bar_exits_1_names_it_and_its_replay_reproduces_the_run() {
     assert!(err.contains("bar missed: loss-10"), "{err}");
     let md = std::fs::read_to_string(&out).unwrap();
     assert!(md.contains("**FAIL**") && md.contains("--loss 0.9"), "{md}");
+    // Both decision rules, side by side, with their figure.
+    assert!(
+        md.contains("## The fixed and the adaptive decision rule")
+            && md.contains("adaptive rule: bar missed: loss-10"),
+        "{md}"
+    );
+    assert!(
+        std::fs::read_to_string(dir.join("figures/reliability-rules.svg"))
+            .unwrap()
+            .starts_with("<svg")
+    );
     assert!(
         std::fs::read_to_string(dir.join("figures/reliability.svg"))
             .unwrap()

@@ -6,7 +6,8 @@ mod common;
 use common::ray;
 use proptest::prelude::*;
 use protocol::frame::{Deframer, decode_frame, encode};
-use protocol::fused::Reception;
+use protocol::fused::{Event, Reception};
+use protocol::params::DecisionRule;
 use protocol::{
     Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, MAX_TAGS, Message, Params,
     Sector, Tag,
@@ -157,6 +158,66 @@ proptest! {
             prop_assert!(n.poll_timeout() > Instant::ZERO);
             prop_assert!(n.preference().is_none_or(|s| s.index() < 2));
             let _ = Duration::ZERO;
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(500))]
+
+    /// The adaptive decision rule (which `fuzz/` does not model) on anything: messages with or
+    /// without rays from any sector (also outside `0..K`), readings, times jumping back and
+    /// forth. It never panics, decides only sectors it has, and every transmission frames into
+    /// 32 bytes with its own hop last.
+    #[test]
+    fn an_adaptive_robot_fed_anything_keeps_its_invariants(
+        seed in any::<u64>(),
+        six in any::<bool>(),
+        ops in proptest::collection::vec(
+            (0u8..3, any::<u32>(), 0u8..9, any::<u8>(), message()),
+            1..150,
+        ),
+    ) {
+        let mut rng = Pcg32::new(seed, 3);
+        let mut params = Params::robots();
+        params.decide = DecisionRule::Adaptive;
+        params.negotiation_cycles = 2;
+        if six {
+            params.sectors = 6;
+        }
+        let k = params.sectors;
+        let tag = Tag::from_id(seed as u16);
+        let mut n = FusedNode::new(params, tag, Instant::ZERO, &mut rng).unwrap();
+        let mut clock = 0u64;
+        for (kind, t, sector, reading, m) in ops {
+            // Mostly forward by up to a minute, sometimes back.
+            clock = if t % 7 == 0 {
+                clock.saturating_sub(u64::from(t % 90_000))
+            } else {
+                clock + u64::from(t % 60_000)
+            };
+            let now = Instant::from_millis(clock);
+            match kind {
+                0 => n.handle_reading(Level(reading)),
+                1 => n.handle_timeout(now, &mut rng),
+                _ => {
+                    let from = Sector::new(sector).unwrap_or(Sector::LEFT);
+                    let r = n.handle_message(now, from, &m, &mut rng);
+                    if from.index() >= k {
+                        prop_assert_eq!(r, Reception::UnknownSector);
+                    }
+                }
+            }
+            while let Some(out) = n.poll_transmit() {
+                prop_assert!(encode(&out).unwrap().len() <= 32);
+                prop_assert_eq!(out.hops().last().map(|h| h.tag), Some(tag));
+            }
+            while let Some(e) = n.poll_event() {
+                if let Event::Decided { decision, .. } = e {
+                    prop_assert!(decision.is_none_or(|d| d.index() < k), "{:?}", decision);
+                }
+            }
+            prop_assert!(n.decision().is_none_or(|d| d.index() < k));
         }
     }
 }

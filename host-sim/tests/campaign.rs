@@ -117,7 +117,7 @@ fn a_missed_bar_exits_1_names_it_and_its_replay_reproduces_the_run() {
     // Both decision rules, side by side, with their figure.
     assert!(
         md.contains("## The fixed and the adaptive decision rule")
-            && md.contains("adaptive rule: bar missed: loss-10"),
+            && md.contains("adaptive rule: bar missed: `loss-10`"),
         "{md}"
     );
     assert!(

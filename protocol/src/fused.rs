@@ -76,6 +76,16 @@ const OUTBOX: usize = 2;
 /// neighbour is taken instead (`FusedNode::take_ray`).
 const SENDER_SWITCH_CYCLES: u32 = 3;
 
+/// The least diversity, and the least lead over every other direction's, that makes a
+/// preference a vote under the adaptive rule: 16² (readings 16 levels apart), above the spread
+/// a sensor's noise gives a uniform stretch (the emulator's lit robots differ by up to 17).
+const CLEAR_MARGIN: f32 = 256.0;
+
+/// Rays that must confirm a changed candidate before the adaptive rule shows it (besides one
+/// from every side held). 2 made a robot at the swarm's edge (one side) safer against a
+/// neighbour's transient vote but slowed the mirrored lab pattern past its bar (p95 171 s).
+const CONFIRMATIONS: u8 = 1;
+
 /// Rays taken per sector remembered by the adaptive rule (`FusedNode::take_ray`).
 const RAY_HISTORY: usize = 4;
 
@@ -207,8 +217,10 @@ pub struct FusedNode<D: Diversity = Variance> {
     neighbours: u8,
     /// Adaptive rule: the direction the held votes give now ([`FusedNode::tally`]).
     candidate: Option<Sector>,
-    /// Adaptive rule: the sectors whose rays confirmed `candidate` after it was last set.
+    /// Adaptive rule: the sectors whose rays confirmed `candidate` after it was last set, and
+    /// how many rays did.
     confirmed: u8,
+    confirmations: u8,
     /// Adaptive rule: since when the candidate has differed from the shown decision.
     differs_since: Option<Instant>,
     /// Adaptive rule: per sector, the last rays taken (digest and time), newest last.
@@ -275,6 +287,7 @@ impl<D: Diversity> FusedNode<D> {
             neighbours: 0,
             candidate: None,
             confirmed: 0,
+            confirmations: 0,
             differs_since: None,
             seen: [[Seen::default(); RAY_HISTORY]; MAX_SECTORS],
             last_vote: None,
@@ -428,7 +441,13 @@ impl<D: Diversity> FusedNode<D> {
                     .measure(msg.readings().chain(core::iter::once(own)))
             }
         };
-        self.weights.add(from, v);
+        if self.params.decide == DecisionRule::Adaptive && self.ray_from(from).is_some() {
+            // The adaptive rule scores a direction by its latest ray: a summary of the whole
+            // side that supersedes the older ones (a changed environment shows at once).
+            self.weights.set(from, v);
+        } else {
+            self.weights.add(from, v);
+        }
         if let Some(best) = self.weights.heaviest()
             && self.pref != Some(best)
         {
@@ -626,10 +645,8 @@ impl<D: Diversity> FusedNode<D> {
         };
         let follows = match slot {
             Some(held) => {
-                let total = |r: &Ray| r.votes.iter().map(|&v| u16::from(v)).sum::<u16>();
-                let older = adaptive
-                    && now - held.at <= switch_after
-                    && (ray.robots, total(ray)) < (held.ray.robots, total(&held.ray));
+                let older =
+                    adaptive && now - held.at <= switch_after && ray.robots < held.ray.robots;
                 (held.sender == sender && !older)
                     || ray.robots > held.ray.robots
                     || (now - held.at > switch_after && !adaptive)
@@ -781,7 +798,8 @@ impl<D: Diversity> FusedNode<D> {
         }
     }
 
-    /// True if the preferred direction's average diversity is more than twice every other's:
+    /// True if the preferred direction's average diversity is more than twice every other's and
+    /// ahead of each by [`CLEAR_MARGIN`]:
     /// a preference between near-equal diversities (a robot amid a uniform stretch of a long
     /// line, whose rays do not reach a border yet) is no vote.
     fn is_clear(&self) -> bool {
@@ -789,9 +807,11 @@ impl<D: Diversity> FusedNode<D> {
         let Some(best) = self.weights.weight(p) else {
             return false;
         };
-        self.weights
-            .iter()
-            .all(|(d, w, _)| d == p || best > 2.0 * w)
+        best > CLEAR_MARGIN
+            && self
+                .weights
+                .iter()
+                .all(|(d, w, _)| d == p || (best > 2.0 * w && best - w > CLEAR_MARGIN))
     }
 
     /// True once the robot has taken a ray from each of its K sectors, or a whole longest
@@ -882,8 +902,10 @@ impl<D: Diversity> FusedNode<D> {
         if candidate != self.candidate {
             self.candidate = candidate;
             self.confirmed = 0;
+            self.confirmations = 0;
         } else if let Some(s) = confirming {
             self.confirmed |= 1 << s.index();
+            self.confirmations = self.confirmations.saturating_add(1);
         }
         if candidate.is_none()
             || candidate == self.decision
@@ -905,7 +927,8 @@ impl<D: Diversity> FusedNode<D> {
             return;
         }
         // A first decision needs no confirmation; a change needs every side's.
-        if held == 0 || (self.decision.is_some() && held & !self.confirmed != 0) {
+        let unconfirmed = held & !self.confirmed != 0 || self.confirmations < CONFIRMATIONS;
+        if held == 0 || (self.decision.is_some() && unconfirmed) {
             return;
         }
         let k = usize::from(self.params.sectors);

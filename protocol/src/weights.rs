@@ -92,6 +92,27 @@ impl<K: Copy + PartialEq, const D: usize> DirectionWeights<K, D> {
         }
     }
 
+    /// Replaces `dir`'s average by `v` alone (a whole-side summary that supersedes what was
+    /// heard before). Returns `false` (and does nothing) if `v` is not finite or the table is
+    /// full.
+    pub fn set(&mut self, dir: K, v: f32) -> bool {
+        if !v.is_finite() {
+            return false;
+        }
+        if let Some(s) = self.slots.iter_mut().find(|s| s.dir == dir) {
+            s.sum = v;
+            s.count = 1;
+            return true;
+        }
+        self.slots
+            .push(Slot {
+                dir,
+                sum: v,
+                count: 1,
+            })
+            .is_ok()
+    }
+
     /// Forgets everything (the start of a new period).
     pub fn clear(&mut self) {
         self.slots.clear();

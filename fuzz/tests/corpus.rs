@@ -24,6 +24,19 @@ fn committed() -> BTreeMap<(String, String), Vec<u8>> {
     out
 }
 
+/// The check of fuzz target `target`.
+fn check_of(target: &str) -> fn(&[u8]) {
+    match target {
+        "deframer" => deframer::check,
+        "message_decode" => message_decode::check,
+        "roundtrip" => roundtrip::check,
+        "fused_node" => fused_node::check,
+        "three_phase" => three_phase::check,
+        "keyed" => keyed::check,
+        other => panic!("unknown target {other}"),
+    }
+}
+
 #[test]
 fn committed_corpus_is_what_the_generator_makes() {
     let generated: BTreeMap<(String, String), Vec<u8>> = corpus::files()
@@ -49,15 +62,7 @@ fn committed_corpus_is_what_the_generator_makes() {
 #[test]
 fn every_committed_seed_passes_its_check() {
     for ((target, name), bytes) in committed() {
-        let check: fn(&[u8]) = match target.as_str() {
-            "deframer" => deframer::check,
-            "message_decode" => message_decode::check,
-            "roundtrip" => roundtrip::check,
-            "fused_node" => fused_node::check,
-            "three_phase" => three_phase::check,
-            "keyed" => keyed::check,
-            other => panic!("unknown target {other}"),
-        };
+        let check = check_of(&target);
         if std::panic::catch_unwind(|| check(&bytes)).is_err() {
             panic!("{target}/{name} fails its check");
         }
@@ -196,15 +201,7 @@ fn past_failures_pass() {
         for entry in dir {
             let path = entry.unwrap().path();
             let bytes = std::fs::read(&path).unwrap();
-            let check: fn(&[u8]) = match t {
-                "deframer" => deframer::check,
-                "message_decode" => message_decode::check,
-                "roundtrip" => roundtrip::check,
-                "fused_node" => fused_node::check,
-                "three_phase" => three_phase::check,
-                "keyed" => keyed::check,
-                other => panic!("unknown target {other}"),
-            };
+            let check = check_of(t);
             if std::panic::catch_unwind(|| check(&bytes)).is_err() {
                 panic!("{} fails its check again", path.display());
             }

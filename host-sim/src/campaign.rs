@@ -784,31 +784,10 @@ pub fn rules_section(fixed: &Report, adaptive: &Report, figure: Option<&str>) ->
         );
     }
     let _ = writeln!(s, "\n### Failing seeds of the adaptive rule\n");
-    let mut any = false;
-    for r in &adaptive.results {
-        let failed: Vec<&Outcome> = r.failures().collect();
-        if failed.is_empty() {
-            continue;
-        }
-        any = true;
-        let _ = writeln!(
-            s,
-            "**`{}`** ({} of {}):\n",
-            r.scenario.name,
-            failed.len(),
-            r.runs.len()
-        );
-        for o in failed {
-            let _ = writeln!(
-                s,
-                "- {}",
-                failure_line(r.scenario.name, o, adaptive.plan.loss, adaptive.plan.decide)
-            );
-        }
+    let seeds = failing_seeds(adaptive);
+    s += &seeds;
+    if seeds == "None.\n" {
         let _ = writeln!(s);
-    }
-    if !any {
-        let _ = writeln!(s, "None.\n");
     }
     let missed = adaptive.missed();
     if missed.is_empty() {
@@ -1077,32 +1056,7 @@ pub fn markdown(report: &Report, figure: Option<&str>) -> String {
         );
     }
     let _ = writeln!(s, "\n## Failing seeds\n");
-    let mut any = false;
-    for r in &report.results {
-        let f: Vec<&Outcome> = r.failures().collect();
-        if f.is_empty() {
-            continue;
-        }
-        any = true;
-        let _ = writeln!(
-            s,
-            "**`{}`** ({} of {}):\n",
-            r.scenario.name,
-            f.len(),
-            r.runs.len()
-        );
-        for o in f {
-            let _ = writeln!(
-                s,
-                "- {}",
-                failure_line(r.scenario.name, o, plan.loss, plan.decide)
-            );
-        }
-        let _ = writeln!(s);
-    }
-    if !any {
-        let _ = writeln!(s, "None.");
-    }
+    s += &failing_seeds(report);
     let missed = report.missed();
     let _ = writeln!(s, "\n## Verdict\n");
     if missed.is_empty() {
@@ -1111,6 +1065,33 @@ pub fn markdown(report: &Report, figure: Option<&str>) -> String {
         for r in missed {
             let _ = writeln!(s, "- {}", missed_line(r));
         }
+    }
+    s
+}
+
+/// Every failed run of `report`, per scenario, with its replay command; `None.` if none.
+fn failing_seeds(report: &Report) -> String {
+    let mut s = String::new();
+    for r in &report.results {
+        let f: Vec<&Outcome> = r.failures().collect();
+        if f.is_empty() {
+            continue;
+        }
+        let _ = writeln!(
+            s,
+            "**`{}`** ({} of {}):\n",
+            r.scenario.name,
+            f.len(),
+            r.runs.len()
+        );
+        for o in f {
+            let line = failure_line(r.scenario.name, o, report.plan.loss, report.plan.decide);
+            let _ = writeln!(s, "- {line}");
+        }
+        let _ = writeln!(s);
+    }
+    if s.is_empty() {
+        s = "None.\n".into();
     }
     s
 }

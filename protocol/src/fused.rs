@@ -465,17 +465,24 @@ impl<D: Diversity> FusedNode<D> {
             && self.wave.stats().skipped_initiations != skipped
             && !self.wave.extra_pending()
         {
-            // The adaptive rule defers a skipped initiation to after the refractory time (plus
-            // a random wait, so that neighbours skipped by the same wave do not collide).
-            let w = &self.params.wave;
-            let tick = w.tick.as_millis().max(1);
-            let spread = (w.cycle.as_millis() / 10 / tick).max(1);
-            let jitter = crate::time::Duration::from_millis(
-                (u64::from(rng.next_u32()) % (spread + 1)).saturating_mul(tick),
-            );
-            self.wave
-                .initiate_extra(now + w.relay_delay + w.refractory + jitter);
+            // The adaptive rule defers a skipped initiation.
+            let at = self.extra_initiation_at(now, rng);
+            self.wave.initiate_extra(at);
         }
+    }
+
+    /// When an extra initiation asked for at `now` goes: after a relay delay and a refractory
+    /// time, plus a random wait of up to a tenth of a cycle (in ticks), so that neighbours
+    /// moved by the same wave do not initiate together. (`next_u32` modulo the span: its bias
+    /// is about 1e-6 for the robots' 5.5 s span of milliseconds.)
+    fn extra_initiation_at(&self, now: Instant, rng: &mut impl RngCore) -> Instant {
+        let w = &self.params.wave;
+        let tick = w.tick.as_millis().max(1);
+        let spread = (w.cycle.as_millis() / 10 / tick).max(1);
+        let jitter = crate::time::Duration::from_millis(
+            (u64::from(rng.next_u32()) % (spread + 1)).saturating_mul(tick),
+        );
+        now + w.relay_delay + w.refractory + jitter
     }
 
     fn poll_wave(&mut self, now: Instant, rng: &mut impl RngCore) {
@@ -845,16 +852,8 @@ impl<D: Diversity> FusedNode<D> {
         let Some(s) = needed.and_then(Sector::new) else {
             return;
         };
-        let w = &self.params.wave;
-        let tick = w.tick.as_millis().max(1);
-        let spread = (w.cycle.as_millis() / 10 / tick).max(1);
-        let jitter = crate::time::Duration::from_millis(
-            (u64::from(rng.next_u32()) % (spread + 1)).saturating_mul(tick),
-        );
-        if self
-            .wave
-            .initiate_extra(now + w.relay_delay + w.refractory + jitter)
-        {
+        let at = self.extra_initiation_at(now, rng);
+        if self.wave.initiate_extra(at) {
             self.trigger = Some(s);
             self.triggered_in_cycle += 1;
         }

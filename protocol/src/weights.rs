@@ -28,12 +28,20 @@ impl<K: Copy + PartialEq, const D: usize> DirectionWeights<K, D> {
     /// Records one message's diversity `v` as received from `dir`. Returns `false` (and records
     /// nothing) if `dir` is new and all `D` slots are taken, or if `v` is not finite.
     pub fn add(&mut self, dir: K, v: f32) -> bool {
+        self.record(dir, v, |s| {
+            s.sum += v;
+            s.count = s.count.saturating_add(1);
+        })
+    }
+
+    /// Applies `update` to `dir`'s slot, or starts one holding `v` alone; `false` if `v` is not
+    /// finite or the table is full.
+    fn record(&mut self, dir: K, v: f32, update: impl FnOnce(&mut Slot<K>)) -> bool {
         if !v.is_finite() {
             return false;
         }
         if let Some(s) = self.slots.iter_mut().find(|s| s.dir == dir) {
-            s.sum += v;
-            s.count = s.count.saturating_add(1);
+            update(s);
             return true;
         }
         self.slots
@@ -96,21 +104,10 @@ impl<K: Copy + PartialEq, const D: usize> DirectionWeights<K, D> {
     /// heard before). Returns `false` (and does nothing) if `v` is not finite or the table is
     /// full.
     pub fn set(&mut self, dir: K, v: f32) -> bool {
-        if !v.is_finite() {
-            return false;
-        }
-        if let Some(s) = self.slots.iter_mut().find(|s| s.dir == dir) {
+        self.record(dir, v, |s| {
             s.sum = v;
             s.count = 1;
-            return true;
-        }
-        self.slots
-            .push(Slot {
-                dir,
-                sum: v,
-                count: 1,
-            })
-            .is_ok()
+        })
     }
 
     /// Forgets everything (the start of a new period).

@@ -228,6 +228,19 @@ mod tests {
         assert!(e.contains("32 hex digits") && e.contains("not 4"), "{e}");
         let e = SwarmKey::from_hex("zz").unwrap_err().to_string();
         assert!(e.contains("character 1"), "{e}");
+        // Whitespace anywhere is not a hex digit (docs/protocol.md §10).
+        assert_eq!(
+            SwarmKey::from_hex(" 000102030405060708090a0b0c0d0e0f"),
+            Err(KeyError::NotHex { position: 1 })
+        );
+        assert_eq!(
+            SwarmKey::from_hex("00010203 0405060708090a0b0c0d0e0f"),
+            Err(KeyError::NotHex { position: 9 })
+        );
+        assert_eq!(
+            SwarmKey::from_hex("000102030405060708090a0b0c0d0e0f\n"),
+            Err(KeyError::NotHex { position: 33 })
+        );
     }
 
     #[test]

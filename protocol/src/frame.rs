@@ -1354,6 +1354,102 @@ mod tests {
         }
     }
 
+    /// Golden error vector (docs/protocol.md §2.2): format 1's hop count 1 written as a 6-byte
+    /// varint (`f2 f3 f3 f3 f3` … after unstuffing), CRC right. Format 2's header is one raw
+    /// byte whose top bits must be `001`, so no count has a second encoding: the frame is
+    /// `Undecodable` on every target alike (the QEMU board checks it on the Cortex-M).
+    const GOLDEN_OVERLONG_COUNT: &[u8] = b"ss\x75\xf2\xf3\xf3\xf3\xf3\x71\x72\x70\x1f\x4b\x73\x73";
+
+    #[test]
+    fn an_overlong_hop_count_is_undecodable() {
+        assert_eq!(
+            decode_frame(GOLDEN_OVERLONG_COUNT),
+            Err(FrameError::Undecodable)
+        );
+        // The frame after it still decodes.
+        let mut stream = StdVec::from(GOLDEN_OVERLONG_COUNT);
+        stream.extend_from_slice(GOLDEN_TAGGED_FOUR);
+        let mut d = Deframer::new();
+        let got: StdVec<_> = d.frames(&stream).collect();
+        assert_eq!(got, [Err(FrameError::Undecodable), Ok(tagged_four())]);
+    }
+
+    /// One corrupted byte of a full frame's closing delimiter (byte 30, counting from 0, of
+    /// [`GOLDEN_TAGGED_TWELVE`] is no longer `s`) leaves a body that runs past `BODY_MAX`:
+    /// `TooLong`, as docs/protocol.md §2.3 says; the frames before and after decode.
+    #[test]
+    fn a_corrupted_byte_beside_the_delimiter_gives_too_long_and_loses_one_frame() {
+        let mut bad = StdVec::from(GOLDEN_TAGGED_TWELVE);
+        assert_eq!(bad.len(), 32);
+        bad[30] = 0x00;
+        let mut stream = StdVec::from(GOLDEN_TAGGED_FOUR);
+        stream.extend_from_slice(&bad);
+        stream.extend_from_slice(GOLDEN_TAGGED_FOUR);
+        let mut d = Deframer::new();
+        let got: StdVec<_> = d.frames(&stream).collect();
+        assert_eq!(got.first(), Some(&Ok(tagged_four())), "{got:?}");
+        assert_eq!(got.last(), Some(&Ok(tagged_four())), "{got:?}");
+        assert!(got.contains(&Err(FrameError::TooLong)), "{got:?}");
+        // Over every single-byte corruption of the largest frames, each error kind a byte can
+        // cause, and the next frame always decodes.
+        let mut kinds = std::collections::BTreeSet::new();
+        for golden in [GOLDEN_TAGGED_TWELVE, GOLDEN_RAY_LARGEST] {
+            for i in 0..golden.len() {
+                for v in [b's', golden[i] ^ 0x01, golden[i] ^ 0x80, 0x00] {
+                    let mut bad = StdVec::from(golden);
+                    bad[i] = v;
+                    let mut stream = bad.clone();
+                    stream.extend_from_slice(GOLDEN_TAGGED_FOUR);
+                    let mut d = Deframer::new();
+                    let got: StdVec<_> = d.frames(&stream).collect();
+                    assert_eq!(got.last(), Some(&Ok(tagged_four())), "byte {i} = {v:#x}");
+                    for e in got.iter().filter_map(|r| r.as_ref().err()) {
+                        kinds.insert(std::format!("{e:?}"));
+                    }
+                }
+            }
+        }
+        assert!(
+            kinds.contains("TooLong") && kinds.contains("BadCheck"),
+            "{kinds:?}"
+        );
+    }
+
+    #[test]
+    fn a_count_of_zero_is_undecodable_and_resync_forgets_only_the_partial_body() {
+        // Header 0x20: format 2, no ray, no hop; the CRC is right.
+        let zero = frame_of(&[0x20], None);
+        assert_eq!(decode_frame(&zero), Err(FrameError::Undecodable));
+        assert_eq!(Message::from_hops(&[]), None);
+        // resync(): a partial body is forgotten, the counters are kept, and the next `ss`
+        // synchronises again.
+        let mut d = Deframer::new();
+        let (half, _) = GOLDEN_TAGGED_FOUR.split_at(8);
+        assert!(d.frames(GOLDEN_ONE_HOP).all(|r| r.is_ok()));
+        assert!(d.frames(half).next().is_none());
+        let before = *d.stats();
+        d.resync();
+        assert_eq!(*d.stats(), before);
+        let got: StdVec<_> = d.frames(GOLDEN_TAGGED_FOUR).collect();
+        assert_eq!(got, [Ok(tagged_four())]);
+        assert_eq!(d.stats().errors(), 0, "the forgotten half is no error");
+    }
+
+    #[test]
+    fn the_byte_that_overflows_a_body_and_those_after_it_are_not_skipped_bytes() {
+        let mut d = Deframer::new();
+        let mut stream = StdVec::from(&b"ss"[..]);
+        stream.extend(core::iter::repeat_n(0x41, BODY_MAX + 5));
+        stream.extend_from_slice(GOLDEN_ONE_HOP);
+        let got: StdVec<_> = d.frames(&stream).collect();
+        assert_eq!(got, [Err(FrameError::TooLong), Ok(one_hop())]);
+        assert_eq!(d.stats().skipped_bytes, 0);
+        // Bytes before the first `ss` are.
+        let mut d = Deframer::new();
+        let _ = d.frames(b"xyzss").count();
+        assert_eq!(d.stats().skipped_bytes, 3);
+    }
+
     #[test]
     fn short_and_empty_bodies() {
         assert_eq!(decode_frame(b"ssss"), Err(FrameError::Incomplete));

@@ -204,6 +204,51 @@ async fn scenario(pattern: &str, expected: [Option<Sector>; 4], seed: u64) -> bo
     ok
 }
 
+/// Frames whose decoding the host's tests pin (`protocol::frame::tests`, docs/protocol.md
+/// §2.3, §2.4), decoded here on the Cortex-M with the same expected results: host and robot
+/// decode every frame alike (no limit depends on the word size).
+fn decoding_matches_the_host() -> bool {
+    use firmware::protocol::FrameError::{TooLong, Undecodable};
+    use firmware::protocol::{Deframer, Hop, Message, Tag};
+    // GOLDEN_ONE_HOP: reading 1, no preference, tag 0.
+    const ONE_HOP: &[u8] = b"ss\x70\x52\x72\x70\x28\x3dss";
+    // The overlong hop count (format 1's count 1 in 6 varint bytes): undecodable.
+    const OVERLONG: &[u8] = b"ss\x75\xf2\xf3\xf3\xf3\xf3\x71\x72\x70\x1f\x4b\x73\x73";
+    // GOLDEN_TAGGED_TWELVE with byte 30 (its closing delimiter's first `s`) corrupted.
+    const TWELVE_CUT: &[u8] = b"ss\x6f\x5f\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x0a\xc1\x00s";
+    let one_hop = Message::from_hops(&[Hop {
+        reading: Level(1),
+        pref: None,
+        tag: Tag::from_id(0),
+    }]);
+    let mut d = Deframer::new();
+    let mut got: [Option<Result<Message, firmware::protocol::FrameError>>; 4] =
+        [None, None, None, None];
+    let mut n = 0;
+    for chunk in [OVERLONG, ONE_HOP, TWELVE_CUT, ONE_HOP] {
+        for r in d.frames(chunk) {
+            if let Some(slot) = got.get_mut(n) {
+                *slot = Some(r);
+            }
+            n += 1;
+        }
+    }
+    let ok = n == 4
+        && got[0] == Some(Err(Undecodable))
+        && got[1] == one_hop.clone().map(Ok)
+        && got[2] == Some(Err(TooLong))
+        && got[3] == one_hop.map(Ok);
+    hprintln!(
+        "decoding on the Cortex-M: {} (overlong count undecodable, cut delimiter too long, the frames after decoded)",
+        if ok {
+            "as on the host"
+        } else {
+            "DIFFERS from the host"
+        }
+    );
+    ok
+}
+
 #[entry]
 fn main() -> ! {
     let Some(cp) = cortex_m::Peripherals::take() else {
@@ -218,7 +263,7 @@ fn main() -> ! {
         "cimax qemu: 4 robots in a line, seed {} (CIMAX_SEED to replay)",
         seed
     );
-    let mut all_right = true;
+    let mut all_right = decoding_matches_the_host();
     for (pattern, expected) in SCENARIOS {
         all_right &= block_on(scenario(pattern, expected, seed));
     }

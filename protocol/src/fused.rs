@@ -16,7 +16,9 @@
 //! At the end of every negotiation period (`negotiation_cycles` of its own cycles, 10 on the
 //! robots: "every aMussel initiated at least 10 messages") it decides by majority, emits
 //! [`Event::Decided`] for the top-cap LEDs, and starts the next period, so the swarm re-decides
-//! when the environment changes. The preference itself carries over.
+//! when the environment changes. The preference itself carries over. That is
+//! [`DecisionRule::Fixed`], the paper's; with [`DecisionRule::Adaptive`] a robot decides as
+//! soon as its evidence is settled, the period being the cap (see *The adaptive rule* below).
 //!
 //! **The diversity memory across periods.** The per-sector average diversities are not thrown away but shrunk to a *one-message prior*: each keeps its
 //! average with the weight of a single message. With noisy sensors a uniform side has a small
@@ -49,6 +51,15 @@
 //! follows on another side, so a replayed frame does not replace its neighbour's ray; rays not
 //! refreshed within a period are forgotten. `docs/protocol.md` §5.3 says why rays and not the
 //! other designs measured.
+//!
+//! # The adaptive rule
+//! After every reception and cycle end the robot tallies its votes into a candidate and shows
+//! it once it is informed (every sector heard, or a whole cycle gone), every side it hears has a
+//! ray, the robots without a vote could not overturn it, and, for a change of what it shows,
+//! every side has confirmed it. Its rays carry its vote only once it is informed and its
+//! preference clear; a side is scored by its latest ray; news its relays cannot carry back goes
+//! out in extra initiations; stale (replayed) rays are refused. `docs/protocol.md` §5.4 gives
+//! each rule, why it is safe and what was measured.
 //!
 //! **Tie rule**: if several sectors share the most votes, the robot keeps its own preference if
 //! it is one of them, else its previous decision if that is one of them, else it is undecided.

@@ -221,19 +221,45 @@ impl Clock for EmbassyClock {
     }
 
     async fn sleep_until(&self, deadline: Instant) {
-        let ticks = u128::from(deadline.as_millis()) * u128::from(embassy_time::TICK_HZ) / 1000;
-        match u64::try_from(ticks) {
-            Ok(t) if t < u64::MAX => {
-                embassy_time::Timer::at(embassy_time::Instant::from_ticks(t)).await
-            }
-            _ => core::future::pending().await,
+        match deadline_ticks(deadline.as_millis(), embassy_time::TICK_HZ) {
+            Some(t) => embassy_time::Timer::at(embassy_time::Instant::from_ticks(t)).await,
+            None => core::future::pending().await,
         }
     }
+}
+
+/// The first tick of a clock of `hz` ticks per second at or after `millis`: rounded up, so that a
+/// sleep never ends before its deadline (rounded down, a 32,768 Hz clock woke the robot up to a
+/// tick early, its `now()` still below the deadline, and the main loop spun until it passed).
+/// `None` if the deadline is beyond the tick counter (such as [`Instant::MAX`]): wait for ever.
+pub fn deadline_ticks(millis: u64, hz: u64) -> Option<u64> {
+    let ticks = (u128::from(millis) * u128::from(hz)).div_ceil(1000);
+    u64::try_from(ticks).ok().filter(|&t| t < u64::MAX)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn deadlines_round_up_to_the_next_tick() {
+        for hz in [1_000, 32_768, 1_000_000] {
+            for ms in 0..5_000u64 {
+                let t = deadline_ticks(ms, hz).unwrap();
+                // The tick reached is at or after the deadline, and less than a tick after.
+                assert!(
+                    u128::from(t) * 1000 >= u128::from(ms) * u128::from(hz),
+                    "{ms} ms at {hz} Hz"
+                );
+                assert!(u128::from(t) * 1000 < u128::from(ms) * u128::from(hz) + 1000);
+                // What the clock then reads (milliseconds, rounded down) is not before it.
+                assert!(t * 1000 / hz >= ms, "{ms} ms at {hz} Hz woke at {t} ticks");
+            }
+        }
+        assert_eq!(deadline_ticks(1, 32_768), Some(33), "32 ticks is 0.977 ms");
+        assert_eq!(deadline_ticks(Instant::MAX.as_millis(), 32_768), None);
+        assert_eq!(deadline_ticks(u64::MAX / 2, 32_768), None);
+    }
 
     #[test]
     fn decisions_map_to_colors_and_back() {

@@ -92,16 +92,12 @@ const SENDER_SWITCH_CYCLES: u32 = 3;
 /// a sensor's noise gives a uniform stretch (the emulator's lit robots differ by up to 17).
 const CLEAR_MARGIN: f32 = 256.0;
 
-/// Rays that must confirm a changed candidate before the adaptive rule shows it (besides one
-/// from every side held). 2 made a robot at the swarm's edge (one side) safer against a
-/// neighbour's transient vote but slowed the mirrored lab pattern past its bar (p95 171 s).
-const CONFIRMATIONS: u8 = 1;
-
 /// Rays taken per sector remembered by the adaptive rule (`FusedNode::take_ray`).
 const RAY_HISTORY: usize = 4;
 
 /// What of a ray the adaptive rule remembers: who sent it, how many robots it counts and
-/// their votes, hashed (FNV-1a), and when it was taken.
+/// their votes, hashed (FNV-1a), and when it was taken. Digest 0 (never a ray's,
+/// [`ray_digest`]) marks an empty place.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct Seen {
     digest: u32,
@@ -115,7 +111,7 @@ fn ray_digest(ray: &Ray, sender: Tag) -> u32 {
     for b in bytes {
         h = (h ^ u32::from(b)).wrapping_mul(0x0100_0193);
     }
-    h
+    h.max(1)
 }
 
 /// The ray held for one direction.
@@ -228,17 +224,17 @@ pub struct FusedNode<D: Diversity = Variance> {
     neighbours: u8,
     /// Adaptive rule: the direction the held votes give now ([`FusedNode::tally`]).
     candidate: Option<Sector>,
-    /// Adaptive rule: the sectors whose rays confirmed `candidate` after it was last set, and
-    /// how many rays did.
+    /// Adaptive rule: the sectors whose rays confirmed `candidate` after it was last set.
     confirmed: u8,
-    confirmations: u8,
     /// Adaptive rule: since when the candidate has differed from the shown decision.
     differs_since: Option<Instant>,
     /// Adaptive rule: per sector, the last rays taken (digest and time), newest last.
     seen: [[Seen; RAY_HISTORY]; MAX_SECTORS],
-    /// The vote the last ray sent carried, and the sectors whose rays carried it since.
+    /// The vote the last ray sent carried, and the sectors whose ray, as last sent, is still
+    /// current: it carried that vote and the held ray's robots and votes (adaptive rule: the
+    /// others are news to send, `spread_news`).
     last_vote: Option<Sector>,
-    voted_to: u8,
+    fresh_rays: u8,
     /// Adaptive rule: the sector whose ray a pending extra initiation carries.
     trigger: Option<Sector>,
     /// Adaptive rule: extra initiations asked for in the cycle under way.
@@ -298,11 +294,10 @@ impl<D: Diversity> FusedNode<D> {
             neighbours: 0,
             candidate: None,
             confirmed: 0,
-            confirmations: 0,
             differs_since: None,
             seen: [[Seen::default(); RAY_HISTORY]; MAX_SECTORS],
             last_vote: None,
-            voted_to: 0,
+            fresh_rays: 0,
             trigger: None,
             triggered_in_cycle: 0,
             pending: None,
@@ -385,7 +380,7 @@ impl<D: Diversity> FusedNode<D> {
         if self.params.decide == DecisionRule::Adaptive {
             let confirming = (self.stats.rays != rays).then_some(from);
             self.settle(now, confirming);
-            self.spread_vote(now, rng);
+            self.spread_news(now, rng);
         }
         r
     }
@@ -508,7 +503,7 @@ impl<D: Diversity> FusedNode<D> {
                     let m = Message::initiate(self.own_hop());
                     self.send_with_ray(now, m, sector);
                     if self.params.decide == DecisionRule::Adaptive {
-                        self.spread_vote(now, rng);
+                        self.spread_news(now, rng);
                     }
                 }
                 WaveAction::Relay => {
@@ -540,7 +535,7 @@ impl<D: Diversity> FusedNode<D> {
                             }
                             self.settle(now, None);
                             self.triggered_in_cycle = 0;
-                            self.spread_vote(now, rng);
+                            self.spread_news(now, rng);
                         }
                     }
                 }
@@ -577,9 +572,9 @@ impl<D: Diversity> FusedNode<D> {
         let vote = self.vote(now);
         if vote != self.last_vote {
             self.last_vote = vote;
-            self.voted_to = 0;
+            self.fresh_rays = 0;
         }
-        self.voted_to |= 1 << sector.index();
+        self.fresh_rays |= 1 << sector.index();
         let ray = match self.ray_from(sector) {
             Some(r) => Some(r.extended(self.reading, vote)),
             None => Ray::single(sector, self.params.sectors, self.reading, vote),
@@ -646,11 +641,17 @@ impl<D: Diversity> FusedNode<D> {
     ///
     /// In a line the neighbour's ray always reaches farthest, so a robot follows its
     /// neighbour and ignores what a replayer brings of robots farther along.
+    ///
+    /// The adaptive rule is stricter (`docs/protocol.md` §5.4): a robot followed on another
+    /// side is refused however old that ray is; another robot's ray only if it reaches
+    /// farther; the followed robot's shorter ray within the switch time; and a ray that goes
+    /// back in time (the same sender, robots and votes as one of the last [`RAY_HISTORY`]
+    /// distinct rays taken from that sector within a longest cycle, other than the held one).
+    ///
     /// Returns `true` if it was taken.
     fn take_ray(&mut self, now: Instant, from: Sector, ray: &Ray, sender: Tag) -> bool {
-        let switch_after = self
-            .longest_cycle()
-            .saturating_mul(u64::from(SENDER_SWITCH_CYCLES));
+        let longest = self.longest_cycle();
+        let switch_after = longest.saturating_mul(u64::from(SENDER_SWITCH_CYCLES));
         let i = usize::from(from.index());
         let fits = ray.sector == from && ray.sectors == self.params.sectors;
         let adaptive = self.params.decide == DecisionRule::Adaptive;
@@ -675,11 +676,8 @@ impl<D: Diversity> FusedNode<D> {
         let back_in_time = adaptive
             && slot.is_some_and(|h| ray_digest(&h.ray, h.sender) != digest)
             && self.seen.get(i).is_some_and(|seen| {
-                seen.iter().any(|s| {
-                    s.digest == digest
-                        && s.at != Instant::ZERO
-                        && now - s.at <= self.params.wave.cycle + self.params.wave.cycle_spread
-                })
+                seen.iter()
+                    .any(|s| s.digest == digest && now - s.at <= longest)
             });
         if fits && !elsewhere && follows && !back_in_time {
             if let Some(seen) = self.seen.get_mut(i) {
@@ -690,7 +688,7 @@ impl<D: Diversity> FusedNode<D> {
                 seen[RAY_HISTORY - 1] = Seen { digest, at: now };
             }
             if slot.is_none_or(|h| h.ray.robots != ray.robots || h.ray.votes != ray.votes) {
-                self.voted_to &= !(1 << from.index());
+                self.fresh_rays &= !(1 << from.index());
             }
             *slot = Some(Held {
                 ray: *ray,
@@ -804,9 +802,10 @@ impl<D: Diversity> FusedNode<D> {
         });
     }
 
-    /// What this robot votes in the rays it sends: its preference, except under the adaptive
-    /// rule before it [`is_informed`](Self::is_informed) (a preference formed from one side of
-    /// a line is no vote yet).
+    /// What this robot votes in the rays it sends: its preference; under the adaptive rule only
+    /// once it [`is_informed`](Self::is_informed) and the preference
+    /// [`is_clear`](Self::is_clear) (a preference formed from one side of a line, or between
+    /// near-equal diversities, is no vote yet).
     fn vote(&self, now: Instant) -> Option<Sector> {
         match self.params.decide {
             DecisionRule::Fixed => self.pref,
@@ -840,19 +839,20 @@ impl<D: Diversity> FusedNode<D> {
         u16::from(self.heard) == all || now - self.born >= self.longest_cycle()
     }
 
-    /// Adaptive rule: if the robot's vote changed since it last sent the ray that carries it to
-    /// the neighbours of some side (the ray of the opposite sector), asks for one extra
-    /// initiation carrying that ray, a refractory time plus up to a tenth of a cycle from now,
-    /// at most once per cycle. A relay carries the new vote only ahead of the wave that changed
-    /// it; the robots behind the wave would otherwise wait for this robot's next initiation.
-    fn spread_vote(&mut self, now: Instant, rng: &mut impl RngCore) {
+    /// Adaptive rule: if the ray this robot would send for some side is news (its own vote, or
+    /// the robots or votes of the ray it holds, changed since it last sent that ray) and the
+    /// neighbours that ray serves exist (a ray is held from the opposite sector), asks for one
+    /// extra initiation carrying it ([`extra_initiation_at`](Self::extra_initiation_at)), at
+    /// most K per cycle and one at a time. A relay carries news only ahead of its wave; the
+    /// robots behind it would otherwise wait for this robot's next initiation.
+    fn spread_news(&mut self, now: Instant, rng: &mut impl RngCore) {
         let k = self.params.sectors.clamp(1, MAX_SECTORS as u8);
         if self.triggered_in_cycle >= k || self.wave.extra_pending() {
             return;
         }
         let vote = self.vote(now);
         let current = if vote == self.last_vote {
-            self.voted_to
+            self.fresh_rays
         } else {
             0
         };
@@ -912,10 +912,8 @@ impl<D: Diversity> FusedNode<D> {
         if candidate != self.candidate {
             self.candidate = candidate;
             self.confirmed = 0;
-            self.confirmations = 0;
         } else if let Some(s) = confirming {
             self.confirmed |= 1 << s.index();
-            self.confirmations = self.confirmations.saturating_add(1);
         }
         if candidate.is_none()
             || candidate == self.decision
@@ -937,8 +935,7 @@ impl<D: Diversity> FusedNode<D> {
             return;
         }
         // A first decision needs no confirmation; a change needs every side's.
-        let unconfirmed = held & !self.confirmed != 0 || self.confirmations < CONFIRMATIONS;
-        if held == 0 || (self.decision.is_some() && unconfirmed) {
+        if held == 0 || (self.decision.is_some() && held & !self.confirmed != 0) {
             return;
         }
         let k = usize::from(self.params.sectors);

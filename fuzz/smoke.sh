@@ -11,6 +11,7 @@
 #   fuzz/smoke.sh                              all targets, 60 s each
 #   FUZZ_SECONDS=300 fuzz/smoke.sh             longer runs
 #   FUZZ_TARGETS="deframer roundtrip" fuzz/smoke.sh
+#   FUZZ_SEED=7 fuzz/smoke.sh                  libFuzzer's seed (default 1; 0 = libFuzzer picks)
 #   FUZZ_WORK=fuzz/work fuzz/smoke.sh          keep the working corpora and logs there
 #                                              (default: a temporary directory, removed)
 #   FUZZ_SKIP_TESTS=1 fuzz/smoke.sh            skip `cargo test` of the fuzz crate
@@ -31,6 +32,13 @@ seconds=${FUZZ_SECONDS:-60}
 case "$seconds" in
 '' | *[!0-9]*)
     echo "FUZZ_SECONDS must be a whole number of seconds, not '$seconds'" >&2
+    exit 2
+    ;;
+esac
+seed=${FUZZ_SEED:-1}
+case "$seed" in
+'' | *[!0-9]*)
+    echo "FUZZ_SEED must be a whole number, not '$seed'" >&2
     exit 2
     ;;
 esac
@@ -64,9 +72,9 @@ for t in $targets; do
     mkdir -p "$work/$t"
     cp corpus/"$t"/* "$work/$t/"
     log="$work/$t.log"
-    echo "fuzzing $t for ${seconds}s"
+    echo "fuzzing $t for ${seconds}s (seed $seed)"
     if cargo +nightly fuzz run "$t" "$work/$t" -- \
-        -max_total_time="$seconds" -timeout=10 -print_final_stats=1 >"$log" 2>&1; then
+        -max_total_time="$seconds" -timeout=10 -seed="$seed" -print_final_stats=1 >"$log" 2>&1; then
         status=ok
     else
         status=FAILED

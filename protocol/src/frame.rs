@@ -1374,6 +1374,31 @@ mod tests {
         assert_eq!(got, [Err(FrameError::Undecodable), Ok(tagged_four())]);
     }
 
+    /// A frame that decodes (a ray and five hops) and the same frame with one corrupted COBS
+    /// code byte (byte 2: `71` → `70`, a code of 2 read as 3). The changed code moves the zero
+    /// it stands for, so the unstuffed bytes differ in three places, and they happen to pass
+    /// the CRC (the 2⁻¹⁶ chance of docs/protocol.md §2.3; found by the `roundtrip` fuzz target
+    /// in CI). The payload parser then refuses it.
+    const GOLDEN_CODE_BYTE: [&[u8]; 2] = [
+        b"ss\x71\x5b\x70\x62\x72\x78\x70\x47\x76\x83\x75\x83\x74\x83\xcc\x6b\x77\x66\x31\x3c\x73\x73",
+        b"ss\x70\x5b\x70\x62\x72\x78\x70\x47\x76\x83\x75\x83\x74\x83\xcc\x6b\x77\x66\x31\x3c\x73\x73",
+    ];
+
+    #[test]
+    fn a_corrupted_code_byte_can_pass_the_crc_and_is_undecodable() {
+        let [good, bad] = GOLDEN_CODE_BYTE;
+        let m = decode_frame(good).expect("the uncorrupted frame decodes");
+        assert_eq!(encode(&m).unwrap().as_slice(), good);
+        assert_eq!(decode_frame(bad), Err(FrameError::Undecodable));
+        // The CRC passed: a deframer counts it as undecodable, not as a bad check.
+        let mut stream = StdVec::from(bad);
+        stream.extend_from_slice(good);
+        let mut d = Deframer::new();
+        let got: StdVec<_> = d.frames(&stream).collect();
+        assert_eq!(got, [Err(FrameError::Undecodable), Ok(m)]);
+        assert_eq!((d.stats().undecodable, d.stats().bad_check), (1, 0));
+    }
+
     /// One corrupted byte of a full frame's closing delimiter (byte 30, counting from 0, of
     /// [`GOLDEN_TAGGED_TWELVE`] is no longer `s`) leaves a body that runs past `BODY_MAX`:
     /// `TooLong`, as docs/protocol.md §2.3 says; the frames before and after decode.

@@ -1774,10 +1774,17 @@ mod tests {
         };
         assert_eq!((decision, changed), (R, false));
         assert_eq!(votes[..2], [1, 0], "rays expired");
-        // The diversities carry over as one-message priors: one uniform message from the
-        // left (diversity 0) halves the left's weight but does not flip the preference.
+        // The diversities carry over as one-message priors: the left's 0 (robot 0 lit like
+        // this robot), the right's 1/4 (readings 0, 0 and the own 1: 2/9, in the ray's quarter
+        // steps).
         let right = n.weight(Sector::RIGHT).unwrap();
-        assert!(right > 0.0);
+        assert_eq!(right, 0.25);
+        assert_eq!(n.weight(Sector::LEFT), Some(0.0));
+        // Robot 0's light goes out, and a wave from farther left (robots 6, 5, 4: 1, 2, 1)
+        // passes it: with the own 1, diversity 2/5. On its own that beats the right's 1/4;
+        // averaged with the left's prior it gives 1/5, and the preference holds.
+        let v = Variance.measure([1.0, 2.0, 1.0, 0.0, 1.0].into_iter());
+        assert!(v > right && v / 2.0 < right, "only the prior keeps it: {v}");
         // Two periods of fixed 600 s cycles have passed; the node last initiated at 12000 s.
         t = Instant::from_secs(12_010);
         hear(
@@ -1785,10 +1792,10 @@ mod tests {
             &mut rng,
             &mut t,
             Sector::LEFT,
-            &[hop(4, 1, R), hop(0, 1, R)],
+            &[hop(6, 1, R), hop(5, 2, R), hop(4, 1, R), hop(0, 0, R)],
         );
-        assert_eq!(n.weight(Sector::LEFT), Some(0.0));
-        assert_eq!(n.preference(), R);
+        assert_eq!(n.preference(), R, "one message does not flip it");
+        assert_eq!(n.weight(Sector::LEFT), Some(v / 2.0));
     }
 
     #[test]

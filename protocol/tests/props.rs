@@ -9,8 +9,7 @@ use protocol::frame::{Deframer, decode_frame, encode};
 use protocol::fused::{Event, Reception};
 use protocol::params::DecisionRule;
 use protocol::{
-    Duration, FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, MAX_TAGS, Message, Params,
-    Sector, Tag,
+    FusedNode, Hop, Instant, Level, MAX_HOPS, MAX_SECTORS, MAX_TAGS, Message, Params, Sector, Tag,
 };
 use rand_pcg::Pcg32;
 
@@ -106,6 +105,13 @@ proptest! {
         for (kind, t, sector, bytes) in ops {
             // Times jump around, backwards included.
             let now = Instant::from_millis(u64::from(t) % 5_000_000);
+            // Every initiation and every relay (always of an accepted message) queues one
+            // transmission; nothing else does under the fixed rule.
+            let queued = |n: &FusedNode| {
+                let w = n.wave_stats();
+                w.initiated.wrapping_add(w.relayed)
+            };
+            let (queued_before, lost_before) = (queued(&n), n.stats().transmits_lost);
             match kind {
                 0 => n.handle_reading(Level(bytes.first().copied().unwrap_or(0))),
                 1 => n.handle_timeout(now, &mut rng),
@@ -153,11 +159,18 @@ proptest! {
                 prop_assert!(!m.is_empty() && m.len() <= MAX_HOPS);
                 sent += 1;
             }
-            prop_assert!(sent <= 2);
+            // The outbox was drained after the previous step and holds two: of what this step
+            // queued the newest two are sent, the older ones dropped and counted.
+            let produced = queued(&n).wrapping_sub(queued_before);
+            let lost = n.stats().transmits_lost.wrapping_sub(lost_before);
+            prop_assert_eq!(sent, produced.min(2), "queued {}", produced);
+            prop_assert_eq!(lost, produced - sent);
+            if kind == 0 {
+                prop_assert_eq!(produced, 0, "a reading sends nothing");
+            }
             while n.poll_event().is_some() {}
             prop_assert!(n.poll_timeout() > Instant::ZERO);
             prop_assert!(n.preference().is_none_or(|s| s.index() < 2));
-            let _ = Duration::ZERO;
         }
     }
 }

@@ -6,7 +6,7 @@
 set -eu
 host=$(rustc -vV | sed -n 's/^host: //p')
 size="$(rustc --print sysroot)/lib/rustlib/$host/bin/llvm-size"
-nucleo=target/thumbv7em-none-eabihf/release/nucleo_l476
+nucleo=target/thumbv7em-none-eabihf/firmware/nucleo_l476
 qemu=firmware/qemu/target/thumbv7em-none-eabihf/release/qemu
 "$size" "$nucleo" "$qemu"
 "$size" "$nucleo" | awk 'NR == 2 {

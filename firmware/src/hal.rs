@@ -232,9 +232,12 @@ impl Clock for EmbassyClock {
 /// sleep never ends before its deadline (rounded down, a 32,768 Hz clock woke the robot up to a
 /// tick early, its `now()` still below the deadline, and the main loop spun until it passed).
 /// `None` if the deadline is beyond the tick counter (such as [`Instant::MAX`]): wait for ever.
+/// `u64` arithmetic only: with `u128` (`ms · hz` exact for every deadline) the image carried
+/// 128-bit multiply and divide routines, 1.7 KB of flash; a product that overflows `u64` (over
+/// 17,000 years at 32,768 Hz) is beyond any tick counter anyway.
 pub fn deadline_ticks(millis: u64, hz: u64) -> Option<u64> {
-    let ticks = (u128::from(millis) * u128::from(hz)).div_ceil(1000);
-    u64::try_from(ticks).ok().filter(|&t| t < u64::MAX)
+    let ticks = millis.checked_mul(hz)?.div_ceil(1000);
+    (ticks < u64::MAX).then_some(ticks)
 }
 
 #[cfg(test)]

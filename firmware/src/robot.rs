@@ -44,7 +44,7 @@ use embassy_futures::select::{Either, select};
 use embassy_sync::blocking_mutex::raw::NoopRawMutex;
 use embassy_sync::channel::Channel;
 use embedded_io_async::{Error as _, Read, Write};
-use protocol::frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode, encode_keyed};
+use protocol::frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode};
 use protocol::{
     Duration, Event, FusedNode, Instant, Message, ParamError, Params, Sector, SwarmKey, Tag,
 };
@@ -123,6 +123,9 @@ pub enum SetupError {
     /// The sample period, the I/O timeout or the receiver back-off is zero (the robot could
     /// spin without ever sleeping).
     ZeroDuration,
+    /// A swarm key was given to a firmware built without the `keyed` feature, which would
+    /// send plain frames the keyed swarm drops.
+    KeyedFramingNotBuilt,
 }
 
 impl From<ParamError> for SetupError {
@@ -143,6 +146,9 @@ impl core::fmt::Display for SetupError {
             }
             SetupError::ZeroDuration => {
                 f.write_str("the sample period, I/O timeout and receiver back-off must be positive")
+            }
+            SetupError::KeyedFramingNotBuilt => {
+                f.write_str("a swarm key needs the firmware's `keyed` feature")
             }
         }
     }
@@ -254,6 +260,9 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
         ];
         if durations.contains(&Duration::ZERO) {
             return Err(SetupError::ZeroDuration);
+        }
+        if config.key.is_some() && !cfg!(feature = "keyed") {
+            return Err(SetupError::KeyedFramingNotBuilt);
         }
         let mut params = config.params;
         if config.key.is_some() {
@@ -376,8 +385,10 @@ async fn listen<R: Read, C: Clock>(
     backoff: Duration,
 ) -> Infallible {
     let mut deframer = match key {
+        #[cfg(feature = "keyed")]
         Some(key) => Deframer::with_key(key),
-        None => Deframer::new(),
+        // Without `keyed`, `Robot::new` refused every key.
+        _ => Deframer::new(),
     };
     let mut buf = [0u8; RX_CHUNK];
     loop {
@@ -564,8 +575,10 @@ impl<G: RngCore, O: Observer> Main<'_, G, O> {
         let timeout = self.config.io_timeout;
         while let Some(msg) = self.node.poll_transmit() {
             let framed = match &self.config.key {
-                Some(key) => encode_keyed(&msg, key),
-                None => encode(&msg),
+                #[cfg(feature = "keyed")]
+                Some(key) => protocol::frame::encode_keyed(&msg, key),
+                // Without `keyed`, `Robot::new` refused every key.
+                _ => encode(&msg),
             };
             let frame = match framed {
                 Ok(frame) => frame,

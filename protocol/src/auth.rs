@@ -21,6 +21,7 @@
 use core::fmt;
 use core::str::FromStr;
 
+#[cfg(feature = "keyed")]
 use siphasher::sip::SipHasher24;
 
 /// Bytes of a swarm key (128 bits).
@@ -86,6 +87,7 @@ impl SwarmKey {
 
     /// The tag of `payload` under this key: the first [`TAG_LEN`] bytes of the little-endian
     /// SipHash-2-4 output.
+    #[cfg(feature = "keyed")]
     pub fn tag(&self, payload: &[u8]) -> MacTag {
         let h = SipHasher24::new_with_key(&self.0)
             .hash(payload)
@@ -95,6 +97,7 @@ impl SwarmKey {
 
     /// True if `tag` is `payload`'s tag under this key. Compares every byte whatever the
     /// first difference (no early exit).
+    #[cfg(feature = "keyed")]
     pub fn verify(&self, payload: &[u8], tag: &[u8]) -> bool {
         let expected = self.tag(payload);
         tag.len() == TAG_LEN
@@ -181,6 +184,7 @@ mod tests {
     /// The SipHash paper's reference vectors (Aumasson and Bernstein, appendix A; the
     /// reference implementation's `vectors.h`): key 00..0f, message 00..(n-1).
     #[test]
+    #[cfg(feature = "keyed")]
     fn siphash_2_4_reference_vectors() {
         let k = seq_key();
         let msg: [u8; 64] = core::array::from_fn(|i| i as u8);
@@ -193,6 +197,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "keyed")]
     fn verify_accepts_only_the_tag() {
         let k = seq_key();
         let t = k.tag(b"abc");

@@ -104,8 +104,13 @@ const _: () = assert!(cobs::max_encoding_length(KEYED_PAYLOAD_MAX + TAG_LEN) <= 
 /// The frame check: CRC-16/IBM-3740 (also known as CCITT-FALSE) over the payload. Its Hamming
 /// distance is 4 at these lengths: every 1-, 2- and 3-bit error and every burst up to 16 bits
 /// in the unstuffed payload and CRC is caught. An error on air can also change the stuffing
-/// (COBS codes, an `s`), which the deframer then reports as a stuffing or delimiter error.
-const CRC16: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_3740);
+/// (COBS codes, an `s`), which the deframer then reports as a stuffing or delimiter error,
+/// or which passes the CRC about once in 2¹⁶ (docs/protocol.md §2.3).
+///
+/// Bit by bit (`NoTable`), not with the crate's default 512-byte table: a frame's at most 27
+/// bytes take a few microseconds either way, and the robot image is 0.5 KB smaller.
+const CRC16: crc::Crc<u16, crc::NoTable> =
+    crc::Crc::<u16, crc::NoTable>::new(&crc::CRC_16_IBM_3740);
 
 /// An encoded frame, ready to send: `ss`, body, `ss`.
 pub type Frame = Vec<u8, FRAME_MAX>;
@@ -167,6 +172,7 @@ pub fn encode(msg: &Message) -> Result<Frame, EncodeError> {
 /// # Errors
 /// [`EncodeError::Empty`] for a message without hops, [`EncodeError::TooManyHops`] for one
 /// whose payload is longer than [`KEYED_PAYLOAD_MAX`] bytes.
+#[cfg(feature = "keyed")]
 pub fn encode_keyed(msg: &Message, key: &SwarmKey) -> Result<Frame, EncodeError> {
     encode_with(msg, Some(key))
 }
@@ -186,6 +192,7 @@ fn encode_with(msg: &Message, key: Option<&SwarmKey>) -> Result<Frame, EncodeErr
     };
     let (payload, rest) = raw.split_at_mut(n);
     let check_len = match key {
+        #[cfg(feature = "keyed")]
         Some(key) => {
             let tag = key.tag(payload);
             rest.get_mut(..TAG_LEN)
@@ -193,7 +200,8 @@ fn encode_with(msg: &Message, key: Option<&SwarmKey>) -> Result<Frame, EncodeErr
                 .copy_from_slice(&tag);
             TAG_LEN
         }
-        None => {
+        // Without `keyed` no caller holds a key: plain frames only.
+        _ => {
             let crc = CRC16.checksum(payload).to_le_bytes();
             rest.get_mut(..CRC_LEN)
                 .ok_or(EncodeError::Overflow)?
@@ -229,12 +237,13 @@ fn decode_body(body: &mut [u8], key: Option<&SwarmKey>) -> Result<Message, Frame
     }
     let (payload, check) = raw.split_at(raw.len() - check_len);
     match key {
+        #[cfg(feature = "keyed")]
         Some(key) => {
             if !key.verify(payload, check) {
                 return Err(FrameError::BadMac);
             }
         }
-        None => {
+        _ => {
             if CRC16.checksum(payload).to_le_bytes() != check {
                 return Err(FrameError::BadCheck);
             }
@@ -261,6 +270,7 @@ pub fn decode_frame(bytes: &[u8]) -> Result<Message, FrameError> {
 /// # Errors
 /// The first [`FrameError`] met ([`FrameError::BadMac`] for a frame not made with `key`), or
 /// [`FrameError::Incomplete`] if no frame was closed.
+#[cfg(feature = "keyed")]
 pub fn decode_frame_keyed(bytes: &[u8], key: &SwarmKey) -> Result<Message, FrameError> {
     let mut d = Deframer::with_key(*key);
     d.feed(bytes).0.unwrap_or(Err(FrameError::Incomplete))
@@ -357,6 +367,7 @@ impl Deframer {
     /// A deframer of keyed frames: it accepts only frames whose MAC tag verifies under `key`
     /// and reports every other body that gets as far as its check as
     /// [`FrameError::BadMac`].
+    #[cfg(feature = "keyed")]
     pub const fn with_key(key: SwarmKey) -> Self {
         Self::with(Some(key))
     }
@@ -501,7 +512,9 @@ impl Iterator for Frames<'_, '_> {
     }
 }
 
-#[cfg(test)]
+// The framing tests pin keyed and plain vectors side by side: they need `keyed` (a default
+// feature, so `cargo test -p protocol` runs them).
+#[cfg(all(test, feature = "keyed"))]
 mod tests {
 
     use std::vec::Vec as StdVec;

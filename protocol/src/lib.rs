@@ -47,7 +47,9 @@ pub mod weights;
 pub use auth::{KeyError, SwarmKey};
 pub use direction::{MAX_SECTORS, Sector};
 pub use diversity::{Diversity, Variance};
-pub use frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode, encode_keyed};
+#[cfg(feature = "keyed")]
+pub use frame::encode_keyed;
+pub use frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode};
 pub use fused::{Event, FusedNode, Reception};
 pub use message::{Hop, Level, MAX_HOPS, MAX_TAGS, Message, Tag};
 pub use params::{InitiationPoint, ParamError, Params, WaveParams};

@@ -457,7 +457,7 @@ impl Message {
     pub fn keep_newest(&mut self, n: usize) -> usize {
         let drop = self.hops.len().saturating_sub(n);
         if drop > 0 {
-            self.hops.rotate_left(drop);
+            shift_out(&mut self.hops, drop);
             self.hops.truncate(self.hops.len() - drop);
         }
         drop
@@ -475,13 +475,33 @@ impl Message {
     }
 }
 
+/// Moves `s[n..]` to the front of `s`, element by element (what is left at the end is stale).
+/// `rotate_left` or `Vec::remove` would do it with `memmove`, whose general implementation is
+/// 1.5 KB of the robot image; these lists hold at most a few dozen bytes.
+pub(crate) fn shift_out<T: Copy>(s: &mut [T], n: usize) {
+    let mut i = 0;
+    while let Some(&x) = s.get(i + n) {
+        if let Some(slot) = s.get_mut(i) {
+            *slot = x;
+        }
+        i += 1;
+    }
+}
+
 /// Appends to a bounded list, dropping the oldest element when it is full. Returns the dropped
 /// element. A zero-capacity list stays empty.
-pub(crate) fn push_evicting<T, const N: usize>(v: &mut Vec<T, N>, item: T) -> Option<T> {
+pub(crate) fn push_evicting<T: Copy, const N: usize>(v: &mut Vec<T, N>, item: T) -> Option<T> {
     if N == 0 {
         return None;
     }
-    let evicted = if v.is_full() { Some(v.remove(0)) } else { None };
+    let evicted = match v.first().copied() {
+        Some(first) if v.is_full() => {
+            shift_out(v, 1);
+            v.pop();
+            Some(first)
+        }
+        _ => None,
+    };
     // Cannot fail: there is room now.
     let _ = v.push(item);
     evicted

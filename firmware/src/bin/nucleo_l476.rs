@@ -15,8 +15,9 @@
 //! byte is lost between two reads. Randomness is a PCG seeded from the chip's unique ID (every
 //! robot draws differently, the same robot the same way). Logs go out as defmt over RTT.
 //!
-//! **Swarm key.** Built with `CIMAX_SWARM_KEY` set to 32 hex digits (a 128-bit key), e.g.
-//! `CIMAX_SWARM_KEY=00112233445566778899aabbccddeeff cargo firmware`, the robot sends and accepts
+//! **Swarm key.** Built with `CIMAX_SWARM_KEY` set to 32 hex digits (a 128-bit key) and the
+//! `keyed` feature, e.g. `CIMAX_SWARM_KEY=00112233445566778899aabbccddeeff cargo firmware
+//! --features keyed`, the robot sends and accepts
 //! only authenticated frames ([`SWARM_KEY`]); unset or empty, plain frames. A malformed key
 //! fails the build. The key ends up in the flash image: keep the image as secret as the key.
 //!
@@ -37,6 +38,7 @@
 
 use core::convert::Infallible;
 
+use defmt_rtt as _;
 use embassy_executor::Spawner;
 use embassy_stm32::adc::{Adc, AdcChannel, AdcConfig, AnyAdcChannel, Resolution, SampleTime};
 use embassy_stm32::gpio::{Level as PinLevel, Output, Speed};
@@ -48,7 +50,10 @@ use firmware::protocol::params::DecisionRule;
 use firmware::protocol::{KeyError, Level, Params, SwarmKey};
 use firmware::{Clock, Config, Hardware, Robot};
 use rand_pcg::Pcg32;
-use {cortex_m as _, defmt_rtt as _, panic_probe as _};
+// Debug builds halt on a panic for the debugger (probe-rs prints the backtrace); release builds
+// log where and reset (`panic` below).
+#[cfg(debug_assertions)]
+use panic_probe as _;
 
 /// Bit rate of the light link.
 const LIGHT_BAUD: u32 = 9_600;
@@ -73,6 +78,13 @@ const SWARM_KEY: Option<SwarmKey> = match option_env!("CIMAX_SWARM_KEY") {
         }
     },
 };
+
+// Keyed framing is a cargo feature (1.9 KB of flash): a key without it is a build error, not
+// a robot that sends plain frames its keyed swarm drops.
+const _: () = assert!(
+    SWARM_KEY.is_none() || cfg!(feature = "keyed"),
+    "CIMAX_SWARM_KEY needs the `keyed` feature: cargo firmware --features keyed"
+);
 
 /// The robot's id, from the environment variable `CIMAX_ROBOT_ID` at build time (decimal,
 /// `0..=65535`); `None` (the id comes from the chip's unique ID) if it is unset or empty.
@@ -259,4 +271,15 @@ async fn main(_spawner: Spawner) {
         Err(e) => defmt::panic!("setup: {}", e),
     };
     match robot.run(&mut hw).await {}
+}
+
+/// Release builds: a deployed robot must come back by itself, so a panic resets the chip; the
+/// robot boots, re-reads its sensors and negotiates again, and its boot log names the cause
+/// (`reset_cause`). The handler logs nothing: logging the panic's place keeps every panic
+/// site's file and line in the image, 6.4 KB measured (docs/firmware.md, "Footprint"); debug
+/// builds halt with panic-probe's full message instead.
+#[cfg(not(debug_assertions))]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    cortex_m::peripheral::SCB::sys_reset()
 }

@@ -10,6 +10,8 @@
 //! - [`robot`]: [`Robot::run`], the one generic `async fn` every board runs: sample the sensor,
 //!   deframe each receiver into the protocol with its direction, transmit what the protocol
 //!   polls out, sleep until the next deadline, show each decision on the LEDs.
+//! - [`identity`]: a robot's id from the chip's unique ID and its random seed from the
+//!   hardware RNG mixed with that ID (pure functions, tested on the host).
 //! - [`wired`]: hardware made of memory (pipes, fixed sensor, LED state), for the QEMU board's
 //!   virtual robots and for tests.
 //!
@@ -37,6 +39,7 @@
 mod fmt;
 
 pub mod hal;
+pub mod identity;
 pub mod robot;
 pub mod wired;
 

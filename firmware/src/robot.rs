@@ -453,6 +453,15 @@ async fn send_frame<T: Write>(tx: &mut T, mut bytes: &[u8]) -> Result<(), TxErro
 pub trait Observer {
     /// `event` happened at `now`.
     fn event(&mut self, now: Instant, event: &Event);
+
+    /// The main loop finished one round at `now`: it sampled the sensor if due, ran the
+    /// protocol's timers, sent what was queued and updated the LEDs, each step bounded by
+    /// [`Config::io_timeout`]. It comes round at least every [`Config::sample_period`] plus
+    /// those timeouts, so a watchdog fed here (the Nucleo image's IWDG) bites only when the
+    /// robot stops making progress: a driver that spins, a task that never yields, a fault.
+    fn progress(&mut self, now: Instant) {
+        let _ = now;
+    }
 }
 
 /// No observer.
@@ -499,6 +508,7 @@ impl<G: RngCore, O: Observer> Main<'_, G, O> {
             }
             self.node.handle_timeout(clock.now(), self.rng);
             self.drain(tx, leds, clock).await;
+            self.observer.progress(clock.now());
 
             let now = clock.now();
             // At least a millisecond ahead: everything due up to `now` has just been done.

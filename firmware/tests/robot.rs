@@ -694,3 +694,60 @@ fn a_keyed_frame_error_is_a_bad_mac() {
     let mut d = Deframer::with_key(SWARM);
     assert_eq!(d.frames(&f).collect::<Vec<_>>(), [Err(FrameError::BadMac)]);
 }
+
+/// Records the main loop's rounds ([`firmware::Observer::progress`]).
+#[derive(Default)]
+struct Rounds(Vec<Instant>);
+
+impl firmware::Observer for Rounds {
+    fn event(&mut self, _: Instant, _: &firmware::protocol::Event) {}
+
+    fn progress(&mut self, now: Instant) {
+        self.0.push(now);
+    }
+}
+
+/// The largest gap between two rounds of the main loop over a run of `ms` (from the start).
+async fn longest_gap(robot: &mut Robot<Pcg32, 2>, hw: &mut FakeHardware, ms: u64) -> u64 {
+    let start = hw.clock.now();
+    let mut rounds = Rounds::default();
+    let stop = tokio::time::sleep(std::time::Duration::from_millis(ms));
+    match select(robot.run_observed(hw, &mut rounds), stop).await {
+        Either::First(never) => match never {},
+        Either::Second(()) => {}
+    }
+    assert!(rounds.0.windows(2).all(|w| w[0] <= w[1]));
+    let mut times = vec![start];
+    times.extend(&rounds.0);
+    times
+        .windows(2)
+        .map(|w| w[1].saturating_since(w[0]).as_millis())
+        .max()
+        .unwrap_or(u64::MAX)
+}
+
+/// A watchdog fed on `progress` needs a bound on the gap between rounds: one sample period
+/// plus the I/O timeouts of one round (sensor, transmissions, LEDs), even with every device
+/// hung. The Nucleo image's IWDG timeout (8 s) is well above it.
+#[tokio::test(start_paused = true)]
+async fn the_main_loop_comes_round_at_least_every_few_seconds() {
+    let (mut robot, mut hw) = scene(Sector::LEFT, 3);
+    let healthy = longest_gap(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+    assert!(
+        healthy <= 1_000,
+        "a healthy robot's longest round gap {healthy} ms"
+    );
+
+    let (mut robot, mut hw) = scene(Sector::LEFT, 3);
+    hw.sensor.mode = Mode::Hangs;
+    hw.leds.mode = Mode::Hangs;
+    hw.transmitter.hang = true;
+    let hung = longest_gap(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+    assert!(hung > 1_000, "hung devices cost their timeouts: {hung} ms");
+    // Measured 2,500 ms: a second of sleep, then the sensor's and one frame's 500 ms timeouts
+    // (and the LEDs' when a decision is shown).
+    assert!(
+        hung <= 3_000,
+        "with hung devices the longest round gap is {hung} ms"
+    );
+}

@@ -43,12 +43,16 @@ use embassy_executor::Spawner;
 use embassy_stm32::adc::{Adc, AdcChannel, AdcConfig, AnyAdcChannel, Resolution, SampleTime};
 use embassy_stm32::gpio::{Level as PinLevel, Output, Speed};
 use embassy_stm32::peripherals::ADC1;
+use embassy_stm32::peripherals::IWDG;
+use embassy_stm32::rng::{self, Rng};
 use embassy_stm32::usart::{self, UartRx, UartTx};
+use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, dma, pac, peripherals};
 use firmware::hal::{EmbassyClock, ErrorType, LedColor, Leds, Sensor};
+use firmware::identity::{id_from_uid, rng_seed};
 use firmware::protocol::params::DecisionRule;
-use firmware::protocol::{KeyError, Level, Params, SwarmKey};
-use firmware::{Clock, Config, Hardware, Robot};
+use firmware::protocol::{Event, Instant, KeyError, Level, Params, SwarmKey};
+use firmware::{Clock, Config, Hardware, Observer, Robot};
 use rand_pcg::Pcg32;
 // Debug builds halt on a panic for the debugger (probe-rs prints the backtrace); release builds
 // log where and reset (`panic` below).
@@ -59,6 +63,11 @@ use panic_probe as _;
 const LIGHT_BAUD: u32 = 9_600;
 /// DMA ring buffer per receiver: two full frames.
 const RX_RING: usize = 64;
+/// The independent watchdog's timeout. The main loop comes round at least every 2.5 s even
+/// with every device hung (`firmware/tests/robot.rs`,
+/// `the_main_loop_comes_round_at_least_every_few_seconds`); the IWDG runs from the LSI
+/// (32 kHz ± 15 % over temperature, RM0351 §6.2.4), so 8 s leaves room for both.
+const WATCHDOG_US: u32 = 8_000_000;
 
 /// The swarm key, from the environment variable `CIMAX_SWARM_KEY` at build time (32 hex
 /// digits); `None` (plain frames) if it is unset or empty. Parsed at compile time: a malformed
@@ -123,7 +132,41 @@ bind_interrupts!(struct Irqs {
     DMA1_CHANNEL3 => dma::InterruptHandler<peripherals::DMA1_CH3>;
     DMA1_CHANNEL4 => dma::InterruptHandler<peripherals::DMA1_CH4>;
     DMA2_CHANNEL2 => dma::InterruptHandler<peripherals::DMA2_CH2>;
+    RNG => rng::InterruptHandler<peripherals::RNG>;
 });
+
+/// Feeds the independent watchdog on every round of the robot's main loop
+/// ([`Observer::progress`]): a robot that stops coming round is reset within
+/// [`WATCHDOG_US`].
+struct Watchdog<'d>(IndependentWatchdog<'d, IWDG>);
+
+impl Observer for Watchdog<'_> {
+    fn event(&mut self, _: Instant, _: &Event) {}
+
+    fn progress(&mut self, _: Instant) {
+        self.0.pet();
+    }
+}
+
+/// What reset the chip last (RCC_CSR, RM0351 §6.4.29), for the boot log; clears the flags.
+fn reset_cause() -> &'static str {
+    let csr = pac::RCC.csr().read();
+    let cause = if csr.iwdgrstf() {
+        "the watchdog (the robot stopped making progress)"
+    } else if csr.sftrstf() {
+        "software (a panic, or a debugger)"
+    } else if csr.borrstf() {
+        "power (brown-out or power-on)"
+    } else if csr.lpwrrstf() || csr.wwdgrstf() {
+        "low-power or window watchdog"
+    } else if csr.pinrstf() {
+        "the reset pin"
+    } else {
+        "unknown"
+    };
+    pac::RCC.csr().modify(|w| w.set_rmvf(true));
+    cause
+}
 
 /// Switches a configured USART to IrDA SIR (normal power): `IREN` may only change while the
 /// USART is disabled, and the IrDA prescaler must be 1.
@@ -184,15 +227,50 @@ impl Leds for TopCap<'_> {
 async fn main(_spawner: Spawner) {
     let mut config = embassy_stm32::Config::default();
     {
-        use embassy_stm32::rcc::mux;
+        use embassy_stm32::rcc::{LsConfig, Pll, PllMul, PllPreDiv, PllQDiv, PllSource, mux};
         // The ADC's kernel clock: SYSCLK (MSI 4 MHz by default).
         config.rcc.mux.adcsel = mux::Adcsel::SYS;
+        // The Nucleo's 32.768 kHz crystal (LSE, X2). With it, embassy-stm32 puts the MSI in
+        // PLL mode (MSIPLLEN): the MSI, and with it SYSCLK, the timers and embassy-time, is
+        // locked to the crystal instead of drifting by up to ±1.5 % (docs/firmware.md,
+        // "Timing"). The LSI stays on for the watchdog.
+        config.rcc.ls = LsConfig {
+            lsi: true,
+            ..LsConfig::default_lse()
+        };
+        // 48 MHz for the RNG only (the L476 has no HSI48): PLLSAI1 from the MSI,
+        // 4 MHz × 24 / 2. Switched off again once the seed is drawn.
+        config.rcc.pllsai1 = Some(Pll {
+            source: PllSource::MSI,
+            prediv: PllPreDiv::DIV1,
+            mul: PllMul::MUL24,
+            divp: None,
+            divq: Some(PllQDiv::DIV2),
+            divr: None,
+        });
+        config.rcc.mux.clk48sel = mux::Clk48sel::PLLSAI1_Q;
     }
     let p = embassy_stm32::init(config);
     defmt::info!(
-        "aMussel on Nucleo-L476RG, uid {}",
-        embassy_stm32::uid::uid_hex()
+        "aMussel on Nucleo-L476RG, uid {}, reset by {=str}",
+        embassy_stm32::uid::uid_hex(),
+        reset_cause()
     );
+    // Started first, so a hang anywhere below (a clock that never settles, a driver that
+    // spins) resets the robot too.
+    let mut watchdog = IndependentWatchdog::new(p.IWDG, WATCHDOG_US);
+    watchdog.unleash();
+
+    // 16 bytes from the hardware RNG, then its 48 MHz clock goes off.
+    let mut draw = [0u8; 16];
+    let hardware = {
+        let mut trng = Rng::new(p.RNG, Irqs);
+        trng.async_fill_bytes(&mut draw).await.is_ok()
+    };
+    pac::RCC.cr().modify(|w| w.set_pllsai1on(false));
+    if !hardware {
+        defmt::warn!("hardware RNG failed: seeding from the unique ID alone");
+    }
 
     let mut link = usart::Config::default();
     link.baudrate = LIGHT_BAUD;
@@ -239,19 +317,16 @@ async fn main(_spawner: Spawner) {
     );
 
     let uid = embassy_stm32::uid::uid();
-    let [a, b, c, d, e, f, g, h, i, j, k, l] = uid;
-    let rng = Pcg32::new(
-        u64::from_le_bytes([a, b, c, d, e, f, g, h]),
-        u64::from(u32::from_le_bytes([i, j, k, l])),
-    );
+    let (state, stream) = rng_seed(&uid, hardware.then_some(draw));
+    let rng = Pcg32::new(state, stream);
     let id = match ROBOT_ID {
         Some(id) => id,
         None => {
             defmt::warn!(
-                "CIMAX_ROBOT_ID not set at build time: id from the chip's unique ID, its tag may \
-                 collide with a neighbour's"
+                "CIMAX_ROBOT_ID not set at build time: id hashed from the chip's unique ID, its \
+                 tag may collide with a neighbour's"
             );
-            u16::from_le_bytes([a, b])
+            id_from_uid(&uid)
         }
     };
     // The adaptive decision rule: the LEDs show the swarm's direction after about two cycles
@@ -270,7 +345,7 @@ async fn main(_spawner: Spawner) {
         Ok(robot) => robot,
         Err(e) => defmt::panic!("setup: {}", e),
     };
-    match robot.run(&mut hw).await {}
+    match robot.run_observed(&mut hw, &mut Watchdog(watchdog)).await {}
 }
 
 /// Release builds: a deployed robot must come back by itself, so a panic resets the chip; the

@@ -19,7 +19,7 @@ use protocol::{Duration, Instant, Level, Sector};
 use rand_core::RngCore;
 
 use crate::hal::{Clock, ErrorType, LedColor, Leds, Sensor};
-use crate::robot::{Hardware, Robot, Stats};
+use crate::robot::{Hardware, Observer, Robot, Stats};
 
 /// Bytes of buffer per receiver in [`run_line`]: two full frames.
 pub const LINE_WIRE: usize = 64;
@@ -166,6 +166,20 @@ pub async fn run_line<G: RngCore, C: Clock, const N: usize>(
     periods: u32,
     deadline: Instant,
 ) -> LineReport<N> {
+    let mut observers = [(); N];
+    run_line_observed(robots, &mut observers, readings, clock, periods, deadline).await
+}
+
+/// [`run_line`], robot `i` telling `observers[i]` its events and main-loop rounds
+/// ([`Robot::run_observed`]): the QEMU board feeds its watchdog this way.
+pub async fn run_line_observed<G: RngCore, C: Clock, O: Observer, const N: usize>(
+    robots: &mut [Robot<G, 2>; N],
+    observers: &mut [O; N],
+    readings: [Level; N],
+    clock: &C,
+    periods: u32,
+    deadline: Instant,
+) -> LineReport<N> {
     const LEFT: usize = Sector::LEFT.index() as usize;
     const RIGHT: usize = Sector::RIGHT.index() as usize;
     let wires: [[Wire<LINE_WIRE>; 2]; N] = core::array::from_fn(|_| [Wire::new(), Wire::new()]);
@@ -190,12 +204,14 @@ pub async fn run_line<G: RngCore, C: Clock, const N: usize>(
         )
     });
     let mut hw = hardware.iter_mut();
+    let mut observers = observers.iter_mut();
     let runs = robots.each_mut().map(|robot| {
         let hw = hw.next();
+        let observer = observers.next();
         async move {
-            match hw {
-                Some(hw) => robot.run(hw).await,
-                None => core::future::pending().await,
+            match (hw, observer) {
+                (Some(hw), Some(observer)) => robot.run_observed(hw, observer).await,
+                _ => core::future::pending().await,
             }
         }
     });

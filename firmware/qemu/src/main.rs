@@ -8,6 +8,16 @@
 //! semihosting: status 0 if every decision is right, 1 if one is wrong or missing (deadline:
 //! three negotiation periods). Two patterns run one after the other: `1000` and `1100`.
 //!
+//! Then the recovery check (issue 14: a deployed robot must come back by itself). The image
+//! panics on purpose; its panic handler resets the board, as the Nucleo's release image does;
+//! after the reset the robots run and decide again. Then the board's watchdog (the CMSDK APB
+//! watchdog, [`watchdog`], standing in for the Nucleo's IWDG) is fed by every round of the
+//! robots' main loops ([`Observer::progress`]), until one robot's loop gets stuck: the
+//! watchdog resets the board, and the robots run and decide once more. A record in `.uninit`
+//! RAM ([`boot`]) carries the stage and the verdict across the resets; any reset the stage did
+//! not expect ends the run with status 1 (with feeding switched off, the healthy run after the
+//! panic is reset by the watchdog and the run fails).
+//!
 //! Run with `-icount shift=0,sleep=off`: the executor below sleeps in `WFI` and SysTick only
 //! interrupts when a timer is due, so QEMU skips the idle time and the ~37 virtual minutes take
 //! about a second, identically every run. Without `-icount` it runs in wall-clock time.
@@ -25,15 +35,18 @@ use core::pin::pin;
 use core::sync::atomic::{AtomicBool, Ordering};
 use core::task::{Context, Poll, RawWaker, RawWakerVTable, Waker};
 
+use boot::Stage;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use firmware::hal::EmbassyClock;
-use firmware::protocol::{Duration, Level, Sector};
-use firmware::wired::{run_line, total_stats};
-use firmware::{Clock, Config, LedColor, Robot};
+use firmware::protocol::{Duration, Event, Instant, Level, Sector};
+use firmware::wired::{run_line_observed, total_stats};
+use firmware::{Clock, Config, LedColor, Observer, Robot};
 use rand_pcg::Pcg32;
 
+mod boot;
 mod systick;
+mod watchdog;
 
 /// The seed of every random draw; `CIMAX_SEED=n cargo qemu` replays another run.
 const DEFAULT_SEED: u64 = 1;
@@ -128,11 +141,51 @@ fn exit(ok: bool) -> ! {
     }
 }
 
+/// As the Nucleo's release image does, a panic resets the board (after saying why, which the
+/// Nucleo image leaves out to save flash). The boot record tells the next boot whether the
+/// panic was the recovery check's or a real failure.
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {
     hprintln!("PANIC: {}", info);
-    exit(false)
+    let (stage, ok) = boot::load();
+    match stage {
+        Stage::PanicExpected => boot::store(Stage::AfterPanic, ok),
+        _ => boot::store(Stage::Unexpected, false),
+    }
+    hprintln!("resetting the board");
+    cortex_m::peripheral::SCB::sys_reset()
 }
+
+/// What each robot's main loop tells the board ([`Observer::progress`]): every round feeds
+/// the watchdog, and with `hang_after = Some(n)` the `n`-th round spins for ever instead, as
+/// a driver stuck waiting for a flag would, so that nothing feeds the watchdog any more.
+#[derive(Clone, Copy, Default)]
+struct Feeder {
+    rounds: u32,
+    hang_after: Option<u32>,
+}
+
+impl Observer for Feeder {
+    fn event(&mut self, _: Instant, _: &Event) {}
+
+    fn progress(&mut self, _: Instant) {
+        self.rounds += 1;
+        if self.hang_after.is_some_and(|n| self.rounds >= n) {
+            hprintln!(
+                "robot main loop stuck (round {}): no more feeding",
+                self.rounds
+            );
+            loop {
+                cortex_m::asm::wfi();
+            }
+        }
+        watchdog::feed();
+    }
+}
+
+/// The watchdog's timeout: 2 s of virtual time (the robots' loops come round every second;
+/// the reset comes one or two timeouts after the last feed).
+const WATCHDOG_CYCLES: u32 = 2 * watchdog::HZ;
 
 // ---------------------------------------------------------------------------------------------
 
@@ -160,7 +213,12 @@ fn letters(decisions: [Option<Sector>; 4]) -> [u8; 4] {
 
 /// Runs one pattern until every robot has decided twice; true if every LED shows the expected
 /// decision.
-async fn scenario(pattern: &str, expected: [Option<Sector>; 4], seed: u64) -> bool {
+async fn scenario(
+    pattern: &str,
+    expected: [Option<Sector>; 4],
+    seed: u64,
+    mut feeders: [Feeder; 4],
+) -> bool {
     let clock = EmbassyClock;
     let start = clock.now();
     let make = |id: u16| {
@@ -178,7 +236,15 @@ async fn scenario(pattern: &str, expected: [Option<Sector>; 4], seed: u64) -> bo
     hprintln!("pattern {} (1 = lit), robots 0..3 left to right", pattern);
     // Two decisions need at most 2 x 10 cycles of 70 s; allow a third period.
     let deadline = start + Duration::from_secs(3 * 10 * 70);
-    let report = run_line(&mut robots, readings(pattern), &clock, 2, deadline).await;
+    let report = run_line_observed(
+        &mut robots,
+        &mut feeders,
+        readings(pattern),
+        &clock,
+        2,
+        deadline,
+    )
+    .await;
     let got = report.shown_decisions();
     let s = total_stats(&robots);
     let ok = report.finished && got == expected;
@@ -249,6 +315,17 @@ fn decoding_matches_the_host() -> bool {
     ok
 }
 
+/// The recovery check after a reset the board asked for: the robots run again and decide.
+fn after_reset(why: &str, pattern: &str, seed: u64) -> bool {
+    hprintln!("came back after {}: the robots run again", why);
+    let expected = SCENARIOS
+        .iter()
+        .find(|(p, _)| *p == pattern)
+        .map_or([None; 4], |(_, e)| *e);
+    watchdog::start(WATCHDOG_CYCLES);
+    block_on(scenario(pattern, expected, seed, [Feeder::default(); 4]))
+}
+
 #[entry]
 fn main() -> ! {
     let Some(cp) = cortex_m::Peripherals::take() else {
@@ -259,18 +336,59 @@ fn main() -> ! {
     let _ = log::set_logger(&LOGGER).map(|()| log::set_max_level(log::LevelFilter::Info));
 
     let seed = seed();
-    hprintln!(
-        "cimax qemu: 4 robots in a line, seed {} (CIMAX_SEED to replay)",
-        seed
-    );
-    let mut all_right = decoding_matches_the_host();
-    for (pattern, expected) in SCENARIOS {
-        all_right &= block_on(scenario(pattern, expected, seed));
+    let (stage, ok_before) = boot::load();
+    // Until a stage says which reset it expects next, any reset is a failure (and not a loop:
+    // the next boot ends the run).
+    boot::store(Stage::Unexpected, false);
+    match stage {
+        Stage::Cold => {
+            hprintln!(
+                "cimax qemu: 4 robots in a line, seed {} (CIMAX_SEED to replay)",
+                seed
+            );
+            let mut all_right = decoding_matches_the_host();
+            for (pattern, expected) in SCENARIOS {
+                all_right &= block_on(scenario(pattern, expected, seed, [Feeder::default(); 4]));
+            }
+            // Recovery, part 1: a panic resets the board (the panic handler above).
+            boot::store(Stage::PanicExpected, all_right);
+            hprintln!("recovery check: a forced panic must reset the board");
+            panic!("forced (the recovery check)");
+        }
+        Stage::AfterPanic => {
+            let all_right = ok_before && after_reset("the panic", "1000", seed);
+            // Recovery, part 2: a robot whose main loop stops is reset by the watchdog, which
+            // every robot fed on each round until now.
+            boot::store(Stage::HangExpected, all_right);
+            hprintln!("recovery check: a stuck main loop must be reset by the watchdog");
+            let mut feeders = [Feeder::default(); 4];
+            feeders[1].hang_after = Some(30);
+            watchdog::start(WATCHDOG_CYCLES);
+            let decided = block_on(scenario("1000", [L; 4], seed, feeders));
+            // Only reached if the hang did not happen.
+            hprintln!(
+                "FAIL: the main loop was meant to hang (decided: {})",
+                decided
+            );
+            boot::clear();
+            exit(false)
+        }
+        Stage::HangExpected => {
+            let all_right = ok_before && after_reset("the watchdog reset", "1100", seed);
+            boot::clear();
+            if all_right {
+                hprintln!(
+                    "PASS: every robot decided as the paper says, also after a panic and a watchdog reset"
+                );
+            } else {
+                hprintln!("FAIL: a decision was wrong or missing");
+            }
+            exit(all_right)
+        }
+        Stage::PanicExpected | Stage::Unexpected => {
+            hprintln!("FAIL: an unexpected reset or panic (stage {:?})", stage);
+            boot::clear();
+            exit(false)
+        }
     }
-    if all_right {
-        hprintln!("PASS: every robot decided as the paper says");
-    } else {
-        hprintln!("FAIL: a decision was wrong or missing");
-    }
-    exit(all_right)
 }

@@ -142,6 +142,72 @@ pub enum ArenaError {
     Adversary(String),
     /// The tokio runtime could not be built.
     Runtime(String),
+    /// A robot stopped before the end of the run: its task panicked (a bug in the robot
+    /// program or the emulator) or it could not boot. The run then has no valid result (its
+    /// LEDs and counters would be those of a swarm that lost a robot without anyone killing
+    /// it), so it fails; the failure's seed replays it.
+    Robot(RobotFailure),
+}
+
+/// A robot that stopped before the end of its run ([`ArenaError::Robot`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RobotFailure {
+    /// The robot's index (its position in [`ArenaConfig::positions`]).
+    pub robot: usize,
+    /// The run's seed ([`ArenaConfig::seed`]): it replays the failure.
+    pub seed: u64,
+    /// True if the robot's task panicked; false if the robot could not boot.
+    pub panicked: bool,
+    /// The panic's message, or why the robot could not boot.
+    pub message: String,
+}
+
+impl std::fmt::Display for RobotFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let what = if self.panicked {
+            "panicked"
+        } else {
+            "could not boot"
+        };
+        write!(
+            f,
+            "robot {} {what} (seed {}): {}",
+            self.robot, self.seed, self.message
+        )
+    }
+}
+
+impl RobotFailure {
+    /// What stopped the robot, without the seed: `robot 2 panicked: MESSAGE`.
+    pub fn what(&self) -> String {
+        let how = if self.panicked {
+            "panicked"
+        } else {
+            "could not boot"
+        };
+        format!("robot {} {how}: {}", self.robot, self.message)
+    }
+
+    /// The failure of robot `robot`'s task in the run with `seed`, from how it ended.
+    fn from_join(robot: usize, seed: u64, e: tokio::task::JoinError) -> Self {
+        let panicked = e.is_panic();
+        let message = if panicked {
+            let payload = e.into_panic();
+            payload
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic without a message".to_string())
+        } else {
+            "its task was cancelled".to_string()
+        };
+        RobotFailure {
+            robot,
+            seed,
+            panicked,
+            message,
+        }
+    }
 }
 
 impl std::fmt::Display for ArenaError {
@@ -152,6 +218,7 @@ impl std::fmt::Display for ArenaError {
             ArenaError::NoSuchRobot(i) => write!(f, "there is no robot {i} to kill or restart"),
             ArenaError::Adversary(e) => write!(f, "adversary: {e}"),
             ArenaError::Runtime(e) => write!(f, "runtime: {e}"),
+            ArenaError::Robot(e) => e.fmt(f),
         }
     }
 }
@@ -250,6 +317,8 @@ impl ErrorType for EmuLeds {
 
 impl Leds for EmuLeds {
     async fn show(&mut self, color: LedColor) -> Result<(), ErrorKind> {
+        #[cfg(test)]
+        tests::faulty_led_driver(self.robot);
         self.shared.record_led(self.robot, color);
         Ok(())
     }
@@ -337,8 +406,14 @@ const RNG_PROTOCOL: u64 = 2;
 const RNG_SENSOR: u64 = 3;
 const RNG_ADVERSARY: u64 = 4;
 
-/// One life of one robot: boot, run the unchanged robot program until told to stop.
-async fn life(shared: Rc<Shared>, robot: usize, life: u32, stop: oneshot::Receiver<()>) -> Stats {
+/// One life of one robot: boot, run the unchanged robot program until told to stop. `Err`
+/// says why the robot could not boot (`run` checked the configuration, so it should not).
+async fn life(
+    shared: Rc<Shared>,
+    robot: usize,
+    life: u32,
+    stop: oneshot::Receiver<()>,
+) -> Result<Stats, String> {
     match shared.config.params.sectors {
         2 => life_of::<2>(shared, robot, life, stop).await,
         3 => life_of::<3>(shared, robot, life, stop).await,
@@ -347,8 +422,9 @@ async fn life(shared: Rc<Shared>, robot: usize, life: u32, stop: oneshot::Receiv
         6 => life_of::<6>(shared, robot, life, stop).await,
         7 => life_of::<7>(shared, robot, life, stop).await,
         8 => life_of::<8>(shared, robot, life, stop).await,
-        // `run` checked the configuration.
-        _ => Stats::default(),
+        s => Err(format!(
+            "{s} sectors: the robot program has 2 to 8 receivers"
+        )),
     }
 }
 
@@ -358,12 +434,11 @@ async fn life_of<const N: usize>(
     robot: usize,
     life: u32,
     stop: oneshot::Receiver<()>,
-) -> Stats {
-    let (tx, rx) = Medium::attach(&shared.medium, robot);
+) -> Result<Stats, String> {
+    let (tx, rx) = Medium::attach(&shared.medium, robot).map_err(|e| e.to_string())?;
     // Receivers come indexed by sector (with two: right, left).
-    let Ok(receivers) = <[_; N]>::try_from(rx) else {
-        return Stats::default();
-    };
+    let receivers = <[_; N]>::try_from(rx)
+        .map_err(|rx| format!("the medium gave {} receivers for {N} sectors", rx.len()))?;
     let clock = shared.clock;
     let sensor = EmuSensor::new(
         shared.env.clone(),
@@ -392,19 +467,18 @@ async fn life_of<const N: usize>(
         id,
         ..shared.config
     };
-    let Ok(mut r) = Robot::<Pcg32, N>::new(
+    let mut r = Robot::<Pcg32, N>::new(
         config,
         clock.now(),
         rng(shared.seed, RNG_PROTOCOL, robot, life),
-    ) else {
-        return Stats::default();
-    };
+    )
+    .map_err(|e| format!("robot configuration: {e}"))?;
     let mut tracer = Tracer {
         shared: shared.clone(),
         robot,
     };
     select(r.run_observed(&mut hw, &mut tracer), stop).await;
-    *r.stats()
+    Ok(*r.stats())
 }
 
 /// Checks that the robot program accepts `config` with as many receivers as it has sectors.
@@ -461,7 +535,9 @@ enum Control {
 /// clock.
 ///
 /// # Errors
-/// An [`ArenaError`] if the configuration is unusable; nothing is run then.
+/// An [`ArenaError`] if the configuration is unusable; nothing is run then. If a robot's task
+/// panics (or a robot cannot boot), the run goes on to its end and then fails with
+/// [`ArenaError::Robot`], naming the first such robot, the panic's message and the seed.
 pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
     let n = cfg.positions.len();
     check_robot(cfg.robot).map_err(ArenaError::Setup)?;
@@ -497,7 +573,7 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
         .map_err(|e| ArenaError::Runtime(e.to_string()))?;
     let wall = std::time::Instant::now();
     let local = tokio::task::LocalSet::new();
-    let mut report = local.block_on(&runtime, async {
+    let report = local.block_on(&runtime, async {
         let clock = EmuClock::new(tokio::time::Instant::now());
         let medium = Medium::new(
             cfg.medium,
@@ -528,9 +604,32 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
         }
         let mut lives: Vec<u32> = vec![0; n];
         let mut stops: Vec<Option<oneshot::Sender<()>>> = (0..n).map(|_| None).collect();
-        let mut handles: Vec<Option<tokio::task::JoinHandle<Stats>>> =
+        let mut handles: Vec<Option<tokio::task::JoinHandle<Result<Stats, String>>>> =
             (0..n).map(|_| None).collect();
         let mut stats = vec![Stats::default(); n];
+        // The first robot that stopped on its own (a panic, or no boot), if any: the run goes
+        // on to its end (so that it stays the same run) and then fails.
+        let mut failure: Option<RobotFailure> = None;
+        // Waits for robot `r`'s task to end (it was told to stop) and keeps its counters.
+        let ended = async |r: usize,
+                           h: tokio::task::JoinHandle<Result<Stats, String>>,
+                           stats: &mut Vec<Stats>,
+                           failure: &mut Option<RobotFailure>| {
+            let f = match h.await {
+                Ok(Ok(s)) => {
+                    stats[r] = s;
+                    return;
+                }
+                Ok(Err(message)) => RobotFailure {
+                    robot: r,
+                    seed: cfg.seed,
+                    panicked: false,
+                    message,
+                },
+                Err(e) => RobotFailure::from_join(r, cfg.seed, e),
+            };
+            failure.get_or_insert(f);
+        };
         let spawn = |robot: usize, lives: &mut Vec<u32>| {
             let (tx, rx) = oneshot::channel();
             let h = tokio::task::spawn_local(life(shared.clone(), robot, lives[robot], rx));
@@ -556,7 +655,7 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
                         let _ = s.send(());
                     }
                     if let Some(h) = handles[r].take() {
-                        stats[r] = h.await.unwrap_or_default();
+                        ended(r, h, &mut stats, &mut failure).await;
                     }
                     medium.borrow_mut().detach(r);
                     medium.borrow_mut().log(TraceEvent::Killed {
@@ -590,13 +689,16 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
                 let _ = s.send(());
             }
             if let Some(h) = handles[r].take() {
-                stats[r] = h.await.unwrap_or_default();
+                ended(r, h, &mut stats, &mut failure).await;
             }
+        }
+        if let Some(f) = failure {
+            return Err(f);
         }
         let leds = shared.leds.borrow().clone();
         let moves = moves.borrow().clone();
         let mut m = medium.borrow_mut();
-        RunReport {
+        Ok(RunReport {
             moves,
             final_leds: Vec::new(),
             leds,
@@ -605,9 +707,91 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             robots: stats,
             emulated: end,
             wall: std::time::Duration::ZERO,
-        }
+        })
     });
+    let mut report = report.map_err(ArenaError::Robot)?;
     report.wall = wall.elapsed();
     report.final_leds = report.leds_at(Instant::ZERO + report.emulated);
     Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// The robot whose LED driver panics in this test thread's runs, if any.
+        static FAULTY_LEDS: Cell<Option<usize>> = const { Cell::new(None) };
+    }
+
+    /// The test-only fault: robot `robot`'s LED driver panics when the robot program shows a
+    /// decision, inside the robot's task as a panic in real driver code would be. Runs are on
+    /// the calling thread (a current-thread runtime), so the setting stays with its test.
+    pub(super) fn faulty_led_driver(robot: usize) {
+        if FAULTY_LEDS.get() == Some(robot) {
+            panic!("injected fault: robot {robot}'s LED driver");
+        }
+    }
+
+    /// The paper's lab run of pattern 1000 (2101 s: three negotiation periods of 70 s cycles).
+    fn lab(seed: u64) -> ArenaConfig {
+        let pattern = vec![true, false, false, false];
+        ArenaConfig::line(pattern, 1.0, Duration::from_secs(2101), seed)
+    }
+
+    fn with_faulty_leds<T>(robot: usize, f: impl FnOnce() -> T) -> T {
+        FAULTY_LEDS.set(Some(robot));
+        let out = f();
+        FAULTY_LEDS.set(None);
+        out
+    }
+
+    #[test]
+    fn a_robot_that_panics_fails_the_run_with_its_index_message_and_seed() {
+        let cfg = lab(7);
+        let ok = run(&cfg).expect("the run without the fault");
+        assert!(ok.leds.iter().any(|c| c.robot == 2), "robot 2 decides");
+        let e = with_faulty_leds(2, || run(&cfg)).expect_err("robot 2 panicked");
+        let ArenaError::Robot(f) = &e else {
+            panic!("not a robot failure: {e}");
+        };
+        assert_eq!(f.robot, 2);
+        assert_eq!(f.seed, 7);
+        assert!(f.panicked);
+        assert_eq!(f.message, "injected fault: robot 2's LED driver");
+        assert_eq!(
+            e.to_string(),
+            "robot 2 panicked (seed 7): injected fault: robot 2's LED driver"
+        );
+        assert_eq!(
+            f.what(),
+            "robot 2 panicked: injected fault: robot 2's LED driver"
+        );
+        // The lab's verdict does not turn it into a run with LEDs.
+        let e = with_faulty_leds(2, || crate::lab::judge(&cfg)).expect_err("judged");
+        assert!(matches!(
+            e,
+            ArenaError::Robot(RobotFailure { robot: 2, .. })
+        ));
+    }
+
+    #[test]
+    fn a_robot_that_panicked_and_is_then_killed_still_fails_the_run() {
+        // Robot 1 panics at its first decision (before 800 s) and is killed at 1500 s: its
+        // task is awaited at the kill, not at the end.
+        let mut cfg = lab(3);
+        cfg.kills = vec![(Instant::from_secs(1500), 1)];
+        let ok = run(&cfg).expect("the run without the fault");
+        let first = ok.leds.iter().find(|c| c.robot == 1).map(|c| c.t);
+        assert!(
+            first.is_some_and(|t| t < Instant::from_secs(1500)),
+            "{first:?}"
+        );
+        let e = with_faulty_leds(1, || run(&cfg)).expect_err("robot 1 panicked");
+        assert!(
+            matches!(&e, ArenaError::Robot(f) if f.robot == 1 && f.seed == 3 && f.panicked),
+            "{e}"
+        );
+    }
 }

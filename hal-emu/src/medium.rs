@@ -277,6 +277,30 @@ pub struct MediumStats {
     pub capture_missed: u64,
 }
 
+/// A node number the medium does not have (nodes are `0..nodes`: the robots, then the
+/// adversaries).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NoSuchNode {
+    /// The node asked for.
+    pub node: usize,
+    /// How many nodes the medium has.
+    pub nodes: usize,
+}
+
+impl std::fmt::Display for NoSuchNode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the medium has no node {} (it has {}: 0 to {})",
+            self.node,
+            self.nodes,
+            self.nodes.saturating_sub(1)
+        )
+    }
+}
+
+impl std::error::Error for NoSuchNode {}
+
 /// What kind of node of the medium.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Role {
@@ -461,11 +485,23 @@ impl Medium {
         self.nodes.get(node).map_or(Instant::ZERO, |n| n.tx_until)
     }
 
-    /// Brings robot `robot` (back) to life: returns its new transmitter's key and one receiver
-    /// per sector, indexed by sector.
-    pub fn attach(this: &SharedMedium, robot: usize) -> (EmuTransmitter, Vec<EmuReceiver>) {
+    /// Brings robot `robot` (back) to life: returns its new transmitter and one receiver per
+    /// sector, indexed by sector.
+    ///
+    /// # Errors
+    /// [`NoSuchNode`] if the medium has no node `robot`; nothing changes then. An error, not a
+    /// no-op: a robot booting without a radio would run deaf and mute and its run would look
+    /// valid, so the caller (the arena, booting a robot) must know and fail the run instead.
+    pub fn attach(
+        this: &SharedMedium,
+        robot: usize,
+    ) -> Result<(EmuTransmitter, Vec<EmuReceiver>), NoSuchNode> {
         let mut m = this.borrow_mut();
-        let node = &mut m.nodes[robot];
+        let nodes = m.nodes.len();
+        let node = m
+            .nodes
+            .get_mut(robot)
+            .ok_or(NoSuchNode { node: robot, nodes })?;
         let (senders, receivers): (Vec<_>, Vec<_>) = (0..node.sectors)
             .map(|_| unbounded_channel())
             .map(|(tx, rx)| {
@@ -481,13 +517,13 @@ impl Medium {
             .unzip();
         node.inboxes = senders;
         node.alive = true;
-        (
+        Ok((
             EmuTransmitter {
                 medium: this.clone(),
                 robot,
             },
             receivers,
-        )
+        ))
     }
 
     /// Robot `robot` dies: it hears nothing more until attached again.
@@ -499,12 +535,23 @@ impl Medium {
     }
 
     /// Starts node `from`'s transmission of `bytes` now; returns when its airtime ends.
+    ///
+    /// A node the medium does not have sends nothing: no airtime (the time returned is now),
+    /// nothing counted or traced, nobody reached. A documented no-op rather than an error
+    /// because no caller could act on one: every caller holds a node number the medium gave it
+    /// (a robot's [`EmuTransmitter`] comes from [`attach`](Self::attach), which checks the
+    /// node; an adversary transmits from the node it added), and nodes are never removed, so an
+    /// unknown node is a bug in the caller, made harmless here instead of a panic.
     pub fn transmit(this: &SharedMedium, from: usize, bytes: &[u8], what: Emission) -> Instant {
         let mut guard = this.borrow_mut();
         let m = &mut *guard;
         let t0 = m.clock.now();
+        let Some(sender) = m.nodes.get_mut(from) else {
+            return t0;
+        };
         let t1 = t0 + m.params.airtime(bytes.len());
-        m.nodes[from].tx_until = t1;
+        sender.tx_until = t1;
+        let src = sender.pos;
         let (t_ms, len) = (t0.as_millis(), bytes.len());
         match what {
             Emission::Frame => {
@@ -541,7 +588,6 @@ impl Medium {
         for a in m.pending.iter_mut().filter(|a| a.to == from && a.end > t0) {
             a.fate = Fate::Deaf;
         }
-        let src = m.nodes[from].pos;
         for to in 0..m.nodes.len() {
             let node = &m.nodes[to];
             if to == from
@@ -767,5 +813,46 @@ mod tests {
         assert!(MediumParams { loss: 1.5, ..p }.validate().is_err());
         assert!(MediumParams { range: 0.0, ..p }.validate().is_err());
         assert!(p.validate().is_ok());
+    }
+
+    fn two_robots() -> SharedMedium {
+        let clock = EmuClock::new(tokio::time::Instant::now());
+        let positions = [Point2::new(0.0, 0.0), Point2::new(1.0, 0.0)];
+        Medium::new(
+            MediumParams::default(),
+            clock,
+            Pcg32::new(1, 1),
+            &positions,
+            2,
+            true,
+        )
+    }
+
+    #[test]
+    fn attaching_a_node_the_medium_does_not_have_is_an_error() {
+        let m = two_robots();
+        let Err(e) = Medium::attach(&m, 2) else {
+            panic!("node 2 of 2 attached");
+        };
+        assert_eq!(e, NoSuchNode { node: 2, nodes: 2 });
+        assert!(e.to_string().contains("no node 2"), "{e}");
+        assert!(Medium::attach(&m, usize::MAX).is_err());
+        let (_, receivers) = Medium::attach(&m, 1).expect("robot 1 exists");
+        assert_eq!(receivers.len(), 2, "one receiver per sector");
+    }
+
+    #[test]
+    fn transmitting_from_a_node_the_medium_does_not_have_sends_nothing() {
+        let m = two_robots();
+        let now = m.borrow().now();
+        for from in [2, 7, usize::MAX] {
+            let end = Medium::transmit(&m, from, b"frame", Emission::Frame);
+            assert_eq!(end, now, "no airtime from node {from}");
+        }
+        let mut m = m.borrow_mut();
+        assert_eq!(m.stats(), MediumStats::default());
+        assert!(m.take_trace().is_empty());
+        assert_eq!(m.busy_until(0), Instant::ZERO);
+        assert_eq!(m.busy_until(7), Instant::ZERO);
     }
 }

@@ -11,14 +11,20 @@ use std::process::ExitCode;
 
 use clap::Args;
 use firmware::LedColor;
+use hal_emu::arena::RobotFailure;
 use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, mirrored, parse_pattern, pattern_str};
-use hal_emu::{ArenaConfig, MediumParams, TraceEvent};
+use hal_emu::{ArenaConfig, ArenaError, MediumParams, TraceEvent};
 use host_sim::campaign::{ArenaCommand, Decide};
 use host_sim::plane::{Placement, PlaneSpec};
 use indicatif::{ProgressBar, ProgressStyle};
 use protocol::{Duration, Instant, Params, SwarmKey};
 use rayon::prelude::*;
 use serde::Serialize;
+
+/// The longest emulated run (or phase) `cimax arena` makes, in seconds: 11.6 days of robot time,
+/// where the paper's runs last 2101 s. The LED log, the `--trace` and the wall time grow with it;
+/// without a bound a huge `--duration` or `--cycle` would run for ever or exhaust memory.
+pub const MAX_RUN_SECS: u64 = 1_000_000;
 
 /// Options of `cimax arena`. With none, the paper's suite: six patterns and the alternating
 /// experiment, five runs each.
@@ -58,8 +64,8 @@ pub struct ArenaArgs {
     /// One light pattern instead of the paper's suite, one character per robot, 1 = lit.
     #[arg(long)]
     pub lights: Option<String>,
-    /// Change the pattern at this time (seconds)...
-    #[arg(long, requires = "then")]
+    /// Change the pattern at this time (seconds, at most 1,000,000)...
+    #[arg(long, requires = "then", value_parser = clap::value_parser!(u64).range(0..=MAX_RUN_SECS))]
     pub switch_at: Option<u64>,
     /// ...to this pattern.
     #[arg(long, requires = "switch_at")]
@@ -70,9 +76,9 @@ pub struct ArenaArgs {
     /// Runs per pattern.
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=100_000))]
     pub runs: u64,
-    /// Emulated seconds per run (per phase in the alternating experiment); default three
-    /// negotiation periods of the longest cycle.
-    #[arg(long)]
+    /// Emulated seconds per run (per phase in the alternating experiment), 1 to 1,000,000;
+    /// default three negotiation periods of the longest cycle.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_RUN_SECS))]
     pub duration: Option<u64>,
     /// Probability that a frame is lost at a receiver.
     #[arg(long, default_value_t = 0.0)]
@@ -200,6 +206,13 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
     let run = args
         .duration
         .map_or(hal_emu::lab::default_duration(&params), Duration::from_secs);
+    if run > Duration::from_secs(MAX_RUN_SECS) {
+        return Err(format!(
+            "a run of three negotiation periods of the longest cycle (--cycle, --cycle-spread, \
+             --negotiation) lasts {} s; at most {MAX_RUN_SECS} s (give a --duration)",
+            run.as_millis().div_ceil(1000)
+        ));
+    }
 
     let lights = args.lights.as_deref().map(parse_pattern).transpose()?;
     let robots = args
@@ -312,6 +325,9 @@ struct JsonRun {
     seed: u64,
     emulated_s: f64,
     wall_s: f64,
+    /// Why the run has no result (a robot panicked); absent for a judged run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: Option<String>,
 }
 
 /// The `--json` summary.
@@ -366,10 +382,10 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
     };
     let wall = std::time::Instant::now();
     // Each run is independent and seeded: the results do not depend on the thread count.
-    let results: Vec<Result<LabRun, String>> = jobs
+    let results: Vec<Result<LabRun, ArenaError>> = jobs
         .par_iter()
         .map(|(_, c)| {
-            let r = judge(c).map_err(|e| e.to_string());
+            let r = judge(c);
             bar.inc(1);
             r
         })
@@ -377,9 +393,12 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
     bar.finish_and_clear();
     let wall_s = wall.elapsed().as_secs_f64();
     let mut runs: Vec<(usize, LabRun)> = Vec::new();
-    for ((i, _), r) in jobs.iter().zip(results) {
+    // Runs in which a robot stopped on its own (a panic): failed, without LEDs to judge.
+    let mut crashed: Vec<(usize, Crashed)> = Vec::new();
+    for ((i, c), r) in jobs.iter().zip(results) {
         match r {
             Ok(r) => runs.push((*i, r)),
+            Err(ArenaError::Robot(f)) => crashed.push((*i, Crashed::new(c, f))),
             Err(e) => {
                 eprintln!("cimax arena: {e}");
                 return ExitCode::from(2);
@@ -399,6 +418,8 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
         .map(|(_, r)| r.report.emulated.as_secs_f64())
         .sum();
     let failures: Vec<&LabRun> = runs.iter().map(|(_, r)| r).filter(|r| !r.success).collect();
+    let total = runs.len() + crashed.len();
+    let successes = runs.len() - failures.len();
     if args.json {
         let report = JsonReport {
             runs: runs
@@ -412,11 +433,13 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
                     seed: r.seed,
                     emulated_s: r.report.emulated.as_secs_f64(),
                     wall_s: r.report.wall.as_secs_f64(),
+                    error: None,
                 })
+                .chain(crashed.iter().map(|(_, c)| c.json()))
                 .collect(),
             summary: JsonSummary {
-                runs: runs.len(),
-                successes: runs.len() - failures.len(),
+                runs: total,
+                successes,
                 emulated_s,
                 wall_s,
             },
@@ -429,11 +452,11 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
             }
         }
     } else {
-        print_table(args, &experiments, &runs);
+        print_table(args, &experiments, &runs, &crashed);
         println!(
             "{} runs, {} successful; {:.0} s of robot time in {:.3} s wall ({:.0}x real time)",
-            runs.len(),
-            runs.len() - failures.len(),
+            total,
+            successes,
             emulated_s,
             wall_s,
             emulated_s / wall_s.max(1e-9)
@@ -463,14 +486,75 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
             r.seed
         );
     }
-    if failures.is_empty() {
+    for (_, c) in &crashed {
+        eprintln!("{}", c.failed_line(&extra));
+    }
+    if failures.is_empty() && crashed.is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
     }
 }
 
-fn print_table(args: &ArenaArgs, experiments: &[Experiment], runs: &[(usize, LabRun)]) {
+/// A run in which a robot stopped on its own ([`ArenaError::Robot`]: its task panicked, or it
+/// could not boot). It has no LEDs worth judging: it failed.
+struct Crashed {
+    /// The pattern at the end of the run (what a judged run reports as its lights).
+    lights: Vec<bool>,
+    /// The LEDs the run should have ended with, if its pattern has a verdict.
+    expected: Option<Vec<LedColor>>,
+    /// Which robot, why, and the seed.
+    failure: RobotFailure,
+}
+
+impl Crashed {
+    fn new(cfg: &ArenaConfig, failure: RobotFailure) -> Self {
+        let end = Instant::ZERO + cfg.duration;
+        let lights = cfg
+            .env
+            .pattern_at(end)
+            .map(<[bool]>::to_vec)
+            .unwrap_or_default();
+        let expected = hal_emu::lab::expected_without(&lights, &hal_emu::lab::absent(cfg));
+        Crashed {
+            lights,
+            expected,
+            failure,
+        }
+    }
+
+    /// The `FAILED` line on stderr, like a judged run's, with the command that replays it.
+    fn failed_line(&self, extra: &str) -> String {
+        let (lights, seed) = (pattern_str(&self.lights), self.failure.seed);
+        format!(
+            "FAILED {lights} seed {seed}: {}, expected {} (replay: cimax arena --lights {lights} --seed {seed} --runs 1{extra})",
+            self.failure.what(),
+            self.expected.as_deref().map(leds_str).unwrap_or_default(),
+        )
+    }
+
+    /// The run in the `--json` report: no LEDs, not a success, and the error.
+    fn json(&self) -> JsonRun {
+        JsonRun {
+            lights: pattern_str(&self.lights),
+            expected: self.expected.as_deref().map(leds_str),
+            leds: String::new(),
+            success: false,
+            consensus_s: None,
+            seed: self.failure.seed,
+            emulated_s: 0.0,
+            wall_s: 0.0,
+            error: Some(self.failure.what()),
+        }
+    }
+}
+
+fn print_table(
+    args: &ArenaArgs,
+    experiments: &[Experiment],
+    runs: &[(usize, LabRun)],
+    crashed: &[(usize, Crashed)],
+) {
     let cycle_s = args
         .cycle
         .unwrap_or(Params::robots().wave.cycle.as_secs_f64());
@@ -487,6 +571,11 @@ fn print_table(args: &ArenaArgs, experiments: &[Experiment], runs: &[(usize, Lab
             .filter(|(j, _)| *j == i)
             .map(|(_, r)| r)
             .collect();
+        let crashes: Vec<&Crashed> = crashed
+            .iter()
+            .filter(|(j, _)| *j == i)
+            .map(|(_, c)| c)
+            .collect();
         let ok = rs.iter().filter(|r| r.success).count();
         let times: Vec<f64> = rs.iter().filter_map(|r| r.consensus_s).collect();
         let mean = (!times.is_empty()).then(|| times.iter().sum::<f64>() / times.len() as f64);
@@ -498,15 +587,19 @@ fn print_table(args: &ArenaArgs, experiments: &[Experiment], runs: &[(usize, Lab
                 .map(|r| r.report.wall.as_secs_f64())
                 .sum::<f64>()
                 .max(1e-9);
-        let leds: Vec<String> = rs.iter().map(|r| leds_str(&r.leds)).collect();
+        let mut leds: Vec<String> = rs.iter().map(|r| leds_str(&r.leds)).collect();
+        leds.extend(crashes.iter().map(|_| "crashed".to_string()));
         let exp = rs
             .first()
             .and_then(|r| r.expected.as_deref())
+            .or(crashes.first().and_then(|c| c.expected.as_deref()))
             .map_or("(none)".into(), leds_str);
-        let success = if rs.iter().all(|r| r.expected.is_none()) {
+        // A crashed run is a failure whatever its pattern.
+        let success = if crashes.is_empty() && rs.iter().all(|r| r.expected.is_none()) {
             "n/a".to_string()
         } else {
-            format!("{:.0}%", 100.0 * ok as f64 / rs.len().max(1) as f64)
+            let n = rs.len() + crashes.len();
+            format!("{:.0}%", 100.0 * ok as f64 / n.max(1) as f64)
         };
         let consensus = mean.map_or("-".into(), |m| format!("{m:.0} ({:.1})", m / cycle_s));
         println!(
@@ -734,4 +827,50 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
         medium,
         params,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_run_in_which_a_robot_panicked_is_reported_failed_with_its_replay() {
+        // What `judge` returns when robot 1's task panics (hal-emu's arena tests inject one);
+        // `main` keeps it as a crashed run instead of stopping every run.
+        let mut cfg = ArenaConfig::line(
+            parse_pattern("1100").unwrap(),
+            1.0,
+            Duration::from_secs(2101),
+            42,
+        );
+        cfg.env
+            .schedule
+            .push((Instant::from_secs(2101), parse_pattern("0011").unwrap()));
+        cfg.duration = Duration::from_secs(4202);
+        let c = Crashed::new(
+            &cfg,
+            RobotFailure {
+                robot: 1,
+                seed: 42,
+                panicked: true,
+                message: "attempt to subtract with overflow".into(),
+            },
+        );
+        assert_eq!(
+            c.failed_line(" --decide adaptive"),
+            "FAILED 0011 seed 42: robot 1 panicked: attempt to subtract with overflow, expected \
+             RRLL (replay: cimax arena --lights 0011 --seed 42 --runs 1 --decide adaptive)"
+        );
+        let json = serde_json::to_value(c.json()).unwrap();
+        assert_eq!(json["success"], false);
+        assert_eq!(json["seed"], 42);
+        assert_eq!(
+            json["error"],
+            "robot 1 panicked: attempt to subtract with overflow"
+        );
+        // A judged run's JSON has no `error` key.
+        let mut judged = c.json();
+        judged.error = None;
+        assert!(serde_json::to_value(judged).unwrap().get("error").is_none());
+    }
 }

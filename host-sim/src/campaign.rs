@@ -20,8 +20,9 @@ use std::process::ExitCode;
 
 use clap::builder::PossibleValuesParser;
 use clap::{Args, Subcommand};
-use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, parse_pattern, pattern_str};
-use hal_emu::{Adversary, ArenaConfig, MediumStats, Point2};
+use hal_emu::arena::RobotFailure;
+use hal_emu::lab::{PAPER_PATTERNS, judge, leds_str, parse_pattern, pattern_str};
+use hal_emu::{Adversary, ArenaConfig, ArenaError, MediumStats, Point2};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use protocol::{Duration, Instant, Params};
@@ -227,6 +228,10 @@ pub struct Outcome {
     pub success: bool,
     /// Why not, if it failed.
     pub why: Option<String>,
+    /// A robot stopped on its own (its task panicked, or it could not boot): the run failed
+    /// with no LEDs to judge (`leds` is all `?`, the counters are zero). A bug, never a
+    /// statistic: the campaign exits 1 whatever its bars.
+    pub crashed: bool,
     /// Seconds from the start until the LEDs reached the state they kept to the end.
     pub consensus_s: Option<f64>,
     /// Reboot only: seconds from the reboot until consensus was back for good.
@@ -387,10 +392,39 @@ pub fn config(
     Ok((cfg, reboot))
 }
 
+/// The failed outcome of a run of `cfg` in which a robot stopped on its own.
+fn crashed(cfg: &ArenaConfig, failure: &RobotFailure) -> Outcome {
+    let end = Instant::ZERO + cfg.duration;
+    let lights = cfg
+        .env
+        .pattern_at(end)
+        .map(<[bool]>::to_vec)
+        .unwrap_or_default();
+    let expected = hal_emu::lab::expected_without(&lights, &hal_emu::lab::absent(cfg));
+    Outcome {
+        seed: cfg.seed,
+        pattern: pattern_str(&lights),
+        expected: expected.as_deref().map(leds_str).unwrap_or_default(),
+        leds: "?".repeat(lights.len()),
+        success: false,
+        why: Some(failure.what()),
+        crashed: true,
+        consensus_s: None,
+        restore_s: None,
+        medium: MediumStats::default(),
+        frame_errors: 0,
+    }
+}
+
 /// Judges a run of `scenario` (with `cimax arena`'s [`judge`]) and, for a reboot, also checks
-/// that consensus held just before it and was back within two nominal negotiation periods.
-fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<(LabRun, Outcome), String> {
-    let run = judge(cfg).map_err(|e| e.to_string())?;
+/// that consensus held just before it and was back within two nominal negotiation periods. A
+/// run in which a robot panicked is a failed outcome ([`Outcome::crashed`]).
+fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<Outcome, String> {
+    let run = match judge(cfg) {
+        Ok(run) => run,
+        Err(ArenaError::Robot(f)) => return Ok(crashed(cfg, &f)),
+        Err(e) => return Err(e.to_string()),
+    };
     let expected = run.expected.clone();
     let mut success = run.success;
     let mut why = (!success).then(|| match run.flicker {
@@ -427,6 +461,7 @@ fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<(LabRun, Outcom
         leds: leds_str(&run.leds),
         success,
         why,
+        crashed: false,
         consensus_s: run.consensus_s,
         restore_s,
         medium: run.report.medium,
@@ -437,7 +472,7 @@ fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<(LabRun, Outcom
             .map(|s| u64::from(s.frame_errors))
             .sum(),
     };
-    Ok((run, o))
+    Ok(o)
 }
 
 /// Runs one seed of one scenario.
@@ -452,7 +487,7 @@ pub fn run_one(
 ) -> Result<Outcome, String> {
     let (mut cfg, reboot) = config(scenario, seed, loss)?;
     cfg.robot.params.decide = decide.into();
-    outcome(&cfg, reboot).map(|(_, o)| o)
+    outcome(&cfg, reboot)
 }
 
 /// Runs the plan, in parallel; the result does not depend on the number of threads.
@@ -661,7 +696,8 @@ pub fn lab_suite(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<SuiteResul
             let runs = (0..seeds)
                 .into_par_iter()
                 .map(|k| {
-                    let mut cfg = ArenaConfig::line(pattern.clone(), 1.0, run, seed + k);
+                    let mut cfg =
+                        ArenaConfig::line(pattern.clone(), 1.0, run, seed.wrapping_add(k));
                     cfg.robot.params = params;
                     if let Some(t) = then {
                         cfg.env.schedule.push((Instant::ZERO + run, t.clone()));
@@ -1214,7 +1250,8 @@ fn relative(figure: &Path, out: &Path) -> String {
         .replace('\\', "/")
 }
 
-/// Runs `cimax arena campaign`: 0 if every bar is met, 1 if one is missed, 2 for bad options.
+/// Runs `cimax arena campaign`: 0 if every bar is met, 1 if one is missed or a robot crashed
+/// in a run ([`Outcome::crashed`]), 2 for bad options.
 pub fn main(args: &CampaignArgs) -> ExitCode {
     let scenarios: Vec<usize> = if args.scenario.is_empty() {
         (0..SCENARIOS.len()).collect()
@@ -1260,11 +1297,12 @@ pub fn main(args: &CampaignArgs) -> ExitCode {
         eprintln!("cimax arena campaign: {}: {e}", out.display());
         return ExitCode::from(2);
     }
-    let mut missed_any = false;
+    let mut failed = false;
     for report in &reports {
         let plan = &report.plan;
         for r in &report.results {
             for o in r.failures() {
+                failed |= o.crashed;
                 eprintln!(
                     "FAILED {} {}",
                     r.scenario.name,
@@ -1273,7 +1311,7 @@ pub fn main(args: &CampaignArgs) -> ExitCode {
             }
         }
         for r in report.missed() {
-            missed_any = true;
+            failed = true;
             eprintln!(
                 "{} rule: {}",
                 plan.decide.name(),
@@ -1281,7 +1319,7 @@ pub fn main(args: &CampaignArgs) -> ExitCode {
             );
         }
     }
-    if missed_any {
+    if failed {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
@@ -1412,6 +1450,54 @@ mod tests {
         let t = t.unwrap();
         assert!((800..=1400).contains(&(t.as_millis() / 1000)));
         assert_eq!(cfg.restarts, vec![(t + REBOOT_DOWN, cfg.kills[0].1)]);
+    }
+
+    #[test]
+    fn a_run_in_which_a_robot_panicked_fails_and_is_listed_with_its_replay() {
+        let scenario = SCENARIOS.iter().find(|s| s.name == "loss-10").unwrap();
+        let (cfg, _) = config(scenario, 7, None).unwrap();
+        // What `hal_emu::run` returns when robot 2's task panics (hal-emu's arena tests
+        // inject one); `outcome` turns it into this.
+        let f = RobotFailure {
+            robot: 2,
+            seed: 7,
+            panicked: true,
+            message: "index out of bounds".into(),
+        };
+        let o = crashed(&cfg, &f);
+        assert!(!o.success && o.crashed);
+        assert_eq!((o.seed, o.pattern.as_str()), (7, pattern_for(7)));
+        assert_eq!(o.leds, "????");
+        assert_eq!(o.expected, "LLLL", "pattern 0111");
+        let line = failure_line(scenario.name, &o, None, Decide::Fixed);
+        assert_eq!(
+            line,
+            "seed 7: pattern 0111, LEDs ????, expected LLLL (robot 2 panicked: index out of \
+             bounds); replay: `cimax arena campaign --scenario loss-10 --seed 7 --seeds 1 \
+             --decide fixed`"
+        );
+        // Listed among the failing seeds, and it counts against the bar.
+        let report = Report {
+            plan: Plan {
+                scenarios: vec![0],
+                seed: 7,
+                seeds: 1,
+                loss: None,
+                decide: Decide::Fixed,
+            },
+            results: vec![ScenarioResult {
+                scenario: *scenario,
+                runs: vec![o],
+            }],
+            wall_s: 0.0,
+            threads: 1,
+        };
+        assert!(
+            failing_seeds(&report).contains(&line),
+            "{}",
+            failing_seeds(&report)
+        );
+        assert_eq!(report.results[0].rate(), 0.0);
     }
 
     #[test]

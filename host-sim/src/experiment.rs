@@ -108,7 +108,7 @@ pub fn run(
     {
         let mut sim = Sim::new(&out.swarm, &scn.field, cfg, start, seed)?;
         for _ in 0..periods {
-            let p = sim.run_period();
+            let p = sim.run_period()?;
             periods_out.push(p);
             if out.success_at.is_none() && met(p.to) {
                 out.success_at = Some(p.index);
@@ -402,7 +402,7 @@ pub fn bench(scn: &Scenario, agents: usize, seed: u64) -> Result<BenchResult, Er
     let place_s = t0.elapsed().as_secs_f64();
     let t1 = std::time::Instant::now();
     let mut sim = Sim::new(&swarm, &scn.field, scn.run, scn.start, seed)?;
-    sim.run_period();
+    sim.run_period()?;
     Ok(BenchResult {
         agents,
         mean_degree: swarm.mean_degree(),

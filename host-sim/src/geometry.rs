@@ -296,9 +296,19 @@ fn largest_label(labels: &[u32]) -> Option<u32> {
         .map(|(i, _)| i as u32)
 }
 
+/// At most this many grid cells along each axis in [`neighbour_lists`]: 1024 × 1024 cells, 4 MB
+/// of counts. A swarm within 1023 ranges along both axes (every scenario's: at most
+/// [`MAX_EXTENT`](crate::scenario::MAX_EXTENT) = 1000 R) gets cells exactly one range wide.
+pub const MAX_GRID_CELLS_PER_AXIS: usize = 1024;
+
 /// Neighbour lists in compressed form (`start[i]..start[i+1]` indexes `links`), every pair within
-/// `range` (inclusive), sorted by index. A uniform grid of `range`-wide cells: each agent only
-/// looks at the 3 × 3 cells around its own.
+/// `range` (inclusive), sorted by index. A uniform grid of cells at least `range` wide: each
+/// agent only looks at the 3 × 3 cells around its own.
+///
+/// The cells are `range` wide unless the points spread over more than
+/// [`MAX_GRID_CELLS_PER_AXIS`] ranges along an axis; then they are wider, so that the grid never
+/// has more than 1024 × 1024 cells however far apart the points are (the lists are the same,
+/// only more pairs are compared). Points with a non-finite coordinate have no neighbours.
 pub fn neighbour_lists(points: &[Vector2<f64>], range: f64) -> (Vec<u32>, Vec<Link>) {
     let n = points.len();
     let mut start = Vec::with_capacity(n + 1);
@@ -308,14 +318,26 @@ pub fn neighbour_lists(points: &[Vector2<f64>], range: f64) -> (Vec<u32>, Vec<Li
         start.resize(n + 1, 0);
         return (start, links);
     }
-    let (mut lo, mut hi) = (points[0], points[0]);
-    for p in points {
+    let finite = |p: &&Vector2<f64>| p.x.is_finite() && p.y.is_finite();
+    let first = points
+        .iter()
+        .find(finite)
+        .copied()
+        .unwrap_or_else(Vector2::zeros);
+    let (mut lo, mut hi) = (first, first);
+    for p in points.iter().filter(finite) {
         lo = lo.inf(p);
         hi = hi.sup(p);
     }
-    let cell_of = |v: f64, lo: f64| ((v - lo) / range).floor().max(0.0) as usize;
-    let nx = cell_of(hi.x, lo.x) + 1;
-    let ny = cell_of(hi.y, lo.y) + 1;
+    // Cells one range wide, or wider if the extent would need more than the maximum: then
+    // `extent / width` is at most `MAX - 1` (an infinite extent, from points near ±f64::MAX,
+    // gives infinite cells: one cell holds everything).
+    let most = (MAX_GRID_CELLS_PER_AXIS - 1) as f64;
+    let width = range.max((hi.x - lo.x) / most).max((hi.y - lo.y) / most);
+    // `as` saturates and maps NaN (a non-finite point) to 0; the caller clamps to the grid.
+    let cell_of = |v: f64, lo: f64| ((v - lo) / width).floor().max(0.0) as usize;
+    let nx = cell_of(hi.x, lo.x).min(MAX_GRID_CELLS_PER_AXIS - 1) + 1;
+    let ny = cell_of(hi.y, lo.y).min(MAX_GRID_CELLS_PER_AXIS - 1) + 1;
     let cell = |p: &Vector2<f64>| {
         (
             cell_of(p.x, lo.x).min(nx - 1),
@@ -454,6 +476,43 @@ mod tests {
             degree += s.mean_degree() / 20.0;
         }
         assert!((4.5..7.0).contains(&degree), "mean degree {degree}");
+    }
+
+    #[test]
+    fn far_apart_points_get_a_bounded_grid_and_the_same_neighbours() {
+        // 100,000 ranges apart, then 10^300: one range wide, the grid would need 10^10 cells
+        // (an abort) or overflow; wider cells give the same lists.
+        for far in [1e5, 1e300, f64::MAX] {
+            let pts = vec![
+                Vector2::new(0.0, 0.0),
+                Vector2::new(0.5, 0.0),
+                Vector2::new(far, far),
+                Vector2::new(far, far - 0.75),
+                Vector2::new(-far, 3.0),
+            ];
+            let s = Swarm::from_offsets(pts.clone(), 1.0);
+            let got: Vec<Vec<u32>> = (0..pts.len())
+                .map(|i| s.neighbours(i).iter().map(|l| l.agent).collect())
+                .collect();
+            if far < f64::MAX {
+                assert_eq!(got, brute(&pts, 1.0), "{far}");
+            }
+            assert_eq!(got[0], vec![1], "{far}");
+            assert_eq!(got[1], vec![0], "{far}");
+        }
+        // Points that are not finite have no neighbours and break nothing.
+        let pts = vec![
+            Vector2::new(0.0, 0.0),
+            Vector2::new(f64::NAN, 0.0),
+            Vector2::new(f64::INFINITY, f64::NEG_INFINITY),
+            Vector2::new(0.25, 0.0),
+        ];
+        let s = Swarm::from_offsets(pts, 1.0);
+        assert_eq!(
+            s.neighbours(0).iter().map(|l| l.agent).collect::<Vec<_>>(),
+            vec![3]
+        );
+        assert!(s.neighbours(1).is_empty() && s.neighbours(2).is_empty());
     }
 
     #[test]

@@ -14,10 +14,17 @@ use clap::{Args, Parser, Subcommand};
 use host_sim::experiment::{self, Progress};
 use host_sim::geometry::Shape;
 use host_sim::report;
-use host_sim::scenario::{LATTICE_SPACING, Scenario};
+use host_sim::scenario::{
+    LATTICE_SPACING, MAX_AGENTS, MAX_PERIOD_SECS, MAX_PERIODS, MAX_RUNS_PER_POINT, Scenario,
+    check_runs,
+};
 use host_sim::{plot, seeds};
 use nalgebra::Point2;
 use protocol::Duration;
+
+/// The most worker threads `--threads` asks for (each has a stack; more than the cores only
+/// costs memory).
+const MAX_THREADS: u64 = 1024;
 
 #[derive(Parser, Debug)]
 #[command(
@@ -26,8 +33,9 @@ use protocol::Duration;
     about = "CIMAX swarm tools: the lab arena and the paper's 2D swarm simulations"
 )]
 struct Cli {
-    /// Worker threads for runs in parallel (default: all cores). Results do not depend on it.
-    #[arg(long, global = true)]
+    /// Worker threads for runs in parallel, 1 to 1024 (default: all cores). Results do not
+    /// depend on it.
+    #[arg(long, global = true, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_THREADS))]
     threads: Option<usize>,
     #[command(subcommand)]
     command: Command,
@@ -54,8 +62,9 @@ struct Common {
     /// Base seed: every run's seed is derived from it and the run's coordinates.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Override the cycle length t_p^max, seconds.
-    #[arg(long)]
+    /// Override the cycle length t_p^max, seconds; a negotiation period of (gather + decide)
+    /// cycles must stay within 1,000,000 s.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_PERIOD_SECS))]
     cycle: Option<u64>,
     /// Place the agents on a triangular lattice of spacing 0.75 R instead of the scenario's
     /// shape (61 agents: a hexagon filling a 6 R disk, 5.1 neighbours each on average).
@@ -87,8 +96,8 @@ enum SwarmCommand {
         /// Initial y of the centre of mass (default: the scenario's start).
         #[arg(long, allow_hyphen_values = true)]
         y: Option<f64>,
-        /// Negotiation periods (default: the scenario's).
-        #[arg(long)]
+        /// Negotiation periods, 1 to 100,000 (default: the scenario's).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_PERIODS)))]
         periods: Option<u32>,
     },
     /// Success rate and mean success time against the initial position (Figs. 5, 8).
@@ -104,8 +113,9 @@ enum SwarmCommand {
         /// Spacing of initial positions.
         #[arg(long)]
         step: Option<f64>,
-        /// Runs per initial position (default: the scenario's, 50).
-        #[arg(long)]
+        /// Runs per initial position, 1 to 100,000, and at most 1,000,000 runs in all
+        /// (default: the scenario's, 50).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RUNS_PER_POINT)))]
         runs: Option<u32>,
     },
     /// The preferred direction of a swarm centred at each point of a grid (Figs. 6, 9, 10).
@@ -127,8 +137,13 @@ enum SwarmCommand {
     },
     /// Agent-steps per second for swarms of several sizes (one negotiation period each).
     Bench {
-        /// Swarm sizes (the disk grows to keep the density).
-        #[arg(long, value_delimiter = ',', default_value = "61,1000,10000")]
+        /// Swarm sizes, 2 to 1,000,000 each (the disk grows to keep the density).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "61,1000,10000",
+            value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=MAX_AGENTS as u64)
+        )]
         agents: Vec<usize>,
         /// Seed.
         #[arg(long, default_value_t = 1)]
@@ -153,10 +168,14 @@ impl Common {
         }
         if let Some(c) = self.cycle {
             s.run.params.wave.cycle = Duration::from_secs(c);
-            s.run
-                .params
-                .validate()
-                .map_err(|e| format!("--cycle {c}: {e}"))?;
+            s.run.check().map_err(|e| format!("--cycle {c}: {e}"))?;
+            if let Some(g) = &s.grid {
+                let mut grid = s.run;
+                grid.params.gather_cycles = g.gather_cycles;
+                grid.params.decide_cycles = g.decide_cycles;
+                grid.check()
+                    .map_err(|e| format!("--cycle {c} with the scenario's [grid]: {e}"))?;
+            }
         }
         Ok(s)
     }
@@ -248,8 +267,10 @@ fn swarm_sweep(
             .collect();
     }
     if let Some(r) = runs {
-        n = r.max(1);
+        n = r;
     }
+    check_runs(&[(xs.len() as u64, "positions"), (u64::from(n), "runs")])
+        .map_err(|e| format!("--runs {n}: {e}"))?;
     let t = Clock::now();
     let progress = Progress::new(xs.len() as u64 * u64::from(n), "sweep", c.quiet);
     let pts = experiment::sweep(&scn, scn.run, &xs, n, c.seed, &progress)?;
@@ -358,7 +379,7 @@ fn swarm_bench(agents: &[usize], seed: u64, scenario: &str) -> Res {
         "agents", "neighbours", "place s", "sim s", "agent calls", "agent-steps/s", "calls/s"
     );
     for &n in agents {
-        let r = experiment::bench(&scn, n.max(2), seeds::derive(seed, &[n as u64]))?;
+        let r = experiment::bench(&scn, n, seeds::derive(seed, &[n as u64]))?;
         println!(
             "{:>8} {:>10.1} {:>10.3} {:>10.3} {:>14} {:>16.3e} {:>14.3e}",
             r.agents,
@@ -385,7 +406,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Some(n) = cli.threads
         && let Err(e) = rayon::ThreadPoolBuilder::new()
-            .num_threads(n.max(1))
+            .num_threads(n)
             .build_global()
     {
         eprintln!("error: cannot start {n} threads: {e}");

@@ -18,7 +18,7 @@ use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
 
 use crate::geometry::{PlacementError, Shape, Swarm};
-use crate::scenario::{Scenario, Success};
+use crate::scenario::{Scenario, Success, check_runs};
 
 /// How the robots are placed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -514,8 +514,8 @@ pub struct SweepArgs {
     #[arg(long, default_value_t = 0.0)]
     pub loss: f64,
     /// Runs of the 2D simulator (`cimax swarm`, three-phase variant, same placement) per
-    /// position, for the curve beside; 0 leaves it out.
-    #[arg(long, default_value_t = 20)]
+    /// position, for the curve beside, 0 to 100,000; 0 leaves it out.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=i64::from(crate::scenario::MAX_RUNS_PER_POINT)))]
     pub swarm_runs: u32,
     /// Where to write the CSV and the SVG (`arena-<field>-sweep.csv|svg`).
     #[arg(long, default_value = "target/arena-sweep")]
@@ -549,12 +549,30 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
             a.from, a.to, a.step
         ));
     }
+    // At most 10,001 positions, as `cimax swarm sweep`: a tiny step would ask for billions.
+    let span = (a.to - a.from) / a.step;
+    if span > 10_000.0 {
+        return Err(format!(
+            "--from {} --to {} --step {}: {} positions; at most 10001",
+            a.from,
+            a.to,
+            a.step,
+            (span + 1e-9).floor() + 1.0
+        ));
+    }
     let medium = MediumParams {
         loss: a.loss,
         ..MediumParams::default()
     };
     medium.validate()?;
-    let count = ((a.to - a.from) / a.step + 1e-9).floor() as usize + 1;
+    let count = (span + 1e-9).floor() as usize + 1;
+    check_runs(&[(count as u64, "positions"), (a.runs, "runs")])
+        .map_err(|e| format!("--runs {}: {e}", a.runs))?;
+    check_runs(&[
+        (count as u64, "positions"),
+        (u64::from(a.swarm_runs), "runs"),
+    ])
+    .map_err(|e| format!("--swarm-runs {}: {e}", a.swarm_runs))?;
     let xs: Vec<f64> = (0..count).map(|i| a.from + a.step * i as f64).collect();
     let spec = |x: f64| PlaneSpec {
         scenario: scenario.clone(),
@@ -674,8 +692,8 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
 /// Options of `cimax arena bench`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct BenchArgs {
-    /// Swarm sizes to time (robots on the hexagonal lattice).
-    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000])]
+    /// Swarm sizes to time (robots on the hexagonal lattice), 2 to 1000 each.
+    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000], value_parser = clap::value_parser!(u16).range(2..=1000))]
     pub robots: Vec<u16>,
     /// Receive sectors per robot.
     #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
@@ -701,7 +719,7 @@ pub fn bench_main(a: &BenchArgs) -> std::process::ExitCode {
         let spec = PlaneSpec {
             scenario: scenario.clone(),
             placement: Placement::Lattice,
-            robots: usize::from(n.max(2)),
+            robots: usize::from(n),
             sectors: a.sectors,
             x_init: -2.0,
             moves: 1,

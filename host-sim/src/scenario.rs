@@ -52,6 +52,20 @@
 //!
 //! A file that does not parse or makes no sense gives a [`ScenarioError`] naming the line,
 //! the column and the problem.
+//!
+//! **Limits.** Sizes and counts are bounded so that a scenario can neither exhaust memory nor
+//! overflow a product; a value beyond a limit is an error naming its key (`diameter = 100000:
+//! at most 1000 R`):
+//!
+//! - `agents`: 2 to [`MAX_AGENTS`] (1,000,000);
+//! - `diameter`, `width`, `height`: at most [`MAX_EXTENT`] (1000 R); a lattice's `spacing`: at
+//!   most 1 R;
+//! - `periods`: 1 to [`MAX_PERIODS`] (100,000); a negotiation period, `(gather_cycles +
+//!   decide_cycles) × cycle` (of `[protocol]`, and of `[grid]`): at most
+//!   [`MAX_PERIOD_SECS`] (1,000,000 s);
+//! - `[sweep]`: 1 to 100,000 `runs` per position and at most [`MAX_RUNS`] (1,000,000) runs in
+//!   all (positions × runs); `[grid]`: at most [`MAX_RUNS`] points (one run each); a range
+//!   (`from`, `to`, `step`) has at most 100,001 values.
 
 use std::fmt;
 use std::ops::Range;
@@ -64,11 +78,63 @@ use toml::Spanned;
 
 use crate::field::{Along, Field, Layer, Segment};
 use crate::geometry::Shape;
-use crate::sim::RunConfig;
+pub use crate::sim::MAX_PERIOD_SECS;
+use crate::sim::{RunConfig, SimError};
 
 /// Spacing of `shape = "lattice"` (and of `--lattice`) unless given: 0.75 R, at which 61 agents
 /// fill a disk of diameter 6 R with 5.1 neighbours on average (see [`Shape::Lattice`]).
 pub const LATTICE_SPACING: f64 = 0.75;
+
+/// The most agents a swarm may have (`agents`, `cimax swarm bench --agents`).
+pub const MAX_AGENTS: usize = 1_000_000;
+
+/// The largest `diameter`, `width` or `height` of a swarm's shape, in R. 1000 R holds
+/// [`MAX_AGENTS`] at the paper's density (61 agents in a disk of 6 R: 768 R for a million), and
+/// the neighbour grid of a swarm that size has at most 1001 × 1001 cells one range wide
+/// ([`crate::geometry::neighbour_lists`]): some 4 MB, where 100,000 R would need 10^10 cells.
+pub const MAX_EXTENT: f64 = 1000.0;
+
+/// The most negotiation periods of a run (`periods`, `cimax swarm run --periods`).
+pub const MAX_PERIODS: u32 = 100_000;
+
+/// The most runs per sweep position (`[sweep] runs`, `cimax swarm sweep --runs`).
+pub const MAX_RUNS_PER_POINT: u32 = 100_000;
+
+/// The most runs of one sweep (positions × runs per position) or grid (points): a million runs
+/// take hours on a desktop and their results some megabytes; 10^10 would not fit in memory.
+pub const MAX_RUNS: u64 = 1_000_000;
+
+/// A number as a scenario file would write it: plain, or with an exponent when huge.
+fn num(x: f64) -> String {
+    if x.abs() < 1e15 {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// Checks that the runs of one command, the product of the counts in `what` (each with what
+/// it counts), are at most [`MAX_RUNS`], and returns their number; the message says what
+/// multiplied to how many.
+///
+/// # Errors
+/// A message such as `21 positions × 100000 runs = 2100000 runs; at most 1000000`.
+pub fn check_runs(what: &[(u64, &str)]) -> Result<u64, String> {
+    let total = what
+        .iter()
+        .try_fold(1u64, |acc, &(n, _)| acc.checked_mul(n));
+    match total {
+        Some(t) if t <= MAX_RUNS => Ok(t),
+        _ => {
+            let parts: Vec<String> = what.iter().map(|(n, w)| format!("{n} {w}")).collect();
+            let product: u128 = what.iter().map(|&(n, _)| u128::from(n)).product();
+            Err(format!(
+                "{} = {product} runs; at most {MAX_RUNS}",
+                parts.join(" × ")
+            ))
+        }
+    }
+}
 
 /// The built-in scenarios, by name.
 pub const BUILTINS: [(&str, &str); 3] = [
@@ -301,6 +367,19 @@ impl Ctx<'_> {
         }
     }
 
+    /// A positive length (`what`) of at most [`MAX_EXTENT`], its key named `key` in errors.
+    fn extent(&self, v: &Spanned<f64>, key: &str, what: &str) -> Result<f64, ScenarioError> {
+        let x = self.positive(v, what)?;
+        if x <= MAX_EXTENT {
+            Ok(x)
+        } else {
+            Err(self.err(
+                v.span(),
+                format!("{key} = {}: at most {MAX_EXTENT} R", num(x)),
+            ))
+        }
+    }
+
     fn finite(&self, v: &Spanned<f64>, what: &str) -> Result<f64, ScenarioError> {
         let x = *v.get_ref();
         if x.is_finite() {
@@ -320,6 +399,30 @@ impl Ctx<'_> {
             ));
         }
         Ok((0..=n as u64).map(|k| from + k as f64 * s).collect())
+    }
+}
+
+/// Checks that a negotiation period of `params` is at most [`MAX_PERIOD_SECS`], naming the
+/// keys it comes from.
+fn period_fits(params: &Params) -> Result<(), String> {
+    let run = RunConfig {
+        params: *params,
+        step: 0.33,
+        noise: 1.0,
+    };
+    match run.check() {
+        Err(SimError::PeriodTooLong {
+            gather_cycles,
+            decide_cycles,
+            cycle_s,
+        }) => Err(format!(
+            "cycle = {cycle_s} makes a negotiation period of (gather_cycles + decide_cycles) × \
+             cycle = ({gather_cycles} + {decide_cycles}) × {cycle_s} s = {} s; at most \
+             {MAX_PERIOD_SECS} s",
+            (u128::from(gather_cycles) + u128::from(decide_cycles)) * u128::from(cycle_s)
+        )),
+        Err(e) => Err(e.to_string()),
+        Ok(()) => Ok(()),
     }
 }
 
@@ -373,7 +476,7 @@ impl Scenario {
             let sw = sw.get_ref();
             if let Some(a) = &sw.agents {
                 agents = *a.get_ref();
-                if !(2..=1_000_000).contains(&agents) {
+                if !(2..=MAX_AGENTS).contains(&agents) {
                     return Err(cx.err(a.span(), "agents must be between 2 and 1,000,000"));
                 }
             }
@@ -393,7 +496,7 @@ impl Scenario {
                     misplaced(&sw.spacing, "spacing")?;
                     Shape::Disk {
                         diameter: match &sw.diameter {
-                            Some(d) => cx.positive(d, "the diameter")?,
+                            Some(d) => cx.extent(d, "diameter", "the diameter")?,
                             None => 6.0,
                         },
                     }
@@ -402,7 +505,7 @@ impl Scenario {
                     misplaced(&sw.diameter, "diameter")?;
                     misplaced(&sw.spacing, "spacing")?;
                     let need = |v: &Option<Spanned<f64>>, key: &str| match v {
-                        Some(v) => cx.positive(v, key),
+                        Some(v) => cx.extent(v, key, key),
                         None => Err(ScenarioError {
                             source: cx.source.clone(),
                             at: sw.shape.as_ref().map(|s| line_col(text, s.span().start)),
@@ -468,6 +571,7 @@ impl Scenario {
             params
                 .validate()
                 .map_err(|e| cx.err(p.span(), format!("[protocol]: {e}")))?;
+            period_fits(&params).map_err(|e| cx.err(p.span(), format!("[protocol]: {e}")))?;
         }
 
         let noise = match &raw.noise {
@@ -480,7 +584,7 @@ impl Scenario {
             None => 0.33,
         };
         let periods = match &raw.periods {
-            Some(v) if (1..=100_000).contains(v.get_ref()) => *v.get_ref(),
+            Some(v) if (1..=MAX_PERIODS).contains(v.get_ref()) => *v.get_ref(),
             Some(v) => return Err(cx.err(v.span(), "periods must be between 1 and 100,000")),
             None => 50,
         };
@@ -598,14 +702,14 @@ impl Scenario {
                 let from = cx.finite(&r.from, "from")?;
                 let to = cx.finite(&r.to, "to")?;
                 let runs = match &r.runs {
-                    Some(v) if (1..=100_000).contains(v.get_ref()) => *v.get_ref(),
+                    Some(v) if (1..=MAX_RUNS_PER_POINT).contains(v.get_ref()) => *v.get_ref(),
                     Some(v) => return Err(cx.err(v.span(), "runs must be between 1 and 100,000")),
                     None => 50,
                 };
-                Some(SweepSpec {
-                    xs: cx.range(from, to, &r.step)?,
-                    runs,
-                })
+                let xs = cx.range(from, to, &r.step)?;
+                check_runs(&[(xs.len() as u64, "positions"), (u64::from(runs), "runs")])
+                    .map_err(|e| cx.err(s.span(), format!("[sweep]: {e}")))?;
+                Some(SweepSpec { xs, runs })
             }
         };
 
@@ -622,9 +726,18 @@ impl Scenario {
                 if gather == 0 || decide == 0 {
                     return Err(cx.err(g.span(), "[grid]: phases must last at least one cycle"));
                 }
+                let grid_params = Params {
+                    gather_cycles: gather,
+                    decide_cycles: decide,
+                    ..params
+                };
+                period_fits(&grid_params).map_err(|e| cx.err(g.span(), format!("[grid]: {e}")))?;
+                let (xs, ys) = (axis(&r.x)?, axis(&r.y)?);
+                check_runs(&[(xs.len() as u64, "columns"), (ys.len() as u64, "rows")])
+                    .map_err(|e| cx.err(g.span(), format!("[grid]: {e} (one per point)")))?;
                 Some(GridSpec {
-                    xs: axis(&r.x)?,
-                    ys: axis(&r.y)?,
+                    xs,
+                    ys,
                     gather_cycles: gather,
                     decide_cycles: decide,
                 })
@@ -770,5 +883,83 @@ mod tests {
 
         let e = err("start = [0.0, 0.0]\n");
         assert!(e.message.contains("field"), "{e}");
+    }
+
+    #[test]
+    fn sizes_and_counts_beyond_the_limits_name_their_key() {
+        let shape = |body: &str| format!("{FIELD}[swarm]\n{body}");
+        let e = err(&shape("diameter = 1e5\n"));
+        assert_eq!(e.at, Some((5, 12)), "{e}");
+        assert_eq!(e.message, "diameter = 100000: at most 1000 R");
+        let e = err(&shape("diameter = 1e300\n"));
+        assert_eq!(e.message, "diameter = 1e300: at most 1000 R");
+        let e = err(&shape(
+            "shape = \"rectangle\"\nwidth = 5000.0\nheight = 4.0\n",
+        ));
+        assert_eq!(e.message, "width = 5000: at most 1000 R");
+        let e = err(&shape("shape = \"rectangle\"\nwidth = 9.0\nheight = 1e9\n"));
+        assert_eq!(e.message, "height = 1000000000: at most 1000 R");
+        let e = err(&shape("diameter = -1.0\n"));
+        assert!(
+            e.message.contains("the diameter must be a positive number"),
+            "{e}"
+        );
+        let s = Scenario::from_toml(&shape("diameter = 1000.0\n"), "ok.toml").unwrap();
+        assert_eq!(
+            s.shape,
+            Shape::Disk {
+                diameter: MAX_EXTENT
+            }
+        );
+        let e = err(&shape("agents = 1000001\n"));
+        assert!(e.message.contains("1,000,000"), "{e}");
+
+        // A negotiation period of (1 + 1) × cycle: at most 1,000,000 s.
+        let protocol = |body: &str| format!("{FIELD}[protocol]\n{body}");
+        let s = Scenario::from_toml(&protocol("cycle = 500000\n"), "ok.toml").unwrap();
+        assert_eq!(s.run.period_secs(), MAX_PERIOD_SECS);
+        let e = err(&protocol("cycle = 500001\n"));
+        assert_eq!(e.at.map(|a| a.0), Some(4), "{e}");
+        assert_eq!(
+            e.message,
+            "[protocol]: cycle = 500001 makes a negotiation period of (gather_cycles + \
+             decide_cycles) × cycle = (1 + 1) × 500001 s = 1000002 s; at most 1000000 s"
+        );
+        // u64::MAX / 1000 s per cycle: `cycles * cycle` overflowed u64.
+        let e = err(&protocol(
+            "cycle = 18446744073709551\ngather_cycles = 65535\ndecide_cycles = 65535\n",
+        ));
+        assert!(
+            e.message
+                .contains("(65535 + 65535) × 18446744073709551 s = 2417814745741110849570 s"),
+            "{e}"
+        );
+        let e = err(&format!(
+            "{FIELD}[grid]\nx = [0.0, 1.0, 1.0]\ny = [0.0, 1.0, 1.0]\ngather_cycles = 60000\n"
+        ));
+        assert!(e.message.starts_with("[grid]: cycle = 1000 makes"), "{e}");
+
+        // Runs: positions × runs of a sweep, points of a grid.
+        let e = err(&format!(
+            "{FIELD}[sweep]\nfrom = -5.0\nto = 5.0\nstep = 0.0001\nruns = 100\n"
+        ));
+        assert_eq!(e.at.map(|a| a.0), Some(4), "{e}");
+        assert_eq!(
+            e.message,
+            "[sweep]: 100001 positions × 100 runs = 10000100 runs; at most 1000000"
+        );
+        let s = Scenario::from_toml(
+            &format!("{FIELD}[sweep]\nfrom = -5.0\nto = 5.0\nstep = 0.001\nruns = 99\n"),
+            "ok.toml",
+        )
+        .unwrap();
+        assert_eq!(s.sweep.map(|w| w.xs.len() * w.runs as usize), Some(990_099));
+        let e = err(&format!(
+            "{FIELD}[grid]\nx = [-50.0, 50.0, 0.01]\ny = [-50.0, 50.0, 0.01]\n"
+        ));
+        assert_eq!(
+            e.message,
+            "[grid]: 10001 columns × 10001 rows = 100020001 runs; at most 1000000 (one per point)"
+        );
     }
 }

@@ -26,6 +26,7 @@
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+use std::fmt;
 
 use nalgebra::{Point2, Vector2};
 use protocol::three_phase::{SimMessage, ThreePhaseAgent};
@@ -54,12 +55,94 @@ pub struct RunConfig {
     pub noise: f64,
 }
 
+/// The longest negotiation period a run accepts, in seconds (11.6 days; the paper's period is
+/// 2000 s and the longest in docs/reproduction.md 10,000 s). Any number of periods a `u32` can
+/// count then ends before 2^32 × 10^6 s ≈ 4.3 × 10^15 s, within the protocol's clock
+/// (milliseconds in a `u64`, 1.8 × 10^16 s): no period's end overflows.
+pub const MAX_PERIOD_SECS: u64 = 1_000_000;
+
+/// Why a run cannot start or go on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SimError {
+    /// The protocol parameters do not validate.
+    Params(ParamError),
+    /// A negotiation period, `(gather_cycles + decide_cycles) × cycle`, longer than
+    /// [`MAX_PERIOD_SECS`].
+    PeriodTooLong {
+        /// Gathering cycles per period.
+        gather_cycles: u16,
+        /// Deciding cycles per period.
+        decide_cycles: u16,
+        /// The cycle, whole seconds.
+        cycle_s: u64,
+    },
+    /// The run has counted `u32::MAX` periods: it cannot count another.
+    TooManyPeriods,
+}
+
+impl fmt::Display for SimError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            SimError::Params(e) => e.fmt(f),
+            SimError::PeriodTooLong {
+                gather_cycles,
+                decide_cycles,
+                cycle_s,
+            } => {
+                let cycles = u128::from(gather_cycles) + u128::from(decide_cycles);
+                write!(
+                    f,
+                    "a negotiation period of (gather_cycles + decide_cycles) × cycle = \
+                     ({gather_cycles} + {decide_cycles}) × {cycle_s} s = {} s is longer than \
+                     the limit of {MAX_PERIOD_SECS} s",
+                    cycles * u128::from(cycle_s)
+                )
+            }
+            SimError::TooManyPeriods => {
+                write!(f, "a run cannot count more than {} periods", u32::MAX)
+            }
+        }
+    }
+}
+
+impl std::error::Error for SimError {}
+
+impl From<ParamError> for SimError {
+    fn from(e: ParamError) -> Self {
+        SimError::Params(e)
+    }
+}
+
 impl RunConfig {
-    /// Length of one negotiation period in seconds.
+    /// Length of one negotiation period in seconds, `(gather_cycles + decide_cycles) × cycle`
+    /// with the cycle rounded up to whole seconds; `u64::MAX` if that does not fit (a
+    /// configuration [`check`](Self::check) accepts has at most [`MAX_PERIOD_SECS`]).
     pub fn period_secs(&self) -> u64 {
+        self.checked_period_secs().unwrap_or(u64::MAX)
+    }
+
+    /// [`period_secs`](Self::period_secs), `None` if it does not fit in a `u64`.
+    pub fn checked_period_secs(&self) -> Option<u64> {
         let p = &self.params;
         let cycles = u64::from(p.gather_cycles) + u64::from(p.decide_cycles);
-        cycles * p.wave.cycle.as_millis().div_ceil(1000)
+        cycles.checked_mul(p.wave.cycle.as_millis().div_ceil(1000))
+    }
+
+    /// Checks that a run can use this configuration: the protocol parameters validate and a
+    /// negotiation period is at most [`MAX_PERIOD_SECS`].
+    ///
+    /// # Errors
+    /// The [`SimError`] saying which.
+    pub fn check(&self) -> Result<(), SimError> {
+        self.params.validate()?;
+        match self.checked_period_secs() {
+            Some(s) if s <= MAX_PERIOD_SECS => Ok(()),
+            _ => Err(SimError::PeriodTooLong {
+                gather_cycles: self.params.gather_cycles,
+                decide_cycles: self.params.decide_cycles,
+                cycle_s: self.params.wave.cycle.as_millis().div_ceil(1000),
+            }),
+        }
     }
 }
 
@@ -196,14 +279,16 @@ impl<'a> Sim<'a> {
     /// from `seed`.
     ///
     /// # Errors
-    /// The [`ParamError`] if the protocol parameters do not validate.
+    /// A [`SimError`] if the configuration fails [`RunConfig::check`]: the protocol parameters
+    /// do not validate, or a negotiation period is longer than [`MAX_PERIOD_SECS`].
     pub fn new(
         swarm: &'a Swarm,
         field: &'a Field,
         cfg: RunConfig,
         centre: Point2<f64>,
         seed: u64,
-    ) -> Result<Self, ParamError> {
+    ) -> Result<Self, SimError> {
+        cfg.check()?;
         let mut proto_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[1]));
         let noise_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[2]));
         let n = swarm.len();
@@ -333,10 +418,22 @@ impl<'a> Sim<'a> {
     }
 
     /// Runs one negotiation period, then moves the swarm along the decided direction.
-    pub fn run_period(&mut self) -> Period {
-        let end = u64::from(self.periods + 1) * self.cfg.period_secs();
+    ///
+    /// # Errors
+    /// [`SimError::TooManyPeriods`] once the run has counted `u32::MAX` periods (the period's
+    /// end cannot overflow: [`Sim::new`] checked the period's length).
+    pub fn run_period(&mut self) -> Result<Period, SimError> {
+        let index = self
+            .periods
+            .checked_add(1)
+            .ok_or(SimError::TooManyPeriods)?;
+        let end = self
+            .cfg
+            .checked_period_secs()
+            .and_then(|p| p.checked_mul(u64::from(index)))
+            .ok_or(SimError::TooManyPeriods)?;
         self.advance_to(end);
-        self.periods += 1;
+        self.periods = index;
         let (mut sum, mut decided, mut diversity) = (Vector2::zeros(), 0u32, 0.0);
         for a in &self.agents {
             diversity += f64::from(a.diversity());
@@ -353,7 +450,7 @@ impl<'a> Sim<'a> {
         if let Some(d) = direction {
             self.centre += self.cfg.step * Vector2::new(d.cos(), d.sin());
         }
-        Period {
+        Ok(Period {
             index: self.periods,
             end_s: end,
             from,
@@ -366,7 +463,7 @@ impl<'a> Sim<'a> {
             },
             decided,
             diversity: diversity / n,
-        }
+        })
     }
 
     /// Runs every due second up to and including second `t` and returns the calls made. The
@@ -398,13 +495,57 @@ mod tests {
         let swarm = Swarm::place(61, Shape::Disk { diameter: 6.0 }, 1.0, &mut rng).unwrap();
         let field = Field::default();
         let mut sim = Sim::new(&swarm, &field, cfg(), Point2::origin(), 9).unwrap();
-        let p = sim.run_period();
+        let p = sim.run_period().unwrap();
         assert_eq!(p.index, 1);
         assert_eq!(p.end_s, 2000);
         // Uniform noise of width 1 has variance 1/12.
         assert!((0.03..0.12).contains(&p.diversity), "{}", p.diversity);
         assert!(p.decided > 50);
         assert!(((p.to - p.from).norm() - 0.33).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_period_too_long_to_count_is_refused_before_the_run() {
+        let swarm = Swarm::from_offsets(vec![Vector2::zeros(), Vector2::new(0.5, 0.0)], 1.0);
+        let field = Field::default();
+        // (1 + 1) × 500,000 s: the longest period there is.
+        let mut c = cfg();
+        c.params.wave.cycle = protocol::Duration::from_secs(MAX_PERIOD_SECS / 2);
+        assert_eq!(c.checked_period_secs(), Some(MAX_PERIOD_SECS));
+        assert!(Sim::new(&swarm, &field, c, Point2::origin(), 1).is_ok());
+        // One second more per cycle, then periods whose product overflows u64: the old
+        // `cycles * cycle` wrapped (or panicked) here.
+        for (cycle_s, gather, decide) in [
+            (MAX_PERIOD_SECS / 2 + 1, 1, 1),
+            (u64::MAX / 1000, 1, 1),
+            (u64::MAX / 1000, u16::MAX, u16::MAX),
+        ] {
+            let mut c = cfg();
+            c.params.wave.cycle = protocol::Duration::from_secs(cycle_s);
+            c.params.gather_cycles = gather;
+            c.params.decide_cycles = decide;
+            let e = Sim::new(&swarm, &field, c, Point2::origin(), 1)
+                .err()
+                .expect("refused");
+            assert!(matches!(e, SimError::PeriodTooLong { .. }), "{e}");
+            assert!(e.to_string().contains("limit of 1000000 s"), "{e}");
+        }
+        assert_eq!(
+            RunConfig {
+                params: Params {
+                    gather_cycles: u16::MAX,
+                    ..Params::simulation_2d()
+                },
+                ..cfg()
+            }
+            .period_secs(),
+            (u64::from(u16::MAX) + 1) * 1000
+        );
+        let mut c = cfg();
+        c.params.wave.cycle = protocol::Duration::from_secs(u64::MAX / 1000);
+        c.params.gather_cycles = u16::MAX;
+        assert_eq!(c.checked_period_secs(), None);
+        assert_eq!(c.period_secs(), u64::MAX);
     }
 
     #[test]

@@ -222,3 +222,92 @@ fn a_small_lattice_over_the_sharp_field_reports_json() {
     assert!(run["final_position"][0].as_f64().unwrap() > -1.0, "{run}");
     assert_eq!(v["summary"]["runs"], 1);
 }
+
+#[test]
+fn counts_and_sizes_beyond_their_limits_fail_naming_the_option() {
+    for (args, says) in [
+        (&["swarm", "sweep", "--runs", "0"][..], "--runs"),
+        (&["swarm", "sweep", "--runs", "100001"], "1..=100000"),
+        (
+            &["swarm", "sweep", "--runs", "18446744073709551616"],
+            "--runs",
+        ),
+        (
+            &["swarm", "sweep", "--runs", "100000", "--quiet"],
+            "--runs 100000: 21 positions × 100000 runs = 2100000 runs; at most 1000000",
+        ),
+        (&["swarm", "run", "--periods", "4294967295"], "--periods"),
+        (&["swarm", "run", "--periods", "0"], "--periods"),
+        (&["swarm", "bench", "--agents", "1"], "--agents"),
+        (&["swarm", "bench", "--agents", "61,1000001"], "--agents"),
+        (
+            &["swarm", "run", "--cycle", "18446744073709551615", "--quiet"],
+            "--cycle",
+        ),
+        (
+            &["swarm", "run", "--cycle", "600000", "--quiet"],
+            "--cycle 600000: a negotiation period of (gather_cycles + decide_cycles) × cycle = (1 + 1) × 600000 s = 1200000 s is longer than the limit of 1000000 s",
+        ),
+        (
+            &["swarm", "field", "--cycle", "400000", "--quiet"],
+            "--cycle 400000 with the scenario's [grid]:",
+        ),
+        (&["--threads", "0", "swarm", "run"], "--threads"),
+        (&["--threads", "100000000000", "swarm", "run"], "--threads"),
+        (&["arena", "--duration", "1000001"], "--duration"),
+        (&["arena", "--cycle", "1e9"], "at most 1000000 s"),
+        (
+            &["arena", "sweep", "--step", "1e-9"],
+            "positions; at most 10001",
+        ),
+        (
+            &[
+                "arena", "sweep", "--from", "0", "--to", "1", "--step", "0.001", "--runs", "1000",
+            ],
+            "--runs 1000: 1001 positions × 1000 runs = 1001000 runs; at most 1000000",
+        ),
+        (
+            &["arena", "sweep", "--swarm-runs", "100001"],
+            "--swarm-runs",
+        ),
+        (&["arena", "bench", "--robots", "4,5000"], "--robots"),
+    ] {
+        let out = cimax(args);
+        assert!(!out.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn a_scenario_too_large_to_place_fails_naming_the_key() {
+    let dir = std::env::temp_dir().join(format!("cimax-huge-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("huge.toml");
+    let p = path.to_str().unwrap();
+    for (swarm, at, says) in [
+        (
+            "diameter = 1e5",
+            "3:12:",
+            "diameter = 100000: at most 1000 R",
+        ),
+        (
+            "shape = \"rectangle\"\nwidth = 6.0\nheight = 1e300",
+            "5:10:",
+            "height = 1e300: at most 1000 R",
+        ),
+    ] {
+        std::fs::write(
+            &path,
+            format!(
+                "[swarm]\nagents = 61\n{swarm}\n\n[[field]]\nalong = \"x\"\nsegments = [{{ from = 0.0, level = 1.0 }}]\n"
+            ),
+        )
+        .unwrap();
+        let out = cimax(&["swarm", "run", "--scenario", p, "--periods", "1", "--quiet"]);
+        assert_eq!(out.status.code(), Some(1), "{swarm}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(&format!("{p}:{at} {says}")), "{err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -133,7 +133,7 @@ fn mixed_line(pattern: &str, keys: &[Option<SwarmKey>], seed: u64) -> Mixed {
             .iter()
             .enumerate()
             .map(|(i, led)| {
-                let (tx, mut rx) = Medium::attach(&medium, i);
+                let (tx, mut rx) = Medium::attach(&medium, i).expect("robot i is a node");
                 // Receivers come indexed by sector: [right, left].
                 assert_eq!(rx.len(), 2);
                 let (left, right) = (rx.pop().unwrap(), rx.pop().unwrap());

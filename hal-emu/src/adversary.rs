@@ -66,8 +66,8 @@ pub struct Rogue {
 }
 
 impl Default for Rogue {
-    /// Bursts of 4 to 32 bytes, framed, every 2 s on average: about 4 % of the light's time
-    /// at 2400 bit/s (92 ms bursts), some ten times the airtime of one robot in the lab.
+    /// Bursts of 4 to 32 bytes, framed, every 2 s on average: about 1 % of the light's time
+    /// at 9600 bit/s (19 ms bursts), some ten times the airtime of one robot in the lab.
     fn default() -> Self {
         Rogue {
             min_bytes: 4,

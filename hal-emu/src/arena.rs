@@ -10,6 +10,7 @@ use firmware::{
     Clock, Config, ErrorKind, Hardware, LedColor, Leds, Observer, Robot, SetupError, Stats,
 };
 use nalgebra::{Point2, Vector2};
+use protocol::wave::WaveStats;
 use protocol::{Duration, Event, Instant, Sector, WaveState};
 use rand_pcg::Pcg32;
 use tokio::sync::oneshot;
@@ -249,6 +250,9 @@ pub struct RunReport {
     pub medium: MediumStats,
     /// Each robot's counters (of its last life).
     pub robots: Vec<Stats>,
+    /// Each robot's wave counters (of its last life): waves initiated, relayed, initiations
+    /// skipped while busy.
+    pub waves: Vec<WaveStats>,
     /// Emulated time.
     pub emulated: Duration,
     /// Wall time the run took.
@@ -413,7 +417,7 @@ async fn life(
     robot: usize,
     life: u32,
     stop: oneshot::Receiver<()>,
-) -> Result<Stats, String> {
+) -> Result<Counters, String> {
     match shared.config.params.sectors {
         2 => life_of::<2>(shared, robot, life, stop).await,
         3 => life_of::<3>(shared, robot, life, stop).await,
@@ -434,7 +438,7 @@ async fn life_of<const N: usize>(
     robot: usize,
     life: u32,
     stop: oneshot::Receiver<()>,
-) -> Result<Stats, String> {
+) -> Result<Counters, String> {
     let (tx, rx) = Medium::attach(&shared.medium, robot).map_err(|e| e.to_string())?;
     // Receivers come indexed by sector (with two: right, left).
     let receivers = <[_; N]>::try_from(rx)
@@ -478,8 +482,11 @@ async fn life_of<const N: usize>(
         robot,
     };
     select(r.run_observed(&mut hw, &mut tracer), stop).await;
-    Ok(*r.stats())
+    Ok((*r.stats(), *r.node().wave_stats()))
 }
+
+/// What a robot's life leaves: its counters and its wave counters.
+type Counters = (Stats, WaveStats);
 
 /// Checks that the robot program accepts `config` with as many receivers as it has sectors.
 fn check_robot(config: Config) -> Result<(), SetupError> {
@@ -604,16 +611,16 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
         }
         let mut lives: Vec<u32> = vec![0; n];
         let mut stops: Vec<Option<oneshot::Sender<()>>> = (0..n).map(|_| None).collect();
-        let mut handles: Vec<Option<tokio::task::JoinHandle<Result<Stats, String>>>> =
+        let mut handles: Vec<Option<tokio::task::JoinHandle<Result<Counters, String>>>> =
             (0..n).map(|_| None).collect();
-        let mut stats = vec![Stats::default(); n];
+        let mut stats = vec![(Stats::default(), WaveStats::default()); n];
         // The first robot that stopped on its own (a panic, or no boot), if any: the run goes
         // on to its end (so that it stays the same run) and then fails.
         let mut failure: Option<RobotFailure> = None;
         // Waits for robot `r`'s task to end (it was told to stop) and keeps its counters.
         let ended = async |r: usize,
-                           h: tokio::task::JoinHandle<Result<Stats, String>>,
-                           stats: &mut Vec<Stats>,
+                           h: tokio::task::JoinHandle<Result<Counters, String>>,
+                           stats: &mut Vec<Counters>,
                            failure: &mut Option<RobotFailure>| {
             let f = match h.await {
                 Ok(Ok(s)) => {
@@ -704,7 +711,8 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             leds,
             trace: m.take_trace(),
             medium: m.stats(),
-            robots: stats,
+            robots: stats.iter().map(|c| c.0).collect(),
+            waves: stats.iter().map(|c| c.1).collect(),
             emulated: end,
             wall: std::time::Duration::ZERO,
         })

@@ -89,8 +89,8 @@ pub struct ArenaArgs {
     /// Turn collisions of overlapping frames off.
     #[arg(long)]
     pub no_collisions: bool,
-    /// Bits per second on air.
-    #[arg(long, default_value_t = 2400)]
+    /// Bits per second on air (the board's 9600 Bd IrDA SIR link; 10 bits per byte).
+    #[arg(long, default_value_t = 9600)]
     pub bitrate: u32,
     /// Mean cycle length, seconds (the paper's 55).
     #[arg(long)]

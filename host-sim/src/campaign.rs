@@ -31,6 +31,7 @@ use rayon::prelude::*;
 use crate::experiment::Progress;
 use crate::seeds;
 use protocol::params::DecisionRule;
+use protocol::wave::WaveStats;
 
 /// Subcommands of `cimax arena`.
 #[derive(Subcommand, Debug, Clone)]
@@ -240,6 +241,10 @@ pub struct Outcome {
     pub medium: MediumStats,
     /// Frames the robots' deframers rejected (CRC, stuffing, length), all robots.
     pub frame_errors: u64,
+    /// Each robot's wave counters at the end (of its last life; empty if the run crashed).
+    pub waves: Vec<WaveStats>,
+    /// The run's emulated length, s.
+    pub duration_s: f64,
 }
 
 /// What a campaign covers.
@@ -413,6 +418,8 @@ fn crashed(cfg: &ArenaConfig, failure: &RobotFailure) -> Outcome {
         restore_s: None,
         medium: MediumStats::default(),
         frame_errors: 0,
+        waves: Vec::new(),
+        duration_s: cfg.duration.as_secs_f64(),
     }
 }
 
@@ -471,6 +478,8 @@ fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<Outcome, String
             .iter()
             .map(|s| u64::from(s.frame_errors))
             .sum(),
+        waves: run.report.waves.clone(),
+        duration_s: cfg.duration.as_secs_f64(),
     };
     Ok(o)
 }
@@ -934,7 +943,7 @@ pub fn markdown(report: &Report, figure: Option<&str>) -> String {
         s,
         "- **Runs.** Four robots 1 m apart in a line (light range 1.5 m: only neighbours hear \
          each other), each running the unchanged robot program over the emulated light medium \
-         (`hal-emu`: airtime at 2400 bit/s, collisions, half duplex), `Params::robots()` \
+         (`hal-emu`: airtime at 9600 bit/s and 10 bits per byte, the board's IrDA SIR link; collisions, half duplex), `Params::robots()` \
          (cycles of 55 ± 15 s drawn every cycle, negotiation period of 10 cycles). A run lasts \
          three negotiation periods of the longest cycle ({} s), as `cimax arena`'s do; a reboot \
          run lasts that long after the reboot.",
@@ -1402,6 +1411,11 @@ fn write_page(reports: &[Report], out: &Path, figure: Option<PathBuf>) -> Result
         let f = lab_suite(Decide::Fixed, seed, seeds)?;
         let a = lab_suite(Decide::Adaptive, seed, seeds)?;
         page += &suite_section(&f, &a, seeds);
+        page += &crate::stress::initiations_section(fixed, adaptive);
+        let sweep_seeds = seeds.min(crate::stress::SWEEP_SEEDS);
+        let f = crate::stress::loss_sweep(Decide::Fixed, seed, sweep_seeds)?;
+        let a = crate::stress::loss_sweep(Decide::Adaptive, seed, sweep_seeds)?;
+        page += &crate::stress::loss_section(&f, &a, sweep_seeds);
         println!(
             "wrote {}, {} and {}",
             out.display(),

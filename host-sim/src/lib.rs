@@ -28,3 +28,4 @@ pub mod report;
 pub mod scenario;
 pub mod seeds;
 pub mod sim;
+pub mod stress;

@@ -58,7 +58,7 @@ pub struct MediumParams {
 
 impl Default for MediumParams {
     /// The link the Nucleo image ships: 9600 bit/s IrDA SIR, 10 bits per byte (start, 8 data,
-    /// stop: a 32-byte frame takes 33 ms), 1.5 m range (robots 1 m apart hear only their
+    /// stop: a 32-byte frame takes 34 ms), 1.5 m range (robots 1 m apart hear only their
     /// neighbours), no loss, no byte errors, collisions on.
     fn default() -> Self {
         MediumParams {
@@ -808,9 +808,14 @@ mod tests {
 
     #[test]
     fn airtime_follows_length_and_bitrate() {
+        // The board's link: 9600 bit/s, 10 bits per byte; rounded up to whole milliseconds.
         let p = MediumParams::default();
-        assert_eq!(p.airtime(32), Duration::from_millis(134));
-        assert_eq!(p.airtime(1), Duration::from_millis(5));
+        assert_eq!((p.bitrate, p.bits_per_byte), (9600, 10));
+        assert_eq!(p.airtime(32), Duration::from_millis(34));
+        assert_eq!(p.airtime(1), Duration::from_millis(2));
+        let slow = MediumParams { bitrate: 2400, ..p };
+        assert_eq!(slow.airtime(32), Duration::from_millis(134));
+        assert_eq!(slow.airtime(1), Duration::from_millis(5));
         assert!(MediumParams { loss: 1.5, ..p }.validate().is_err());
         assert!(MediumParams { range: 0.0, ..p }.validate().is_err());
         assert!(p.validate().is_ok());

@@ -15,9 +15,12 @@
 //! - [`wired`]: hardware made of memory (pipes, fixed sensor, LED state), for the QEMU board's
 //!   virtual robots and for tests.
 //!
-//! The boards are binaries of this package: `src/bin/nucleo_l476.rs` (STM32L476RG,
-//! embassy-stm32, defmt over RTT) and `src/bin/qemu.rs` (QEMU `mps2-an386`, four virtual robots,
-//! semihosting). `docs/firmware.md` has the pin map and how to build, flash and run.
+//! The real board is a binary of this package: `src/bin/nucleo_l476.rs` (STM32L476RG,
+//! embassy-stm32, defmt over RTT; feature `board-nucleo-l476`). The QEMU board (`mps2-an386`,
+//! four virtual robots in one image on [`wired`], semihosting) is a package of its own,
+//! `firmware/qemu/` (its own workspace, built and run with `cargo qemu` from the repository
+//! root), and the emulator `hal-emu` is a third board on the host. `docs/firmware.md` has the
+//! pin map and how to build, flash and run.
 //!
 //! ## What it never does
 //! - allocate: `no_std`, no heap; the robot's future has a size fixed at compile time;
@@ -30,7 +33,8 @@
 //! - `defmt`: log with defmt and derive `defmt::Format` (the real board);
 //! - `log`: log through the `log` facade (the emulator, the QEMU board);
 //! - `embassy-time`: `hal::EmbassyClock`, the [`Clock`] over embassy-time;
-//! - `board-nucleo-l476`, `board-qemu`: the board binaries (thumb targets only).
+//! - `board-nucleo-l476`: the Nucleo binary (thumb targets only);
+//! - `keyed`: authenticated frames with a swarm key ([`Config::key`]; `protocol/keyed`).
 
 #![cfg_attr(not(test), no_std)]
 #![forbid(unsafe_code)]

@@ -7,6 +7,12 @@
 //! receiver's wire are lost and counted. [`FixedSensor`] reads constant levels, [`LedState`]
 //! remembers what the LEDs show so that a supervisor can check it. [`run_line`] puts it all
 //! together: robots in a line, each running the unchanged [`Robot::run`].
+//!
+//! One of three direct lines of robots, each at its own depth (see `protocol::line`'s top
+//! comment): `protocol::line` drives the protocol core alone, synchronously, under the
+//! protocol's own tests; this one runs the whole robot program without an emulator, `no_std`
+//! and on any executor, as the QEMU board needs; `hal-emu`'s arena runs it in a modelled light
+//! medium on tokio. Neither of the others could run on the QEMU board.
 
 use core::cell::Cell;
 use core::convert::Infallible;

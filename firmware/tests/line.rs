@@ -1,7 +1,8 @@
 //! Four robots running the real robot program, wired in memory ([`firmware::wired::run_line`],
 //! what the QEMU board runs), under tokio's paused clock: the lab's six light patterns.
 
-use firmware::protocol::{Instant, Level, Sector, SwarmKey};
+use firmware::protocol::lab::{LabPattern, PAPER};
+use firmware::protocol::{Instant, Level, SwarmKey};
 use firmware::wired::{run_line, total_stats};
 use firmware::{Config, Robot};
 use rand_pcg::Pcg32;
@@ -9,21 +10,9 @@ use rand_pcg::Pcg32;
 mod common;
 use common::TokioClock;
 
-const L: Option<Sector> = Some(Sector::LEFT);
-const R: Option<Sector> = Some(Sector::RIGHT);
-
-const PATTERNS: [(&str, [Option<Sector>; 4]); 6] = [
-    ("1000", [L, L, L, L]),
-    ("0111", [L, L, L, L]),
-    ("0001", [R, R, R, R]),
-    ("1110", [R, R, R, R]),
-    ("1100", [R, R, L, L]),
-    ("0011", [R, R, L, L]),
-];
-
-fn readings(pattern: &str) -> [Level; 4] {
-    let b = pattern.as_bytes();
-    core::array::from_fn(|i| Level(u8::from(b[i] == b'1')))
+/// Lit robots read 1, dark ones 0.
+fn readings(pattern: &LabPattern) -> [Level; 4] {
+    pattern.levels(Level(1), Level(0))
 }
 
 fn robots(clock: &TokioClock, seed: u64) -> [Robot<Pcg32, 2>; 4] {
@@ -49,12 +38,13 @@ fn keyed_robots(clock: &TokioClock, seed: u64, key: Option<SwarmKey>) -> [Robot<
 #[tokio::test(start_paused = true)]
 async fn the_lab_patterns_decide_as_in_the_paper() {
     for seed in 0..10 {
-        for (pattern, expected) in PATTERNS {
+        for p in PAPER {
+            let (pattern, expected) = (p.lights, p.expected());
             let clock = TokioClock::new();
             let mut line = robots(&clock, seed);
             // Two decisions each; the slowest robot needs at most 2 × 10 × 70 s.
             let deadline = Instant::from_secs(1_500);
-            let report = run_line(&mut line, readings(pattern), &clock, 2, deadline).await;
+            let report = run_line(&mut line, readings(&p), &clock, 2, deadline).await;
             assert!(
                 report.finished,
                 "pattern {pattern}, seed {seed}: {report:?}"
@@ -85,11 +75,12 @@ async fn the_lab_patterns_decide_as_in_the_paper() {
 async fn keyed_lines_decide_as_in_the_paper_too() {
     let key = SwarmKey::new(*b"sixteen byte key");
     for seed in 0..3 {
-        for (pattern, expected) in PATTERNS {
+        for p in PAPER {
+            let (pattern, expected) = (p.lights, p.expected());
             let clock = TokioClock::new();
             let mut line = keyed_robots(&clock, seed, Some(key));
             let deadline = Instant::from_secs(1_500);
-            let report = run_line(&mut line, readings(pattern), &clock, 2, deadline).await;
+            let report = run_line(&mut line, readings(&p), &clock, 2, deadline).await;
             assert!(report.finished, "pattern {pattern}, seed {seed}");
             assert_eq!(
                 report.shown_decisions(),
@@ -109,7 +100,7 @@ async fn a_deadline_stops_an_unfinished_line() {
     let mut line = robots(&clock, 0);
     let report = run_line(
         &mut line,
-        readings("1000"),
+        readings(&LabPattern::find("1000").unwrap()),
         &clock,
         2,
         Instant::from_secs(100),

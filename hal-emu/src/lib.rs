@@ -1,25 +1,33 @@
 //! # Emulated aMussel hardware
 //!
 //! Implements the firmware's hardware traits ([`firmware::hal`]) on a PC, so virtual robots run
-//! the unchanged robot program ([`firmware::Robot::run`]) in a simulated world:
+//! the unchanged robot program ([`firmware::Robot::run`]) in a simulated world. Three parts,
+//! kept apart:
 //!
-//! - [`medium`]: the modulated-light medium. Robots have positions and a range; a frame reaches
-//!   the receiver facing the sender of every robot in range, after an airtime set by its length
-//!   and the bitrate. Overlapping frames at one receiver collide and arrive garbled; a robot
-//!   cannot receive while it transmits; frames are lost per receiver with a probability and
-//!   bytes are corrupted at a byte error rate. Every frame sent, received or dropped (with why)
-//!   is traced.
-//! - [`env`]: what each robot's sensor reads: a light pattern (lit or dark, with noise) that can
-//!   change at scheduled times.
-//! - [`clock`]: the robots' clock on tokio's paused clock, so virtual time runs as fast as the
-//!   CPU allows and task order is deterministic.
-//! - [`adversary`]: a rogue transmitter sending random bytes and a replayer sending captured
-//!   frames again, both nodes of the same medium.
-//! - [`arena`]: a whole run: robots in a line, scheduled pattern changes, kills and restarts,
-//!   adversaries, LED changes recorded with their times. The same seed gives the same trace,
-//!   bit for bit.
+//! - [`board`]: **the board**. hal-emu is just another board: the light transmitter and
+//!   receivers ([`board::light`]), the environmental sensor ([`board::sensor`]) and the LEDs
+//!   implement the firmware's traits and nothing else, like the Nucleo and QEMU boards do.
+//! - [`world`]: **the world** the boards live in. The light medium ([`medium`]: positions and
+//!   range; a frame reaches the receiver facing the sender after an airtime set by its length
+//!   and the bitrate; overlapping frames collide, a robot cannot receive while it transmits,
+//!   frames are lost and bytes corrupted at set rates; every frame is traced), what the
+//!   sensors read ([`env`](mod@env), [`field`]), adversaries in the light ([`adversary`]), virtual time
+//!   ([`clock`]), and the run that puts it all together ([`arena`]: robots in a line or on a
+//!   plane, each with the shared or its own [`firmware::Config`], scheduled pattern changes,
+//!   kills and restarts, adversaries, LED changes recorded with their times). The same seed
+//!   gives the same trace, bit for bit.
+//! - [`judge`]: **the judge**. The paper's lab experiment as runs of the world, and the check
+//!   a person makes by looking at the top-cap LEDs (also reachable as [`lab`]).
 //!
-//! Nothing in `firmware` knows it is emulated: these types only implement its traits.
+//! Nothing in `firmware` knows it is emulated: the board only implements its traits.
+//!
+//! Where to start reading: [`run`] and [`ArenaConfig`], then [`judge::judge`].
+//!
+//! ## Paths
+//! The world's modules are re-exported at the top ([`hal_emu::medium`](medium),
+//! [`hal_emu::arena`](arena), ...) and the judge also as [`hal_emu::lab`](lab), the paths the
+//! crate had before it was split; `medium` and `env` also still name the board's
+//! transceivers and sensor.
 //!
 //! ## What it never does
 //! Read the wall clock or an unseeded RNG (except to report wall time), share state between
@@ -28,13 +36,28 @@
 
 #![forbid(unsafe_code)]
 
-pub mod adversary;
-pub mod arena;
-pub mod clock;
-pub mod env;
-pub mod field;
-pub mod lab;
-pub mod medium;
+pub mod board;
+pub mod judge;
+pub mod world;
+
+pub use world::{adversary, arena, clock, field};
+
+/// The judge under its former name: `hal_emu::lab::judge` is [`judge::judge`].
+pub use judge as lab;
+
+/// The light medium ([`world::medium`]), with the board's transceivers
+/// ([`board::light`]) that it hands out, under the path they had before the split.
+pub mod medium {
+    pub use crate::board::light::{EmuReceiver, EmuTransmitter};
+    pub use crate::world::medium::*;
+}
+
+/// What the sensors read ([`world::env`]), with the board's sensor ([`board::sensor`]), under
+/// the path they had before the split.
+pub mod env {
+    pub use crate::board::sensor::EmuSensor;
+    pub use crate::world::env::*;
+}
 
 pub use adversary::{Adversary, AdversaryKind, Replayer, Rogue};
 pub use arena::{ArenaConfig, ArenaError, LedChange, RunReport, run};

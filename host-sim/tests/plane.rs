@@ -45,7 +45,11 @@ fn a_lattice_left_of_the_border_moves_to_it() {
     // Nearly every robot shows a decided sector at the end (K = 6: the sector is shown). Not
     // every one: a robot whose last period ended in a tied or empty tally shows none; over
     // seeds 1 to 8 that left 0 to 2 of the 37 undecided (0 to 1 at 2400 bit/s).
-    let undecided = r.final_leds.iter().filter(|c| c.decision().is_none()).count();
+    let undecided = r
+        .final_leds
+        .iter()
+        .filter(|c| c.decision().is_none())
+        .count();
     assert!(undecided <= 3, "{undecided} undecided: {:?}", r.final_leds);
 }
 

@@ -20,7 +20,8 @@
 //! - [`auth`]: the optional [`SwarmKey`] and the MAC of authenticated frames;
 //! - [`diversity`] and [`weights`]: how a direction is scored;
 //! - [`params`]: every parameter with the paper's defaults;
-//! - [`line`](mod@line): a direct-wired line of robots for tests and quick experiments.
+//! - [`line`](mod@line): a direct-wired line of robots for tests and quick experiments;
+//! - [`lab`]: the paper's six lab patterns and their expected decisions, for every harness.
 //!
 //! `docs/protocol.md` at the top of the repository has the byte diagram, golden vectors and
 //! state machine in one place.
@@ -36,6 +37,7 @@ pub mod direction;
 pub mod diversity;
 pub mod frame;
 pub mod fused;
+pub mod lab;
 pub mod line;
 pub mod message;
 pub mod params;

@@ -10,6 +10,21 @@
 //! has a tag of its own.
 //!
 //! Everything is deterministic: robots are served in index order, and each has its own RNG.
+//!
+//! ## One of three lines, on purpose
+//! The workspace wires robots in a line at three depths, and each tests what the others cannot:
+//! - this one: the protocol core alone ([`FusedNode`]s and real frames, driven synchronously
+//!   from deadline to deadline, no robot program, no executor). It lives here because the
+//!   protocol's own tests may not depend on the firmware above it, and it exposes every node
+//!   and deframer for inspection;
+//! - `firmware::wired::run_line`: the real robot program (`Robot::run`: sampling, one
+//!   deframer per receiver, timeouts, LEDs) on in-memory pipes, `no_std` and without tokio, so
+//!   that the QEMU board runs it on a Cortex-M;
+//! - `hal-emu`'s arena (`ArenaConfig::line`): the real robot program in the modelled light
+//!   medium (airtime, range, collisions, loss), with kills, restarts and adversaries, on tokio.
+//!
+//! Merging any two would either pull a runtime into a `no_std` crate or take away the
+//! synchronous, inspectable core the protocol's tests step through.
 
 use rand_core::RngCore;
 

@@ -1,6 +1,7 @@
 //! Four robots in a line, wired directly (no emulator): the paper's six light patterns and the
 //! alternating experiment, decided by the real nodes through real frames.
 
+use protocol::lab::{LabPattern, PAPER};
 use protocol::line::{Happening, Line};
 use protocol::{
     Deframer, Duration, FusedNode, Instant, Level, Message, Params, Reception, Sector, Tag,
@@ -11,24 +12,20 @@ use rand_pcg::Pcg32;
 const L: Option<Sector> = Some(Sector::LEFT);
 const R: Option<Sector> = Some(Sector::RIGHT);
 
-fn readings(pattern: &str) -> [Level; 4] {
-    let b = pattern.as_bytes();
-    core::array::from_fn(|i| Level(if b[i] == b'1' { 1 } else { 0 }))
+/// The lab pattern `lights` (one of the paper's six, [`PAPER`]).
+fn paper(lights: &str) -> LabPattern {
+    LabPattern::find(lights).expect("one of the paper's patterns")
 }
 
-fn line(pattern: &str, seed: u64) -> Line<Pcg32, 4> {
+/// Lit robots read 1, dark ones 0.
+fn readings(pattern: &LabPattern) -> [Level; 4] {
+    pattern.levels(Level(1), Level(0))
+}
+
+fn line(pattern: &LabPattern, seed: u64) -> Line<Pcg32, 4> {
     let rngs = core::array::from_fn(|i| Pcg32::new(seed, 2 * i as u64 + 1));
     Line::new(Params::robots(), readings(pattern), rngs).unwrap()
 }
-
-const PATTERNS: [(&str, [Option<Sector>; 4]); 6] = [
-    ("1000", [L, L, L, L]),
-    ("0111", [L, L, L, L]),
-    ("0001", [R, R, R, R]),
-    ("1110", [R, R, R, R]),
-    ("1100", [R, R, L, L]),
-    ("0011", [R, R, L, L]),
-];
 
 /// Two negotiation periods of the longest cycles: every robot has decided at least twice.
 const TWO_PERIODS: Instant = Instant::from_secs(2 * 10 * 70 + 1);
@@ -36,8 +33,9 @@ const TWO_PERIODS: Instant = Instant::from_secs(2 * 10 * 70 + 1);
 #[test]
 fn six_lab_patterns_give_the_papers_decisions() {
     for seed in 0..20 {
-        for (pattern, expected) in PATTERNS {
-            let mut l = line(pattern, seed);
+        for p in PAPER {
+            let (pattern, expected) = (p.lights, p.expected());
+            let mut l = line(&p, seed);
             l.run_until(TWO_PERIODS, |_, _, _| {});
             assert_eq!(
                 l.decisions(),
@@ -54,8 +52,9 @@ fn six_lab_patterns_give_the_papers_decisions() {
 #[test]
 fn the_first_decisions_are_already_right() {
     for seed in 0..20 {
-        for (pattern, expected) in PATTERNS {
-            let mut l = line(pattern, seed);
+        for p in PAPER {
+            let (pattern, expected) = (p.lights, p.expected());
+            let mut l = line(&p, seed);
             let mut first = [None; 4];
             l.run_until(TWO_PERIODS, |_, i, h| {
                 if let Happening::Event(protocol::Event::Decided {
@@ -79,10 +78,10 @@ fn the_first_decisions_are_already_right() {
 #[test]
 fn mirrored_pattern_makes_the_swarm_switch() {
     for seed in 0..10 {
-        let mut l = line("1000", seed);
+        let mut l = line(&paper("1000"), seed);
         l.run_until(TWO_PERIODS, |_, _, _| {});
         assert_eq!(l.decisions(), [L; 4], "seed {seed}");
-        l.set_readings(readings("0001"));
+        l.set_readings(readings(&paper("0001")));
         // One period may straddle the switch; the next one is all after it.
         l.run_until(TWO_PERIODS + Duration::from_secs(2 * 10 * 70), |_, _, _| {});
         assert_eq!(l.decisions(), [R; 4], "replay with seed {seed}");
@@ -321,7 +320,7 @@ fn own_tag_drops_happen_only_while_refractory() {
 #[test]
 fn same_seed_same_run() {
     let trace = |seed| {
-        let mut l = line("1100", seed);
+        let mut l = line(&paper("1100"), seed);
         let mut out = String::new();
         l.run_until(Instant::from_secs(1500), |t, i, h| {
             out += &format!("{} {i} {h:?}\n", t.as_millis());
@@ -338,13 +337,14 @@ fn noisy_sensors_still_give_the_papers_decisions_every_period() {
     // Lit 200, dark 30, each reading off by up to ±10, re-drawn every second: a uniform side
     // has a small but positive diversity, so preferences must not flip on one message.
     for seed in 0..10 {
-        for (pattern, expected) in PATTERNS {
-            let mut l = line(pattern, seed);
+        for p in PAPER {
+            let (pattern, expected) = (p.lights, p.expected());
+            let mut l = line(&p, seed);
             let mut noise = Pcg32::new(seed, 1000);
             let mut decided = [0u32; 4];
             let mut t = 0;
             while t < 3 * 10 * 70 + 1 {
-                let lit = readings(pattern).map(|r| r.0 == 1);
+                let lit = p.lit();
                 l.set_readings(
                     lit.map(|b| {
                         Level((if b { 200 } else { 30 }) + noise.random_range(0..=20) - 10)

@@ -5,16 +5,11 @@
 //! - Robots with the key ignore a robot without it or with another one: its frames are dropped
 //!   and counted as bad MACs, and its light does not reach their decisions.
 
-use embassy_futures::join::join_array;
-use embassy_futures::select::select;
-use firmware::wired::{FixedSensor, LedState};
-use firmware::{Clock, Config, Hardware, LedColor, Robot, Stats};
+use firmware::{Config, LedColor, Stats};
 use hal_emu::lab::{PAPER_PATTERNS, expected, judge, leds_str, parse_pattern};
-use hal_emu::medium::Medium;
-use hal_emu::{ArenaConfig, EmuClock, MediumParams, TraceEvent};
+use hal_emu::{ArenaConfig, TraceEvent, run};
 use protocol::frame::FRAME_MAX;
-use protocol::{Duration, Instant, Level, SwarmKey};
-use rand_pcg::Pcg32;
+use protocol::{Duration, SwarmKey};
 
 /// Three negotiation periods of the longest (70 s) cycles.
 const RUN: Duration = Duration::from_secs(3 * 10 * 70);
@@ -109,67 +104,26 @@ struct Mixed {
 }
 
 /// Robots in a line 1 m apart (each hears only its neighbours), robot `i` lit if
-/// `pattern[i] == '1'` and keyed with `keys[i]`, in the emulated medium without collisions
-/// (so that every bad MAC is a frame from another swarm), for [`RUN`].
+/// `pattern[i] == '1'` and keyed with `keys[i]` (its own configuration,
+/// [`ArenaConfig::with_config`]), in the emulated medium without collisions (so that every bad
+/// MAC is a frame from another swarm), for [`RUN`]. The sensors read 1 lit and 0 dark, without
+/// noise.
 fn mixed_line(pattern: &str, keys: &[Option<SwarmKey>], seed: u64) -> Mixed {
     let lights = parse_pattern(pattern).unwrap();
     assert_eq!(lights.len(), keys.len());
-    let positions = ArenaConfig::line(lights.clone(), 1.0, RUN, seed).positions;
-    let runtime = tokio::runtime::Builder::new_current_thread()
-        .enable_time()
-        .start_paused(true)
-        .build()
-        .unwrap();
-    let local = tokio::task::LocalSet::new();
-    local.block_on(&runtime, async {
-        let clock = EmuClock::new(tokio::time::Instant::now());
-        let params = MediumParams {
-            collisions: false,
-            ..MediumParams::default()
-        };
-        let medium = Medium::new(params, clock, Pcg32::new(seed, 1), &positions, 2, false);
-        let leds: Vec<LedState> = lights.iter().map(|_| LedState::new()).collect();
-        let mut hardware: Vec<_> = leds
-            .iter()
-            .enumerate()
-            .map(|(i, led)| {
-                let (tx, mut rx) = Medium::attach(&medium, i).expect("robot i is a node");
-                // Receivers come indexed by sector: [right, left].
-                assert_eq!(rx.len(), 2);
-                let (left, right) = (rx.pop().unwrap(), rx.pop().unwrap());
-                let level = Level(u8::from(lights[i]));
-                let sensor = FixedSensor {
-                    ambient_light: level,
-                    oxygen: level,
-                };
-                Hardware::line(tx, left, right, sensor, led, clock)
-            })
-            .collect();
-        let mut robots: Vec<Robot<Pcg32, 2>> = keys
-            .iter()
-            .enumerate()
-            .map(|(i, &key)| {
-                let config = Config {
-                    id: i as u16,
-                    key,
-                    ..Config::robots()
-                };
-                Robot::new(config, clock.now(), Pcg32::new(seed, 2 * i as u64 + 1)).unwrap()
-            })
-            .collect();
-        let runs: Vec<_> = robots
-            .iter_mut()
-            .zip(&mut hardware)
-            .map(|(r, hw)| r.run(hw))
-            .collect();
-        let runs: [_; 4] = runs.try_into().unwrap_or_else(|_| panic!("four robots"));
-        select(join_array(runs), clock.sleep_until(Instant::ZERO + RUN)).await;
-        Mixed {
-            leds: leds.iter().map(LedState::color).collect(),
-            decisions: leds.iter().map(LedState::updates).collect(),
-            stats: robots.iter().map(|r| *r.stats()).collect(),
-        }
-    })
+    let mut cfg = ArenaConfig::line(lights, 1.0, RUN, seed);
+    cfg.medium.collisions = false;
+    (cfg.env.lit, cfg.env.dark, cfg.env.noise) = (1, 0, 0);
+    for (i, &key) in keys.iter().enumerate() {
+        let config = Config { key, ..cfg.robot };
+        cfg = cfg.with_config(i, config);
+    }
+    let r = run(&cfg).unwrap();
+    Mixed {
+        leds: r.final_leds,
+        decisions: r.robots.iter().map(|s| s.decisions).collect(),
+        stats: r.robots,
+    }
 }
 
 #[test]

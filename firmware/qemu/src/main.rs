@@ -39,6 +39,7 @@ use boot::Stage;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
 use firmware::hal::EmbassyClock;
+use firmware::protocol::lab::LabPattern;
 use firmware::protocol::{Duration, Event, Instant, Level, Sector};
 use firmware::wired::{run_line_observed, total_stats};
 use firmware::{Clock, Config, LedColor, Observer, Robot};
@@ -51,12 +52,17 @@ mod watchdog;
 /// The seed of every random draw; `CIMAX_SEED=n cargo qemu` replays another run.
 const DEFAULT_SEED: u64 = 1;
 
-const L: Option<Sector> = Some(Sector::LEFT);
-const R: Option<Sector> = Some(Sector::RIGHT);
-
 /// The lamp patterns run one after the other (1 = lit), with the paper's decisions.
-const SCENARIOS: [(&str, [Option<Sector>; 4]); 2] =
-    [("1000", [L, L, L, L]), ("1100", [R, R, L, L])];
+const SCENARIOS: [LabPattern; 2] = [paper("1000"), paper("1100")];
+
+/// The paper's lab run of pattern `lights` ([`firmware::protocol::lab::PAPER`]); a pattern
+/// that is not one of its six does not compile.
+const fn paper(lights: &str) -> LabPattern {
+    match LabPattern::find(lights) {
+        Some(p) => p,
+        None => panic!("not one of the paper's lab patterns"),
+    }
+}
 
 // ---------------------------------------------------------------------------------------------
 // A tiny executor: polls one future when it was woken, sleeps in WFI otherwise (which lets QEMU's
@@ -189,11 +195,6 @@ const WATCHDOG_CYCLES: u32 = 2 * watchdog::HZ;
 
 // ---------------------------------------------------------------------------------------------
 
-fn readings(pattern: &str) -> [Level; 4] {
-    let b = pattern.as_bytes();
-    core::array::from_fn(|i| Level(u8::from(b.get(i) == Some(&b'1'))))
-}
-
 fn seed() -> u64 {
     option_env!("CIMAX_SEED")
         .and_then(|s| s.parse().ok())
@@ -211,14 +212,10 @@ fn letters(decisions: [Option<Sector>; 4]) -> [u8; 4] {
     })
 }
 
-/// Runs one pattern until every robot has decided twice; true if every LED shows the expected
-/// decision.
-async fn scenario(
-    pattern: &str,
-    expected: [Option<Sector>; 4],
-    seed: u64,
-    mut feeders: [Feeder; 4],
-) -> bool {
+/// Runs one pattern until every robot has decided twice (lit robots read 1, dark ones 0); true
+/// if every LED shows the paper's decision.
+async fn scenario(lab: &LabPattern, seed: u64, mut feeders: [Feeder; 4]) -> bool {
+    let (pattern, expected) = (lab.lights, lab.expected());
     let clock = EmbassyClock;
     let start = clock.now();
     let make = |id: u16| {
@@ -239,7 +236,7 @@ async fn scenario(
     let report = run_line_observed(
         &mut robots,
         &mut feeders,
-        readings(pattern),
+        lab.levels(Level(1), Level(0)),
         &clock,
         2,
         deadline,
@@ -316,14 +313,10 @@ fn decoding_matches_the_host() -> bool {
 }
 
 /// The recovery check after a reset the board asked for: the robots run again and decide.
-fn after_reset(why: &str, pattern: &str, seed: u64) -> bool {
+fn after_reset(why: &str, lab: &LabPattern, seed: u64) -> bool {
     hprintln!("came back after {}: the robots run again", why);
-    let expected = SCENARIOS
-        .iter()
-        .find(|(p, _)| *p == pattern)
-        .map_or([None; 4], |(_, e)| *e);
     watchdog::start(WATCHDOG_CYCLES);
-    block_on(scenario(pattern, expected, seed, [Feeder::default(); 4]))
+    block_on(scenario(lab, seed, [Feeder::default(); 4]))
 }
 
 #[entry]
@@ -347,8 +340,8 @@ fn main() -> ! {
                 seed
             );
             let mut all_right = decoding_matches_the_host();
-            for (pattern, expected) in SCENARIOS {
-                all_right &= block_on(scenario(pattern, expected, seed, [Feeder::default(); 4]));
+            for lab in &SCENARIOS {
+                all_right &= block_on(scenario(lab, seed, [Feeder::default(); 4]));
             }
             // Recovery, part 1: a panic resets the board (the panic handler above).
             boot::store(Stage::PanicExpected, all_right);
@@ -356,7 +349,7 @@ fn main() -> ! {
             panic!("forced (the recovery check)");
         }
         Stage::AfterPanic => {
-            let all_right = ok_before && after_reset("the panic", "1000", seed);
+            let all_right = ok_before && after_reset("the panic", &paper("1000"), seed);
             // Recovery, part 2: a robot whose main loop stops is reset by the watchdog, which
             // every robot fed on each round until now.
             boot::store(Stage::HangExpected, all_right);
@@ -364,7 +357,7 @@ fn main() -> ! {
             let mut feeders = [Feeder::default(); 4];
             feeders[1].hang_after = Some(30);
             watchdog::start(WATCHDOG_CYCLES);
-            let decided = block_on(scenario("1000", [L; 4], seed, feeders));
+            let decided = block_on(scenario(&paper("1000"), seed, feeders));
             // Only reached if the hang did not happen.
             hprintln!(
                 "FAIL: the main loop was meant to hang (decided: {})",
@@ -374,7 +367,7 @@ fn main() -> ! {
             exit(false)
         }
         Stage::HangExpected => {
-            let all_right = ok_before && after_reset("the watchdog reset", "1100", seed);
+            let all_right = ok_before && after_reset("the watchdog reset", &paper("1100"), seed);
             boot::clear();
             if all_right {
                 hprintln!(

@@ -24,11 +24,13 @@
 //!
 //! All randomness comes from the medium's own seeded RNG, drawn in the deterministic order of
 //! the current-thread runtime.
+//!
+//! This is the world's side of the light. A robot's side, its transmitter and receivers, is
+//! the board's ([`crate::board::light`]); [`Medium::attach`] hands them out.
 
 use std::cell::RefCell;
 use std::rc::Rc;
 
-use embedded_io_async::{ErrorKind, ErrorType, Read, Write};
 use firmware::Clock;
 use nalgebra::Point2;
 use protocol::{Duration, Instant, Sector};
@@ -37,7 +39,8 @@ use rand_pcg::Pcg32;
 use serde::Serialize;
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
-use crate::EmuClock;
+use crate::board::light::{EmuReceiver, EmuTransmitter};
+use crate::world::clock::EmuClock;
 
 /// How the light behaves.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -446,6 +449,11 @@ impl Medium {
         self.clock.now()
     }
 
+    /// The clock the medium runs on (the run's).
+    pub fn clock(&self) -> EmuClock {
+        self.clock
+    }
+
     /// Adds a rogue transmitter at `pos`; returns its node number.
     pub fn add_rogue(this: &SharedMedium, pos: Point2<f64>) -> usize {
         Medium::add_node(this, pos, Role::Rogue, None)
@@ -505,26 +513,11 @@ impl Medium {
             .ok_or(NoSuchNode { node: robot, nodes })?;
         let (senders, receivers): (Vec<_>, Vec<_>) = (0..node.sectors)
             .map(|_| unbounded_channel())
-            .map(|(tx, rx)| {
-                (
-                    tx,
-                    EmuReceiver {
-                        rx,
-                        buf: Vec::new(),
-                        pos: 0,
-                    },
-                )
-            })
+            .map(|(tx, rx)| (tx, EmuReceiver::new(rx)))
             .unzip();
         node.inboxes = senders;
         node.alive = true;
-        Ok((
-            EmuTransmitter {
-                medium: this.clone(),
-                robot,
-            },
-            receivers,
-        ))
+        Ok((EmuTransmitter::new(this.clone(), robot), receivers))
     }
 
     /// Robot `robot` dies: it hears nothing more until attached again.
@@ -737,68 +730,6 @@ impl Medium {
         if let Some(inbox) = m.nodes[a.to].inboxes.get(usize::from(a.sector)) {
             let _ = inbox.send(a.bytes);
         }
-    }
-}
-
-/// A robot's light transmitter: an [`embedded_io_async::Write`] that broadcasts each write as
-/// one frame and returns when its airtime is over.
-#[derive(Debug)]
-pub struct EmuTransmitter {
-    medium: SharedMedium,
-    robot: usize,
-}
-
-impl ErrorType for EmuTransmitter {
-    type Error = ErrorKind;
-}
-
-impl Write for EmuTransmitter {
-    async fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
-        if buf.is_empty() {
-            return Ok(0);
-        }
-        let end = Medium::transmit(&self.medium, self.robot, buf, Emission::Frame);
-        let clock = self.medium.borrow().clock;
-        clock.sleep_until(end).await;
-        Ok(buf.len())
-    }
-
-    async fn flush(&mut self) -> Result<(), ErrorKind> {
-        Ok(())
-    }
-}
-
-/// A robot's light receiver for one sector: an [`embedded_io_async::Read`] of the bytes that
-/// reached it.
-#[derive(Debug)]
-pub struct EmuReceiver {
-    rx: UnboundedReceiver<Vec<u8>>,
-    buf: Vec<u8>,
-    pos: usize,
-}
-
-impl ErrorType for EmuReceiver {
-    type Error = ErrorKind;
-}
-
-impl Read for EmuReceiver {
-    async fn read(&mut self, out: &mut [u8]) -> Result<usize, ErrorKind> {
-        if out.is_empty() {
-            return Ok(0);
-        }
-        while self.pos >= self.buf.len() {
-            match self.rx.recv().await {
-                Some(b) => {
-                    self.buf = b;
-                    self.pos = 0;
-                }
-                None => return Ok(0),
-            }
-        }
-        let n = out.len().min(self.buf.len() - self.pos);
-        out[..n].copy_from_slice(&self.buf[self.pos..self.pos + n]);
-        self.pos += n;
-        Ok(n)
     }
 }
 

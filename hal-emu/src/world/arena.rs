@@ -1,24 +1,30 @@
-//! A whole emulated run: robots, medium, environment, scheduled kills and restarts, and the
-//! LED changes a camera would have seen.
+//! A whole emulated run, the world's orchestrator: it builds the medium, the environment and
+//! the adversaries from an [`ArenaConfig`], boots each robot on its board ([`crate::board`])
+//! running the unchanged robot program, carries out scheduled kills and restarts, moves the
+//! swarm over a plane field, and reports the LED changes a camera would have seen.
+//!
+//! Its line of robots ([`ArenaConfig::line`]) is one of three in the workspace, the deepest:
+//! the same robot program as `firmware::wired::run_line` (wired in memory, no airtime, what the
+//! QEMU board runs), here through the modelled medium; `protocol::line` drives the protocol core
+//! alone. Each tests what the others leave out (see `protocol::line`).
 
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
 use embassy_futures::select::select;
-use firmware::hal::ErrorType;
-use firmware::{
-    Clock, Config, ErrorKind, Hardware, LedColor, Leds, Observer, Robot, SetupError, Stats,
-};
+use firmware::{Clock, Config, Hardware, LedColor, Observer, Robot, SetupError, Stats};
 use nalgebra::{Point2, Vector2};
 use protocol::wave::WaveStats;
 use protocol::{Duration, Event, Instant, Sector, WaveState};
 use rand_pcg::Pcg32;
 use tokio::sync::oneshot;
 
-use crate::EmuClock;
-use crate::adversary::{self, Adversary};
-use crate::env::{EmuSensor, Environment};
-use crate::medium::{Medium, MediumParams, MediumStats, SharedMedium, TraceEvent};
+use crate::board::leds::{EmuLeds, LedLog};
+use crate::board::sensor::EmuSensor;
+use crate::world::adversary::{self, Adversary};
+use crate::world::clock::EmuClock;
+use crate::world::env::Environment;
+use crate::world::medium::{Medium, MediumParams, MediumStats, SharedMedium, TraceEvent};
 
 /// Everything that defines a run.
 #[derive(Clone, Debug)]
@@ -30,6 +36,13 @@ pub struct ArenaConfig {
     /// `robot.params.sectors` receivers (2 to 8), receiver `s` facing sector `s` of the swarm's
     /// common frame.
     pub robot: Config,
+    /// Per-robot configurations: robot `i` runs `configs[i]` where it is `Some`, and
+    /// [`robot`](Self::robot) otherwise (and beyond the end of the list, so an empty list means
+    /// one configuration for all). The `id` is still set per robot as for the shared one, and
+    /// every robot must have the shared one's `params.sectors` (the medium gives every robot as
+    /// many receivers). For robots that differ, e.g. a keyed swarm with an outsider without the
+    /// key: [`with_config`](Self::with_config).
+    pub configs: Vec<Option<Config>>,
     /// Robot ids, if not `0..n` (on a plane, ids whose tags differ between neighbours).
     pub ids: Option<Vec<u16>>,
     /// How the swarm moves as it decides, if it does (robots on a plane over a field).
@@ -75,10 +88,33 @@ impl ArenaConfig {
             duration,
             seed,
             trace: false,
+            configs: Vec::new(),
             ids: None,
             motion: None,
         }
     }
+
+    /// The same run with robot `robot` running `config` instead of the shared
+    /// [`robot`](Self::robot) configuration ([`configs`](Self::configs)).
+    #[must_use]
+    pub fn with_config(mut self, robot: usize, config: Config) -> Self {
+        if self.configs.len() <= robot {
+            self.configs.resize(robot + 1, None);
+        }
+        self.configs[robot] = Some(config);
+        self
+    }
+
+    /// The configuration robot `robot` runs, before its `id` is set: its own
+    /// ([`configs`](Self::configs)) or the shared one.
+    pub fn config_of(&self, robot: usize) -> Config {
+        config_of(self.robot, &self.configs, robot)
+    }
+}
+
+/// Robot `robot`'s configuration: `configs[robot]` if given, else `shared`.
+fn config_of(shared: Config, configs: &[Option<Config>], robot: usize) -> Config {
+    configs.get(robot).copied().flatten().unwrap_or(shared)
 }
 
 /// The swarm's motion over a [`PlaneField`](crate::env::PlaneField), as in the paper's 2D
@@ -137,7 +173,7 @@ pub enum ArenaError {
     Setup(SetupError),
     /// The medium's parameters make no sense.
     Medium(String),
-    /// A kill or restart names a robot that does not exist.
+    /// A kill, restart or per-robot configuration names a robot that does not exist.
     NoSuchRobot(usize),
     /// An adversary's parameters make no sense.
     Adversary(String),
@@ -216,7 +252,9 @@ impl std::fmt::Display for ArenaError {
         match self {
             ArenaError::Setup(e) => write!(f, "robot configuration: {e}"),
             ArenaError::Medium(e) => write!(f, "medium: {e}"),
-            ArenaError::NoSuchRobot(i) => write!(f, "there is no robot {i} to kill or restart"),
+            ArenaError::NoSuchRobot(i) => {
+                write!(f, "there is no robot {i} to kill, restart or configure")
+            }
             ArenaError::Adversary(e) => write!(f, "adversary: {e}"),
             ArenaError::Runtime(e) => write!(f, "runtime: {e}"),
             ArenaError::Robot(e) => e.fmt(f),
@@ -281,7 +319,7 @@ impl RunReport {
 
 /// The LEDs of `n` robots at `t`: the last of `changes` (in time order) at or before `t` for
 /// each robot, off before its first.
-fn leds_at(changes: &[LedChange], n: usize, t: Instant) -> Vec<LedColor> {
+pub(crate) fn leds_at(changes: &[LedChange], n: usize, t: Instant) -> Vec<LedColor> {
     let mut out = vec![LedColor::Off; n];
     for c in changes.iter().take_while(|c| c.t <= t) {
         if let Some(o) = out.get_mut(c.robot) {
@@ -291,74 +329,18 @@ fn leds_at(changes: &[LedChange], n: usize, t: Instant) -> Vec<LedColor> {
     out
 }
 
-/// Trace names of the LEDs of robots with more than two sectors.
-const SECTOR_NAMES: [&str; 8] = [
-    "sector 0", "sector 1", "sector 2", "sector 3", "sector 4", "sector 5", "sector 6", "sector 7",
-];
-
 /// What the robots' hardware shares in one run.
 struct Shared {
     medium: SharedMedium,
     clock: EmuClock,
     env: Rc<Environment>,
-    leds: RefCell<Vec<LedChange>>,
+    leds: Rc<LedLog>,
     config: Config,
+    configs: Vec<Option<Config>>,
     ids: Option<Vec<u16>>,
     seed: u64,
     /// The swarm's displacement over a plane field.
     offset: Rc<Cell<Vector2<f64>>>,
-}
-
-/// The top-cap LEDs of one emulated robot: each change is recorded with its time.
-struct EmuLeds {
-    shared: Rc<Shared>,
-    robot: usize,
-}
-
-impl ErrorType for EmuLeds {
-    type Error = ErrorKind;
-}
-
-impl Leds for EmuLeds {
-    async fn show(&mut self, color: LedColor) -> Result<(), ErrorKind> {
-        #[cfg(test)]
-        tests::faulty_led_driver(self.robot);
-        self.shared.record_led(self.robot, color);
-        Ok(())
-    }
-}
-
-impl Shared {
-    /// Every robot's LEDs now.
-    fn leds_now(&self, n: usize) -> Vec<LedColor> {
-        leds_at(&self.leds.borrow(), n, Instant::MAX)
-    }
-
-    fn record_led(&self, robot: usize, color: LedColor) {
-        let t = self.clock.now();
-        let mut leds = self.leds.borrow_mut();
-        let current = leds
-            .iter()
-            .rev()
-            .find(|c| c.robot == robot)
-            .map_or(LedColor::Off, |c| c.color);
-        if current != color {
-            leds.push(LedChange { t, robot, color });
-            self.medium.borrow_mut().log(TraceEvent::Led {
-                t_ms: t.as_millis(),
-                robot,
-                color: match color {
-                    LedColor::Green => "green",
-                    LedColor::Blue => "blue",
-                    LedColor::Off => "off",
-                    LedColor::Sector(i) => SECTOR_NAMES
-                        .get(usize::from(i))
-                        .copied()
-                        .unwrap_or("sector ?"),
-                },
-            });
-        }
-    }
 }
 
 /// Puts a robot's protocol events into the trace.
@@ -451,10 +433,7 @@ async fn life_of<const N: usize>(
         rng(shared.seed, RNG_SENSOR, robot, life),
     )
     .moving_with(shared.offset.clone());
-    let leds = EmuLeds {
-        shared: shared.clone(),
-        robot,
-    };
+    let leds = EmuLeds::new(shared.leds.clone(), robot);
     let mut hw = Hardware {
         transmitter: tx,
         receivers,
@@ -469,7 +448,7 @@ async fn life_of<const N: usize>(
         .unwrap_or(robot as u16);
     let config = Config {
         id,
-        ..shared.config
+        ..config_of(shared.config, &shared.configs, robot)
     };
     let mut r = Robot::<Pcg32, N>::new(
         config,
@@ -515,7 +494,7 @@ async fn mover(shared: Rc<Shared>, motion: Motion, moves: Rc<RefCell<Vec<Move>>>
     loop {
         t += motion.period;
         shared.clock.sleep_until(t).await;
-        let leds = shared.leds_now(n);
+        let leds = shared.leds.now(n);
         let (heading, consensus) = swarm_heading(&leds, sectors);
         let offset = shared.offset.get();
         moves.borrow_mut().push(Move {
@@ -548,6 +527,20 @@ enum Control {
 pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
     let n = cfg.positions.len();
     check_robot(cfg.robot).map_err(ArenaError::Setup)?;
+    if cfg.configs.len() > n {
+        return Err(ArenaError::NoSuchRobot(cfg.configs.len() - 1));
+    }
+    for own in cfg.configs.iter().flatten() {
+        let sectors = cfg.robot.params.sectors;
+        if own.params.sectors != sectors {
+            // The medium gives every robot `sectors` receivers.
+            return Err(ArenaError::Setup(SetupError::Receivers {
+                sectors: own.params.sectors,
+                receivers: usize::from(sectors),
+            }));
+        }
+        check_robot(*own).map_err(ArenaError::Setup)?;
+    }
     cfg.medium.validate().map_err(ArenaError::Medium)?;
     for a in &cfg.adversaries {
         a.validate().map_err(ArenaError::Adversary)?;
@@ -597,8 +590,9 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             medium: medium.clone(),
             clock,
             env: Rc::new(cfg.env.clone()),
-            leds: RefCell::new(Vec::new()),
+            leds: Rc::new(LedLog::new(clock, medium.clone())),
             config: cfg.robot,
+            configs: cfg.configs.clone(),
             ids: cfg.ids.clone(),
             seed: cfg.seed,
             offset: Rc::new(Cell::new(
@@ -669,7 +663,7 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
                         t_ms: t.as_millis(),
                         robot: r,
                     });
-                    shared.record_led(r, LedColor::Off);
+                    shared.leds.record(r, LedColor::Off);
                 }
                 Control::Restart(r) => {
                     if stops[r].is_none() {
@@ -702,7 +696,7 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
         if let Some(f) = failure {
             return Err(f);
         }
-        let leds = shared.leds.borrow().clone();
+        let leds = shared.leds.changes();
         let moves = moves.borrow().clone();
         let mut m = medium.borrow_mut();
         Ok(RunReport {
@@ -726,33 +720,12 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::cell::Cell;
-
-    thread_local! {
-        /// The robot whose LED driver panics in this test thread's runs, if any.
-        static FAULTY_LEDS: Cell<Option<usize>> = const { Cell::new(None) };
-    }
-
-    /// The test-only fault: robot `robot`'s LED driver panics when the robot program shows a
-    /// decision, inside the robot's task as a panic in real driver code would be. Runs are on
-    /// the calling thread (a current-thread runtime), so the setting stays with its test.
-    pub(super) fn faulty_led_driver(robot: usize) {
-        if FAULTY_LEDS.get() == Some(robot) {
-            panic!("injected fault: robot {robot}'s LED driver");
-        }
-    }
+    use crate::board::leds::fault::with_faulty_leds;
 
     /// The paper's lab run of pattern 1000 (2101 s: three negotiation periods of 70 s cycles).
     fn lab(seed: u64) -> ArenaConfig {
         let pattern = vec![true, false, false, false];
         ArenaConfig::line(pattern, 1.0, Duration::from_secs(2101), seed)
-    }
-
-    fn with_faulty_leds<T>(robot: usize, f: impl FnOnce() -> T) -> T {
-        FAULTY_LEDS.set(Some(robot));
-        let out = f();
-        FAULTY_LEDS.set(None);
-        out
     }
 
     #[test]
@@ -801,5 +774,76 @@ mod tests {
             matches!(&e, ArenaError::Robot(f) if f.robot == 1 && f.seed == 3 && f.panicked),
             "{e}"
         );
+    }
+
+    #[test]
+    fn robots_with_their_own_configs_share_one_world() {
+        // Robot 0 has a swarm key, robot 1 none: each drops the other's frames, the keyed one
+        // as bad MACs, the plain one as bad CRCs, and each puts its own frames on air.
+        let key = protocol::SwarmKey::new(*b"sixteen byte key");
+        let mut cfg = ArenaConfig::line(vec![true, false], 1.0, Duration::from_secs(700), 5);
+        cfg.medium.collisions = false;
+        cfg.trace = true;
+        let keyed = Config {
+            key: Some(key),
+            ..cfg.robot
+        };
+        let cfg = cfg.with_config(0, keyed);
+        assert_eq!(cfg.configs, vec![Some(keyed)]);
+        assert_eq!(cfg.config_of(0).key, Some(key));
+        assert_eq!(cfg.config_of(1).key, None, "the shared configuration");
+        let r = run(&cfg).unwrap();
+        let (k, p) = (&r.robots[0], &r.robots[1]);
+        assert!(k.transmitted > 5 && p.transmitted > 5, "{:?}", r.robots);
+        assert_eq!((k.messages, p.messages), (0, 0), "{:?}", r.robots);
+        assert_eq!(k.bad_mac, k.frame_errors, "{:?}", r.robots);
+        assert!(k.bad_mac > 5, "{:?}", r.robots);
+        assert_eq!(p.bad_mac, 0, "a plain robot checks CRCs");
+        assert!(p.frame_errors > 5, "{:?}", r.robots);
+        // Initiations: 20 bytes keyed, 18 plain.
+        let sent = |robot: usize| -> Vec<usize> {
+            r.trace
+                .iter()
+                .filter_map(|e| match e {
+                    TraceEvent::Sent { robot: r, len, .. } if *r == robot => Some(*len),
+                    _ => None,
+                })
+                .collect()
+        };
+        assert!(
+            sent(0).contains(&20) && !sent(0).contains(&18),
+            "{:?}",
+            sent(0)
+        );
+        assert!(
+            sent(1).contains(&18) && !sent(1).contains(&20),
+            "{:?}",
+            sent(1)
+        );
+
+        // The same two robots with one key hear each other.
+        let both = cfg.clone().with_config(1, keyed);
+        let r = run(&both).unwrap();
+        assert!(r.robots.iter().all(|s| s.messages > 5 && s.bad_mac == 0));
+
+        // Different ids through `ids`, one configuration each: the run goes as well.
+        let mut ids = cfg.clone();
+        ids.ids = Some(vec![7, 9]);
+        assert!(run(&ids).is_ok());
+
+        // Every robot keeps the medium's receivers; a configuration for a robot that does not
+        // exist is refused.
+        let mut six = keyed;
+        six.params.sectors = 6;
+        let e = run(&cfg.clone().with_config(1, six)).unwrap_err();
+        assert_eq!(
+            e,
+            ArenaError::Setup(SetupError::Receivers {
+                sectors: 6,
+                receivers: 2
+            })
+        );
+        let e = run(&cfg.clone().with_config(2, keyed)).unwrap_err();
+        assert_eq!(e, ArenaError::NoSuchRobot(2));
     }
 }

@@ -1,13 +1,17 @@
-//! The paper's lab experiment (section 4) as runs of the emulated arena: robots in a line under
-//! a light pattern, and the check a person makes by looking at the top-cap LEDs.
+//! The judge: the paper's lab experiment (section 4) as runs of the emulated world (robots in a
+//! line under a light pattern), and the check a person makes by looking at the top-cap LEDs.
+//! It only reads what a run reports ([`RunReport`]); the world and the board know nothing of
+//! it. Also reachable as `hal_emu::lab`, its former name.
 
 use firmware::LedColor;
 use protocol::{Duration, Instant};
 
-use crate::arena::{ArenaConfig, ArenaError, RunReport, run};
+use crate::world::arena::{ArenaConfig, ArenaError, RunReport, run};
 
-/// The six patterns of the paper's Fig. 9, lit = 1, robots left to right.
-pub const PAPER_PATTERNS: [&str; 6] = ["1000", "0111", "0001", "1110", "1100", "0011"];
+/// The six patterns of the paper's Fig. 9, lit = 1, robots left to right
+/// ([`protocol::lab::PAPER_LIGHTS`]; their decisions are [`protocol::lab::PAPER`], which
+/// [`expected`] agrees with).
+pub const PAPER_PATTERNS: [&str; 6] = protocol::lab::PAPER_LIGHTS;
 
 /// A light pattern: one entry per robot, `true` if lit.
 pub type Pattern = Vec<bool>;
@@ -235,13 +239,15 @@ mod tests {
 
     #[test]
     fn expectations_follow_the_border_rule() {
+        // The paper's six, as it reports them.
+        for lab in protocol::lab::PAPER {
+            let leds = lab.decisions.map(|d| LedColor::for_decision(Some(d)));
+            assert_eq!(expected(&lab.lit()), Some(leds.to_vec()), "{}", lab.lights);
+            assert_eq!(p(lab.lights), lab.lit());
+        }
         let e = |s: &str| expected(&p(s)).map(|l| leds_str(&l));
         assert_eq!(e("1000").as_deref(), Some("LLLL"));
-        assert_eq!(e("0111").as_deref(), Some("LLLL"));
-        assert_eq!(e("0001").as_deref(), Some("RRRR"));
-        assert_eq!(e("1110").as_deref(), Some("RRRR"));
         assert_eq!(e("1100").as_deref(), Some("RRLL"));
-        assert_eq!(e("0011").as_deref(), Some("RRLL"));
         assert_eq!(e("110000").as_deref(), Some("LLLLLL"));
         assert_eq!(e("1010"), None);
         assert_eq!(e("0000"), None);

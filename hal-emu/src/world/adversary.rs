@@ -27,8 +27,8 @@ use rand::Rng;
 use rand_pcg::Pcg32;
 use tokio::sync::mpsc::UnboundedReceiver;
 
-use crate::EmuClock;
-use crate::medium::{Capture, Emission, Medium, SharedMedium};
+use crate::world::clock::EmuClock;
+use crate::world::medium::{Capture, Emission, Medium, SharedMedium};
 
 /// A device in the arena that is not a robot.
 #[derive(Clone, Debug, PartialEq)]

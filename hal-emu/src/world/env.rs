@@ -1,15 +1,11 @@
 //! The environment the robots sense: a light pattern per robot, changing at scheduled times, or
 //! a scalar field over the plane ([`PlaneField`]) sampled where each robot is as the swarm moves.
+//! Part of the world; the board's sensor ([`crate::board::sensor::EmuSensor`]) reads it.
 
-use std::cell::Cell;
-
-use firmware::{ErrorKind, Sensor, hal::ErrorType};
 use nalgebra::{Point2, Vector2};
 use protocol::{Instant, Level};
 use rand::Rng;
 use rand_pcg::Pcg32;
-use std::cell::RefCell;
-use std::rc::Rc;
 
 /// Light patterns over time, and how they read on the sensors.
 #[derive(Clone, Debug, PartialEq)]
@@ -143,76 +139,11 @@ impl Environment {
             .unwrap_or(false)
     }
 
-    fn noisy(&self, level: u8, rng: &mut Pcg32) -> Level {
+    /// `level` off by a uniform draw in `-noise..=noise` from `rng`, saturated to `0..=255`.
+    pub(crate) fn noisy(&self, level: u8, rng: &mut Pcg32) -> Level {
         let n = i16::from(self.noise);
         let off = if n > 0 { rng.random_range(-n..=n) } else { 0 };
         Level((i16::from(level) + off).clamp(0, 255) as u8)
-    }
-}
-
-/// One robot's sensor in the emulated environment.
-#[derive(Debug)]
-pub struct EmuSensor {
-    env: Rc<Environment>,
-    robot: usize,
-    clock: crate::EmuClock,
-    rng: Pcg32,
-    /// Reads that fail from now on (to test a failing sensor); shared so a test can flip it.
-    pub failing: Rc<RefCell<bool>>,
-    /// The swarm's displacement over a [`PlaneField`], shared with whatever moves the swarm.
-    offset: Rc<Cell<Vector2<f64>>>,
-}
-
-impl EmuSensor {
-    /// The sensor of robot `robot`, with its own noise RNG; over a [`PlaneField`] the swarm
-    /// stays at the field's `start`.
-    pub fn new(env: Rc<Environment>, robot: usize, clock: crate::EmuClock, rng: Pcg32) -> Self {
-        let start = env.field.as_ref().map_or(Vector2::zeros(), |f| f.start);
-        EmuSensor {
-            env,
-            robot,
-            clock,
-            rng,
-            failing: Rc::new(RefCell::new(false)),
-            offset: Rc::new(Cell::new(start)),
-        }
-    }
-
-    /// The same sensor, reading a [`PlaneField`] where `offset` (shared with the arena's
-    /// motion) says the swarm is.
-    pub fn moving_with(mut self, offset: Rc<Cell<Vector2<f64>>>) -> Self {
-        self.offset = offset;
-        self
-    }
-}
-
-impl ErrorType for EmuSensor {
-    type Error = ErrorKind;
-}
-
-impl Sensor for EmuSensor {
-    async fn ambient_light(&mut self) -> Result<Level, ErrorKind> {
-        if *self.failing.borrow() {
-            return Err(ErrorKind::Bus);
-        }
-        if let Some(f) = &self.env.field {
-            let level = f.level(self.robot, self.offset.get());
-            return Ok(self.env.noisy(level, &mut self.rng));
-        }
-        let t = firmware::Clock::now(&self.clock);
-        let base = if self.env.is_lit(self.robot, t) {
-            self.env.lit
-        } else {
-            self.env.dark
-        };
-        Ok(self.env.noisy(base, &mut self.rng))
-    }
-
-    async fn oxygen(&mut self) -> Result<Level, ErrorKind> {
-        if *self.failing.borrow() {
-            return Err(ErrorKind::Bus);
-        }
-        Ok(self.env.noisy(self.env.oxygen, &mut self.rng))
     }
 }
 

@@ -1,4 +1,5 @@
-//! The robots' clock: tokio time, measured from the start of the run.
+//! The robots' clock: tokio time, measured from the start of the run. Part of the world (every
+//! robot of a run shares it); it is also the board's [`Clock`].
 
 use firmware::Clock;
 use protocol::Instant;

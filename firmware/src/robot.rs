@@ -15,10 +15,9 @@
 //!                                   └──Event::Decided──▶ LEDs
 //! ```
 //!
-//! With a swarm key ([`Config::key`]) the listeners' deframers are keyed
-//! ([`Deframer::with_key`]): frames without the swarm's MAC are dropped and counted in
-//! [`Stats::bad_mac`] before the protocol sees them, and `encode` is
-//! [`encode_keyed`].
+//! With a swarm key ([`Config::key`], feature `keyed`) the listeners' deframers are keyed
+//! (`Deframer::with_key`): frames without the swarm's MAC are dropped and counted in
+//! [`Stats::bad_mac`] before the protocol sees them, and `encode` is `encode_keyed`.
 //!
 //! A listener is never cancelled, so a receiver need not be cancel-safe: each one reads for as
 //! long as the robot runs. The main loop waits on "a message in the inbox OR the next
@@ -78,7 +77,7 @@ pub struct Config {
     /// Pause after a receiver error before reading that receiver again.
     pub rx_error_backoff: Duration,
     /// The swarm key, if the swarm authenticates its frames: every frame sent carries its MAC
-    /// tag ([`protocol::frame::encode_keyed`]) and every frame received without a valid one is
+    /// tag (`protocol::frame::encode_keyed`, feature `keyed`) and every frame received without a valid one is
     /// dropped and counted ([`Stats::bad_mac`]). A keyed frame holds one hop fewer, so
     /// [`Robot::new`] lowers `params.max_hops` to [`KEYED_MAX_HOPS`] (11). `None`: plain
     /// frames, checked by CRC.

@@ -6,26 +6,32 @@
 //! every negotiation period.
 //!
 //! ## Where to start reading
-//! - [`sim`]: the engine (message delivery, readings, the move) over [`geometry`] (placement and
-//!   neighbour lists) and [`field`] (the environment);
-//! - [`scenario`]: the built-in scenarios and the TOML scenario files;
-//! - [`experiment`]: runs, sweeps, preferred-direction grids, spread over all cores;
-//! - [`plot`] and [`report`]: SVG figures, CSV files and `docs/reproduction.md`.
+//! - [`swarm`]: the 2D simulator. [`sim`] is the engine (message delivery, readings, the move)
+//!   over [`geometry`] (placement and neighbour lists) and [`field`] (the environment);
+//!   [`scenario`]: the built-in scenarios and the TOML scenario files; [`experiment`]: runs,
+//!   sweeps, preferred-direction grids, spread over all cores; [`swarm::reproduce`]:
+//!   `docs/reproduction.md`.
+//! - [`arena`]: the emulated lab over `hal-emu`: `cimax arena` itself ([`arena::line`]: robots
+//!   in a line under light patterns), robots on a plane ([`plane`]), the fault campaign
+//!   ([`campaign`], `docs/reliability.md`) and its stress sections ([`stress`]).
+//! - [`report`]: what results become: CSV files, SVG figures ([`plot`]) and the pages,
+//!   rendered from the templates in `host-sim/templates/` ([`report::page`]).
+//! - [`seeds`] and [`progress`]: the seed derivation and the progress bar both sides share.
+//!
+//! Data flow: scenario → experiment → result structs → JSON | CSV | template → page | plot.
 //!
 //! ## What it never does
 //! - implement CIMAX a second time: every decision is made by `protocol`'s state machines;
 //! - depend on the number of threads: every run has its own seed ([`seeds`]), runs are
 //!   independent, and results are collected in run order.
 
-pub mod campaign;
-pub mod experiment;
-/// The environment's fields, shared with the emulated arena (they live in `hal-emu`).
-pub use hal_emu::field;
-pub mod geometry;
-pub mod plane;
-pub mod plot;
+pub mod arena;
+pub mod progress;
 pub mod report;
-pub mod scenario;
 pub mod seeds;
-pub mod sim;
-pub mod stress;
+pub mod swarm;
+
+// The module paths from before the folders (`host_sim::campaign`, `host_sim::scenario`, ...).
+pub use arena::{campaign, plane, stress};
+pub use report::plot;
+pub use swarm::{experiment, field, geometry, scenario, sim};

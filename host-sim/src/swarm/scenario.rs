@@ -76,10 +76,10 @@ use protocol::{Duration, Params};
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::field::{Along, Field, Layer, Segment};
-use crate::geometry::Shape;
-pub use crate::sim::MAX_PERIOD_SECS;
-use crate::sim::{RunConfig, SimError};
+use crate::swarm::field::{Along, Field, Layer, Segment};
+use crate::swarm::geometry::Shape;
+pub use crate::swarm::sim::MAX_PERIOD_SECS;
+use crate::swarm::sim::{RunConfig, SimError};
 
 /// Spacing of `shape = "lattice"` (and of `--lattice`) unless given: 0.75 R, at which 61 agents
 /// fill a disk of diameter 6 R with 5.1 neighbours on average (see [`Shape::Lattice`]).
@@ -91,7 +91,7 @@ pub const MAX_AGENTS: usize = 1_000_000;
 /// The largest `diameter`, `width` or `height` of a swarm's shape, in R. 1000 R holds
 /// [`MAX_AGENTS`] at the paper's density (61 agents in a disk of 6 R: 768 R for a million), and
 /// the neighbour grid of a swarm that size has at most 1001 × 1001 cells one range wide
-/// ([`crate::geometry::neighbour_lists`]): some 4 MB, where 100,000 R would need 10^10 cells.
+/// ([`crate::swarm::geometry::neighbour_lists`]): some 4 MB, where 100,000 R would need 10^10 cells.
 pub const MAX_EXTENT: f64 = 1000.0;
 
 /// The most negotiation periods of a run (`periods`, `cimax swarm run --periods`).
@@ -138,9 +138,9 @@ pub fn check_runs(what: &[(u64, &str)]) -> Result<u64, String> {
 
 /// The built-in scenarios, by name.
 pub const BUILTINS: [(&str, &str); 3] = [
-    ("sharp", include_str!("../scenarios/sharp.toml")),
-    ("gradient", include_str!("../scenarios/gradient.toml")),
-    ("cloud", include_str!("../scenarios/cloud.toml")),
+    ("sharp", include_str!("../../scenarios/sharp.toml")),
+    ("gradient", include_str!("../../scenarios/gradient.toml")),
+    ("cloud", include_str!("../../scenarios/cloud.toml")),
 ];
 
 /// When a run counts as a success (paper section 3).
@@ -347,6 +347,280 @@ struct Ctx<'t> {
 }
 
 impl Ctx<'_> {
+    /// `[swarm]`: the number of agents and the shape they are placed in.
+    fn swarm(&self, raw: &Raw) -> Result<(usize, Shape), ScenarioError> {
+        // Swarm.
+        let (mut agents, mut shape) = (61usize, Shape::Disk { diameter: 6.0 });
+        if let Some(sw) = &raw.swarm {
+            let sw = sw.get_ref();
+            if let Some(a) = &sw.agents {
+                agents = *a.get_ref();
+                if !(2..=MAX_AGENTS).contains(&agents) {
+                    return Err(self.err(a.span(), "agents must be between 2 and 1,000,000"));
+                }
+            }
+            let kind = sw.shape.as_ref().map_or("disk", |s| s.get_ref().as_str());
+            let misplaced = |v: &Option<Spanned<f64>>, key: &str| {
+                v.as_ref().map_or(Ok(()), |v| {
+                    Err(self.err(
+                        v.span(),
+                        format!("`{key}` does not apply to shape \"{kind}\""),
+                    ))
+                })
+            };
+            shape = match kind {
+                "disk" => {
+                    misplaced(&sw.width, "width")?;
+                    misplaced(&sw.height, "height")?;
+                    misplaced(&sw.spacing, "spacing")?;
+                    Shape::Disk {
+                        diameter: match &sw.diameter {
+                            Some(d) => self.extent(d, "diameter", "the diameter")?,
+                            None => 6.0,
+                        },
+                    }
+                }
+                "rectangle" => {
+                    misplaced(&sw.diameter, "diameter")?;
+                    misplaced(&sw.spacing, "spacing")?;
+                    let need = |v: &Option<Spanned<f64>>, key: &str| match v {
+                        Some(v) => self.extent(v, key, key),
+                        None => Err(ScenarioError {
+                            source: self.source.clone(),
+                            at: sw
+                                .shape
+                                .as_ref()
+                                .map(|s| line_col(self.text, s.span().start)),
+                            message: format!("a rectangle needs `{key}`"),
+                        }),
+                    };
+                    Shape::Rectangle {
+                        width: need(&sw.width, "width")?,
+                        height: need(&sw.height, "height")?,
+                    }
+                }
+                "lattice" => {
+                    misplaced(&sw.diameter, "diameter")?;
+                    misplaced(&sw.width, "width")?;
+                    misplaced(&sw.height, "height")?;
+                    let spacing = match &sw.spacing {
+                        Some(v) => self.positive(v, "the spacing")?,
+                        None => LATTICE_SPACING,
+                    };
+                    if spacing > 1.0 {
+                        let span = sw.spacing.as_ref().map_or(0..0, |s| s.span());
+                        return Err(self.err(
+                            span,
+                            "the spacing must be at most the perception range (1) for a connected lattice",
+                        ));
+                    }
+                    Shape::Lattice { spacing }
+                }
+                other => {
+                    let span = sw.shape.as_ref().map_or(0..0, |s| s.span());
+                    return Err(self.err(
+                        span,
+                        format!(
+                            "unknown shape \"{other}\", expected \"disk\", \"rectangle\" or \"lattice\""
+                        ),
+                    ));
+                }
+            };
+        }
+        Ok((agents, shape))
+    }
+
+    /// `[protocol]`: `Params::simulation_2d()` with the file's changes, validated.
+    fn protocol(&self, raw: &Raw) -> Result<Params, ScenarioError> {
+        // Protocol.
+        let mut params = Params::simulation_2d();
+        if let Some(p) = &raw.protocol {
+            let r = p.get_ref();
+            if let Some(c) = r.cycle {
+                params.wave.cycle = Duration::from_secs(c);
+            }
+            if let Some(c) = r.refractory {
+                params.wave.refractory = Duration::from_secs(c);
+            }
+            if let Some(c) = r.relay_delay {
+                params.wave.relay_delay = Duration::from_secs(c);
+            }
+            if let Some(c) = r.gather_cycles {
+                params.gather_cycles = c;
+            }
+            if let Some(c) = r.decide_cycles {
+                params.decide_cycles = c;
+            }
+            if let Some(d) = r.diffusion {
+                params.diffusion = d;
+            }
+            params
+                .validate()
+                .map_err(|e| self.err(p.span(), format!("[protocol]: {e}")))?;
+            period_fits(&params).map_err(|e| self.err(p.span(), format!("[protocol]: {e}")))?;
+        }
+        Ok(params)
+    }
+
+    /// `[[field]]`: the layers of the field.
+    fn layers(&self, raw: &Raw) -> Result<Vec<Layer>, ScenarioError> {
+        // Field.
+        let mut layers = Vec::new();
+        if raw.field.get_ref().is_empty() {
+            return Err(self.err(raw.field.span(), "the field needs at least one layer"));
+        }
+        for l in raw.field.get_ref() {
+            let along = match (l.along.get_ref().as_str(), &l.centre) {
+                ("x", None) => Along::X,
+                ("y", None) => Along::Y,
+                ("radial", c) => {
+                    let [x, y] = c.as_ref().map_or([0.0, 0.0], |c| *c.get_ref());
+                    if !(x.is_finite() && y.is_finite()) {
+                        let span = c.as_ref().map_or(l.along.span(), |c| c.span());
+                        return Err(self.err(span, "centre must be two finite numbers"));
+                    }
+                    Along::Radial {
+                        centre: Point2::new(x, y),
+                    }
+                }
+                ("x" | "y", Some(c)) => {
+                    return Err(self.err(c.span(), "`centre` only applies to along = \"radial\""));
+                }
+                (other, _) => {
+                    return Err(self.err(
+                        l.along.span(),
+                        format!("unknown along = \"{other}\", expected \"x\", \"y\" or \"radial\""),
+                    ));
+                }
+            };
+            let segs = l.segments.get_ref();
+            if segs.is_empty() {
+                return Err(self.err(l.segments.span(), "a layer needs at least one segment"));
+            }
+            let mut segments = Vec::new();
+            for (k, s) in segs.iter().enumerate() {
+                let from = *s.from.get_ref();
+                if from.is_nan() || from == f64::INFINITY {
+                    return Err(self.err(s.from.span(), "`from` must be a number or -inf"));
+                }
+                if k > 0 && from <= *segs[k - 1].from.get_ref() {
+                    return Err(self.err(
+                        s.from.span(),
+                        format!(
+                            "segments must start at increasing `from`: {from} follows {}",
+                            segs[k - 1].from.get_ref()
+                        ),
+                    ));
+                }
+                let level = self.finite(&s.level, "level")?;
+                let slope = match &s.slope {
+                    Some(v) => self.finite(v, "slope")?,
+                    None => 0.0,
+                };
+                if from == f64::NEG_INFINITY && slope != 0.0 {
+                    let span = s.slope.as_ref().map_or(s.from.span(), |v| v.span());
+                    return Err(self.err(span, "a segment from -inf must be flat (slope = 0)"));
+                }
+                segments.push(Segment { from, level, slope });
+            }
+            layers.push(Layer { along, segments });
+        }
+        Ok(layers)
+    }
+
+    /// `[success]`: the criterion, if any.
+    fn success(&self, raw: &Raw) -> Result<Option<Success>, ScenarioError> {
+        Ok(match &raw.success {
+            None => None,
+            Some(s) => {
+                let r = s.get_ref();
+                let x = match &r.x {
+                    Some(v) => self.finite(v, "x")?,
+                    None => return Err(self.err(s.span(), "[success] needs `x`")),
+                };
+                Some(match r.kind.get_ref().as_str() {
+                    "near_x" => Success::NearX {
+                        x,
+                        within: match &r.within {
+                            Some(v) => self.positive(v, "within")?,
+                            None => return Err(self.err(s.span(), "near_x needs `within`")),
+                        },
+                    },
+                    "beyond_x" => {
+                        if let Some(w) = &r.within {
+                            return Err(self.err(w.span(), "`within` does not apply to beyond_x"));
+                        }
+                        Success::BeyondX { x }
+                    }
+                    other => {
+                        return Err(self.err(
+                            r.kind.span(),
+                            format!(
+                                "unknown kind \"{other}\", expected \"near_x\" or \"beyond_x\""
+                            ),
+                        ));
+                    }
+                })
+            }
+        })
+    }
+
+    /// `[sweep]`: the initial positions and runs of a sweep, if any.
+    fn sweep(&self, raw: &Raw) -> Result<Option<SweepSpec>, ScenarioError> {
+        Ok(match &raw.sweep {
+            None => None,
+            Some(s) => {
+                let r = s.get_ref();
+                let from = self.finite(&r.from, "from")?;
+                let to = self.finite(&r.to, "to")?;
+                let runs = match &r.runs {
+                    Some(v) if (1..=MAX_RUNS_PER_POINT).contains(v.get_ref()) => *v.get_ref(),
+                    Some(v) => return Err(self.err(v.span(), "runs must be between 1 and 100,000")),
+                    None => 50,
+                };
+                let xs = self.range(from, to, &r.step)?;
+                check_runs(&[(xs.len() as u64, "positions"), (u64::from(runs), "runs")])
+                    .map_err(|e| self.err(s.span(), format!("[sweep]: {e}")))?;
+                Some(SweepSpec { xs, runs })
+            }
+        })
+    }
+
+    /// `[grid]`: the points and phases of a direction map, if any.
+    fn grid(&self, raw: &Raw, params: &Params) -> Result<Option<GridSpec>, ScenarioError> {
+        Ok(match &raw.grid {
+            None => None,
+            Some(g) => {
+                let r = g.get_ref();
+                let axis = |v: &Spanned<[f64; 3]>| {
+                    let [a, b, s] = *v.get_ref();
+                    self.range(a, b, &Spanned::new(v.span(), s))
+                };
+                let gather = r.gather_cycles.unwrap_or(params.gather_cycles);
+                let decide = r.decide_cycles.unwrap_or(params.decide_cycles);
+                if gather == 0 || decide == 0 {
+                    return Err(self.err(g.span(), "[grid]: phases must last at least one cycle"));
+                }
+                let grid_params = Params {
+                    gather_cycles: gather,
+                    decide_cycles: decide,
+                    ..*params
+                };
+                period_fits(&grid_params)
+                    .map_err(|e| self.err(g.span(), format!("[grid]: {e}")))?;
+                let (xs, ys) = (axis(&r.x)?, axis(&r.y)?);
+                check_runs(&[(xs.len() as u64, "columns"), (ys.len() as u64, "rows")])
+                    .map_err(|e| self.err(g.span(), format!("[grid]: {e} (one per point)")))?;
+                Some(GridSpec {
+                    xs,
+                    ys,
+                    gather_cycles: gather,
+                    decide_cycles: decide,
+                })
+            }
+        })
+    }
+
     fn err(&self, span: Range<usize>, message: impl Into<String>) -> ScenarioError {
         ScenarioError {
             source: self.source.clone(),
@@ -470,109 +744,8 @@ impl Scenario {
             message: e.message().trim().to_string(),
         })?;
 
-        // Swarm.
-        let (mut agents, mut shape) = (61usize, Shape::Disk { diameter: 6.0 });
-        if let Some(sw) = &raw.swarm {
-            let sw = sw.get_ref();
-            if let Some(a) = &sw.agents {
-                agents = *a.get_ref();
-                if !(2..=MAX_AGENTS).contains(&agents) {
-                    return Err(cx.err(a.span(), "agents must be between 2 and 1,000,000"));
-                }
-            }
-            let kind = sw.shape.as_ref().map_or("disk", |s| s.get_ref().as_str());
-            let misplaced = |v: &Option<Spanned<f64>>, key: &str| {
-                v.as_ref().map_or(Ok(()), |v| {
-                    Err(cx.err(
-                        v.span(),
-                        format!("`{key}` does not apply to shape \"{kind}\""),
-                    ))
-                })
-            };
-            shape = match kind {
-                "disk" => {
-                    misplaced(&sw.width, "width")?;
-                    misplaced(&sw.height, "height")?;
-                    misplaced(&sw.spacing, "spacing")?;
-                    Shape::Disk {
-                        diameter: match &sw.diameter {
-                            Some(d) => cx.extent(d, "diameter", "the diameter")?,
-                            None => 6.0,
-                        },
-                    }
-                }
-                "rectangle" => {
-                    misplaced(&sw.diameter, "diameter")?;
-                    misplaced(&sw.spacing, "spacing")?;
-                    let need = |v: &Option<Spanned<f64>>, key: &str| match v {
-                        Some(v) => cx.extent(v, key, key),
-                        None => Err(ScenarioError {
-                            source: cx.source.clone(),
-                            at: sw.shape.as_ref().map(|s| line_col(text, s.span().start)),
-                            message: format!("a rectangle needs `{key}`"),
-                        }),
-                    };
-                    Shape::Rectangle {
-                        width: need(&sw.width, "width")?,
-                        height: need(&sw.height, "height")?,
-                    }
-                }
-                "lattice" => {
-                    misplaced(&sw.diameter, "diameter")?;
-                    misplaced(&sw.width, "width")?;
-                    misplaced(&sw.height, "height")?;
-                    let spacing = match &sw.spacing {
-                        Some(v) => cx.positive(v, "the spacing")?,
-                        None => LATTICE_SPACING,
-                    };
-                    if spacing > 1.0 {
-                        let span = sw.spacing.as_ref().map_or(0..0, |s| s.span());
-                        return Err(cx.err(
-                            span,
-                            "the spacing must be at most the perception range (1) for a connected lattice",
-                        ));
-                    }
-                    Shape::Lattice { spacing }
-                }
-                other => {
-                    let span = sw.shape.as_ref().map_or(0..0, |s| s.span());
-                    return Err(cx.err(
-                        span,
-                        format!(
-                            "unknown shape \"{other}\", expected \"disk\", \"rectangle\" or \"lattice\""
-                        ),
-                    ));
-                }
-            };
-        }
-
-        // Protocol.
-        let mut params = Params::simulation_2d();
-        if let Some(p) = &raw.protocol {
-            let r = p.get_ref();
-            if let Some(c) = r.cycle {
-                params.wave.cycle = Duration::from_secs(c);
-            }
-            if let Some(c) = r.refractory {
-                params.wave.refractory = Duration::from_secs(c);
-            }
-            if let Some(c) = r.relay_delay {
-                params.wave.relay_delay = Duration::from_secs(c);
-            }
-            if let Some(c) = r.gather_cycles {
-                params.gather_cycles = c;
-            }
-            if let Some(c) = r.decide_cycles {
-                params.decide_cycles = c;
-            }
-            if let Some(d) = r.diffusion {
-                params.diffusion = d;
-            }
-            params
-                .validate()
-                .map_err(|e| cx.err(p.span(), format!("[protocol]: {e}")))?;
-            period_fits(&params).map_err(|e| cx.err(p.span(), format!("[protocol]: {e}")))?;
-        }
+        let (agents, shape) = cx.swarm(&raw)?;
+        let params = cx.protocol(&raw)?;
 
         let noise = match &raw.noise {
             Some(v) if *v.get_ref() == 0.0 => 0.0,
@@ -599,150 +772,10 @@ impl Scenario {
             None => Point2::new(-2.5, 0.0),
         };
 
-        // Field.
-        let mut layers = Vec::new();
-        if raw.field.get_ref().is_empty() {
-            return Err(cx.err(raw.field.span(), "the field needs at least one layer"));
-        }
-        for l in raw.field.get_ref() {
-            let along = match (l.along.get_ref().as_str(), &l.centre) {
-                ("x", None) => Along::X,
-                ("y", None) => Along::Y,
-                ("radial", c) => {
-                    let [x, y] = c.as_ref().map_or([0.0, 0.0], |c| *c.get_ref());
-                    if !(x.is_finite() && y.is_finite()) {
-                        let span = c.as_ref().map_or(l.along.span(), |c| c.span());
-                        return Err(cx.err(span, "centre must be two finite numbers"));
-                    }
-                    Along::Radial {
-                        centre: Point2::new(x, y),
-                    }
-                }
-                ("x" | "y", Some(c)) => {
-                    return Err(cx.err(c.span(), "`centre` only applies to along = \"radial\""));
-                }
-                (other, _) => {
-                    return Err(cx.err(
-                        l.along.span(),
-                        format!("unknown along = \"{other}\", expected \"x\", \"y\" or \"radial\""),
-                    ));
-                }
-            };
-            let segs = l.segments.get_ref();
-            if segs.is_empty() {
-                return Err(cx.err(l.segments.span(), "a layer needs at least one segment"));
-            }
-            let mut segments = Vec::new();
-            for (k, s) in segs.iter().enumerate() {
-                let from = *s.from.get_ref();
-                if from.is_nan() || from == f64::INFINITY {
-                    return Err(cx.err(s.from.span(), "`from` must be a number or -inf"));
-                }
-                if k > 0 && from <= *segs[k - 1].from.get_ref() {
-                    return Err(cx.err(
-                        s.from.span(),
-                        format!(
-                            "segments must start at increasing `from`: {from} follows {}",
-                            segs[k - 1].from.get_ref()
-                        ),
-                    ));
-                }
-                let level = cx.finite(&s.level, "level")?;
-                let slope = match &s.slope {
-                    Some(v) => cx.finite(v, "slope")?,
-                    None => 0.0,
-                };
-                if from == f64::NEG_INFINITY && slope != 0.0 {
-                    let span = s.slope.as_ref().map_or(s.from.span(), |v| v.span());
-                    return Err(cx.err(span, "a segment from -inf must be flat (slope = 0)"));
-                }
-                segments.push(Segment { from, level, slope });
-            }
-            layers.push(Layer { along, segments });
-        }
-
-        let success = match &raw.success {
-            None => None,
-            Some(s) => {
-                let r = s.get_ref();
-                let x = match &r.x {
-                    Some(v) => cx.finite(v, "x")?,
-                    None => return Err(cx.err(s.span(), "[success] needs `x`")),
-                };
-                Some(match r.kind.get_ref().as_str() {
-                    "near_x" => Success::NearX {
-                        x,
-                        within: match &r.within {
-                            Some(v) => cx.positive(v, "within")?,
-                            None => return Err(cx.err(s.span(), "near_x needs `within`")),
-                        },
-                    },
-                    "beyond_x" => {
-                        if let Some(w) = &r.within {
-                            return Err(cx.err(w.span(), "`within` does not apply to beyond_x"));
-                        }
-                        Success::BeyondX { x }
-                    }
-                    other => {
-                        return Err(cx.err(
-                            r.kind.span(),
-                            format!(
-                                "unknown kind \"{other}\", expected \"near_x\" or \"beyond_x\""
-                            ),
-                        ));
-                    }
-                })
-            }
-        };
-
-        let sweep = match &raw.sweep {
-            None => None,
-            Some(s) => {
-                let r = s.get_ref();
-                let from = cx.finite(&r.from, "from")?;
-                let to = cx.finite(&r.to, "to")?;
-                let runs = match &r.runs {
-                    Some(v) if (1..=MAX_RUNS_PER_POINT).contains(v.get_ref()) => *v.get_ref(),
-                    Some(v) => return Err(cx.err(v.span(), "runs must be between 1 and 100,000")),
-                    None => 50,
-                };
-                let xs = cx.range(from, to, &r.step)?;
-                check_runs(&[(xs.len() as u64, "positions"), (u64::from(runs), "runs")])
-                    .map_err(|e| cx.err(s.span(), format!("[sweep]: {e}")))?;
-                Some(SweepSpec { xs, runs })
-            }
-        };
-
-        let grid = match &raw.grid {
-            None => None,
-            Some(g) => {
-                let r = g.get_ref();
-                let axis = |v: &Spanned<[f64; 3]>| {
-                    let [a, b, s] = *v.get_ref();
-                    cx.range(a, b, &Spanned::new(v.span(), s))
-                };
-                let gather = r.gather_cycles.unwrap_or(params.gather_cycles);
-                let decide = r.decide_cycles.unwrap_or(params.decide_cycles);
-                if gather == 0 || decide == 0 {
-                    return Err(cx.err(g.span(), "[grid]: phases must last at least one cycle"));
-                }
-                let grid_params = Params {
-                    gather_cycles: gather,
-                    decide_cycles: decide,
-                    ..params
-                };
-                period_fits(&grid_params).map_err(|e| cx.err(g.span(), format!("[grid]: {e}")))?;
-                let (xs, ys) = (axis(&r.x)?, axis(&r.y)?);
-                check_runs(&[(xs.len() as u64, "columns"), (ys.len() as u64, "rows")])
-                    .map_err(|e| cx.err(g.span(), format!("[grid]: {e} (one per point)")))?;
-                Some(GridSpec {
-                    xs,
-                    ys,
-                    gather_cycles: gather,
-                    decide_cycles: decide,
-                })
-            }
-        };
+        let layers = cx.layers(&raw)?;
+        let success = cx.success(&raw)?;
+        let sweep = cx.sweep(&raw)?;
+        let grid = cx.grid(&raw, &params)?;
 
         let name = raw.name.unwrap_or_else(|| {
             Path::new(source)

@@ -9,14 +9,14 @@ use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::arena::campaign::{ArenaCommand, Decide};
+use crate::arena::plane::{Placement, PlaneSpec};
+use crate::progress::Progress;
 use clap::Args;
 use firmware::LedColor;
 use hal_emu::arena::RobotFailure;
 use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, mirrored, parse_pattern, pattern_str};
 use hal_emu::{ArenaConfig, ArenaError, MediumParams, TraceEvent};
-use host_sim::campaign::{ArenaCommand, Decide};
-use host_sim::plane::{Placement, PlaneSpec};
-use indicatif::{ProgressBar, ProgressStyle};
 use protocol::{Duration, Instant, Params, SwarmKey};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -128,7 +128,7 @@ pub struct ArenaArgs {
     /// those without a valid MAC (docs/protocol.md, "Authenticated frames").
     #[arg(long, value_name = "HEX")]
     pub key: Option<SwarmKey>,
-    /// `campaign`: the fault-injection campaign (`host_sim::campaign`).
+    /// `campaign`: the fault-injection campaign (`crate::campaign`).
     #[command(subcommand)]
     pub command: Option<Box<ArenaCommand>>,
 }
@@ -178,7 +178,8 @@ struct Experiment {
     configs: Vec<ArenaConfig>,
 }
 
-fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
+/// The robots' protocol parameters: `Params::robots()` with the options' changes, validated.
+fn robot_params(args: &ArenaArgs) -> Result<Params, String> {
     let mut params = Params::robots();
     if let Some(c) = args.cycle {
         params.wave.cycle = secs(c, "cycle")?;
@@ -196,7 +197,12 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
     params
         .validate()
         .map_err(|e| format!("protocol parameters: {e}"))?;
-    let medium = medium(args)?;
+    Ok(params)
+}
+
+/// The length of a run (`--duration`, or three negotiation periods of the longest cycle),
+/// after checking `--spacing`.
+fn run_length(args: &ArenaArgs, params: &Params) -> Result<Duration, String> {
     if !(args.spacing.is_finite() && args.spacing > 0.0) {
         return Err(format!(
             "--spacing must be a positive number of metres, not {}",
@@ -205,7 +211,7 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
     }
     let run = args
         .duration
-        .map_or(hal_emu::lab::default_duration(&params), Duration::from_secs);
+        .map_or(hal_emu::lab::default_duration(params), Duration::from_secs);
     if run > Duration::from_secs(MAX_RUN_SECS) {
         return Err(format!(
             "a run of three negotiation periods of the longest cycle (--cycle, --cycle-spread, \
@@ -214,15 +220,28 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
         ));
     }
 
-    let lights = args.lights.as_deref().map(parse_pattern).transpose()?;
+    Ok(run)
+}
+
+/// The number of robots in the line (`--robots`, the pattern's length, or 4), 2 to 64.
+fn line_robots(args: &ArenaArgs, lights: Option<&[bool]>) -> Result<usize, String> {
     let robots = args
         .robots
         .map(usize::from)
-        .or(lights.as_ref().map(Vec::len))
+        .or(lights.map(<[bool]>::len))
         .unwrap_or(4);
     if !(2..=64).contains(&robots) {
         return Err(format!("a line needs 2 to 64 robots, not {robots}"));
     }
+    Ok(robots)
+}
+
+fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
+    let params = robot_params(args)?;
+    let medium = medium(args)?;
+    let run = run_length(args, &params)?;
+    let lights = args.lights.as_deref().map(parse_pattern).transpose()?;
+    let robots = line_robots(args, lights.as_deref())?;
     let check = |p: &[bool], what: &str| {
         if p.len() == robots {
             Ok(())
@@ -296,22 +315,32 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
         out.push(Experiment { label, configs });
     }
     if lights.is_none() {
-        // The alternating experiment: after consensus on 1000 the pattern is mirrored.
-        let a = parse_pattern("1000")?;
-        let b = mirrored(&a);
-        let configs = seeds()
-            .map(|s| {
-                let mut c = config(&a, s, run.saturating_mul(2));
-                c.env.schedule.push((Instant::ZERO + run, b.clone()));
-                c
-            })
-            .collect();
-        out.push(Experiment {
-            label: format!("{}>{}", pattern_str(&a), pattern_str(&b)),
-            configs,
-        });
+        out.push(alternating(&config, args, run)?);
     }
     Ok(out)
+}
+
+/// The alternating experiment: after consensus on `1000` the pattern is mirrored; each run
+/// lasts twice `run`.
+fn alternating(
+    config: &dyn Fn(&[bool], u64, Duration) -> ArenaConfig,
+    args: &ArenaArgs,
+    run: Duration,
+) -> Result<Experiment, String> {
+    let a = parse_pattern("1000")?;
+    let b = mirrored(&a);
+    let configs = (0..args.runs)
+        .map(|k| args.seed.wrapping_add(k))
+        .map(|s| {
+            let mut c = config(&a, s, run.saturating_mul(2));
+            c.env.schedule.push((Instant::ZERO + run, b.clone()));
+            c
+        })
+        .collect();
+    Ok(Experiment {
+        label: format!("{}>{}", pattern_str(&a), pattern_str(&b)),
+        configs,
+    })
 }
 
 /// One run in the `--json` report.
@@ -349,9 +378,9 @@ struct JsonReport {
 /// was bad.
 pub fn main(args: &ArenaArgs) -> ExitCode {
     match args.command.as_deref() {
-        Some(ArenaCommand::Campaign(c)) => return host_sim::campaign::main(c),
-        Some(ArenaCommand::Sweep(s)) => return host_sim::plane::sweep_main(s),
-        Some(ArenaCommand::Bench(b)) => return host_sim::plane::bench_main(b),
+        Some(ArenaCommand::Campaign(c)) => return crate::arena::campaign::main(c),
+        Some(ArenaCommand::Sweep(s)) => return crate::arena::plane::sweep_main(s),
+        Some(ArenaCommand::Bench(b)) => return crate::arena::plane::bench_main(b),
         None => {}
     }
     if args.field.is_some() {
@@ -365,47 +394,13 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
         }
     };
     let first = experiments.first().and_then(|e| e.configs.first()).cloned();
-    let jobs: Vec<(usize, &ArenaConfig)> = experiments
-        .iter()
-        .enumerate()
-        .flat_map(|(i, e)| e.configs.iter().map(move |c| (i, c)))
-        .collect();
-    let bar = if jobs.len() > 1 && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
-        let b = ProgressBar::new(jobs.len() as u64);
-        b.set_style(
-            ProgressStyle::with_template("{bar:40} {pos}/{len} runs {elapsed}")
-                .unwrap_or(ProgressStyle::default_bar()),
-        );
-        b
-    } else {
-        ProgressBar::hidden()
-    };
-    let wall = std::time::Instant::now();
-    // Each run is independent and seeded: the results do not depend on the thread count.
-    let results: Vec<Result<LabRun, ArenaError>> = jobs
-        .par_iter()
-        .map(|(_, c)| {
-            let r = judge(c);
-            bar.inc(1);
-            r
-        })
-        .collect();
-    bar.finish_and_clear();
-    let wall_s = wall.elapsed().as_secs_f64();
-    let mut runs: Vec<(usize, LabRun)> = Vec::new();
-    // Runs in which a robot stopped on its own (a panic): failed, without LEDs to judge.
-    let mut crashed: Vec<(usize, Crashed)> = Vec::new();
-    for ((i, c), r) in jobs.iter().zip(results) {
-        match r {
-            Ok(r) => runs.push((*i, r)),
-            Err(ArenaError::Robot(f)) => crashed.push((*i, Crashed::new(c, f))),
-            Err(e) => {
-                eprintln!("cimax arena: {e}");
-                return ExitCode::from(2);
-            }
+    let ((runs, crashed), wall_s) = match run_all(&experiments) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
         }
-    }
-
+    };
     if let Some(cfg) = &first
         && let Err(e) = write_artifacts(args, cfg)
     {
@@ -421,35 +416,15 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
     let total = runs.len() + crashed.len();
     let successes = runs.len() - failures.len();
     if args.json {
-        let report = JsonReport {
-            runs: runs
-                .iter()
-                .map(|(_, r)| JsonRun {
-                    lights: pattern_str(&r.lights),
-                    expected: r.expected.as_deref().map(leds_str),
-                    leds: leds_str(&r.leds),
-                    success: r.success,
-                    consensus_s: r.consensus_s,
-                    seed: r.seed,
-                    emulated_s: r.report.emulated.as_secs_f64(),
-                    wall_s: r.report.wall.as_secs_f64(),
-                    error: None,
-                })
-                .chain(crashed.iter().map(|(_, c)| c.json()))
-                .collect(),
-            summary: JsonSummary {
-                runs: total,
-                successes,
-                emulated_s,
-                wall_s,
-            },
+        let summary = JsonSummary {
+            runs: total,
+            successes,
+            emulated_s,
+            wall_s,
         };
-        match serde_json::to_string_pretty(&report) {
-            Ok(s) => println!("{s}"),
-            Err(e) => {
-                eprintln!("cimax arena: {e}");
-                return ExitCode::from(2);
-            }
+        if let Err(e) = print_json(&runs, &crashed, summary) {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
         }
     } else {
         print_table(args, &experiments, &runs, &crashed);
@@ -462,6 +437,84 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
             emulated_s / wall_s.max(1e-9)
         );
     }
+    print_failures(args, &failures, &crashed);
+    if failures.is_empty() && crashed.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+/// Judged runs and crashed runs, each with its experiment's index.
+type Runs = (Vec<(usize, LabRun)>, Vec<(usize, Crashed)>);
+
+/// Runs every configuration of every experiment in parallel: the judged runs, the runs in
+/// which a robot crashed, and the wall time.
+fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaError> {
+    let jobs: Vec<(usize, &ArenaConfig)> = experiments
+        .iter()
+        .enumerate()
+        .flat_map(|(i, e)| e.configs.iter().map(move |c| (i, c)))
+        .collect();
+    let bar = if jobs.len() > 1 {
+        Progress::new(jobs.len() as u64, "arena", false)
+    } else {
+        Progress::hidden()
+    };
+    let wall = std::time::Instant::now();
+    // Each run is independent and seeded: the results do not depend on the thread count.
+    let results: Vec<Result<LabRun, ArenaError>> = jobs
+        .par_iter()
+        .map(|(_, c)| {
+            let r = judge(c);
+            bar.inc();
+            r
+        })
+        .collect();
+    bar.finish();
+    let wall_s = wall.elapsed().as_secs_f64();
+    let (mut runs, mut crashed): Runs = (Vec::new(), Vec::new());
+    // Runs in which a robot stopped on its own (a panic): failed, without LEDs to judge.
+    for ((i, c), r) in jobs.iter().zip(results) {
+        match r {
+            Ok(r) => runs.push((*i, r)),
+            Err(ArenaError::Robot(f)) => crashed.push((*i, Crashed::new(c, f))),
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(((runs, crashed), wall_s))
+}
+
+/// Prints the `--json` report.
+fn print_json(
+    runs: &[(usize, LabRun)],
+    crashed: &[(usize, Crashed)],
+    summary: JsonSummary,
+) -> Result<(), serde_json::Error> {
+    let report = JsonReport {
+        runs: runs
+            .iter()
+            .map(|(_, r)| JsonRun {
+                lights: pattern_str(&r.lights),
+                expected: r.expected.as_deref().map(leds_str),
+                leds: leds_str(&r.leds),
+                success: r.success,
+                consensus_s: r.consensus_s,
+                seed: r.seed,
+                emulated_s: r.report.emulated.as_secs_f64(),
+                wall_s: r.report.wall.as_secs_f64(),
+                error: None,
+            })
+            .chain(crashed.iter().map(|(_, c)| c.json()))
+            .collect(),
+        summary,
+    };
+    println!("{}", serde_json::to_string_pretty(&report)?);
+    Ok(())
+}
+
+/// One line on stderr per failed or crashed run, with the command that replays it.
+fn print_failures(args: &ArenaArgs, failures: &[&LabRun], crashed: &[(usize, Crashed)]) {
     let mut extra = String::new();
     if args.decide != Decide::Fixed {
         extra += " --decide adaptive";
@@ -469,7 +522,7 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
     if args.loss > 0.0 {
         extra += &format!(" --loss {}", args.loss);
     }
-    for r in &failures {
+    for r in failures {
         let flicker = r
             .flicker
             .map(|(t, robot)| {
@@ -486,13 +539,8 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
             r.seed
         );
     }
-    for (_, c) in &crashed {
+    for (_, c) in crashed {
         eprintln!("{}", c.failed_line(&extra));
-    }
-    if failures.is_empty() && crashed.is_empty() {
-        ExitCode::SUCCESS
-    } else {
-        ExitCode::FAILURE
     }
 }
 
@@ -656,9 +704,19 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
         pattern_str(&run.lights),
         run.seed
     );
+    led_lanes(&mut s, cfg, run, &x, lane);
+    wave_bands(&mut s, run, &x, lane, n);
+    frame_marks(&mut s, run, &x, lane);
+    s += "</svg>\n";
+    s
+}
+
+/// The LED colour of each robot over time, one lane per robot, with its label.
+fn led_lanes(s: &mut String, cfg: &ArenaConfig, run: &LabRun, x: &dyn Fn(u64) -> f64, lane: f64) {
+    let n = cfg.positions.len();
     for r in 0..n {
         let y = 30.0 + lane * r as f64;
-        s += &format!(r#"<text x="4" y="{}">robot {r}</text>"#, y + 18.0);
+        *s += &format!(r#"<text x="4" y="{}">robot {r}</text>"#, y + 18.0);
         let mut segs: Vec<(u64, LedColor)> = vec![(0, LedColor::Off)];
         segs.extend(
             run.report
@@ -675,7 +733,7 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
                 LedColor::Off => "#d8d8d8",
                 LedColor::Sector(_) => "#8a4fd6",
             };
-            s += &format!(
+            *s += &format!(
                 r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="12" fill="{fill}"/>"#,
                 x(t),
                 y + 10.0,
@@ -683,7 +741,10 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
             );
         }
     }
-    // Wave states as a thin band above the LEDs: orange active, red refractory.
+}
+
+/// Wave states as a thin band above the LEDs: orange active, red refractory.
+fn wave_bands(s: &mut String, run: &LabRun, x: &dyn Fn(u64) -> f64, lane: f64, n: usize) {
     let mut since: Vec<Option<(u64, &str)>> = vec![None; n];
     for e in &run.report.trace {
         if let TraceEvent::State { t_ms, robot, state } = e
@@ -692,7 +753,7 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
             if let Some((t0, st)) = slot.take() {
                 let fill = if st == "active" { "#f0a030" } else { "#e06060" };
                 let y = 30.0 + lane * *robot as f64;
-                s += &format!(
+                *s += &format!(
                     r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="5" fill="{fill}"/>"#,
                     x(t0),
                     y + 3.0,
@@ -704,11 +765,15 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
             }
         }
     }
+}
+
+/// Frames sent (ticks), received (dots) and dropped (red rings), per robot.
+fn frame_marks(s: &mut String, run: &LabRun, x: &dyn Fn(u64) -> f64, lane: f64) {
     for e in &run.report.trace {
         match e {
             TraceEvent::Sent { t_ms, robot, .. } => {
                 let y = 30.0 + lane * *robot as f64;
-                s += &format!(
+                *s += &format!(
                     r#"<line x1="{0:.1}" x2="{0:.1}" y1="{1:.1}" y2="{2:.1}" stroke="black" stroke-width="0.6"/>"#,
                     x(*t_ms),
                     y + 2.0,
@@ -728,7 +793,7 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
                 } else {
                     "#555"
                 };
-                s += &format!(
+                *s += &format!(
                     r#"<circle cx="{:.1}" cy="{:.1}" r="1.3" fill="{c}"/>"#,
                     x(*t_ms),
                     y + 26.0
@@ -736,7 +801,7 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
             }
             TraceEvent::Dropped { t_ms, robot, .. } => {
                 let y = 30.0 + lane * *robot as f64;
-                s += &format!(
+                *s += &format!(
                     r#"<circle cx="{:.1}" cy="{:.1}" r="1.8" fill="none" stroke="red"/>"#,
                     x(*t_ms),
                     y + 26.0
@@ -745,8 +810,6 @@ fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
             _ => {}
         }
     }
-    s += "</svg>\n";
-    s
 }
 
 /// `cimax arena --field ...`: robots on a plane over a field, moving as they decide.
@@ -762,7 +825,7 @@ fn plane_main(args: &ArenaArgs) -> ExitCode {
     let seeds: Vec<u64> = (0..args.runs).map(|k| args.seed.wrapping_add(k)).collect();
     let results: Result<Vec<_>, _> = seeds
         .par_iter()
-        .map(|&s| host_sim::plane::run(&spec, s))
+        .map(|&s| crate::arena::plane::run(&spec, s))
         .collect();
     let runs = match results {
         Ok(r) => r,
@@ -771,13 +834,13 @@ fn plane_main(args: &ArenaArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    host_sim::plane::print_runs(&spec, &runs, wall.elapsed().as_secs_f64(), args.json)
+    crate::arena::plane::print_runs(&spec, &runs, wall.elapsed().as_secs_f64(), args.json)
 }
 
 /// The plane experiment the options describe.
 fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
     let field = args.field.as_deref().unwrap_or("sharp");
-    let scenario = host_sim::scenario::Scenario::load(field).map_err(|e| e.to_string())?;
+    let scenario = crate::swarm::scenario::Scenario::load(field).map_err(|e| e.to_string())?;
     if !args.x_init.is_finite() {
         return Err(format!(
             "--x-init must be a number of R, not {}",
@@ -805,7 +868,7 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
         (Some(path), Placement::File) => {
             let text =
                 std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-            host_sim::plane::read_positions(&text, &path.display().to_string())?
+            crate::arena::plane::read_positions(&text, &path.display().to_string())?
         }
         (None, Placement::File) => return Err("--shape file needs --positions FILE".into()),
         (Some(_), _) => return Err("--positions needs --shape file".into()),

@@ -6,14 +6,20 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
-use crate::experiment::{Arrow, RadialPoint, RunOutput, SweepPoint};
-use crate::field::Field;
-use crate::scenario::{GridSpec, Scenario};
+use crate::swarm::experiment::{Arrow, RadialPoint, RunOutput, SweepPoint};
+use crate::swarm::field::Field;
+use crate::swarm::scenario::{GridSpec, Scenario};
 
 /// Any failure while drawing or writing a figure.
 pub type PlotError = Box<dyn std::error::Error + Send + Sync>;
 
 const FONT: &str = "sans-serif";
+/// Colours of the series of a sweep figure.
+const COLOURS: [RGBColor; 3] = [
+    RGBColor(70, 110, 180),
+    RGBColor(90, 160, 90),
+    RGBColor(150, 100, 170),
+];
 const LOW: (f64, f64, f64) = (255.0, 243.0, 176.0);
 const HIGH: (f64, f64, f64) = (222.0, 45.0, 38.0);
 
@@ -119,6 +125,34 @@ fn square_range(
     ((cx - half, cx + half), (cy - half, cy + half))
 }
 
+/// Panel (b) of [`run_figure`]: the agents' average diversity against time.
+fn diversity_panel(
+    right: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    out: &RunOutput,
+) -> Result<(), PlotError> {
+    let div: Vec<(f64, f64)> = out
+        .periods
+        .iter()
+        .map(|p| (f64::from(p.index), p.diversity))
+        .collect();
+    let ymax = div.iter().map(|d| d.1).fold(0.0, f64::max).max(0.5) * 1.1;
+    let tmax = div.len().max(1) as f64 + 0.5;
+    let mut chart = ChartBuilder::on(right)
+        .margin(10)
+        .caption("(b) average diversity of the agents", (FONT, 15))
+        .x_label_area_size(35)
+        .y_label_area_size(45)
+        .build_cartesian_2d(0f64..tmax, 0f64..ymax)?;
+    chart
+        .configure_mesh()
+        .x_desc("t / negotiation periods (2 cycles)")
+        .y_desc("mean V_k")
+        .draw()?;
+    chart.draw_series(LineSeries::new(div.iter().copied(), BLACK.stroke_width(2)))?;
+    chart.draw_series(div.iter().map(|&p| Circle::new(p, 2, BLACK.filled())))?;
+    Ok(())
+}
+
 /// Figs. 4 and 7: the trajectory of the centre of mass over the field, with the swarm at its
 /// start, and the observer's average diversity against time.
 ///
@@ -201,27 +235,66 @@ pub fn run_figure(path: &Path, scn: &Scenario, out: &RunOutput) -> Result<(), Pl
         chart.draw_series(std::iter::once(Circle::new(last, 5, BLUE.filled())))?;
     }
 
-    let div: Vec<(f64, f64)> = out
-        .periods
-        .iter()
-        .map(|p| (f64::from(p.index), p.diversity))
+    diversity_panel(&right, out)?;
+    root.present()?;
+    Ok(())
+}
+
+/// The paper's success rate as dashed segments over `x0..x1` (401 samples; a gap where it
+/// gives none).
+fn paper_segments(paper: &dyn Fn(f64) -> Option<f64>, x0: f64, x1: f64) -> Vec<Vec<(f64, f64)>> {
+    let xs: Vec<f64> = (0..=400)
+        .map(|k| x0 + (x1 - x0) * f64::from(k) / 400.0)
         .collect();
-    let ymax = div.iter().map(|d| d.1).fold(0.0, f64::max).max(0.5) * 1.1;
-    let tmax = div.len().max(1) as f64 + 0.5;
-    let mut chart = ChartBuilder::on(&right)
+    let mut segment: Vec<(f64, f64)> = Vec::new();
+    let mut segments = Vec::new();
+    for x in xs {
+        match paper(x) {
+            Some(v) => segment.push((x, v)),
+            None if !segment.is_empty() => segments.push(std::mem::take(&mut segment)),
+            None => {}
+        }
+    }
+    if !segment.is_empty() {
+        segments.push(segment);
+    }
+    segments
+}
+
+/// The lower panel of [`sweep_figure`]: mean success time against the initial position.
+fn times_panel(
+    bottom: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    series: &[(&str, &[SweepPoint])],
+    (x0, x1): (f64, f64),
+) -> Result<(), PlotError> {
+    let times: Vec<Vec<(f64, f64)>> = series
+        .iter()
+        .map(|(_, pts)| {
+            pts.iter()
+                .filter_map(|p| p.mean_success_periods.map(|t| (p.x_init, t)))
+                .collect()
+        })
+        .collect();
+    let tmax = times.iter().flatten().map(|t| t.1).fold(1.0, f64::max) * 1.1;
+    let mut chart = ChartBuilder::on(bottom)
         .margin(10)
-        .caption("(b) average diversity of the agents", (FONT, 15))
         .x_label_area_size(35)
         .y_label_area_size(45)
-        .build_cartesian_2d(0f64..tmax, 0f64..ymax)?;
+        .build_cartesian_2d(x0..x1, 0f64..tmax)?;
     chart
         .configure_mesh()
-        .x_desc("t / negotiation periods (2 cycles)")
-        .y_desc("mean V_k")
+        .x_desc("initial x / R")
+        .y_desc("mean success time / periods")
         .draw()?;
-    chart.draw_series(LineSeries::new(div.iter().copied(), BLACK.stroke_width(2)))?;
-    chart.draw_series(div.iter().map(|&p| Circle::new(p, 2, BLACK.filled())))?;
-    root.present()?;
+    for (s, t) in times.iter().enumerate() {
+        let colour = if series.len() == 1 {
+            BLACK
+        } else {
+            COLOURS[s % COLOURS.len()]
+        };
+        chart.draw_series(LineSeries::new(t.iter().copied(), colour.stroke_width(1)))?;
+        chart.draw_series(t.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
+    }
     Ok(())
 }
 
@@ -236,11 +309,6 @@ pub fn sweep_figure(
     series: &[(&str, &[SweepPoint])],
     paper: Option<&dyn Fn(f64) -> Option<f64>>,
 ) -> Result<(), PlotError> {
-    const COLOURS: [RGBColor; 3] = [
-        RGBColor(70, 110, 180),
-        RGBColor(90, 160, 90),
-        RGBColor(150, 100, 170),
-    ];
     let root = SVGBackend::new(path, (800, 640)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(title, (FONT, 18))?;
@@ -286,21 +354,7 @@ pub fn sweep_figure(
             .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 15, y + 5)], colour.filled()));
     }
     if let Some(paper) = paper {
-        let xs: Vec<f64> = (0..=400)
-            .map(|k| x0 + (x1 - x0) * f64::from(k) / 400.0)
-            .collect();
-        let mut segment: Vec<(f64, f64)> = Vec::new();
-        let mut segments = Vec::new();
-        for x in xs {
-            match paper(x) {
-                Some(v) => segment.push((x, v)),
-                None if !segment.is_empty() => segments.push(std::mem::take(&mut segment)),
-                None => {}
-            }
-        }
-        if !segment.is_empty() {
-            segments.push(segment);
-        }
+        let segments = paper_segments(paper, x0, x1);
         let style = RGBColor(200, 60, 40).stroke_width(2);
         for (k, s) in segments.into_iter().enumerate() {
             let series = chart.draw_series(DashedLineSeries::new(s, 6, 4, style))?;
@@ -319,34 +373,7 @@ pub fn sweep_figure(
         .label_font((FONT, 13))
         .draw()?;
 
-    let times: Vec<Vec<(f64, f64)>> = series
-        .iter()
-        .map(|(_, pts)| {
-            pts.iter()
-                .filter_map(|p| p.mean_success_periods.map(|t| (p.x_init, t)))
-                .collect()
-        })
-        .collect();
-    let tmax = times.iter().flatten().map(|t| t.1).fold(1.0, f64::max) * 1.1;
-    let mut chart = ChartBuilder::on(&bottom)
-        .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(45)
-        .build_cartesian_2d(x0..x1, 0f64..tmax)?;
-    chart
-        .configure_mesh()
-        .x_desc("initial x / R")
-        .y_desc("mean success time / periods")
-        .draw()?;
-    for (s, t) in times.iter().enumerate() {
-        let colour = if series.len() == 1 {
-            BLACK
-        } else {
-            COLOURS[s % COLOURS.len()]
-        };
-        chart.draw_series(LineSeries::new(t.iter().copied(), colour.stroke_width(1)))?;
-        chart.draw_series(t.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
-    }
+    times_panel(&bottom, series, (x0, x1))?;
     root.present()?;
     Ok(())
 }

@@ -27,8 +27,9 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use protocol::{Duration, Instant, Params};
 use rayon::prelude::*;
+use serde::Serialize;
 
-use crate::experiment::Progress;
+use crate::progress::Progress;
 use crate::seeds;
 use protocol::params::DecisionRule;
 use protocol::wave::WaveStats;
@@ -41,10 +42,10 @@ pub enum ArenaCommand {
     Campaign(CampaignArgs),
     /// Robots on a plane over a field: success rate and moves to success against the initial
     /// position, beside the 2D simulator's and the paper's (Figs. 5 and 8).
-    Sweep(crate::plane::SweepArgs),
+    Sweep(crate::arena::plane::SweepArgs),
     /// Speed of the robot program over the emulated medium: robot-seconds per wall second for
     /// 4, 64 and 1000 robots on a plane, one negotiation period, one core.
-    Bench(crate::plane::BenchArgs),
+    Bench(crate::arena::plane::BenchArgs),
 }
 
 /// Options of `cimax arena campaign`.
@@ -725,21 +726,28 @@ pub fn lab_suite(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<SuiteResul
         .collect()
 }
 
-/// The lab suite of both rules as a Markdown section (success, median and p95 time).
-pub fn suite_section(fixed: &[SuiteResult], adaptive: &[SuiteResult], seeds: u64) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "\n### The lab suite\n");
-    let _ = writeln!(
-        s,
-        "`cimax arena --runs {seeds} --decide fixed|adaptive`: the paper's six patterns and the \
-         alternating experiment (`1000`, mirrored after a run's duration; its time counts from \
-         the mirroring), {seeds} seeds each, no fault.\n"
-    );
-    let _ = writeln!(
-        s,
-        "| experiment | fixed: success | adaptive: success | fixed: median s | adaptive: median s | fixed: p95 s | adaptive: p95 s |"
-    );
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|");
+/// The lab suite of both rules, as the page's section shows it (`suite` in
+/// `templates/reliability/suite.md.j2`).
+#[derive(Serialize)]
+pub struct SuiteSection {
+    /// Seeds per experiment.
+    pub seeds: u64,
+    /// Per experiment, and `all` last: its label and its cells (success of each rule, median
+    /// and p95 time of each rule).
+    pub rows: Vec<LabelledRow>,
+}
+
+/// A table row: a label and its formatted cells.
+#[derive(Serialize)]
+pub struct LabelledRow {
+    /// The first cell, as shown (with its backquotes if any).
+    pub label: String,
+    /// The other cells, formatted.
+    pub cells: Vec<String>,
+}
+
+/// The lab suite of both rules as the page's section (success, median and p95 time).
+pub fn suite_section(fixed: &[SuiteResult], adaptive: &[SuiteResult], seeds: u64) -> SuiteSection {
     let stats = |r: &SuiteResult| {
         let ok = r.runs.iter().filter(|x| x.0).count();
         let t: Vec<f64> = r.runs.iter().filter_map(|x| x.1).collect();
@@ -750,99 +758,94 @@ pub fn suite_section(fixed: &[SuiteResult], adaptive: &[SuiteResult], seeds: u64
         )
     };
     let mut all = [Vec::new(), Vec::new()];
+    let mut rows = Vec::new();
     for (f, a) in fixed.iter().zip(adaptive) {
         let (fs, fm, fp) = stats(f);
         let (as_, am, ap) = stats(a);
         all[0].extend(f.runs.iter().filter_map(|x| x.1));
         all[1].extend(a.runs.iter().filter_map(|x| x.1));
-        let _ = writeln!(
-            s,
-            "| `{}` | {fs} | {as_} | {} | {} | {} | {} |",
-            f.label,
-            secs(fm),
-            secs(am),
-            secs(fp),
-            secs(ap)
-        );
+        rows.push(LabelledRow {
+            label: format!("`{}`", f.label),
+            cells: vec![fs, as_, secs(fm), secs(am), secs(fp), secs(ap)],
+        });
     }
     let ok = |r: &[SuiteResult]| r.iter().flat_map(|x| &x.runs).filter(|x| x.0).count();
     let n = |r: &[SuiteResult]| r.iter().map(|x| x.runs.len()).sum::<usize>();
-    let _ = writeln!(
-        s,
-        "| all | {}/{} | {}/{} | {} | {} | {} | {} |",
-        ok(fixed),
-        n(fixed),
-        ok(adaptive),
-        n(adaptive),
-        secs(quantile(&all[0], 0.5)),
-        secs(quantile(&all[1], 0.5)),
-        secs(quantile(&all[0], 0.95)),
-        secs(quantile(&all[1], 0.95))
-    );
-    s
+    rows.push(LabelledRow {
+        label: "all".into(),
+        cells: vec![
+            format!("{}/{}", ok(fixed), n(fixed)),
+            format!("{}/{}", ok(adaptive), n(adaptive)),
+            secs(quantile(&all[0], 0.5)),
+            secs(quantile(&all[1], 0.5)),
+            secs(quantile(&all[0], 0.95)),
+            secs(quantile(&all[1], 0.95)),
+        ],
+    });
+    SuiteSection { seeds, rows }
+}
+
+/// The adaptive rule's campaign beside the fixed rule's, as the page's section shows it
+/// (`rules` in `templates/reliability/rules.md.j2`).
+#[derive(Serialize)]
+pub struct RulesSection {
+    /// Per scenario.
+    pub rows: Vec<RulesRow>,
+    /// The figure, relative to the page.
+    pub figure: Option<String>,
+    /// The adaptive rule's failed runs.
+    pub failing: Vec<FailingGroup>,
+    /// The adaptive rule's missed bars, one line each.
+    pub missed: Vec<String>,
+}
+
+/// One scenario under both rules.
+#[derive(Serialize)]
+pub struct RulesRow {
+    /// Scenario name.
+    pub name: &'static str,
+    /// Its bar, `99 %` or `-`.
+    pub bar: String,
+    /// Success rate under the fixed rule.
+    pub fixed_success: String,
+    /// PASS, FAIL or reported, under the fixed rule.
+    pub fixed_verdict: &'static str,
+    /// Success rate under the adaptive rule.
+    pub adaptive_success: String,
+    /// PASS, FAIL or reported, under the adaptive rule.
+    pub adaptive_verdict: &'static str,
+    /// Median time fixed, adaptive; p95 time fixed, adaptive (s).
+    pub times: [String; 4],
 }
 
 /// The section of `docs/reliability.md` that sets the adaptive rule's campaign beside the fixed
 /// rule's: success, median and p95 time per scenario, the adaptive runs' failing seeds and its
 /// verdict, and the figure (`figure`, relative to the page).
-pub fn rules_section(fixed: &Report, adaptive: &Report, figure: Option<&str>) -> String {
-    let mut s = String::new();
-    let _ = writeln!(s, "\n## The fixed and the adaptive decision rule\n");
-    let _ = writeln!(
-        s,
-        "The same scenarios and seeds with `Params::decide = DecisionRule::Adaptive` \
-         (`cimax arena campaign --decide adaptive`; docs/protocol.md §5.4): a robot shows a \
-         direction as soon as its evidence is settled instead of at the end of each 10-cycle \
-         period. Its runs are judged the same way, and a run whose LEDs change after consensus \
-         fails (both rules). Time: from the start to consensus; for `reboot`, from the reboot \
-         until consensus was back. The lab suite's bars for the adaptive rule: median at most \
-         2 cycles (110 s), 95th percentile at most 3 cycles (165 s) on the fault-free baseline \
-         (`cycle-spread`).\n"
-    );
-    let _ = writeln!(
-        s,
-        "| scenario | bar | fixed: success | adaptive: success | fixed: median s | adaptive: median s | fixed: p95 s | adaptive: p95 s |"
-    );
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|");
-    for (f, a) in fixed.results.iter().zip(&adaptive.results) {
-        let (fm, fp) = decision_times(f);
-        let (am, ap) = decision_times(a);
-        let _ = writeln!(
-            s,
-            "| `{}` | {} | {} ({}) | {} ({}) | {} | {} | {} | {} |",
-            f.scenario.name,
-            bar_str(f),
-            pct(f.rate()),
-            verdict(f),
-            pct(a.rate()),
-            verdict(a),
-            secs(fm),
-            secs(am),
-            secs(fp),
-            secs(ap)
-        );
+pub fn rules_section(fixed: &Report, adaptive: &Report, figure: Option<&str>) -> RulesSection {
+    let rows = fixed
+        .results
+        .iter()
+        .zip(&adaptive.results)
+        .map(|(f, a)| {
+            let (fm, fp) = decision_times(f);
+            let (am, ap) = decision_times(a);
+            RulesRow {
+                name: f.scenario.name,
+                bar: bar_str(f),
+                fixed_success: pct(f.rate()),
+                fixed_verdict: verdict(f),
+                adaptive_success: pct(a.rate()),
+                adaptive_verdict: verdict(a),
+                times: [secs(fm), secs(am), secs(fp), secs(ap)],
+            }
+        })
+        .collect();
+    RulesSection {
+        rows,
+        figure: figure.map(str::to_string),
+        failing: failing_seeds(adaptive),
+        missed: adaptive.missed().into_iter().map(missed_line).collect(),
     }
-    if let Some(fig) = figure {
-        let _ = writeln!(
-            s,
-            "\n![Time to consensus per scenario and rule: median (bar) and 95th percentile (line)]({fig})"
-        );
-    }
-    let _ = writeln!(s, "\n### Failing seeds of the adaptive rule\n");
-    let seeds = failing_seeds(adaptive);
-    s += &seeds;
-    if seeds == "None.\n" {
-        let _ = writeln!(s);
-    }
-    let missed = adaptive.missed();
-    if missed.is_empty() {
-        let _ = writeln!(s, "Every bar is met by the adaptive rule too.");
-    } else {
-        for r in missed {
-            let _ = writeln!(s, "- adaptive rule: {}", missed_line(r));
-        }
-    }
-    s
 }
 
 /// The figure of [`rules_section`]: per scenario, the median time (bar) and the 95th
@@ -921,224 +924,221 @@ pub fn rules_chart(
     Ok(())
 }
 
-/// The report as Markdown (what `docs/reliability.md` holds).
-pub fn markdown(report: &Report, figure: Option<&str>) -> String {
-    let plan = &report.plan;
-    let mut s = String::new();
-    let p = Params::robots();
-    let _ = writeln!(s, "# Reliability: the lab experiment under faults\n");
-    let _ = writeln!(
-        s,
-        "Generated by `{}` in {:.0} s on {} threads; do not edit by hand. The same seeds give the \
-         same numbers whatever the number of threads. {} seeds per scenario (seeds {} to {}).\n",
-        command(plan),
-        report.wall_s,
-        report.threads,
-        plan.seeds,
-        plan.seed,
-        plan.seed.wrapping_add(plan.seeds - 1)
-    );
-    let _ = writeln!(s, "## Set-up\n");
-    let _ = writeln!(
-        s,
-        "- **Runs.** Four robots 1 m apart in a line (light range 1.5 m: only neighbours hear \
-         each other), each running the unchanged robot program over the emulated light medium \
-         (`hal-emu`: airtime at 9600 bit/s and 10 bits per byte, the board's IrDA SIR link; collisions, half duplex), `Params::robots()` \
-         (cycles of 55 ± 15 s drawn every cycle, negotiation period of 10 cycles). A run lasts \
-         three negotiation periods of the longest cycle ({} s), as `cimax arena`'s do; a reboot \
-         run lasts that long after the reboot.",
-        hal_emu::lab::default_duration(&p).as_millis() / 1000
-    );
-    let _ = writeln!(
-        s,
-        "- **Patterns.** Seed *s* runs the paper's pattern number *s* mod 6 of {} (rotated by \
-         seed, one run per seed), so each pattern gets a sixth of the seeds. The run's seed is \
-         *s*: every failing seed below replays alone with the command given.",
-        PAPER_PATTERNS
-            .iter()
-            .map(|p| format!("`{p}`"))
-            .collect::<Vec<_>>()
-            .join(", ")
-    );
-    let _ = writeln!(
-        s,
-        "- **Success** is `cimax arena`'s (`hal_emu::lab::judge`): every robot's top-cap LEDs at \
-         the end of the run show the expected verdict (each robot prefers the direction of the \
-         border, all follow the majority, on a tie each side moves toward the border). A robot \
-         dead from the start is left out: the three others are judged as a line of three on \
-         their own pattern (`lab::expected` of the 3-robot pattern), its LEDs must stay off. \
-         *Consensus* is the time from the start until the LEDs reached the state they kept to \
-         the end (successful runs); the first decision comes after a robot's first negotiation \
-         period, about 550 s."
-    );
-    let _ = writeln!(
-        s,
-        "- **Bars** are success rates over the seeds. Where the issue asks that the robots \
-         \"still decide correctly\" (dead robot, reboot, rogue, replayer) the bar is the same \
-         99 % as for 10 % loss."
-    );
-    let _ = writeln!(s, "\n| scenario | fault | bar |\n|---|---|---|");
-    for r in &report.results {
-        let _ = writeln!(
-            s,
-            "| `{}` | {} | {} |",
-            r.scenario.name,
-            r.scenario.what,
-            r.scenario
-                .bar
-                .map_or("reported only".into(), |b| format!("≥ {:.0} %", b * 100.0))
-        );
+/// One rule's campaign as the page shows it (`campaign` in
+/// `templates/reliability/campaign.md.j2`).
+#[derive(Serialize)]
+pub struct CampaignSection {
+    /// The command that regenerates the page.
+    pub command: String,
+    /// Wall time of the campaign, s.
+    pub wall_s: String,
+    /// Threads it ran on.
+    pub threads: usize,
+    /// Seeds per scenario, the first and the last.
+    pub seeds: u64,
+    /// The first seed.
+    pub first_seed: u64,
+    /// The last seed.
+    pub last_seed: u64,
+    /// Length of a run, whole seconds.
+    pub run_s: u64,
+    /// The paper's patterns, in the order seeds rotate through them.
+    pub patterns: &'static [&'static str],
+    /// How long a rebooting robot stays down, whole seconds.
+    pub reboot_down_s: u64,
+    /// The longest restoration that passes, whole seconds.
+    pub restore_limit_s: u64,
+    /// Where the adversaries stand, m.
+    pub adversary_x: String,
+    /// Where the adversaries stand, m.
+    pub adversary_y: String,
+    /// Per scenario.
+    pub scenarios: Vec<ScenarioRow>,
+    /// The success-rate figure, relative to the page.
+    pub figure: Option<String>,
+    /// The failed runs.
+    pub failing: Vec<FailingGroup>,
+    /// The missed bars, one line each.
+    pub missed: Vec<String>,
+}
+
+/// One scenario's results, formatted.
+#[derive(Serialize)]
+pub struct ScenarioRow {
+    /// Scenario name.
+    pub name: &'static str,
+    /// Its fault, in words.
+    pub fault: &'static str,
+    /// Its bar as required (`≥ 99 %` or `reported only`).
+    pub required: String,
+    /// Runs.
+    pub runs: usize,
+    /// Success rate.
+    pub success: String,
+    /// Successful runs.
+    pub successes: usize,
+    /// Its bar, `99 %` or `-`.
+    pub bar: String,
+    /// PASS, FAIL or reported.
+    pub verdict: &'static str,
+    /// Consensus median and p95, restoration median and p95 (s).
+    pub times: [String; 4],
+    /// Successful runs of runs per pattern (`33/33`).
+    pub per_pattern: Vec<String>,
+    /// The line of the text chart.
+    pub text_bar: String,
+    /// Frames per run: mean sent, delivered, lost, rx busy, rx dead, garbled, corrupt bytes,
+    /// rejected, adversary sent, captured.
+    pub frames: Vec<String>,
+}
+
+/// One scenario's failed runs, each with its replay command.
+#[derive(Serialize)]
+pub struct FailingGroup {
+    /// Scenario name.
+    pub scenario: &'static str,
+    /// Failed runs.
+    pub failed: usize,
+    /// Runs.
+    pub runs: usize,
+    /// One line per failed run.
+    pub lines: Vec<String>,
+}
+
+/// The page `docs/reliability.md`: one rule's campaign and, with both rules, the sections
+/// comparing them (`templates/reliability.md.j2`).
+#[derive(Serialize)]
+pub struct Page {
+    /// The first rule's campaign.
+    pub campaign: CampaignSection,
+    /// Both rules side by side.
+    pub rules: Option<RulesSection>,
+    /// The lab suite under both rules.
+    pub suite: Option<SuiteSection>,
+    /// Initiations per negotiation period.
+    pub initiations: Option<crate::arena::stress::InitiationsSection>,
+    /// The loss sweep.
+    pub loss: Option<crate::arena::stress::LossSection>,
+}
+
+impl Page {
+    /// Renders the page.
+    ///
+    /// # Errors
+    /// The template engine's message (a bug: the templates are built in).
+    pub fn render(&self) -> Result<String, String> {
+        crate::report::page::render("reliability.md.j2", self)
     }
-    let _ = writeln!(
-        s,
-        "\nDetails: *dead-end* kills robot 0 or 3 (drawn per seed; the other one when without it \
-         the three would see no border, e.g. `1000` without robot 0). *reboot* kills a robot \
-         (drawn per seed) at a time drawn from 800–1400 s, after the first decision, and \
-         restarts it with fresh state {} s later; the run also fails if the LEDs did not show \
-         the verdict just before the reboot, or if consensus was back only later than two \
-         nominal negotiation periods ({} s) after the reboot (*restore*: from the reboot until \
-         the LEDs reached the state they kept to the end). *rogue*: a transmitter at ({}, {}) m \
-         — between robots 1 and 2, in range of all four — sends bursts of 4–32 random bytes \
-         wrapped in `ss` delimiters, at exponential gaps of mean 2 s (about 4 % of the light's \
-         time, some ten times one robot's airtime). \
-         *replayer*: a device at the same place captures every robot frame it hears intact and \
-         sends it again once, 10–60 s later (uniform). Both go through the same medium model \
-         as the robots (airtime, range, receiver sector by bearing, collisions, half duplex).",
-        REBOOT_DOWN.as_millis() / 1000,
-        nominal_period(&p).saturating_mul(2).as_millis() / 1000,
-        ADVERSARY_AT.0,
-        ADVERSARY_AT.1
-    );
-    let _ = writeln!(s, "\n## Results\n");
-    let _ = writeln!(
-        s,
-        "| scenario | runs | success | bar | verdict | consensus median s | p95 s | restore median s | p95 s |"
-    );
-    let _ = writeln!(s, "|---|---:|---:|---:|---|---:|---:|---:|---:|");
-    for r in &report.results {
-        let _ = writeln!(
-            s,
-            "| `{}` | {} | {} ({}) | {} | **{}** | {} |",
-            r.scenario.name,
-            r.runs.len(),
-            pct(r.rate()),
-            r.successes(),
-            bar_str(r),
-            verdict(r),
-            times(r).join(" | "),
-        );
-    }
-    let _ = writeln!(
-        s,
-        "\nSuccessful runs per pattern (of runs with that pattern):\n\n| scenario | {} |\n|---|{}",
-        PAPER_PATTERNS.map(|p| format!("`{p}`")).join(" | "),
-        "---:|".repeat(PAPER_PATTERNS.len())
-    );
-    for r in &report.results {
-        let cells: Vec<String> = PAPER_PATTERNS
-            .iter()
-            .map(|p| {
-                let runs = r.runs.iter().filter(|o| o.pattern == *p);
-                let ok = runs.clone().filter(|o| o.success).count();
-                format!("{ok}/{}", runs.count())
-            })
-            .collect();
-        let _ = writeln!(s, "| `{}` | {} |", r.scenario.name, cells.join(" | "));
-    }
-    let _ = writeln!(
-        s,
-        "\nSuccess rate (`#`) against the bar (`|`), 0 to 100 %:\n\n```text"
-    );
-    for r in &report.results {
-        let _ = writeln!(
-            s,
+}
+
+/// One scenario's row of every table of the campaign section.
+fn scenario_row(r: &ScenarioResult) -> ScenarioRow {
+    let n = r.runs.len().max(1) as f64;
+    let mean = |f: &dyn Fn(&Outcome) -> u64| {
+        format!("{:.1}", r.runs.iter().map(f).sum::<u64>() as f64 / n)
+    };
+    let frames = vec![
+        mean(&|o| o.medium.sent),
+        mean(&|o| o.medium.delivered),
+        mean(&|o| o.medium.lost),
+        mean(&|o| o.medium.receiver_transmitting),
+        mean(&|o| o.medium.receiver_dead),
+        mean(&|o| o.medium.garbled),
+        mean(&|o| o.medium.corrupted_bytes),
+        mean(&|o| o.frame_errors),
+        mean(&|o| o.medium.rogue_bursts + o.medium.replayed),
+        mean(&|o| o.medium.captured),
+    ];
+    let per_pattern = PAPER_PATTERNS
+        .iter()
+        .map(|p| {
+            let runs = r.runs.iter().filter(|o| o.pattern == *p);
+            let ok = runs.clone().filter(|o| o.success).count();
+            format!("{ok}/{}", runs.count())
+        })
+        .collect();
+    ScenarioRow {
+        name: r.scenario.name,
+        fault: r.scenario.what,
+        required: r
+            .scenario
+            .bar
+            .map_or("reported only".into(), |b| format!("≥ {:.0} %", b * 100.0)),
+        runs: r.runs.len(),
+        success: pct(r.rate()),
+        successes: r.successes(),
+        bar: bar_str(r),
+        verdict: verdict(r),
+        times: times(r),
+        per_pattern,
+        text_bar: format!(
             "{:<13} {} {:>7}  {}",
             r.scenario.name,
             text_bar(r.rate(), r.scenario.bar, 50),
             pct(r.rate()),
             verdict(r)
-        );
+        ),
+        frames,
     }
-    let _ = writeln!(s, "```");
-    if let Some(f) = figure {
-        let _ = writeln!(s, "\n![success rate per scenario against its bar]({f})");
-    }
-    let _ = writeln!(s, "\n## Frames per run\n");
-    let _ = writeln!(
-        s,
-        "Mean per run. *sent*: frames the robots sent; *delivered*: deliveries to robots (one per \
-         receiver reached, from robots and adversaries). Dropped by reason: *lost* (frame loss), \
-         *rx busy* (the receiving robot was transmitting), *rx dead* (the receiving robot was \
-         dead); *garbled*: delivered but garbled by a collision; *corrupt B*: bytes corrupted \
-         by the byte error rate; *rejected*: frames the robots' deframers rejected (CRC, \
-         stuffing, length; the last life of each robot). *adv. sent*: rogue bursts and replays; \
-         *captured*: robot frames the replayer kept.\n"
-    );
-    let _ = writeln!(
-        s,
-        "| scenario | sent | delivered | lost | rx busy | rx dead | garbled | corrupt B | rejected | adv. sent | captured |"
-    );
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
-    for r in &report.results {
-        let n = r.runs.len().max(1) as f64;
-        let mean = |f: &dyn Fn(&Outcome) -> u64| {
-            format!("{:.1}", r.runs.iter().map(f).sum::<u64>() as f64 / n)
-        };
-        let _ = writeln!(
-            s,
-            "| `{}` | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
-            r.scenario.name,
-            mean(&|o| o.medium.sent),
-            mean(&|o| o.medium.delivered),
-            mean(&|o| o.medium.lost),
-            mean(&|o| o.medium.receiver_transmitting),
-            mean(&|o| o.medium.receiver_dead),
-            mean(&|o| o.medium.garbled),
-            mean(&|o| o.medium.corrupted_bytes),
-            mean(&|o| o.frame_errors),
-            mean(&|o| o.medium.rogue_bursts + o.medium.replayed),
-            mean(&|o| o.medium.captured),
-        );
-    }
-    let _ = writeln!(s, "\n## Failing seeds\n");
-    s += &failing_seeds(report);
-    let missed = report.missed();
-    let _ = writeln!(s, "\n## Verdict\n");
-    if missed.is_empty() {
-        let _ = writeln!(s, "Every bar is met.");
-    } else {
-        for r in missed {
-            let _ = writeln!(s, "- {}", missed_line(r));
-        }
-    }
-    s
 }
 
-/// Every failed run of `report`, per scenario, with its replay command; `None.` if none.
-fn failing_seeds(report: &Report) -> String {
-    let mut s = String::new();
-    for r in &report.results {
-        let f: Vec<&Outcome> = r.failures().collect();
-        if f.is_empty() {
-            continue;
-        }
-        let _ = writeln!(
-            s,
-            "**`{}`** ({} of {}):\n",
-            r.scenario.name,
-            f.len(),
-            r.runs.len()
-        );
-        for o in f {
-            let line = failure_line(r.scenario.name, o, report.plan.loss, report.plan.decide);
-            let _ = writeln!(s, "- {line}");
-        }
-        let _ = writeln!(s);
+/// One rule's campaign as the page's first section; `figure` relative to the page.
+pub fn campaign_section(report: &Report, figure: Option<&str>) -> CampaignSection {
+    let plan = &report.plan;
+    let p = Params::robots();
+    CampaignSection {
+        command: command(plan),
+        wall_s: format!("{:.0}", report.wall_s),
+        threads: report.threads,
+        seeds: plan.seeds,
+        first_seed: plan.seed,
+        last_seed: plan.seed.wrapping_add(plan.seeds - 1),
+        run_s: hal_emu::lab::default_duration(&p).as_millis() / 1000,
+        patterns: &PAPER_PATTERNS,
+        reboot_down_s: REBOOT_DOWN.as_millis() / 1000,
+        restore_limit_s: nominal_period(&p).saturating_mul(2).as_millis() / 1000,
+        adversary_x: ADVERSARY_AT.0.to_string(),
+        adversary_y: ADVERSARY_AT.1.to_string(),
+        scenarios: report.results.iter().map(scenario_row).collect(),
+        figure: figure.map(str::to_string),
+        failing: failing_seeds(report),
+        missed: report.missed().into_iter().map(missed_line).collect(),
     }
-    if s.is_empty() {
-        s = "None.\n".into();
-    }
-    s
+}
+
+/// The report as Markdown: the page `docs/reliability.md` with one rule's campaign only.
+///
+/// # Panics
+/// If the built-in template does not render (a bug).
+pub fn markdown(report: &Report, figure: Option<&str>) -> String {
+    let page = Page {
+        campaign: campaign_section(report, figure),
+        rules: None,
+        suite: None,
+        initiations: None,
+        loss: None,
+    };
+    page.render().unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Every failed run of `report`, per scenario, with its replay command.
+fn failing_seeds(report: &Report) -> Vec<FailingGroup> {
+    report
+        .results
+        .iter()
+        .filter_map(|r| {
+            let lines: Vec<String> = r
+                .failures()
+                .map(|o| failure_line(r.scenario.name, o, report.plan.loss, report.plan.decide))
+                .collect();
+            (!lines.is_empty()).then_some(FailingGroup {
+                scenario: r.scenario.name,
+                failed: lines.len(),
+                runs: r.runs.len(),
+                lines,
+            })
+        })
+        .collect()
 }
 
 fn failure_line(scenario: &str, o: &Outcome, loss: Option<f64>, decide: Decide) -> String {
@@ -1403,19 +1403,29 @@ fn write_page(reports: &[Report], out: &Path, figure: Option<PathBuf>) -> Result
         .and_then(|()| ensure_parent(&figure))
         .map_err(|e| e.to_string())?;
     chart(first, &figure).map_err(|e| e.to_string())?;
-    let mut page = markdown(first, Some(&relative(&figure, out)));
+    let mut page = Page {
+        campaign: campaign_section(first, Some(&relative(&figure, out))),
+        rules: None,
+        suite: None,
+        initiations: None,
+        loss: None,
+    };
     if let [fixed, adaptive] = reports {
         rules_chart(fixed, adaptive, &rules_figure).map_err(|e| e.to_string())?;
-        page += &rules_section(fixed, adaptive, Some(&relative(&rules_figure, out)));
+        page.rules = Some(rules_section(
+            fixed,
+            adaptive,
+            Some(&relative(&rules_figure, out)),
+        ));
         let (seed, seeds) = (fixed.plan.seed, fixed.plan.seeds);
         let f = lab_suite(Decide::Fixed, seed, seeds)?;
         let a = lab_suite(Decide::Adaptive, seed, seeds)?;
-        page += &suite_section(&f, &a, seeds);
-        page += &crate::stress::initiations_section(fixed, adaptive);
-        let sweep_seeds = seeds.min(crate::stress::SWEEP_SEEDS);
-        let f = crate::stress::loss_sweep(Decide::Fixed, seed, sweep_seeds)?;
-        let a = crate::stress::loss_sweep(Decide::Adaptive, seed, sweep_seeds)?;
-        page += &crate::stress::loss_section(&f, &a, sweep_seeds);
+        page.suite = Some(suite_section(&f, &a, seeds));
+        page.initiations = Some(crate::arena::stress::initiations_section(fixed, adaptive));
+        let sweep_seeds = seeds.min(crate::arena::stress::SWEEP_SEEDS);
+        let f = crate::arena::stress::loss_sweep(Decide::Fixed, seed, sweep_seeds)?;
+        let a = crate::arena::stress::loss_sweep(Decide::Adaptive, seed, sweep_seeds)?;
+        page.loss = Some(crate::arena::stress::loss_section(&f, &a, sweep_seeds));
         println!(
             "wrote {}, {} and {}",
             out.display(),
@@ -1425,6 +1435,7 @@ fn write_page(reports: &[Report], out: &Path, figure: Option<PathBuf>) -> Result
     } else {
         println!("wrote {} and {}", out.display(), figure.display());
     }
+    let page = page.render()?;
     std::fs::write(out, page).map_err(|e| e.to_string())
 }
 
@@ -1506,11 +1517,11 @@ mod tests {
             wall_s: 0.0,
             threads: 1,
         };
-        assert!(
-            failing_seeds(&report).contains(&line),
-            "{}",
-            failing_seeds(&report)
-        );
+        let failing = failing_seeds(&report);
+        assert_eq!(failing.len(), 1);
+        assert_eq!((failing[0].scenario, failing[0].failed), ("loss-10", 1));
+        assert_eq!(failing[0].lines, [line]);
+        assert!(markdown(&report, None).contains("## Failing seeds\n\n**`loss-10`** (1 of 1):"));
         assert_eq!(report.results[0].rate(), 0.0);
     }
 

@@ -3,59 +3,19 @@
 //! ([`crate::seeds::derive`]`(seed, [point, run])`), so they are spread over all cores with rayon
 //! and the results do not depend on the number of threads.
 
-use std::io::IsTerminal;
-
-use indicatif::{ProgressBar, ProgressStyle};
 use nalgebra::Point2;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 
-use crate::geometry::Swarm;
-use crate::scenario::{GridSpec, Scenario, Success};
+pub use crate::progress::Progress;
 use crate::seeds::derive;
-use crate::sim::{Period, RunConfig, Sim};
+use crate::swarm::geometry::Swarm;
+use crate::swarm::scenario::{GridSpec, Scenario, Success};
+use crate::swarm::sim::{Period, RunConfig, Sim};
 
 /// Any failure of an experiment (parameters that do not validate, a swarm that cannot be placed).
 pub type Error = Box<dyn std::error::Error + Send + Sync>;
-
-/// A progress bar on stderr, shown only when stderr is a terminal.
-pub struct Progress(Option<ProgressBar>);
-
-impl Progress {
-    /// A bar for `len` runs labelled `msg`, or nothing if stderr is not a terminal or `quiet`.
-    pub fn new(len: u64, msg: &str, quiet: bool) -> Progress {
-        if quiet || !std::io::stderr().is_terminal() {
-            return Progress(None);
-        }
-        let bar = ProgressBar::new(len);
-        if let Ok(style) =
-            ProgressStyle::with_template("{msg:>22} [{bar:40}] {pos}/{len} runs, {eta} left")
-        {
-            bar.set_style(style.progress_chars("=> "));
-        }
-        bar.set_message(msg.to_string());
-        Progress(Some(bar))
-    }
-
-    /// No bar at all.
-    pub fn hidden() -> Progress {
-        Progress(None)
-    }
-
-    pub(crate) fn inc(&self) {
-        if let Some(b) = &self.0 {
-            b.inc(1);
-        }
-    }
-
-    /// Removes the bar.
-    pub fn finish(&self) {
-        if let Some(b) = &self.0 {
-            b.finish_and_clear();
-        }
-    }
-}
 
 /// One run: the placement, every period, and when it first met the success criterion.
 #[derive(Clone, Debug)]

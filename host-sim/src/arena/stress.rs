@@ -5,12 +5,11 @@
 //! Both run the same emulated lab as the campaign ([`campaign::run_one`]), seeded the same way,
 //! so the page regenerates byte for byte.
 
-use std::fmt::Write as _;
-
 use protocol::Params;
 use rayon::prelude::*;
+use serde::Serialize;
 
-use crate::campaign::{self, Decide, Outcome, Report, SCENARIOS, quantile};
+use crate::arena::campaign::{self, Decide, Outcome, Report, SCENARIOS, quantile};
 
 /// Frame losses of the sweep.
 pub const LOSSES: [f64; 8] = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8];
@@ -80,37 +79,35 @@ fn secs(x: Option<f64>) -> String {
     x.map_or("-".into(), |s| format!("{s:.0}"))
 }
 
-/// The sweep of both rules as a Markdown section.
-pub fn loss_section(fixed: &[LossPoint], adaptive: &[LossPoint], seeds: u64) -> String {
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "\n## Where the swarm breaks: frame loss from 10 % to 80 %\n"
-    );
-    let _ = writeln!(
-        s,
-        "The lab of the loss scenarios (the six patterns in turn, seeds from the campaign's \
-         first), {seeds} seeds per loss and rule; each frame is lost at each receiver with the \
-         given probability, independently. A run succeeds as in the campaign (right LEDs at the \
-         end, no change after consensus). No bar: the curve shows how much margin the bars at \
-         10 % and 20 % have.\n"
-    );
-    let _ = writeln!(
-        s,
-        "| loss | fixed: success | fixed: median s | adaptive: success | adaptive: median s |"
-    );
-    let _ = writeln!(s, "|---:|---:|---:|---:|---:|");
-    for (f, a) in fixed.iter().zip(adaptive) {
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} |",
-            pct(f.loss),
-            pct(f.success()),
-            secs(f.median_s()),
-            pct(a.success()),
-            secs(a.median_s())
-        );
-    }
+/// The loss sweep of both rules, as the page's section shows it (`loss` in
+/// `templates/reliability/loss.md.j2`).
+#[derive(Serialize)]
+pub struct LossSection {
+    /// Seeds per loss and rule.
+    pub seeds: u64,
+    /// Per loss: the loss, then success and median time of the fixed and the adaptive rule.
+    pub rows: Vec<[String; 5]>,
+    /// Where the fixed rule's success first falls below 95 %.
+    pub fixed_breaks: String,
+    /// Where the adaptive rule's success first falls below 95 %.
+    pub adaptive_breaks: String,
+}
+
+/// The sweep of both rules as the page's section.
+pub fn loss_section(fixed: &[LossPoint], adaptive: &[LossPoint], seeds: u64) -> LossSection {
+    let rows = fixed
+        .iter()
+        .zip(adaptive)
+        .map(|(f, a)| {
+            [
+                pct(f.loss),
+                pct(f.success()),
+                secs(f.median_s()),
+                pct(a.success()),
+                secs(a.median_s()),
+            ]
+        })
+        .collect();
     let breaks = |points: &[LossPoint]| {
         points
             .iter()
@@ -119,13 +116,12 @@ pub fn loss_section(fixed: &[LossPoint], adaptive: &[LossPoint], seeds: u64) -> 
                 format!("at {} loss", pct(p.loss))
             })
     };
-    let _ = writeln!(
-        s,
-        "\nSuccess first falls below 95 %: fixed rule {}, adaptive rule {}.",
-        breaks(fixed),
-        breaks(adaptive)
-    );
-    s
+    LossSection {
+        seeds,
+        rows,
+        fixed_breaks: breaks(fixed),
+        adaptive_breaks: breaks(adaptive),
+    }
 }
 
 /// Initiations per robot and nominal negotiation period in the runs of one scenario: for each
@@ -147,27 +143,26 @@ pub fn per_period(runs: &[Outcome], params: &Params) -> (Vec<f64>, Vec<f64>) {
     (initiated, skipped)
 }
 
-/// Initiations per negotiation period of both rules in the baseline scenario, as a Markdown
+/// Initiations per negotiation period of both rules, as the page's section shows it
+/// (`initiations` in `templates/reliability/initiations.md.j2`).
+#[derive(Serialize)]
+pub struct InitiationsSection {
+    /// The scenario counted.
+    pub scenario: &'static str,
+    /// Cycles per negotiation period.
+    pub cycles: u16,
+    /// The nominal cycle, s.
+    pub cycle_s: String,
+    /// Per rule: its name, robot-runs, initiated min, p5, median, mean, skipped median, share
+    /// of robot-runs with at least 10.
+    pub rows: Vec<[String; 8]>,
+}
+
+/// Initiations per negotiation period of both rules in the baseline scenario, as the page's
 /// section.
-pub fn initiations_section(fixed: &Report, adaptive: &Report) -> String {
+pub fn initiations_section(fixed: &Report, adaptive: &Report) -> InitiationsSection {
     let params = Params::robots();
-    let mut s = String::new();
-    let _ = writeln!(s, "\n## Initiations per negotiation period\n");
-    let _ = writeln!(
-        s,
-        "The paper says every aMussel initiated at least 10 messages in a negotiation period. \
-         Counted here in the `{BASELINE}` scenario (the fault-free baseline): for each robot of \
-         each run, the waves it initiated and the initiations it skipped because it was active \
-         or refractory at the time (docs/protocol.md §3), per nominal negotiation period \
-         ({} cycles of {} s), averaged over the run.\n",
-        params.negotiation_cycles,
-        params.wave.cycle.as_secs_f64()
-    );
-    let _ = writeln!(
-        s,
-        "| rule | robot-runs | initiated: min | p5 | median | mean | skipped: median | at least 10 |"
-    );
-    let _ = writeln!(s, "|---|---:|---:|---:|---:|---:|---:|---:|");
+    let mut rows = Vec::new();
     for report in [fixed, adaptive] {
         let Some(r) = report.results.iter().find(|r| r.scenario.name == BASELINE) else {
             continue;
@@ -176,20 +171,23 @@ pub fn initiations_section(fixed: &Report, adaptive: &Report) -> String {
         let mean = init.iter().sum::<f64>() / init.len().max(1) as f64;
         let ten = init.iter().filter(|&&x| x >= 10.0).count() as f64 / init.len().max(1) as f64;
         let f = |x: Option<f64>| x.map_or("-".into(), |v| format!("{v:.1}"));
-        let _ = writeln!(
-            s,
-            "| {} | {} | {} | {} | {} | {:.1} | {} | {} |",
-            report.plan.decide.name(),
-            init.len(),
+        rows.push([
+            report.plan.decide.name().to_string(),
+            init.len().to_string(),
             f(init.first().copied()),
             f(quantile(&init, 0.05)),
             f(quantile(&init, 0.5)),
-            mean,
+            format!("{mean:.1}"),
             f(quantile(&skip, 0.5)),
-            pct(ten)
-        );
+            pct(ten),
+        ]);
     }
-    s
+    InitiationsSection {
+        scenario: BASELINE,
+        cycles: params.negotiation_cycles,
+        cycle_s: params.wave.cycle.as_secs_f64().to_string(),
+        rows,
+    }
 }
 
 #[cfg(test)]
@@ -245,10 +243,7 @@ mod tests {
         assert_eq!(p.success(), 0.75);
         assert_eq!(p.median_s(), Some(200.0));
         let section = loss_section(std::slice::from_ref(&p), std::slice::from_ref(&p), 4);
-        assert!(
-            section.contains("| 50 % | 75 % | 200 | 75 % | 200 |"),
-            "{section}"
-        );
-        assert!(section.contains("fixed rule at 50 % loss"), "{section}");
+        assert_eq!(section.rows, [["50 %", "75 %", "200", "75 %", "200"]]);
+        assert_eq!(section.fixed_breaks, "at 50 % loss");
     }
 }

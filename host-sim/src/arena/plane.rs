@@ -2,7 +2,7 @@
 //!
 //! Robots on a line, the paper's hexagonal lattice or a random disk, each with K receivers,
 //! run the unchanged robot program (`firmware::Robot`) over the emulated light medium
-//! (`hal-emu`). What they sense is one of the 2D simulator's fields ([`crate::field`], the
+//! (`hal-emu`). What they sense is one of the 2D simulator's fields ([`crate::swarm::field`], the
 //! scenarios of `cimax swarm`), read where each robot is; every negotiation period the swarm
 //! moves rigidly by the scenario's step (0.33 R) along the circular mean of the sectors its
 //! LEDs show ([`hal_emu::arena::swarm_heading`]). A run succeeds by the scenario's criterion
@@ -17,8 +17,8 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
 
-use crate::geometry::{PlacementError, Shape, Swarm};
-use crate::scenario::{Scenario, Success, check_runs};
+use crate::swarm::geometry::{PlacementError, Shape, Swarm};
+use crate::swarm::scenario::{Scenario, Success, check_runs};
 
 /// How the robots are placed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
@@ -337,7 +337,7 @@ mod tests {
 
     #[test]
     fn spread_ids_keep_equal_tags_apart_on_the_lattice() {
-        let p = crate::geometry::lattice(61, SPACING);
+        let p = crate::swarm::geometry::lattice(61, SPACING);
         let ids = spread_ids(&p);
         let mut closest = f64::INFINITY;
         for i in 0..p.len() {
@@ -515,7 +515,7 @@ pub struct SweepArgs {
     pub loss: f64,
     /// Runs of the 2D simulator (`cimax swarm`, three-phase variant, same placement) per
     /// position, for the curve beside, 0 to 100,000; 0 leaves it out.
-    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=i64::from(crate::scenario::MAX_RUNS_PER_POINT)))]
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=i64::from(crate::swarm::scenario::MAX_RUNS_PER_POINT)))]
     pub swarm_runs: u32,
     /// Where to write the CSV and the SVG (`arena-<field>-sweep.csv|svg`).
     #[arg(long, default_value = "target/arena-sweep")]
@@ -535,11 +535,24 @@ pub fn sweep_main(a: &SweepArgs) -> std::process::ExitCode {
 }
 
 fn sweep(a: &SweepArgs) -> Result<(), String> {
-    use rayon::prelude::*;
     let scenario = Scenario::load(&a.field).map_err(|e| e.to_string())?;
     if scenario.success.is_none() {
         return Err(PlaneError::NoCriterion(scenario.name).to_string());
     }
+    let (xs, medium) = sweep_positions(a)?;
+    let arena = arena_points(a, &scenario, &xs, medium)?;
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    let csv = a.out.join(format!("arena-{}-sweep.csv", scenario.name));
+    crate::report::write_sweep_csv(&csv, &arena).map_err(|e| format!("{}: {e}", csv.display()))?;
+    let swarm = swarm_points(a, &scenario, &xs)?;
+    let svg = sweep_svg(a, &scenario, &arena, swarm.as_deref())?;
+    print_sweep(&arena, swarm.as_deref());
+    println!("wrote {} and {}", csv.display(), svg.display());
+    Ok(())
+}
+
+/// The initial positions of `cimax arena sweep` and its medium, after checking the options.
+fn sweep_positions(a: &SweepArgs) -> Result<(Vec<f64>, MediumParams), String> {
     if a.shape == Placement::File {
         return Err("sweep places robots on a line, the lattice or a disk, not from a file".into());
     }
@@ -574,6 +587,17 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
     ])
     .map_err(|e| format!("--swarm-runs {}: {e}", a.swarm_runs))?;
     let xs: Vec<f64> = (0..count).map(|i| a.from + a.step * i as f64).collect();
+    Ok((xs, medium))
+}
+
+/// The robots' sweep: every position `a.runs` times, in parallel.
+fn arena_points(
+    a: &SweepArgs,
+    scenario: &Scenario,
+    xs: &[f64],
+    medium: MediumParams,
+) -> Result<Vec<crate::swarm::experiment::SweepPoint>, String> {
+    use rayon::prelude::*;
     let spec = |x: f64| PlaneSpec {
         scenario: scenario.clone(),
         placement: a.shape,
@@ -588,7 +612,7 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
     let jobs: Vec<(usize, u64)> = (0..xs.len())
         .flat_map(|p| (0..a.runs).map(move |k| (p, a.seed.wrapping_add(k))))
         .collect();
-    let bar = crate::experiment::Progress::new(jobs.len() as u64, "arena sweep", false);
+    let bar = crate::progress::Progress::new(jobs.len() as u64, "arena sweep", false);
     let runs: Vec<(usize, PlaneRun)> = jobs
         .par_iter()
         .map(|&(p, s)| {
@@ -599,7 +623,7 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
         .collect::<Result<_, _>>()
         .map_err(|e| e.to_string())?;
     bar.finish();
-    let arena: Vec<crate::experiment::SweepPoint> = xs
+    let arena = xs
         .iter()
         .enumerate()
         .map(|(p, &x)| {
@@ -608,7 +632,7 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
                 .filter(|(q, _)| *q == p)
                 .map(|(_, r)| r)
                 .collect();
-            crate::experiment::SweepPoint {
+            crate::swarm::experiment::SweepPoint {
                 x_init: x,
                 runs: mine.len() as u32,
                 successes: mine.iter().filter(|r| r.success).count() as u32,
@@ -619,24 +643,31 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
             }
         })
         .collect();
-    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
-    let csv = a.out.join(format!("arena-{}-sweep.csv", scenario.name));
-    crate::report::write_sweep_csv(&csv, &arena).map_err(|e| format!("{}: {e}", csv.display()))?;
+    Ok(arena)
+}
+
+/// The swarm simulator's sweep over the same positions (none with `--swarm-runs 0`), and its
+/// CSV file.
+fn swarm_points(
+    a: &SweepArgs,
+    scenario: &Scenario,
+    xs: &[f64],
+) -> Result<Option<Vec<crate::swarm::experiment::SweepPoint>>, String> {
     let mut swarm_scn = scenario.clone();
     if a.shape == Placement::Lattice {
         swarm_scn.shape = Shape::Lattice { spacing: SPACING };
     }
     swarm_scn.agents = usize::from(a.robots);
-    let swarm = if a.swarm_runs > 0 {
-        let progress = crate::experiment::Progress::new(
+    Ok(if a.swarm_runs > 0 {
+        let progress = crate::progress::Progress::new(
             (xs.len() * a.swarm_runs as usize) as u64,
             "swarm sweep",
             false,
         );
-        let pts = crate::experiment::sweep(
+        let pts = crate::swarm::experiment::sweep(
             &swarm_scn,
             swarm_scn.run,
-            &xs,
+            xs,
             a.swarm_runs,
             a.seed,
             &progress,
@@ -649,10 +680,20 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
         Some(pts)
     } else {
         None
-    };
+    })
+}
+
+/// The sweep's figure: the robots beside the swarm simulator and the paper.
+fn sweep_svg(
+    a: &SweepArgs,
+    scenario: &Scenario,
+    arena: &[crate::swarm::experiment::SweepPoint],
+    swarm: Option<&[crate::swarm::experiment::SweepPoint]>,
+) -> Result<std::path::PathBuf, String> {
     let arena_label = format!("robot program (arena), K = {}", a.sectors);
-    let mut series: Vec<(&str, &[crate::experiment::SweepPoint])> = vec![(&arena_label, &arena)];
-    if let Some(s) = &swarm {
+    let mut series: Vec<(&str, &[crate::swarm::experiment::SweepPoint])> =
+        vec![(&arena_label, arena)];
+    if let Some(s) = swarm {
         series.push(("three-phase (cimax swarm)", s));
     }
     let paper: Option<&dyn Fn(f64) -> Option<f64>> = match scenario.name.as_str() {
@@ -661,7 +702,7 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
         _ => None,
     };
     let svg = a.out.join(format!("arena-{}-sweep.svg", scenario.name));
-    crate::plot::sweep_figure(
+    crate::report::plot::sweep_figure(
         &svg,
         &format!(
             "{}: {} robots ({:?}), success within {} moves, {} runs per point",
@@ -671,9 +712,17 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
         paper,
     )
     .map_err(|e| format!("{}: {e}", svg.display()))?;
+    Ok(svg)
+}
+
+/// The sweep as a table on stdout.
+fn print_sweep(
+    arena: &[crate::swarm::experiment::SweepPoint],
+    swarm: Option<&[crate::swarm::experiment::SweepPoint]>,
+) {
     println!("x_init  arena success  moves   swarm success  moves");
     for (i, p) in arena.iter().enumerate() {
-        let s = swarm.as_ref().and_then(|s| s.get(i));
+        let s = swarm.and_then(|s| s.get(i));
         println!(
             "{:>6.2}  {:>13.2}  {:>5}   {:>13}  {:>5}",
             p.x_init,
@@ -685,8 +734,6 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
                 .map_or("-".into(), |m| format!("{m:.1}")),
         );
     }
-    println!("wrote {} and {}", csv.display(), svg.display());
-    Ok(())
 }
 
 /// Options of `cimax arena bench`.

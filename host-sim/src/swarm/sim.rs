@@ -34,8 +34,8 @@ use protocol::{Instant, ParamError, Params, WaveState};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
-use crate::field::Field;
-use crate::geometry::Swarm;
+use crate::swarm::field::Field;
+use crate::swarm::geometry::Swarm;
 
 /// The agent the simulator steps: variance as the diversity, up to 32 readings per message, up
 /// to 16 distinct bearings per period.
@@ -479,7 +479,7 @@ impl<'a> Sim<'a> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Shape;
+    use crate::swarm::geometry::Shape;
 
     fn cfg() -> RunConfig {
         RunConfig {

@@ -298,7 +298,7 @@ fn largest_label(labels: &[u32]) -> Option<u32> {
 
 /// At most this many grid cells along each axis in [`neighbour_lists`]: 1024 × 1024 cells, 4 MB
 /// of counts. A swarm within 1023 ranges along both axes (every scenario's: at most
-/// [`MAX_EXTENT`](crate::scenario::MAX_EXTENT) = 1000 R) gets cells exactly one range wide.
+/// [`MAX_EXTENT`](crate::swarm::scenario::MAX_EXTENT) = 1000 R) gets cells exactly one range wide.
 pub const MAX_GRID_CELLS_PER_AXIS: usize = 1024;
 
 /// Neighbour lists in compressed form (`start[i]..start[i+1]` indexes `links`), every pair within

@@ -1,0 +1,390 @@
+//! `cimax swarm run|sweep|field|reproduce|bench`: the options of the 2D simulator's commands
+//! and what each does with the library (run the experiment, write its CSV and SVG, print).
+
+use std::path::{Path, PathBuf};
+use std::time::Instant as Clock;
+
+use clap::{Args, Subcommand};
+use host_sim::experiment::{self, Progress};
+use host_sim::geometry::Shape;
+use host_sim::report;
+use host_sim::scenario::{
+    LATTICE_SPACING, MAX_AGENTS, MAX_PERIOD_SECS, MAX_PERIODS, MAX_RUNS_PER_POINT, Scenario,
+    check_runs,
+};
+use host_sim::swarm::reproduce;
+use host_sim::{plot, seeds};
+use nalgebra::Point2;
+use protocol::Duration;
+
+#[derive(Args, Debug, Clone)]
+pub struct Common {
+    /// A built-in scenario (sharp, gradient, cloud) or the path of a scenario TOML file.
+    #[arg(long, default_value = "sharp")]
+    scenario: String,
+    /// Base seed: every run's seed is derived from it and the run's coordinates.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Override the cycle length t_p^max, seconds; a negotiation period of (gather + decide)
+    /// cycles must stay within 1,000,000 s.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_PERIOD_SECS))]
+    cycle: Option<u64>,
+    /// Place the agents on a triangular lattice of spacing 0.75 R instead of the scenario's
+    /// shape (61 agents: a hexagon filling a 6 R disk, 5.1 neighbours each on average).
+    #[arg(long)]
+    lattice: bool,
+    /// CSV output (default: OUT_DIR/SCENARIO-COMMAND.csv).
+    #[arg(long)]
+    csv: Option<PathBuf>,
+    /// SVG plot output (default: OUT_DIR/SCENARIO-COMMAND.svg).
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    /// Directory for default outputs.
+    #[arg(long, default_value = "target/swarm")]
+    out_dir: PathBuf,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Subcommand, Debug)]
+pub enum SwarmCommand {
+    /// One run: trajectory of the centre of mass and average diversity over time (Figs. 4, 7).
+    Run {
+        #[command(flatten)]
+        common: Common,
+        /// Initial x of the centre of mass (default: the scenario's start).
+        #[arg(long, allow_hyphen_values = true)]
+        x: Option<f64>,
+        /// Initial y of the centre of mass (default: the scenario's start).
+        #[arg(long, allow_hyphen_values = true)]
+        y: Option<f64>,
+        /// Negotiation periods, 1 to 100,000 (default: the scenario's).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_PERIODS)))]
+        periods: Option<u32>,
+    },
+    /// Success rate and mean success time against the initial position (Figs. 5, 8).
+    Sweep {
+        #[command(flatten)]
+        common: Common,
+        /// First initial x (default: the scenario's sweep).
+        #[arg(long, allow_hyphen_values = true)]
+        from: Option<f64>,
+        /// Last initial x.
+        #[arg(long, allow_hyphen_values = true)]
+        to: Option<f64>,
+        /// Spacing of initial positions.
+        #[arg(long)]
+        step: Option<f64>,
+        /// Runs per initial position, 1 to 100,000, and at most 1,000,000 runs in all
+        /// (default: the scenario's, 50).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RUNS_PER_POINT)))]
+        runs: Option<u32>,
+    },
+    /// The preferred direction of a swarm centred at each point of a grid (Figs. 6, 9, 10).
+    Field {
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Runs everything above for the paper's scenarios and regenerates docs/reproduction.md.
+    Reproduce {
+        /// Base seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// The docs directory (default: the workspace's docs/).
+        #[arg(long)]
+        docs: Option<PathBuf>,
+        /// No progress bars.
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Agent-steps per second for swarms of several sizes (one negotiation period each).
+    Bench {
+        /// Swarm sizes, 2 to 1,000,000 each (the disk grows to keep the density).
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "61,1000,10000",
+            value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=MAX_AGENTS as u64)
+        )]
+        agents: Vec<usize>,
+        /// Seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// A built-in scenario or scenario file.
+        #[arg(long, default_value = "sharp")]
+        scenario: String,
+    },
+}
+
+pub type Res = Result<(), Box<dyn std::error::Error + Send + Sync>>;
+
+impl Common {
+    fn scenario(&self) -> Result<Scenario, Box<dyn std::error::Error + Send + Sync>> {
+        let mut s = Scenario::load(&self.scenario)?;
+        if self.lattice {
+            s.shape = Shape::Lattice {
+                spacing: LATTICE_SPACING,
+            };
+            s.name.push_str("-lattice");
+            s.description.push_str(" (lattice placement)");
+        }
+        if let Some(c) = self.cycle {
+            s.run.params.wave.cycle = Duration::from_secs(c);
+            s.run.check().map_err(|e| format!("--cycle {c}: {e}"))?;
+            if let Some(g) = &s.grid {
+                let mut grid = s.run;
+                grid.params.gather_cycles = g.gather_cycles;
+                grid.params.decide_cycles = g.decide_cycles;
+                grid.check()
+                    .map_err(|e| format!("--cycle {c} with the scenario's [grid]: {e}"))?;
+            }
+        }
+        Ok(s)
+    }
+
+    fn outputs(&self, scn: &Scenario, what: &str) -> (PathBuf, PathBuf) {
+        let name = |ext: &str| self.out_dir.join(format!("{}-{what}.{ext}", scn.name));
+        (
+            self.csv.clone().unwrap_or_else(|| name("csv")),
+            self.plot.clone().unwrap_or_else(|| name("svg")),
+        )
+    }
+}
+
+fn ensure_parent(p: &Path) -> std::io::Result<()> {
+    match p.parent() {
+        Some(d) if !d.as_os_str().is_empty() => std::fs::create_dir_all(d),
+        _ => Ok(()),
+    }
+}
+
+fn wrote(csv: &Path, svg: &Path) {
+    println!("wrote {} and {}", csv.display(), svg.display());
+}
+
+fn swarm_run(c: &Common, x: Option<f64>, y: Option<f64>, periods: Option<u32>) -> Res {
+    let scn = c.scenario()?;
+    let start = Point2::new(x.unwrap_or(scn.start.x), y.unwrap_or(scn.start.y));
+    let periods = periods.unwrap_or(scn.periods);
+    let t = Clock::now();
+    let out = experiment::run(&scn, scn.run, start, periods, c.seed, false)?;
+    let (csv, svg) = c.outputs(&scn, "run");
+    ensure_parent(&csv)?;
+    ensure_parent(&svg)?;
+    report::write_run_csv(&csv, &out, &scn.run)?;
+    plot::run_figure(&svg, &scn, &out)?;
+    let last = out.periods.last();
+    println!(
+        "{}: {} agents (mean {:.1} neighbours), from ({:.2}, {:.2}), {} periods of {} s in {:.2} s",
+        scn.description,
+        out.swarm.len(),
+        out.swarm.mean_degree(),
+        start.x,
+        start.y,
+        out.periods.len(),
+        scn.run.period_secs(),
+        t.elapsed().as_secs_f64()
+    );
+    if let Some(p) = last {
+        println!(
+            "final centre ({:.2}, {:.2}), mean diversity of the last period {:.2}",
+            p.to.x, p.to.y, p.diversity
+        );
+    }
+    match (&scn.success, out.success_at) {
+        (Some(s), Some(k)) => println!("success ({s}) after {k} periods"),
+        (Some(s), None) => println!("no success ({s}) within {periods} periods"),
+        (None, _) => {}
+    }
+    wrote(&csv, &svg);
+    Ok(())
+}
+
+fn swarm_sweep(
+    c: &Common,
+    from: Option<f64>,
+    to: Option<f64>,
+    step: Option<f64>,
+    runs: Option<u32>,
+) -> Res {
+    let scn = c.scenario()?;
+    if scn.success.is_none() {
+        return Err(format!("scenario {} has no [success] criterion to sweep", scn.name).into());
+    }
+    let (mut xs, mut n) = scn
+        .sweep
+        .as_ref()
+        .map_or((vec![-5.0, -4.0, -3.0, -2.0, -1.0, 0.0], 50), |s| {
+            (s.xs.clone(), s.runs)
+        });
+    if from.is_some() || to.is_some() || step.is_some() {
+        let a = from.unwrap_or(xs.first().copied().unwrap_or(-5.0));
+        let b = to.unwrap_or(xs.last().copied().unwrap_or(5.0));
+        let s = step.unwrap_or(0.5);
+        if !(s > 0.0 && b >= a && (b - a) / s <= 10_000.0) {
+            return Err("--from/--to/--step do not make a range".into());
+        }
+        xs = (0..=((b - a) / s + 1e-9) as u64)
+            .map(|k| a + k as f64 * s)
+            .collect();
+    }
+    if let Some(r) = runs {
+        n = r;
+    }
+    check_runs(&[(xs.len() as u64, "positions"), (u64::from(n), "runs")])
+        .map_err(|e| format!("--runs {n}: {e}"))?;
+    let t = Clock::now();
+    let progress = Progress::new(xs.len() as u64 * u64::from(n), "sweep", c.quiet);
+    let pts = experiment::sweep(&scn, scn.run, &xs, n, c.seed, &progress)?;
+    progress.finish();
+    let (csv, svg) = c.outputs(&scn, "sweep");
+    ensure_parent(&csv)?;
+    ensure_parent(&svg)?;
+    report::write_sweep_csv(&csv, &pts)?;
+    let crit = scn.success.map(|s| s.to_string()).unwrap_or_default();
+    plot::sweep_figure(
+        &svg,
+        &format!("{}: success ({crit}), {n} runs per point", scn.description),
+        &[("this simulator", &pts)],
+        None,
+    )?;
+    println!(
+        "{}: success {crit} within {} periods, {n} runs per point, {:.1} s",
+        scn.description,
+        scn.periods,
+        t.elapsed().as_secs_f64()
+    );
+    println!(
+        "{:>8} {:>6} {:>8} {:>12}",
+        "x_init", "runs", "success", "mean periods"
+    );
+    for p in &pts {
+        println!(
+            "{:>8.2} {:>6} {:>8.2} {:>12}",
+            p.x_init,
+            p.runs,
+            p.success_rate(),
+            p.mean_success_periods
+                .map_or("-".into(), |t| format!("{t:.1}"))
+        );
+    }
+    wrote(&csv, &svg);
+    Ok(())
+}
+
+fn swarm_field(c: &Common) -> Res {
+    let scn = c.scenario()?;
+    let grid = scn
+        .grid
+        .clone()
+        .ok_or_else(|| format!("scenario {} has no [grid]", scn.name))?;
+    let t = Clock::now();
+    let progress = Progress::new((grid.xs.len() * grid.ys.len()) as u64, "field", c.quiet);
+    let arrows = experiment::direction_map(&scn, &grid, c.seed, &progress)?;
+    progress.finish();
+    let (csv, svg) = c.outputs(&scn, "field");
+    ensure_parent(&csv)?;
+    ensure_parent(&svg)?;
+    report::write_field_csv(&csv, &arrows)?;
+    plot::direction_figure(&svg, &scn, &grid, &arrows)?;
+    println!(
+        "{}: {} grid points in {:.1} s",
+        scn.description,
+        arrows.len(),
+        t.elapsed().as_secs_f64()
+    );
+    wrote(&csv, &svg);
+    Ok(())
+}
+
+fn swarm_reproduce(seed: u64, docs: Option<PathBuf>, quiet: bool) -> Res {
+    let opts = reproduce::Options {
+        seed,
+        docs: docs.unwrap_or_else(report::default_docs_dir),
+        quiet,
+    };
+    println!(
+        "swarm reproduce: seed {seed}, {} threads, writing {}",
+        rayon::current_num_threads(),
+        opts.docs.display()
+    );
+    let s = reproduce::reproduce(&opts, &mut |line| println!("{line}"))?;
+    println!("sharp border sweep, random placement (x_init: success rate):");
+    let fmt = |pts: &[experiment::SweepPoint]| {
+        pts.iter()
+            .map(|p| format!("{}: {:.2}", p.x_init, p.success_rate()))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    println!("  {}", fmt(&s.sharp));
+    println!("sharp border sweep, lattice placement:");
+    println!("  {}", fmt(&s.sharp_lattice));
+    println!("gradient sweep, random placement:");
+    println!("  {}", fmt(&s.gradient));
+    println!("gradient sweep, lattice placement:");
+    println!("  {}", fmt(&s.gradient_lattice));
+    println!("wrote {}", s.report.display());
+    println!("wall time {:.1} s", s.wall_s);
+    Ok(())
+}
+
+fn swarm_bench(agents: &[usize], seed: u64, scenario: &str) -> Res {
+    let scn = Scenario::load(scenario)?;
+    println!(
+        "one negotiation period ({} s simulated) of {} per size, one thread, density of {} agents in the scenario's shape",
+        scn.run.period_secs(),
+        scn.description,
+        scn.agents
+    );
+    println!(
+        "{:>8} {:>10} {:>10} {:>10} {:>14} {:>16} {:>14}",
+        "agents", "neighbours", "place s", "sim s", "agent calls", "agent-steps/s", "calls/s"
+    );
+    for &n in agents {
+        let r = experiment::bench(&scn, n, seeds::derive(seed, &[n as u64]))?;
+        println!(
+            "{:>8} {:>10.1} {:>10.3} {:>10.3} {:>14} {:>16.3e} {:>14.3e}",
+            r.agents,
+            r.mean_degree,
+            r.place_s,
+            r.wall_s,
+            r.calls,
+            r.agent_steps_per_s(),
+            r.calls as f64 / r.wall_s
+        );
+    }
+    println!(
+        "agent-steps/s: agents × simulated seconds per wall second (event-driven: idle seconds cost nothing); calls/s: handle_timeout + handle_message calls per second"
+    );
+    Ok(())
+}
+
+/// Runs one `cimax swarm` command.
+///
+/// # Errors
+/// Whatever the command failed with (a scenario that does not load, a file not written).
+pub fn run(command: SwarmCommand) -> Res {
+    match command {
+        SwarmCommand::Run {
+            common,
+            x,
+            y,
+            periods,
+        } => swarm_run(&common, x, y, periods),
+        SwarmCommand::Sweep {
+            common,
+            from,
+            to,
+            step,
+            runs,
+        } => swarm_sweep(&common, from, to, step, runs),
+        SwarmCommand::Field { common } => swarm_field(&common),
+        SwarmCommand::Reproduce { seed, docs, quiet } => swarm_reproduce(seed, docs, quiet),
+        SwarmCommand::Bench {
+            agents,
+            seed,
+            scenario,
+        } => swarm_bench(&agents, seed, &scenario),
+    }
+}

@@ -1,0 +1,901 @@
+//! `cimax swarm reproduce`: every experiment of the paper's section 3, its figures and CSV
+//! files, and `docs/reproduction.md` (rendered from `templates/reproduction.md.j2`) with the
+//! paper's numbers beside ours.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant as Clock;
+
+use nalgebra::Point2;
+use protocol::Duration;
+use rand::SeedableRng;
+use rand_pcg::Pcg64Mcg;
+use serde::Serialize;
+
+use crate::report::csv_files::{
+    CycleRow, fixed, opt, write_cycle_csv, write_field_csv, write_radial_csv, write_run_csv,
+    write_sweep_csv,
+};
+use crate::report::plot::{self, Line};
+use crate::seeds::derive;
+use crate::swarm::experiment::{
+    self, Arrow, Error, Progress, RadialPoint, RunOutput, SweepPoint, direction_map,
+    diversity_plateau, radial_profile, sweep, waves_heard,
+};
+use crate::swarm::geometry::{Shape, Swarm, lattice};
+use crate::swarm::scenario::{LATTICE_SPACING, Scenario};
+
+/// What `swarm reproduce` needs.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Base seed; every stage derives its own.
+    pub seed: u64,
+    /// The `docs` directory: `reproduction.md` goes there, figures and CSV into `figures/`.
+    pub docs: PathBuf,
+    /// No progress bars.
+    pub quiet: bool,
+}
+
+/// Runs tried for each run figure (the first successful one is shown).
+pub const RUN_TRIES: u64 = 20;
+
+/// Cycle lengths of the cycle-length experiment, seconds.
+pub const CYCLES: [u64; 7] = [100, 200, 300, 500, 1000, 2000, 5000];
+/// Initial positions of the cycle-length experiment.
+pub const CYCLE_XS: [f64; 2] = [-2.0, -1.0];
+
+fn builtin(name: &str) -> Result<Scenario, Error> {
+    Scenario::builtin(name).ok_or_else(|| format!("built-in scenario {name} is missing").into())
+}
+
+/// The stages of `swarm reproduce`: their log lines, progress bars, seeds and output folder.
+struct Stage<'a> {
+    log: &'a mut dyn FnMut(&str),
+    quiet: bool,
+    t: Clock,
+    /// The base seed.
+    base: u64,
+    /// `docs/figures`.
+    figs: PathBuf,
+}
+
+impl Stage<'_> {
+    /// The seed of stage `stage`.
+    fn seed(&self, stage: u64) -> u64 {
+        derive(self.base, &[stage])
+    }
+
+    fn start(&mut self, what: &str, runs: u64) -> Progress {
+        self.t = Clock::now();
+        (self.log)(&format!("{what} ({runs} runs)..."));
+        Progress::new(runs, what, self.quiet)
+    }
+
+    fn done(&mut self, p: &Progress) {
+        p.finish();
+        (self.log)(&format!(
+            "  done in {:.1} s",
+            self.t.elapsed().as_secs_f64()
+        ));
+    }
+}
+
+fn mean_time_at(points: &[SweepPoint], x: f64) -> Option<f64> {
+    points
+        .iter()
+        .find(|p| (p.x_init - x).abs() < 1e-9)
+        .and_then(|p| p.mean_success_periods)
+}
+
+fn rate_at(points: &[SweepPoint], x: f64) -> Option<f64> {
+    points
+        .iter()
+        .find(|p| (p.x_init - x).abs() < 1e-9)
+        .map(SweepPoint::success_rate)
+}
+
+fn rate_range(points: &[SweepPoint], keep: impl Fn(f64) -> bool) -> (f64, f64) {
+    points
+        .iter()
+        .filter(|p| keep(p.x_init))
+        .map(SweepPoint::success_rate)
+        .fold((f64::MAX, f64::MIN), |(lo, hi), r| (lo.min(r), hi.max(r)))
+}
+
+fn pct(v: f64) -> String {
+    format!("{:.0} %", 100.0 * v)
+}
+
+fn rate_span((lo, hi): (f64, f64)) -> String {
+    if (hi - lo).abs() < 1e-9 {
+        format!("{:.2}", lo)
+    } else {
+        format!("{lo:.2}–{hi:.2}")
+    }
+}
+
+/// Fraction of arrows in `keep` whose direction has a component toward the line x = 0.
+fn toward_border(arrows: &[Arrow], keep: impl Fn(f64) -> bool) -> (usize, usize) {
+    let sel: Vec<&Arrow> = arrows.iter().filter(|a| keep(a.at.x)).collect();
+    let ok = sel
+        .iter()
+        .filter(|a| a.direction.is_some_and(|d| d.cos() * a.at.x < 0.0))
+        .count();
+    (ok, sel.len())
+}
+
+/// Fraction of arrows in `keep` pointing toward +x.
+fn toward_plus_x(arrows: &[Arrow], keep: impl Fn(f64) -> bool) -> (usize, usize) {
+    let sel: Vec<&Arrow> = arrows.iter().filter(|a| keep(a.at.x)).collect();
+    let ok = sel
+        .iter()
+        .filter(|a| a.direction.is_some_and(|d| d.cos() > 0.0))
+        .count();
+    (ok, sel.len())
+}
+
+/// Distance beyond which a swarm no longer heads for the cloud: the smallest profile distance
+/// from which on every point's mean inward alignment stays below `threshold`.
+fn perception_limit(profile: &[RadialPoint], threshold: f64) -> Option<f64> {
+    let last_seen = profile.iter().rposition(|p| p.inward >= threshold)?;
+    profile.get(last_seen + 1).map(|p| p.distance)
+}
+
+/// The distances at which the swarm heads out of the cloud (mean inward alignment below
+/// `-threshold`): the largest such distance.
+fn outward_limit(profile: &[RadialPoint], threshold: f64) -> Option<f64> {
+    profile
+        .iter()
+        .filter(|p| p.inward <= -threshold)
+        .map(|p| p.distance)
+        .fold(None, |m: Option<f64>, d| Some(m.map_or(d, |m| m.max(d))))
+}
+
+/// Swarm sizes of the speed figures.
+const BENCH_AGENTS: [usize; 3] = [61, 1000, 10_000];
+
+/// Results of `swarm reproduce` that the command prints.
+#[derive(Clone, Debug)]
+pub struct Summary {
+    /// Where the report went.
+    pub report: PathBuf,
+    /// Wall time, seconds.
+    pub wall_s: f64,
+    /// Sharp-border sweep.
+    pub sharp: Vec<SweepPoint>,
+    /// Gradient sweep.
+    pub gradient: Vec<SweepPoint>,
+    /// Sharp-border sweep, lattice placement.
+    pub sharp_lattice: Vec<SweepPoint>,
+    /// Gradient sweep, lattice placement.
+    pub gradient_lattice: Vec<SweepPoint>,
+}
+
+/// Runs every experiment, writes the figures and CSV files into `docs/figures/` and
+/// regenerates `docs/reproduction.md`. `log` receives one line per stage.
+///
+/// # Errors
+/// If a run fails or a file cannot be written.
+pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, Error> {
+    let t0 = Clock::now();
+    let figs = opts.docs.join("figures");
+    std::fs::create_dir_all(&figs)?;
+    let sharp = builtin("sharp")?;
+    let gradient = builtin("gradient")?;
+    let cloud = builtin("cloud")?;
+    let mut st = Stage {
+        log,
+        quiet: opts.quiet,
+        t: Clock::now(),
+        base: opts.seed,
+        figs,
+    };
+    let runs = run_figures(&mut st, [&sharp, &gradient])?;
+    let (sweeps, lattice_sweeps) = sweeps(&mut st, [&sharp, &gradient])?;
+    sweep_figures(&st.figs, [&sharp, &gradient], &sweeps, &lattice_sweeps)?;
+    let maps = direction_maps(&mut st, [&sharp, &gradient, &cloud])?;
+    let profile = cloud_profile(&mut st, &cloud)?;
+    let plateaus = plateaus(&mut st, [&sharp, &gradient])?;
+    let cycle_rows = cycle_effect(&mut st, &sharp)?;
+
+    // Speed: one negotiation period per size on one thread (`swarm bench`).
+    let mut speed = Vec::new();
+    for n in BENCH_AGENTS {
+        speed.push(experiment::bench(&sharp, n, st.seed(70 + n as u64))?);
+    }
+
+    let wall_s = t0.elapsed().as_secs_f64();
+    let md = markdown(&Report {
+        placement: placement_stats(&sharp, st.seed(80))?,
+        speed: &speed,
+        seed: opts.seed,
+        wall_s,
+        threads: rayon::current_num_threads(),
+        sharp: &sharp,
+        gradient: &gradient,
+        cloud: &cloud,
+        runs: &runs,
+        sweeps: &sweeps,
+        lattice_sweeps: &lattice_sweeps,
+        maps: &maps,
+        profile: &profile,
+        profile_runs: PROFILE_RUNS,
+        plateaus: &plateaus,
+        plateau_runs: PLATEAU_RUNS,
+        cycle_rows: &cycle_rows,
+        cycle_runs: CYCLE_RUNS,
+    })?;
+    let report = opts.docs.join("reproduction.md");
+    std::fs::write(&report, md)?;
+    Ok(Summary {
+        report,
+        wall_s,
+        sharp: sweeps[0].clone(),
+        gradient: sweeps[1].clone(),
+        sharp_lattice: lattice_sweeps[0].clone(),
+        gradient_lattice: lattice_sweeps[1].clone(),
+    })
+}
+
+/// Runs per distance of the cloud's radial profile.
+const PROFILE_RUNS: u32 = 40;
+/// Runs per scenario of the diversity plateaus.
+const PLATEAU_RUNS: u32 = 20;
+/// Runs per point of the cycle-length experiment.
+const CYCLE_RUNS: u32 = 50;
+
+/// Figs. 4 and 7: one run each, with its CSV and figure. The figure shows the first of up to
+/// [`RUN_TRIES`] runs that succeeds (the sweeps give the rates); the report says which.
+fn run_figures(st: &mut Stage<'_>, scns: [&Scenario; 2]) -> Result<Vec<(u64, RunOutput)>, Error> {
+    let mut runs = Vec::new();
+    for (k, scn) in scns.into_iter().enumerate() {
+        let p = st.start(&format!("{} run", scn.name), RUN_TRIES);
+        let mut chosen = None;
+        for tries in 0..RUN_TRIES {
+            let s = derive(st.seed(k as u64), &[tries]);
+            let out = experiment::run(scn, scn.run, scn.start, scn.periods, s, false)?;
+            let ok = out.success_at.is_some();
+            if chosen.is_none() || ok {
+                chosen = Some((tries, out));
+            }
+            if ok {
+                break;
+            }
+        }
+        let (tries, out) = chosen.ok_or("no run")?;
+        let figs = &st.figs;
+        write_run_csv(&figs.join(format!("{}-run.csv", scn.name)), &out, &scn.run)?;
+        plot::run_figure(&figs.join(format!("{}-run.svg", scn.name)), scn, &out)?;
+        st.done(&p);
+        runs.push((tries, out));
+    }
+    Ok(runs)
+}
+
+/// Sweeps of each placement: random and lattice.
+type Sweeps = Vec<Vec<SweepPoint>>;
+
+/// Figs. 5 and 8: sweeps, with the random placement and with the lattice, and their
+/// CSV files.
+fn sweeps(st: &mut Stage<'_>, scns: [&Scenario; 2]) -> Result<(Sweeps, Sweeps), Error> {
+    let mut sweeps = Vec::new();
+    let mut lattice_sweeps = Vec::new();
+    for (k, scn) in scns.into_iter().enumerate() {
+        let spec = scn
+            .sweep
+            .as_ref()
+            .ok_or("built-in scenario without sweep")?;
+        let mut on_lattice = scn.clone();
+        on_lattice.shape = Shape::Lattice {
+            spacing: LATTICE_SPACING,
+        };
+        for (out, scn, stage, suffix) in [
+            (&mut sweeps, scn, 10, ""),
+            (&mut lattice_sweeps, &on_lattice, 12, "-lattice"),
+        ] {
+            let p = st.start(
+                &format!("{} sweep{suffix}", scn.name),
+                spec.xs.len() as u64 * u64::from(spec.runs),
+            );
+            let pts = sweep(
+                scn,
+                scn.run,
+                &spec.xs,
+                spec.runs,
+                st.seed(stage + k as u64),
+                &p,
+            )?;
+            st.done(&p);
+            let csv = st.figs.join(format!("{}-sweep{suffix}.csv", scn.name));
+            write_sweep_csv(&csv, &pts)?;
+            out.push(pts);
+        }
+    }
+    Ok((sweeps, lattice_sweeps))
+}
+
+/// The sweep figures: both placements and the paper's rates.
+fn sweep_figures(
+    figs: &Path,
+    scns: [&Scenario; 2],
+    sweeps: &[Vec<SweepPoint>],
+    lattice_sweeps: &[Vec<SweepPoint>],
+) -> Result<(), Error> {
+    let paper_sharp = |x: f64| (x.abs() < 2.5).then_some(1.0);
+    let paper_gradient = |x: f64| {
+        if (-2.0..2.33).contains(&x) {
+            Some(0.85)
+        } else {
+            None
+        }
+    };
+    let [sharp, gradient] = scns;
+    for (k, (scn, crit, paper)) in [
+        (
+            sharp,
+            "|x| < 0.33 R",
+            &paper_sharp as &dyn Fn(f64) -> Option<f64>,
+        ),
+        (gradient, "x ≥ 2.33", &paper_gradient),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        plot::sweep_figure(
+            &figs.join(format!("{}-sweep.svg", scn.name)),
+            &format!(
+                "{}: success ({crit} within {} periods), {} runs per point",
+                scn.name,
+                scn.periods,
+                scn.sweep.as_ref().map_or(0, |s| s.runs)
+            ),
+            &[
+                ("random placement", &sweeps[k]),
+                ("lattice placement", &lattice_sweeps[k]),
+            ],
+            Some(paper),
+        )?;
+    }
+    Ok(())
+}
+
+/// Figs. 6, 9, 10: direction maps, with their CSV files and figures.
+fn direction_maps(st: &mut Stage<'_>, scns: [&Scenario; 3]) -> Result<Vec<Vec<Arrow>>, Error> {
+    let mut maps = Vec::new();
+    for (k, scn) in scns.into_iter().enumerate() {
+        let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
+        let p = st.start(
+            &format!("{} field", scn.name),
+            (grid.xs.len() * grid.ys.len()) as u64,
+        );
+        let arrows = direction_map(scn, grid, st.seed(20 + k as u64), &p)?;
+        st.done(&p);
+        let figs = &st.figs;
+        write_field_csv(&figs.join(format!("{}-field.csv", scn.name)), &arrows)?;
+        plot::direction_figure(
+            &figs.join(format!("{}-field.svg", scn.name)),
+            scn,
+            grid,
+            &arrows,
+        )?;
+        maps.push(arrows);
+    }
+    Ok(maps)
+}
+
+/// Cloud: how far the swarm perceives it, with its CSV file and figure.
+fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint>, Error> {
+    let distances: Vec<f64> = (0..=24).map(|k| 0.5 * f64::from(k)).collect();
+    let profile_runs = PROFILE_RUNS;
+    let p = st.start(
+        "cloud radial profile",
+        distances.len() as u64 * u64::from(profile_runs),
+    );
+    let profile = radial_profile(
+        cloud,
+        cloud.run,
+        Point2::origin(),
+        &distances,
+        profile_runs,
+        st.seed(30),
+        &p,
+    )?;
+    st.done(&p);
+    write_radial_csv(&st.figs.join("cloud-profile.csv"), &profile)?;
+    plot::radial_figure(
+        &st.figs.join("cloud-profile.svg"),
+        &format!(
+            "cloud: heading of a swarm against its distance from the cloud's centre, {profile_runs} runs per point"
+        ),
+        &profile,
+        &[
+            (3.0, " ramp starts"),
+            (4.5, " ramp ends"),
+            (7.5, " 4.5 + swarm radius"),
+        ],
+    )?;
+    Ok(profile)
+}
+
+/// Diversity plateaus: mean, standard error and the runs that count, per scenario.
+fn plateaus(st: &mut Stage<'_>, scns: [&Scenario; 2]) -> Result<Vec<(f64, f64, usize)>, Error> {
+    let mut plateaus = Vec::new();
+    for (k, scn) in scns.into_iter().enumerate() {
+        let p = st.start(&format!("{} plateau", scn.name), u64::from(PLATEAU_RUNS));
+        plateaus.push(diversity_plateau(
+            scn,
+            PLATEAU_RUNS,
+            10,
+            st.seed(40 + k as u64),
+            &p,
+        )?);
+        st.done(&p);
+    }
+    Ok(plateaus)
+}
+
+/// The cycle length: success and waves heard per cycle length, with the CSV file and figure.
+fn cycle_effect(st: &mut Stage<'_>, sharp: &Scenario) -> Result<Vec<CycleRow>, Error> {
+    let cycle_runs = CYCLE_RUNS;
+    let mut cycle_rows = Vec::new();
+    let p = st.start(
+        "cycle length (sharp)",
+        (CYCLES.len() * CYCLE_XS.len()) as u64 * u64::from(cycle_runs),
+    );
+    for (k, &c) in CYCLES.iter().enumerate() {
+        let mut cfg = sharp.run;
+        cfg.params.wave.cycle = Duration::from_secs(c);
+        let points = sweep(
+            sharp,
+            cfg,
+            &CYCLE_XS,
+            cycle_runs,
+            st.seed(50 + k as u64),
+            &p,
+        )?;
+        let heard = waves_heard(sharp, cfg, 10, st.seed(60 + k as u64))?;
+        cycle_rows.push(CycleRow {
+            cycle_s: c,
+            waves_heard: heard,
+            points,
+        });
+    }
+    st.done(&p);
+    write_cycle_csv(&st.figs.join("cycle-effect.csv"), &cycle_rows)?;
+    cycle_figure(&st.figs.join("cycle-effect.svg"), sharp, &cycle_rows)?;
+    Ok(cycle_rows)
+}
+
+/// The cycle-length figure: success from each start and waves heard, against the cycle.
+fn cycle_figure(path: &Path, sharp: &Scenario, cycle_rows: &[CycleRow]) -> Result<(), Error> {
+    let lines: Vec<Line> = CYCLE_XS
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| Line {
+            label: format!("success rate from x = {x}"),
+            points: cycle_rows
+                .iter()
+                .map(|r| (r.cycle_s as f64, r.points[i].success_rate(), 0.0))
+                .collect(),
+        })
+        .chain(std::iter::once(Line {
+            label: format!("waves heard per agent per cycle / {}", sharp.agents),
+            points: cycle_rows
+                .iter()
+                .map(|r| (r.cycle_s as f64, r.waves_heard / sharp.agents as f64, 0.0))
+                .collect(),
+        }))
+        .collect();
+    plot::xy_figure(
+        path,
+        &format!("sharp border: effect of the cycle length t_p^max ({CYCLE_RUNS} runs per point)"),
+        "cycle length t_p^max / s",
+        "fraction",
+        &lines,
+        (0.0, 1.05),
+        &[],
+        true,
+    )?;
+    Ok(())
+}
+
+/// Neighbour counts of random placements of the sharp scenario's swarm.
+struct PlacementStats {
+    /// Mean degree with the redraw-until-connected rule ([`Swarm::place`]).
+    redrawn_degree: f64,
+    /// Mean degree of plain uniform scattering.
+    plain_degree: f64,
+    /// Fraction of plain scatterings that are disconnected.
+    plain_disconnected: f64,
+}
+
+/// Placements measured for [`PlacementStats`].
+const PLACEMENTS: u64 = 200;
+
+fn placement_stats(scn: &Scenario, seed: u64) -> Result<PlacementStats, Error> {
+    let (mut redrawn, mut plain, mut disconnected) = (0.0, 0.0, 0u64);
+    for k in 0..PLACEMENTS {
+        let mut rng = Pcg64Mcg::seed_from_u64(derive(seed, &[k]));
+        redrawn += Swarm::place(scn.agents, scn.shape, 1.0, &mut rng)?.mean_degree();
+        let offsets = (0..scn.agents)
+            .map(|_| scn.shape.sample(&mut rng).unwrap_or_default())
+            .collect();
+        let s = Swarm::from_offsets(offsets, 1.0);
+        plain += s.mean_degree();
+        disconnected += u64::from(!s.is_connected());
+    }
+    let n = PLACEMENTS as f64;
+    Ok(PlacementStats {
+        redrawn_degree: redrawn / n,
+        plain_degree: plain / n,
+        plain_disconnected: disconnected as f64 / n,
+    })
+}
+
+struct Report<'a> {
+    placement: PlacementStats,
+    speed: &'a [experiment::BenchResult],
+    seed: u64,
+    wall_s: f64,
+    threads: usize,
+    sharp: &'a Scenario,
+    gradient: &'a Scenario,
+    cloud: &'a Scenario,
+    runs: &'a [(u64, RunOutput)],
+    sweeps: &'a [Vec<SweepPoint>],
+    lattice_sweeps: &'a [Vec<SweepPoint>],
+    maps: &'a [Vec<Arrow>],
+    profile: &'a [RadialPoint],
+    profile_runs: u32,
+    plateaus: &'a [(f64, f64, usize)],
+    plateau_runs: u32,
+    cycle_rows: &'a [CycleRow],
+    cycle_runs: u32,
+}
+
+/// `docs/reproduction.md` as its template sees it (`templates/reproduction.md.j2`).
+#[derive(Serialize)]
+struct Page {
+    seed: u64,
+    wall_s: String,
+    threads: usize,
+    setup: Setup,
+    comparison: Comparison,
+    sharp: SharpSection,
+    gradient: GradientSection,
+    cloud: CloudSection,
+    cycle: CycleSection,
+    speed: SpeedSection,
+    names: [String; 3],
+}
+
+/// The set-up section.
+#[derive(Serialize)]
+struct Setup {
+    agents: usize,
+    degree: String,
+    placements: u64,
+    lattice_spacing: String,
+    lattice_degree: String,
+    cycle_s: u64,
+    relay_s: u64,
+    refractory_s: u64,
+    step: String,
+    periods: u32,
+}
+
+/// Which run a run figure shows.
+#[derive(Serialize)]
+struct RunNote {
+    name: &'static str,
+    tries: u64,
+    success_at: Option<u32>,
+}
+
+/// The table of the paper's numbers beside ours, and the notes below it.
+#[derive(Serialize)]
+struct Comparison {
+    sharp_near: String,
+    lattice_sharp_near: String,
+    sharp_25: String,
+    lattice_sharp_25: String,
+    sharp_far: Vec<String>,
+    sharp_times: Vec<String>,
+    sharp_plateau: String,
+    sharp_near_arrows: String,
+    sharp_far_arrows: String,
+    gradient_mid: [String; 2],
+    lattice_gradient_mid: [String; 2],
+    gradient_m4: String,
+    lattice_gradient_m4: String,
+    gradient_plateau: String,
+    gradient_near_arrows: String,
+    gradient_far_arrows: String,
+    cloud_limit: Option<String>,
+    cloud_outward: Option<String>,
+    sharp_plateau_runs: usize,
+    gradient_plateau_runs: usize,
+    plateau_runs: u32,
+    runs: Vec<RunNote>,
+    run_tries: u64,
+}
+
+/// The sharp border's section.
+#[derive(Serialize)]
+struct SharpSection {
+    rows: Vec<[String; 6]>,
+    near: String,
+    lattice_near: String,
+    degree: String,
+    placements: u64,
+    plain_degree: String,
+    plain_disconnected: String,
+    lattice_degree: String,
+}
+
+/// The gradient's section.
+#[derive(Serialize)]
+struct GradientSection {
+    rows: Vec<[String; 6]>,
+    mid: [String; 2],
+    lattice_mid: [String; 2],
+    lattice_m4: String,
+}
+
+/// The cloud's section.
+#[derive(Serialize)]
+struct CloudSection {
+    runs: u32,
+    rows: Vec<[String; 3]>,
+}
+
+/// The cycle length's section.
+#[derive(Serialize)]
+struct CycleSection {
+    agents: usize,
+    runs: u32,
+    xs: Vec<String>,
+    rows: Vec<Vec<String>>,
+    first_cycle_s: u64,
+    first_waves: String,
+    first_success: String,
+    rest_cycle_s: u64,
+    rest_range: String,
+    default_cycle_s: u64,
+    default_waves: Option<String>,
+}
+
+/// One swarm size of the speed line.
+#[derive(Serialize)]
+struct SpeedSize {
+    agents: usize,
+    steps_per_s: String,
+}
+
+/// The speed section.
+#[derive(Serialize)]
+struct SpeedSection {
+    period_s: u64,
+    sizes: Vec<SpeedSize>,
+}
+
+/// The rows of a sweep table: random and lattice placement side by side.
+fn sweep_rows(random: &[SweepPoint], lattice: &[SweepPoint]) -> Vec<[String; 6]> {
+    random
+        .iter()
+        .zip(lattice)
+        .map(|(p, q)| {
+            [
+                p.x_init.to_string(),
+                p.runs.to_string(),
+                fixed(p.success_rate(), 2),
+                opt(p.mean_success_periods, 1),
+                fixed(q.success_rate(), 2),
+                opt(q.mean_success_periods, 1),
+            ]
+        })
+        .collect()
+}
+
+/// Success rates in the sharp border's band |x| ≤ 2.
+fn sharp_near(points: &[SweepPoint]) -> (f64, f64) {
+    rate_range(points, |x| x.abs() <= 2.0 + 1e-9)
+}
+
+/// Success rates in the gradient's band −2 ≤ x < 2.33.
+fn gradient_mid(points: &[SweepPoint]) -> [String; 2] {
+    let (lo, hi) = rate_range(points, |x| (-2.0 - 1e-9..2.33).contains(&x));
+    [pct(lo), pct(hi)]
+}
+
+/// Success rate at x = −4, `–` if not swept.
+fn at_m4(points: &[SweepPoint]) -> String {
+    rate_at(points, -4.0).map_or("–".into(), pct)
+}
+
+/// Mean degree of the lattice placement of the sharp scenario's swarm.
+fn lattice_degree(r: &Report<'_>) -> f64 {
+    Swarm::from_offsets(lattice(r.sharp.agents, LATTICE_SPACING), 1.0).mean_degree()
+}
+
+/// `ok of n`.
+fn of((ok, n): (usize, usize)) -> String {
+    format!("{ok} of {n}")
+}
+
+fn setup(r: &Report<'_>) -> Setup {
+    let p = &r.sharp.run.params;
+    Setup {
+        agents: r.sharp.agents,
+        degree: fixed(r.placement.redrawn_degree, 1),
+        placements: PLACEMENTS,
+        lattice_spacing: LATTICE_SPACING.to_string(),
+        lattice_degree: fixed(lattice_degree(r), 1),
+        cycle_s: p.wave.cycle.as_millis() / 1000,
+        relay_s: p.wave.relay_delay.as_millis() / 1000,
+        refractory_s: p.wave.refractory.as_millis() / 1000,
+        step: r.sharp.run.step.to_string(),
+        periods: r.sharp.periods,
+    }
+}
+
+fn comparison(r: &Report<'_>) -> Comparison {
+    let (sharp, gradient) = (&r.sweeps[0], &r.sweeps[1]);
+    let (lsharp, lgradient) = (&r.lattice_sweeps[0], &r.lattice_sweeps[1]);
+    let sharp_25 = |pts: &[SweepPoint]| rate_span(rate_range(pts, |x| x.abs() < 2.5));
+    let plateau = |k: usize| format!("{:.1} ± {:.1}", r.plateaus[k].0, r.plateaus[k].1);
+    Comparison {
+        sharp_near: rate_span(sharp_near(sharp)),
+        lattice_sharp_near: rate_span(sharp_near(lsharp)),
+        sharp_25: sharp_25(sharp),
+        lattice_sharp_25: sharp_25(lsharp),
+        sharp_far: [-3.0, -4.0, -5.0]
+            .map(|x| opt(rate_at(sharp, x), 2))
+            .to_vec(),
+        sharp_times: [-1.0, -2.0, -2.5]
+            .map(|x| opt(mean_time_at(sharp, x), 1))
+            .to_vec(),
+        sharp_plateau: plateau(0),
+        sharp_near_arrows: of(toward_border(&r.maps[0], |x| {
+            x != 0.0 && x.abs() <= 2.0 + 1e-9
+        })),
+        sharp_far_arrows: of(toward_border(&r.maps[0], |x| x.abs() >= 3.0 - 1e-9)),
+        gradient_mid: gradient_mid(gradient),
+        lattice_gradient_mid: gradient_mid(lgradient),
+        gradient_m4: at_m4(gradient),
+        lattice_gradient_m4: at_m4(lgradient),
+        gradient_plateau: plateau(1),
+        gradient_near_arrows: of(toward_plus_x(&r.maps[1], |x| {
+            (-2.0 - 1e-9..=1.5 + 1e-9).contains(&x)
+        })),
+        gradient_far_arrows: of(toward_plus_x(&r.maps[1], |x| x >= 2.5 - 1e-9)),
+        cloud_limit: perception_limit(r.profile, 0.5).map(|d| fixed(d, 1)),
+        cloud_outward: outward_limit(r.profile, 0.5).map(|d| fixed(d, 1)),
+        sharp_plateau_runs: r.plateaus[0].2,
+        gradient_plateau_runs: r.plateaus[1].2,
+        plateau_runs: r.plateau_runs,
+        runs: ["sharp", "gradient"]
+            .into_iter()
+            .zip(r.runs)
+            .map(|(name, (tries, out))| RunNote {
+                name,
+                tries: *tries,
+                success_at: out.success_at,
+            })
+            .collect(),
+        run_tries: RUN_TRIES,
+    }
+}
+
+fn sharp_section(r: &Report<'_>) -> SharpSection {
+    SharpSection {
+        rows: sweep_rows(&r.sweeps[0], &r.lattice_sweeps[0]),
+        near: rate_span(sharp_near(&r.sweeps[0])),
+        lattice_near: rate_span(sharp_near(&r.lattice_sweeps[0])),
+        degree: fixed(r.placement.redrawn_degree, 1),
+        placements: PLACEMENTS,
+        plain_degree: fixed(r.placement.plain_degree, 1),
+        plain_disconnected: fixed(100.0 * r.placement.plain_disconnected, 0),
+        lattice_degree: fixed(lattice_degree(r), 1),
+    }
+}
+
+fn gradient_section(r: &Report<'_>) -> GradientSection {
+    GradientSection {
+        rows: sweep_rows(&r.sweeps[1], &r.lattice_sweeps[1]),
+        mid: gradient_mid(&r.sweeps[1]),
+        lattice_mid: gradient_mid(&r.lattice_sweeps[1]),
+        lattice_m4: at_m4(&r.lattice_sweeps[1]),
+    }
+}
+
+fn cloud_section(r: &Report<'_>) -> CloudSection {
+    CloudSection {
+        runs: r.profile_runs,
+        rows: r
+            .profile
+            .iter()
+            .map(|p| {
+                [
+                    p.distance.to_string(),
+                    fixed(p.inward, 2),
+                    fixed(p.inward_se, 2),
+                ]
+            })
+            .collect(),
+    }
+}
+
+fn cycle_section(r: &Report<'_>) -> CycleSection {
+    let default_cycle_s = r.sharp.run.params.wave.cycle.as_millis() / 1000;
+    let rows = r
+        .cycle_rows
+        .iter()
+        .map(|row| {
+            let mut cells = vec![row.cycle_s.to_string(), fixed(row.waves_heard, 1)];
+            for pnt in &row.points {
+                cells.push(fixed(pnt.success_rate(), 2));
+                cells.push(opt(pnt.mean_success_periods, 1));
+            }
+            cells
+        })
+        .collect();
+    let first = &r.cycle_rows[0];
+    let rest = &r.cycle_rows[1..];
+    let rest_range = rest
+        .iter()
+        .flat_map(|row| row.points.iter().map(SweepPoint::success_rate))
+        .fold((f64::MAX, f64::MIN), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    CycleSection {
+        agents: r.sharp.agents,
+        runs: r.cycle_runs,
+        xs: CYCLE_XS.iter().map(f64::to_string).collect(),
+        rows,
+        first_cycle_s: first.cycle_s,
+        first_waves: fixed(first.waves_heard, 0),
+        first_success: fixed(first.points[0].success_rate(), 2),
+        rest_cycle_s: rest.first().map_or(0, |row| row.cycle_s),
+        rest_range: rate_span(rest_range),
+        default_cycle_s,
+        default_waves: r
+            .cycle_rows
+            .iter()
+            .find(|row| row.cycle_s == default_cycle_s)
+            .map(|row| fixed(row.waves_heard, 0)),
+    }
+}
+
+fn speed_section(r: &Report<'_>) -> SpeedSection {
+    SpeedSection {
+        period_s: r.sharp.run.period_secs(),
+        sizes: r
+            .speed
+            .iter()
+            .map(|b| SpeedSize {
+                agents: b.agents,
+                steps_per_s: format!("{:.2e}", b.agent_steps_per_s()),
+            })
+            .collect(),
+    }
+}
+
+/// The page's data, every number formatted.
+fn page(r: &Report<'_>) -> Page {
+    Page {
+        seed: r.seed,
+        wall_s: fixed(r.wall_s, 0),
+        threads: r.threads,
+        setup: setup(r),
+        comparison: comparison(r),
+        sharp: sharp_section(r),
+        gradient: gradient_section(r),
+        cloud: cloud_section(r),
+        cycle: cycle_section(r),
+        speed: speed_section(r),
+        names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),
+    }
+}
+
+/// `docs/reproduction.md`, rendered from `templates/reproduction.md.j2`.
+fn markdown(r: &Report<'_>) -> Result<String, Error> {
+    Ok(crate::report::page::render("reproduction.md.j2", page(r))?)
+}

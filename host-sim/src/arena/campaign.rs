@@ -942,6 +942,9 @@ pub struct CampaignSection {
     pub last_seed: u64,
     /// Length of a run, whole seconds.
     pub run_s: u64,
+    /// The set-up facts the page states, read from the configuration of a run (so that CI's
+    /// staleness diff catches a change of the emulator's defaults).
+    pub setup: Setup,
     /// The paper's patterns, in the order seeds rotate through them.
     pub patterns: &'static [&'static str],
     /// How long a rebooting robot stays down, whole seconds.
@@ -960,6 +963,48 @@ pub struct CampaignSection {
     pub failing: Vec<FailingGroup>,
     /// The missed bars, one line each.
     pub missed: Vec<String>,
+}
+
+/// What the campaign's runs are, as configured (robots, spacing, light link, cycles).
+#[derive(Serialize)]
+pub struct Setup {
+    /// Robots in the line.
+    pub robots: usize,
+    /// Distance between neighbours, m.
+    pub spacing_m: String,
+    /// Light range, m.
+    pub range_m: String,
+    /// Bits per second on air.
+    pub bitrate: u32,
+    /// Bits per byte on air.
+    pub bits_per_byte: u32,
+    /// Mean cycle, s.
+    pub cycle_s: String,
+    /// Cycle spread, ± s.
+    pub spread_s: String,
+    /// Cycles per negotiation period.
+    pub negotiation_cycles: u16,
+}
+
+impl Setup {
+    /// The facts of `cfg`, a run of the campaign.
+    pub fn of(cfg: &ArenaConfig) -> Setup {
+        let spacing = match cfg.positions.as_slice() {
+            [a, b, ..] => (b - a).norm(),
+            _ => 0.0,
+        };
+        let p = &cfg.robot.params;
+        Setup {
+            robots: cfg.positions.len(),
+            spacing_m: format!("{spacing}"),
+            range_m: format!("{}", cfg.medium.range),
+            bitrate: cfg.medium.bitrate,
+            bits_per_byte: cfg.medium.bits_per_byte,
+            cycle_s: format!("{}", p.wave.cycle.as_secs_f64()),
+            spread_s: format!("{}", p.wave.cycle_spread.as_secs_f64()),
+            negotiation_cycles: p.negotiation_cycles,
+        }
+    }
 }
 
 /// One scenario's results, formatted.
@@ -1082,6 +1127,18 @@ fn scenario_row(r: &ScenarioResult) -> ScenarioRow {
     }
 }
 
+/// The set-up of the baseline scenario's first run (every scenario shares it but its fault).
+fn baseline_setup(seed: u64) -> Setup {
+    let baseline = SCENARIOS
+        .iter()
+        .find(|s| matches!(s.fault, Fault::CycleSpread { .. }))
+        .unwrap_or(&SCENARIOS[0]);
+    match config(baseline, seed, None) {
+        Ok((cfg, _)) => Setup::of(&cfg),
+        Err(_) => Setup::of(&ArenaConfig::line(Vec::new(), 1.0, Duration::ZERO, seed)),
+    }
+}
+
 /// One rule's campaign as the page's first section; `figure` relative to the page.
 pub fn campaign_section(report: &Report, figure: Option<&str>) -> CampaignSection {
     let plan = &report.plan;
@@ -1094,6 +1151,7 @@ pub fn campaign_section(report: &Report, figure: Option<&str>) -> CampaignSectio
         first_seed: plan.seed,
         last_seed: plan.seed.wrapping_add(plan.seeds - 1),
         run_s: hal_emu::lab::default_duration(&p).as_millis() / 1000,
+        setup: baseline_setup(plan.seed),
         patterns: &PAPER_PATTERNS,
         reboot_down_s: REBOOT_DOWN.as_millis() / 1000,
         restore_limit_s: nominal_period(&p).saturating_mul(2).as_millis() / 1000,

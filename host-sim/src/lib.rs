@@ -29,6 +29,7 @@ pub mod arena;
 pub mod progress;
 pub mod report;
 pub mod seeds;
+pub mod stats;
 pub mod swarm;
 
 // The module paths from before the folders (`host_sim::campaign`, `host_sim::scenario`, ...).

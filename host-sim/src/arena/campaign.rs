@@ -551,16 +551,7 @@ pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
     })
 }
 
-/// The `p`-quantile (0 to 1) of `xs` by the nearest-rank method.
-pub fn quantile(xs: &[f64], p: f64) -> Option<f64> {
-    let mut v: Vec<f64> = xs.iter().copied().filter(|x| x.is_finite()).collect();
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    let rank = ((p * v.len() as f64).ceil() as usize).clamp(1, v.len());
-    Some(v[rank - 1])
-}
+pub use crate::stats::quantile;
 
 /// The command that replays one run.
 pub fn replay_command(scenario: &str, seed: u64, loss: Option<f64>, decide: Decide) -> String {

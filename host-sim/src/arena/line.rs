@@ -626,7 +626,7 @@ fn print_table(
             .collect();
         let ok = rs.iter().filter(|r| r.success).count();
         let times: Vec<f64> = rs.iter().filter_map(|r| r.consensus_s).collect();
-        let mean = (!times.is_empty()).then(|| times.iter().sum::<f64>() / times.len() as f64);
+        let mean = crate::stats::mean(&times);
         let speed: f64 = rs
             .iter()
             .map(|r| r.report.emulated.as_secs_f64())

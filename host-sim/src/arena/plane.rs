@@ -473,8 +473,7 @@ pub fn print_runs(
 }
 
 fn mean(xs: impl Iterator<Item = f64>) -> Option<f64> {
-    let (n, s) = xs.fold((0usize, 0.0), |(n, s), x| (n + 1, s + x));
-    (n > 0).then(|| s / n as f64)
+    crate::stats::mean(&xs.collect::<Vec<_>>())
 }
 
 /// Options of `cimax arena sweep`.

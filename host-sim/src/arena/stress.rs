@@ -168,7 +168,7 @@ pub fn initiations_section(fixed: &Report, adaptive: &Report) -> InitiationsSect
             continue;
         };
         let (init, skip) = per_period(&r.runs, &params);
-        let mean = init.iter().sum::<f64>() / init.len().max(1) as f64;
+        let mean = crate::stats::mean(&init).unwrap_or(0.0);
         let ten = init.iter().filter(|&&x| x >= 10.0).count() as f64 / init.len().max(1) as f64;
         let f = |x: Option<f64>| x.map_or("-".into(), |v| format!("{v:.1}"));
         rows.push([

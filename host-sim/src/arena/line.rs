@@ -17,6 +17,7 @@ use firmware::LedColor;
 use hal_emu::arena::RobotFailure;
 use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, mirrored, parse_pattern, pattern_str};
 use hal_emu::{ArenaConfig, ArenaError, MediumParams, TraceEvent};
+use plotters::prelude::*;
 use protocol::{Duration, Instant, Params, SwarmKey};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -691,32 +692,75 @@ fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
 /// A timeline per robot: LED colour as a band, frames sent as ticks above it, frames received
 /// as dots below it (red when garbled or dropped).
 fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
+    let mut svg = String::new();
+    if let Err(e) = draw_timeline(cfg, run, &mut svg) {
+        eprintln!("cimax arena: timeline: {e}");
+    }
+    svg
+}
+
+/// Where the timeline draws: pixel coordinates on a plotters SVG canvas, one lane per robot.
+struct Lanes {
+    left: f64,
+    width: f64,
+    lane: f64,
+    end_ms: f64,
+}
+
+impl Lanes {
+    /// The x pixel of time `t_ms`.
+    fn x(&self, t_ms: u64) -> i32 {
+        (self.left + (self.width - self.left - 10.0) * (t_ms as f64 / self.end_ms)).round() as i32
+    }
+
+    /// The top pixel of robot `r`'s lane.
+    fn y(&self, r: usize) -> i32 {
+        (30.0 + self.lane * r as f64).round() as i32
+    }
+}
+
+type Canvas<'a> = DrawingArea<SVGBackend<'a>, plotters::coord::Shift>;
+type Drawn = Result<(), Box<dyn std::error::Error>>;
+
+/// Draws the timeline of `run` into `out` with plotters (as every other figure of `cimax`).
+fn draw_timeline(cfg: &ArenaConfig, run: &LabRun, out: &mut String) -> Drawn {
     let n = cfg.positions.len();
     let end_s = cfg.duration.as_secs_f64().max(1.0);
-    let (w, lane, left) = (1200.0, 40.0, 70.0);
-    let h = 40.0 + lane * n as f64;
-    let x = |t_ms: u64| left + (w - left - 10.0) * (t_ms as f64 / 1000.0 / end_s);
-    let mut s = format!(
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" font-family="sans-serif" font-size="11">"#
-    );
-    s += &format!(
-        r#"<text x="{left}" y="14">pattern {} seed {}: wave state (orange active, red refractory), frames sent (ticks), LED colour (green left, blue right, grey off), frames received (dots; red = garbled or dropped); {end_s:.0} s</text>"#,
-        pattern_str(&run.lights),
-        run.seed
-    );
-    led_lanes(&mut s, cfg, run, &x, lane);
-    wave_bands(&mut s, run, &x, lane, n);
-    frame_marks(&mut s, run, &x, lane);
-    s += "</svg>\n";
-    s
+    let lanes = Lanes {
+        left: 70.0,
+        width: 1200.0,
+        lane: 40.0,
+        end_ms: end_s * 1000.0,
+    };
+    let h = (40.0 + lanes.lane * n as f64) as u32;
+    {
+        let root = SVGBackend::with_string(out, (1200, h)).into_drawing_area();
+        root.fill(&WHITE)?;
+        let title = format!(
+            "pattern {} seed {}: wave state (orange active, red refractory), frames sent (ticks), \
+             LED colour (green left, blue right, grey off), frames received (dots; red = garbled \
+             or dropped); {end_s:.0} s",
+            pattern_str(&run.lights),
+            run.seed
+        );
+        root.draw(&Text::new(title, (70, 4), ("sans-serif", 11)))?;
+        led_lanes(&root, &lanes, cfg, run)?;
+        wave_bands(&root, &lanes, run, n)?;
+        frame_marks(&root, &lanes, run)?;
+        root.present()?;
+    }
+    Ok(())
 }
 
 /// The LED colour of each robot over time, one lane per robot, with its label.
-fn led_lanes(s: &mut String, cfg: &ArenaConfig, run: &LabRun, x: &dyn Fn(u64) -> f64, lane: f64) {
-    let n = cfg.positions.len();
-    for r in 0..n {
-        let y = 30.0 + lane * r as f64;
-        *s += &format!(r#"<text x="4" y="{}">robot {r}</text>"#, y + 18.0);
+fn led_lanes(root: &Canvas<'_>, lanes: &Lanes, cfg: &ArenaConfig, run: &LabRun) -> Drawn {
+    for r in 0..cfg.positions.len() {
+        let y = lanes.y(r);
+        root.draw(&Text::new(
+            format!("robot {r}"),
+            (4, y + 8),
+            ("sans-serif", 11),
+        ))?;
         let mut segs: Vec<(u64, LedColor)> = vec![(0, LedColor::Off)];
         segs.extend(
             run.report
@@ -728,57 +772,51 @@ fn led_lanes(s: &mut String, cfg: &ArenaConfig, run: &LabRun, x: &dyn Fn(u64) ->
         for (i, &(t, c)) in segs.iter().enumerate() {
             let t2 = segs.get(i + 1).map_or(cfg.duration.as_millis(), |s| s.0);
             let fill = match c {
-                LedColor::Green => "#2e9d4a",
-                LedColor::Blue => "#2b6cd6",
-                LedColor::Off => "#d8d8d8",
-                LedColor::Sector(_) => "#8a4fd6",
+                LedColor::Green => RGBColor(0x2e, 0x9d, 0x4a),
+                LedColor::Blue => RGBColor(0x2b, 0x6c, 0xd6),
+                LedColor::Off => RGBColor(0xd8, 0xd8, 0xd8),
+                LedColor::Sector(_) => RGBColor(0x8a, 0x4f, 0xd6),
             };
-            *s += &format!(
-                r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="12" fill="{fill}"/>"#,
-                x(t),
-                y + 10.0,
-                (x(t2) - x(t)).max(0.5)
-            );
+            let (x0, x1) = (lanes.x(t), lanes.x(t2).max(lanes.x(t) + 1));
+            root.draw(&Rectangle::new([(x0, y + 10), (x1, y + 22)], fill.filled()))?;
         }
     }
+    Ok(())
 }
 
 /// Wave states as a thin band above the LEDs: orange active, red refractory.
-fn wave_bands(s: &mut String, run: &LabRun, x: &dyn Fn(u64) -> f64, lane: f64, n: usize) {
+fn wave_bands(root: &Canvas<'_>, lanes: &Lanes, run: &LabRun, n: usize) -> Drawn {
     let mut since: Vec<Option<(u64, &str)>> = vec![None; n];
     for e in &run.report.trace {
         if let TraceEvent::State { t_ms, robot, state } = e
             && let Some(slot) = since.get_mut(*robot)
         {
             if let Some((t0, st)) = slot.take() {
-                let fill = if st == "active" { "#f0a030" } else { "#e06060" };
-                let y = 30.0 + lane * *robot as f64;
-                *s += &format!(
-                    r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="5" fill="{fill}"/>"#,
-                    x(t0),
-                    y + 3.0,
-                    (x(*t_ms) - x(t0)).max(0.5)
-                );
+                let fill = if st == "active" {
+                    RGBColor(0xf0, 0xa0, 0x30)
+                } else {
+                    RGBColor(0xe0, 0x60, 0x60)
+                };
+                let y = lanes.y(*robot);
+                let (x0, x1) = (lanes.x(t0), lanes.x(*t_ms).max(lanes.x(t0) + 1));
+                root.draw(&Rectangle::new([(x0, y + 3), (x1, y + 8)], fill.filled()))?;
             }
             if *state != "inactive" {
                 *slot = Some((*t_ms, state));
             }
         }
     }
+    Ok(())
 }
 
 /// Frames sent (ticks), received (dots) and dropped (red rings), per robot.
-fn frame_marks(s: &mut String, run: &LabRun, x: &dyn Fn(u64) -> f64, lane: f64) {
+fn frame_marks(root: &Canvas<'_>, lanes: &Lanes, run: &LabRun) -> Drawn {
+    let grey = RGBColor(0x55, 0x55, 0x55);
     for e in &run.report.trace {
         match e {
             TraceEvent::Sent { t_ms, robot, .. } => {
-                let y = 30.0 + lane * *robot as f64;
-                *s += &format!(
-                    r#"<line x1="{0:.1}" x2="{0:.1}" y1="{1:.1}" y2="{2:.1}" stroke="black" stroke-width="0.6"/>"#,
-                    x(*t_ms),
-                    y + 2.0,
-                    y + 9.0
-                );
+                let (x, y) = (lanes.x(*t_ms), lanes.y(*robot));
+                root.draw(&PathElement::new(vec![(x, y + 2), (x, y + 9)], BLACK))?;
             }
             TraceEvent::Received {
                 t_ms,
@@ -787,29 +825,22 @@ fn frame_marks(s: &mut String, run: &LabRun, x: &dyn Fn(u64) -> f64, lane: f64) 
                 corrupted,
                 ..
             } => {
-                let y = 30.0 + lane * *robot as f64;
                 let c = if *garbled || *corrupted > 0 {
-                    "red"
+                    RED
                 } else {
-                    "#555"
+                    grey
                 };
-                *s += &format!(
-                    r#"<circle cx="{:.1}" cy="{:.1}" r="1.3" fill="{c}"/>"#,
-                    x(*t_ms),
-                    y + 26.0
-                );
+                let at = (lanes.x(*t_ms), lanes.y(*robot) + 26);
+                root.draw(&Circle::new(at, 1, c.filled()))?;
             }
             TraceEvent::Dropped { t_ms, robot, .. } => {
-                let y = 30.0 + lane * *robot as f64;
-                *s += &format!(
-                    r#"<circle cx="{:.1}" cy="{:.1}" r="1.8" fill="none" stroke="red"/>"#,
-                    x(*t_ms),
-                    y + 26.0
-                );
+                let at = (lanes.x(*t_ms), lanes.y(*robot) + 26);
+                root.draw(&Circle::new(at, 2, RED))?;
             }
             _ => {}
         }
     }
+    Ok(())
 }
 
 /// `cimax arena --field ...`: robots on a plane over a field, moving as they decide.

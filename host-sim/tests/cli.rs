@@ -311,3 +311,55 @@ fn a_scenario_too_large_to_place_fails_naming_the_key() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn agents_sit_on_the_lattice_unless_placement_random() {
+    let dir = std::env::temp_dir().join(format!("cimax-placement-{}", std::process::id()));
+    let d = dir.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec!["swarm", "run", "--periods", "1", "--out-dir", d];
+        args.extend_from_slice(extra);
+        cimax(&args)
+    };
+    for extra in [&[][..], &["--placement", "lattice"], &["--lattice"]] {
+        let out = run(extra);
+        assert!(out.status.success(), "{extra:?}");
+        let said = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            said.contains("(lattice placement): 61 agents (mean 5.1 neighbours)"),
+            "{said}"
+        );
+        assert!(dir.join("sharp-run.csv").exists(), "{extra:?}");
+    }
+    let out = run(&["--placement", "random"]);
+    assert!(out.status.success());
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(said.contains("(random placement): 61 agents"), "{said}");
+    assert!(dir.join("sharp-random-run.csv").exists());
+
+    let out = run(&["--placement", "grid"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("random or lattice"));
+    let out = run(&["--lattice", "--placement", "random"]);
+    assert_eq!(out.status.code(), Some(2));
+
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("hex.toml");
+    std::fs::write(
+        &path,
+        "[swarm]\nagents = 7\nshape = \"lattice\"\nspacing = 1.0\n\n[[field]]\nalong = \"x\"\nsegments = [{ from = 0.0, level = 1.0 }]\n",
+    )
+    .unwrap();
+    let p = path.to_str().unwrap();
+    let out = run(&["--scenario", p, "--placement", "random", "--quiet"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--placement random: scenario"), "{err}");
+    let out = run(&["--scenario", p, "--quiet"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -6,11 +6,10 @@ use std::time::Instant as Clock;
 
 use clap::{Args, Subcommand};
 use host_sim::experiment::{self, Progress};
-use host_sim::geometry::Shape;
 use host_sim::report;
 use host_sim::scenario::{
-    LATTICE_SPACING, MAX_AGENTS, MAX_PERIOD_SECS, MAX_PERIODS, MAX_RUNS_PER_POINT, Scenario,
-    check_runs,
+    DEFAULT_PLACEMENT, MAX_AGENTS, MAX_PERIOD_SECS, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement,
+    Scenario, check_runs,
 };
 use host_sim::swarm::reproduce;
 use host_sim::{plot, seeds};
@@ -29,9 +28,15 @@ pub struct Common {
     /// cycles must stay within 1,000,000 s.
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_PERIOD_SECS))]
     cycle: Option<u64>,
-    /// Place the agents on a triangular lattice of spacing 0.75 R instead of the scenario's
-    /// shape (61 agents: a hexagon filling a 6 R disk, 5.1 neighbours each on average).
-    #[arg(long)]
+    /// Where the agents start: `lattice`, the nodes of a triangular lattice of spacing 0.75 R
+    /// nearest the centre (61 agents: a hexagon filling a 6 R disk, 5.1 neighbours each on
+    /// average, the paper's "about five"), or `random`, uniformly in the scenario's disk or
+    /// rectangle, redrawn until connected (6.1 neighbours for 61 agents in a 6 R disk).
+    /// Outputs of `random` are named SCENARIO-random-COMMAND [default: lattice].
+    #[arg(long, value_name = "random|lattice", value_parser = parse_placement)]
+    placement: Option<Placement>,
+    /// The same as `--placement lattice` (the default since the lattice matched the paper).
+    #[arg(long, conflicts_with = "placement")]
     lattice: bool,
     /// CSV output (default: OUT_DIR/SCENARIO-COMMAND.csv).
     #[arg(long)]
@@ -97,6 +102,10 @@ pub enum SwarmCommand {
         /// No progress bars.
         #[arg(long)]
         quiet: bool,
+        /// The placement of every experiment, random or lattice; the sweeps also run the
+        /// other one [default: lattice, as on the committed page].
+        #[arg(long, value_name = "random|lattice", value_parser = parse_placement)]
+        placement: Option<Placement>,
     },
     /// Agent-steps per second for swarms of several sizes (one negotiation period each).
     Bench {
@@ -117,18 +126,26 @@ pub enum SwarmCommand {
     },
 }
 
+fn parse_placement(s: &str) -> Result<Placement, String> {
+    s.parse()
+}
+
 pub type Res = Result<(), Box<dyn std::error::Error + Send + Sync>>;
 
 impl Common {
     fn scenario(&self) -> Result<Scenario, Box<dyn std::error::Error + Send + Sync>> {
-        let mut s = Scenario::load(&self.scenario)?;
-        if self.lattice {
-            s.shape = Shape::Lattice {
-                spacing: LATTICE_SPACING,
-            };
-            s.name.push_str("-lattice");
-            s.description.push_str(" (lattice placement)");
+        let placement = if self.lattice {
+            Placement::Lattice
+        } else {
+            self.placement.unwrap_or(DEFAULT_PLACEMENT)
+        };
+        let mut s = Scenario::load(&self.scenario)?
+            .placed(placement)
+            .map_err(|e| format!("--placement {placement}: {e}"))?;
+        if placement != DEFAULT_PLACEMENT {
+            s.name = format!("{}-{placement}", s.name);
         }
+        s.description = format!("{} ({placement} placement)", s.description);
         if let Some(c) = self.cycle {
             s.run.params.wave.cycle = Duration::from_secs(c);
             s.run.check().map_err(|e| format!("--cycle {c}: {e}"))?;
@@ -298,32 +315,41 @@ fn swarm_field(c: &Common) -> Res {
     Ok(())
 }
 
-fn swarm_reproduce(seed: u64, docs: Option<PathBuf>, quiet: bool) -> Res {
+fn swarm_reproduce(
+    seed: u64,
+    docs: Option<PathBuf>,
+    quiet: bool,
+    placement: Option<Placement>,
+) -> Res {
     let opts = reproduce::Options {
         seed,
         docs: docs.unwrap_or_else(report::default_docs_dir),
         quiet,
+        placement: placement.unwrap_or(DEFAULT_PLACEMENT),
     };
     println!(
-        "swarm reproduce: seed {seed}, {} threads, writing {}",
+        "swarm reproduce: seed {seed}, {} placement, {} threads, writing {}",
+        opts.placement,
         rayon::current_num_threads(),
         opts.docs.display()
     );
     let s = reproduce::reproduce(&opts, &mut |line| println!("{line}"))?;
-    println!("sharp border sweep, random placement (x_init: success rate):");
     let fmt = |pts: &[experiment::SweepPoint]| {
         pts.iter()
             .map(|p| format!("{}: {:.2}", p.x_init, p.success_rate()))
             .collect::<Vec<_>>()
             .join(", ")
     };
-    println!("  {}", fmt(&s.sharp));
-    println!("sharp border sweep, lattice placement:");
-    println!("  {}", fmt(&s.sharp_lattice));
-    println!("gradient sweep, random placement:");
-    println!("  {}", fmt(&s.gradient));
-    println!("gradient sweep, lattice placement:");
-    println!("  {}", fmt(&s.gradient_lattice));
+    let main = s.placement;
+    for (what, placement, pts) in [
+        ("sharp border", main, &s.sharp),
+        ("sharp border", main.other(), &s.sharp_other),
+        ("gradient", main, &s.gradient),
+        ("gradient", main.other(), &s.gradient_other),
+    ] {
+        println!("{what} sweep, {placement} placement (x_init: success rate):");
+        println!("  {}", fmt(pts));
+    }
     println!("wrote {}", s.report.display());
     println!("wall time {:.1} s", s.wall_s);
     Ok(())
@@ -380,7 +406,12 @@ pub fn run(command: SwarmCommand) -> Res {
             runs,
         } => swarm_sweep(&common, from, to, step, runs),
         SwarmCommand::Field { common } => swarm_field(&common),
-        SwarmCommand::Reproduce { seed, docs, quiet } => swarm_reproduce(seed, docs, quiet),
+        SwarmCommand::Reproduce {
+            seed,
+            docs,
+            quiet,
+            placement,
+        } => swarm_reproduce(seed, docs, quiet, placement),
         SwarmCommand::Bench {
             agents,
             seed,

@@ -21,8 +21,8 @@ use crate::swarm::experiment::{
     self, Arrow, Error, Progress, RadialPoint, RunOutput, SweepPoint, direction_map,
     diversity_plateau, radial_profile, sweep, waves_heard,
 };
-use crate::swarm::geometry::{Shape, Swarm, lattice};
-use crate::swarm::scenario::{LATTICE_SPACING, Scenario};
+use crate::swarm::geometry::{Swarm, lattice};
+use crate::swarm::scenario::{DEFAULT_PLACEMENT, LATTICE_SPACING, Placement, Scenario};
 
 /// What `swarm reproduce` needs.
 #[derive(Clone, Debug)]
@@ -33,6 +33,9 @@ pub struct Options {
     pub docs: PathBuf,
     /// No progress bars.
     pub quiet: bool,
+    /// The placement of every experiment of the page ([`DEFAULT_PLACEMENT`] for the committed
+    /// page); the sweeps are also run with the other placement, as a check of robustness.
+    pub placement: Placement,
 }
 
 /// Runs tried for each run figure (the first successful one is shown).
@@ -45,6 +48,11 @@ pub const CYCLE_XS: [f64; 2] = [-2.0, -1.0];
 
 fn builtin(name: &str) -> Result<Scenario, Error> {
     Scenario::builtin(name).ok_or_else(|| format!("built-in scenario {name} is missing").into())
+}
+
+/// A built-in scenario with its agents placed by `placement`.
+fn builtin_placed(name: &str, placement: Placement) -> Result<Scenario, Error> {
+    Ok(builtin(name)?.placed(placement)?)
 }
 
 /// The stages of `swarm reproduce`: their log lines, progress bars, seeds and output folder.
@@ -160,14 +168,16 @@ pub struct Summary {
     pub report: PathBuf,
     /// Wall time, seconds.
     pub wall_s: f64,
-    /// Sharp-border sweep.
+    /// The placement of every experiment ([`Options::placement`]).
+    pub placement: Placement,
+    /// Sharp-border sweep, main placement.
     pub sharp: Vec<SweepPoint>,
-    /// Gradient sweep.
+    /// Gradient sweep, main placement.
     pub gradient: Vec<SweepPoint>,
-    /// Sharp-border sweep, lattice placement.
-    pub sharp_lattice: Vec<SweepPoint>,
-    /// Gradient sweep, lattice placement.
-    pub gradient_lattice: Vec<SweepPoint>,
+    /// Sharp-border sweep, the other placement.
+    pub sharp_other: Vec<SweepPoint>,
+    /// Gradient sweep, the other placement.
+    pub gradient_other: Vec<SweepPoint>,
 }
 
 /// Runs every experiment, writes the figures and CSV files into `docs/figures/` and
@@ -179,9 +189,10 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
     let t0 = Clock::now();
     let figs = opts.docs.join("figures");
     std::fs::create_dir_all(&figs)?;
-    let sharp = builtin("sharp")?;
-    let gradient = builtin("gradient")?;
-    let cloud = builtin("cloud")?;
+    let main = opts.placement;
+    let sharp = builtin_placed("sharp", main)?;
+    let gradient = builtin_placed("gradient", main)?;
+    let cloud = builtin_placed("cloud", main)?;
     let mut st = Stage {
         log,
         quiet: opts.quiet,
@@ -190,8 +201,8 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         figs,
     };
     let runs = run_figures(&mut st, [&sharp, &gradient])?;
-    let (sweeps, lattice_sweeps) = sweeps(&mut st, [&sharp, &gradient])?;
-    sweep_figures(&st.figs, [&sharp, &gradient], &sweeps, &lattice_sweeps)?;
+    let (sweeps, other_sweeps) = sweeps(&mut st, main, [&sharp, &gradient])?;
+    sweep_figures(&st.figs, main, [&sharp, &gradient], &sweeps, &other_sweeps)?;
     let maps = direction_maps(&mut st, [&sharp, &gradient, &cloud])?;
     let profile = cloud_profile(&mut st, &cloud)?;
     let plateaus = plateaus(&mut st, [&sharp, &gradient])?;
@@ -205,7 +216,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
 
     let wall_s = t0.elapsed().as_secs_f64();
     let md = markdown(&Report {
-        placement: placement_stats(&sharp, st.seed(80))?,
+        placement: placement_stats(&builtin_placed("sharp", Placement::Random)?, st.seed(80))?,
         speed: &speed,
         seed: opts.seed,
         wall_s,
@@ -215,7 +226,8 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         cloud: &cloud,
         runs: &runs,
         sweeps: &sweeps,
-        lattice_sweeps: &lattice_sweeps,
+        main,
+        other_sweeps: &other_sweeps,
         maps: &maps,
         profile: &profile,
         profile_runs: PROFILE_RUNS,
@@ -229,10 +241,11 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
     Ok(Summary {
         report,
         wall_s,
+        placement: main,
         sharp: sweeps[0].clone(),
         gradient: sweeps[1].clone(),
-        sharp_lattice: lattice_sweeps[0].clone(),
-        gradient_lattice: lattice_sweeps[1].clone(),
+        sharp_other: other_sweeps[0].clone(),
+        gradient_other: other_sweeps[1].clone(),
     })
 }
 
@@ -271,26 +284,39 @@ fn run_figures(st: &mut Stage<'_>, scns: [&Scenario; 2]) -> Result<Vec<(u64, Run
     Ok(runs)
 }
 
-/// Sweeps of each placement: random and lattice.
+/// Sweeps of one placement, one per scenario.
 type Sweeps = Vec<Vec<SweepPoint>>;
 
-/// Figs. 5 and 8: sweeps, with the random placement and with the lattice, and their
-/// CSV files.
-fn sweeps(st: &mut Stage<'_>, scns: [&Scenario; 2]) -> Result<(Sweeps, Sweeps), Error> {
+/// Figs. 5 and 8: sweeps with the `main` placement (`SCENARIO-sweep.csv`) and with the other
+/// (`SCENARIO-sweep-OTHER.csv`), and their CSV files. `scns` are placed by `main`. Each placement keeps the seeds it had as the main or the second one
+/// (random 10, 11; lattice 12, 13).
+fn sweeps(
+    st: &mut Stage<'_>,
+    main: Placement,
+    scns: [&Scenario; 2],
+) -> Result<(Sweeps, Sweeps), Error> {
     let mut sweeps = Vec::new();
-    let mut lattice_sweeps = Vec::new();
+    let mut other_sweeps = Vec::new();
+    let other = main.other();
+    let stage_of = |p: Placement| match p {
+        Placement::Random => 10,
+        Placement::Lattice => 12,
+    };
+    let other_suffix = format!("-{other}");
     for (k, scn) in scns.into_iter().enumerate() {
         let spec = scn
             .sweep
             .as_ref()
             .ok_or("built-in scenario without sweep")?;
-        let mut on_lattice = scn.clone();
-        on_lattice.shape = Shape::Lattice {
-            spacing: LATTICE_SPACING,
-        };
+        let placed_other = builtin_placed(&scn.name, other)?;
         for (out, scn, stage, suffix) in [
-            (&mut sweeps, scn, 10, ""),
-            (&mut lattice_sweeps, &on_lattice, 12, "-lattice"),
+            (&mut sweeps, scn, stage_of(main), ""),
+            (
+                &mut other_sweeps,
+                &placed_other,
+                stage_of(other),
+                other_suffix.as_str(),
+            ),
         ] {
             let p = st.start(
                 &format!("{} sweep{suffix}", scn.name),
@@ -310,15 +336,16 @@ fn sweeps(st: &mut Stage<'_>, scns: [&Scenario; 2]) -> Result<(Sweeps, Sweeps), 
             out.push(pts);
         }
     }
-    Ok((sweeps, lattice_sweeps))
+    Ok((sweeps, other_sweeps))
 }
 
 /// The sweep figures: both placements and the paper's rates.
 fn sweep_figures(
     figs: &Path,
+    main: Placement,
     scns: [&Scenario; 2],
     sweeps: &[Vec<SweepPoint>],
-    lattice_sweeps: &[Vec<SweepPoint>],
+    other_sweeps: &[Vec<SweepPoint>],
 ) -> Result<(), Error> {
     let paper_sharp = |x: f64| (x.abs() < 2.5).then_some(1.0);
     let paper_gradient = |x: f64| {
@@ -349,8 +376,11 @@ fn sweep_figures(
                 scn.sweep.as_ref().map_or(0, |s| s.runs)
             ),
             &[
-                ("random placement", &sweeps[k]),
-                ("lattice placement", &lattice_sweeps[k]),
+                (format!("{main} placement").as_str(), &sweeps[k]),
+                (
+                    format!("{} placement", main.other()).as_str(),
+                    &other_sweeps[k],
+                ),
             ],
             Some(paper),
         )?;
@@ -542,7 +572,10 @@ struct Report<'a> {
     cloud: &'a Scenario,
     runs: &'a [(u64, RunOutput)],
     sweeps: &'a [Vec<SweepPoint>],
-    lattice_sweeps: &'a [Vec<SweepPoint>],
+    /// The placement of every experiment.
+    main: Placement,
+    /// Sweeps with the other placement.
+    other_sweeps: &'a [Vec<SweepPoint>],
     maps: &'a [Vec<Arrow>],
     profile: &'a [RadialPoint],
     profile_runs: u32,
@@ -566,6 +599,53 @@ struct Page {
     cycle: CycleSection,
     speed: SpeedSection,
     names: [String; 3],
+    placement: PlacementNote,
+}
+
+/// Which placement ran every experiment, which only the sweeps, and their neighbour counts.
+#[derive(Serialize)]
+struct PlacementNote {
+    main: &'static str,
+    other: &'static str,
+    /// The main placement is the commands' default ([`DEFAULT_PLACEMENT`]).
+    main_is_default: bool,
+    /// Mean neighbours of the main placement's 61 agents.
+    main_degree: String,
+    /// Mean neighbours of the other placement's.
+    other_degree: String,
+}
+
+/// A value of each placement, by name (the template picks `x[placement.main]`).
+#[derive(Serialize)]
+struct Pair<T> {
+    random: T,
+    lattice: T,
+}
+
+impl<T> Pair<T> {
+    /// The pair whose value for `placement` is `main`, for the other `other`.
+    fn of(placement: Placement, main: T, other: T) -> Pair<T> {
+        match placement {
+            Placement::Random => Pair {
+                random: main,
+                lattice: other,
+            },
+            Placement::Lattice => Pair {
+                random: other,
+                lattice: main,
+            },
+        }
+    }
+}
+
+/// `f` of the main sweep (placed by `r.main`) and of the other.
+fn pair<T>(
+    r: &Report<'_>,
+    main: &[SweepPoint],
+    other: &[SweepPoint],
+    f: impl Fn(&[SweepPoint]) -> T,
+) -> Pair<T> {
+    Pair::of(r.main, f(main), f(other))
 }
 
 /// The set-up section.
@@ -594,19 +674,15 @@ struct RunNote {
 /// The table of the paper's numbers beside ours, and the notes below it.
 #[derive(Serialize)]
 struct Comparison {
-    sharp_near: String,
-    lattice_sharp_near: String,
-    sharp_25: String,
-    lattice_sharp_25: String,
+    sharp_near: Pair<String>,
+    sharp_25: Pair<String>,
     sharp_far: Vec<String>,
     sharp_times: Vec<String>,
     sharp_plateau: String,
     sharp_near_arrows: String,
     sharp_far_arrows: String,
-    gradient_mid: [String; 2],
-    lattice_gradient_mid: [String; 2],
-    gradient_m4: String,
-    lattice_gradient_m4: String,
+    gradient_mid: Pair<[String; 2]>,
+    gradient_m4: Pair<String>,
     gradient_plateau: String,
     gradient_near_arrows: String,
     gradient_far_arrows: String,
@@ -623,8 +699,7 @@ struct Comparison {
 #[derive(Serialize)]
 struct SharpSection {
     rows: Vec<[String; 6]>,
-    near: String,
-    lattice_near: String,
+    near: Pair<String>,
     degree: String,
     placements: u64,
     plain_degree: String,
@@ -636,9 +711,8 @@ struct SharpSection {
 #[derive(Serialize)]
 struct GradientSection {
     rows: Vec<[String; 6]>,
-    mid: [String; 2],
-    lattice_mid: [String; 2],
-    lattice_m4: String,
+    mid: Pair<[String; 2]>,
+    m4: Pair<String>,
 }
 
 /// The cloud's section.
@@ -660,6 +734,8 @@ struct CycleSection {
     first_success: String,
     rest_cycle_s: u64,
     rest_range: String,
+    /// Every run from every start succeeded with every cycle but the first.
+    rest_all_succeed: bool,
     default_cycle_s: u64,
     default_waves: Option<String>,
 }
@@ -678,11 +754,10 @@ struct SpeedSection {
     sizes: Vec<SpeedSize>,
 }
 
-/// The rows of a sweep table: random and lattice placement side by side.
-fn sweep_rows(random: &[SweepPoint], lattice: &[SweepPoint]) -> Vec<[String; 6]> {
-    random
-        .iter()
-        .zip(lattice)
+/// The rows of a sweep table: the main placement and the other side by side.
+fn sweep_rows(main: &[SweepPoint], other: &[SweepPoint]) -> Vec<[String; 6]> {
+    main.iter()
+        .zip(other)
         .map(|(p, q)| {
             [
                 p.x_init.to_string(),
@@ -717,6 +792,25 @@ fn lattice_degree(r: &Report<'_>) -> f64 {
     Swarm::from_offsets(lattice(r.sharp.agents, LATTICE_SPACING), 1.0).mean_degree()
 }
 
+/// The placements and their measured neighbour counts.
+fn placement_note(r: &Report<'_>) -> PlacementNote {
+    let degrees = Pair {
+        random: fixed(r.placement.redrawn_degree, 1),
+        lattice: fixed(lattice_degree(r), 1),
+    };
+    let degree = |p: Placement| match p {
+        Placement::Random => degrees.random.clone(),
+        Placement::Lattice => degrees.lattice.clone(),
+    };
+    PlacementNote {
+        main: r.main.name(),
+        other: r.main.other().name(),
+        main_is_default: r.main == DEFAULT_PLACEMENT,
+        main_degree: degree(r.main),
+        other_degree: degree(r.main.other()),
+    }
+}
+
 /// `ok of n`.
 fn of((ok, n): (usize, usize)) -> String {
     format!("{ok} of {n}")
@@ -740,14 +834,12 @@ fn setup(r: &Report<'_>) -> Setup {
 
 fn comparison(r: &Report<'_>) -> Comparison {
     let (sharp, gradient) = (&r.sweeps[0], &r.sweeps[1]);
-    let (lsharp, lgradient) = (&r.lattice_sweeps[0], &r.lattice_sweeps[1]);
+    let (osharp, ogradient) = (&r.other_sweeps[0], &r.other_sweeps[1]);
     let sharp_25 = |pts: &[SweepPoint]| rate_span(rate_range(pts, |x| x.abs() < 2.5));
     let plateau = |k: usize| format!("{:.1} ± {:.1}", r.plateaus[k].0, r.plateaus[k].1);
     Comparison {
-        sharp_near: rate_span(sharp_near(sharp)),
-        lattice_sharp_near: rate_span(sharp_near(lsharp)),
-        sharp_25: sharp_25(sharp),
-        lattice_sharp_25: sharp_25(lsharp),
+        sharp_near: pair(r, sharp, osharp, |p| rate_span(sharp_near(p))),
+        sharp_25: pair(r, sharp, osharp, sharp_25),
         sharp_far: [-3.0, -4.0, -5.0]
             .map(|x| opt(rate_at(sharp, x), 2))
             .to_vec(),
@@ -759,10 +851,8 @@ fn comparison(r: &Report<'_>) -> Comparison {
             x != 0.0 && x.abs() <= 2.0 + 1e-9
         })),
         sharp_far_arrows: of(toward_border(&r.maps[0], |x| x.abs() >= 3.0 - 1e-9)),
-        gradient_mid: gradient_mid(gradient),
-        lattice_gradient_mid: gradient_mid(lgradient),
-        gradient_m4: at_m4(gradient),
-        lattice_gradient_m4: at_m4(lgradient),
+        gradient_mid: pair(r, gradient, ogradient, gradient_mid),
+        gradient_m4: pair(r, gradient, ogradient, at_m4),
         gradient_plateau: plateau(1),
         gradient_near_arrows: of(toward_plus_x(&r.maps[1], |x| {
             (-2.0 - 1e-9..=1.5 + 1e-9).contains(&x)
@@ -788,9 +878,10 @@ fn comparison(r: &Report<'_>) -> Comparison {
 
 fn sharp_section(r: &Report<'_>) -> SharpSection {
     SharpSection {
-        rows: sweep_rows(&r.sweeps[0], &r.lattice_sweeps[0]),
-        near: rate_span(sharp_near(&r.sweeps[0])),
-        lattice_near: rate_span(sharp_near(&r.lattice_sweeps[0])),
+        rows: sweep_rows(&r.sweeps[0], &r.other_sweeps[0]),
+        near: pair(r, &r.sweeps[0], &r.other_sweeps[0], |p| {
+            rate_span(sharp_near(p))
+        }),
         degree: fixed(r.placement.redrawn_degree, 1),
         placements: PLACEMENTS,
         plain_degree: fixed(r.placement.plain_degree, 1),
@@ -801,10 +892,9 @@ fn sharp_section(r: &Report<'_>) -> SharpSection {
 
 fn gradient_section(r: &Report<'_>) -> GradientSection {
     GradientSection {
-        rows: sweep_rows(&r.sweeps[1], &r.lattice_sweeps[1]),
-        mid: gradient_mid(&r.sweeps[1]),
-        lattice_mid: gradient_mid(&r.lattice_sweeps[1]),
-        lattice_m4: at_m4(&r.lattice_sweeps[1]),
+        rows: sweep_rows(&r.sweeps[1], &r.other_sweeps[1]),
+        mid: pair(r, &r.sweeps[1], &r.other_sweeps[1], gradient_mid),
+        m4: pair(r, &r.sweeps[1], &r.other_sweeps[1], at_m4),
     }
 }
 
@@ -855,6 +945,7 @@ fn cycle_section(r: &Report<'_>) -> CycleSection {
         first_success: fixed(first.points[0].success_rate(), 2),
         rest_cycle_s: rest.first().map_or(0, |row| row.cycle_s),
         rest_range: rate_span(rest_range),
+        rest_all_succeed: rest_range.0 >= 1.0,
         default_cycle_s,
         default_waves: r
             .cycle_rows
@@ -892,6 +983,7 @@ fn page(r: &Report<'_>) -> Page {
         cycle: cycle_section(r),
         speed: speed_section(r),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),
+        placement: placement_note(r),
     }
 }
 

@@ -81,9 +81,62 @@ use crate::swarm::geometry::Shape;
 pub use crate::swarm::sim::MAX_PERIOD_SECS;
 use crate::swarm::sim::{RunConfig, SimError};
 
-/// Spacing of `shape = "lattice"` (and of `--lattice`) unless given: 0.75 R, at which 61 agents
+/// Spacing of `shape = "lattice"` (and of `--placement lattice`) unless given: 0.75 R, at which 61 agents
 /// fill a disk of diameter 6 R with 5.1 neighbours on average (see [`Shape::Lattice`]).
 pub const LATTICE_SPACING: f64 = 0.75;
+
+/// How the agents of a scenario's swarm are placed (`--placement`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placement {
+    /// Uniformly at random in the scenario's `shape` (disk or rectangle), redrawn until
+    /// connected: 6.1 neighbours on average for the paper's 61 agents in a 6 R disk.
+    Random,
+    /// The N triangular-lattice nodes nearest the centre, spacing [`LATTICE_SPACING`] unless
+    /// the scenario gives a lattice of its own: 5.1 neighbours on average for 61 agents, the
+    /// paper's "on average five".
+    Lattice,
+}
+
+/// The placement of `swarm run`, `sweep`, `field` and `reproduce` unless told otherwise.
+pub const DEFAULT_PLACEMENT: Placement = Placement::Lattice;
+
+impl Placement {
+    /// Both placements.
+    pub const ALL: [Placement; 2] = [Placement::Random, Placement::Lattice];
+
+    /// The name `--placement` takes: `random` or `lattice`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Placement::Random => "random",
+            Placement::Lattice => "lattice",
+        }
+    }
+
+    /// The other placement.
+    pub fn other(self) -> Placement {
+        match self {
+            Placement::Random => Placement::Lattice,
+            Placement::Lattice => Placement::Random,
+        }
+    }
+}
+
+impl fmt::Display for Placement {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for Placement {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Placement::ALL
+            .into_iter()
+            .find(|p| p.name() == s)
+            .ok_or_else(|| format!("unknown placement {s:?}: random or lattice"))
+    }
+}
 
 /// The most agents a swarm may have (`agents`, `cimax swarm bench --agents`).
 pub const MAX_AGENTS: usize = 1_000_000;
@@ -701,6 +754,34 @@ fn period_fits(params: &Params) -> Result<(), String> {
 }
 
 impl Scenario {
+    /// The same scenario with its agents placed by `placement`: [`Placement::Lattice`] puts
+    /// them on the triangular lattice of spacing [`LATTICE_SPACING`] (a scenario whose
+    /// `shape` is already a lattice keeps its spacing); [`Placement::Random`] keeps the
+    /// scenario's disk or rectangle. Name and description are unchanged.
+    ///
+    /// # Errors
+    /// [`Placement::Random`] for a scenario with `shape = "lattice"`: it has no area to draw
+    /// from.
+    pub fn placed(&self, placement: Placement) -> Result<Scenario, String> {
+        let mut s = self.clone();
+        match (placement, self.shape) {
+            (Placement::Lattice, Shape::Lattice { .. }) => {}
+            (Placement::Lattice, _) => {
+                s.shape = Shape::Lattice {
+                    spacing: LATTICE_SPACING,
+                };
+            }
+            (Placement::Random, Shape::Lattice { .. }) => {
+                return Err(format!(
+                    "scenario {} sets shape = \"lattice\"; random placement needs a disk or rectangle",
+                    self.name
+                ));
+            }
+            (Placement::Random, _) => {}
+        }
+        Ok(s)
+    }
+
     /// The built-in scenario called `name`.
     pub fn builtin(name: &str) -> Option<Scenario> {
         BUILTINS
@@ -805,6 +886,30 @@ impl Scenario {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn placement_puts_the_paper_swarm_on_the_lattice_or_keeps_its_disk() {
+        assert_eq!(DEFAULT_PLACEMENT, Placement::Lattice);
+        for p in Placement::ALL {
+            assert_eq!(p.name().parse::<Placement>(), Ok(p));
+            assert_eq!(p.other().other(), p);
+        }
+        assert!("grid".parse::<Placement>().is_err());
+        let sharp = Scenario::builtin("sharp").unwrap();
+        let lattice = sharp.placed(Placement::Lattice).unwrap();
+        assert_eq!(
+            lattice.shape,
+            Shape::Lattice {
+                spacing: LATTICE_SPACING
+            }
+        );
+        assert_eq!(lattice.name, "sharp");
+        assert_eq!(sharp.placed(Placement::Random).unwrap(), sharp);
+        let mut own = sharp.clone();
+        own.shape = Shape::Lattice { spacing: 0.9 };
+        assert_eq!(own.placed(Placement::Lattice).unwrap(), own);
+        assert!(own.placed(Placement::Random).is_err());
+    }
 
     #[test]
     fn builtins_parse_and_match_the_paper() {

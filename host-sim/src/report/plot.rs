@@ -480,83 +480,111 @@ pub fn xy_figure(
     let xs = lines.iter().flat_map(|l| l.points.iter().map(|p| p.0));
     let x0 = xs.clone().fold(f64::MAX, f64::min);
     let x1 = xs.fold(f64::MIN, f64::max);
-    let palette = [
-        RGBColor(70, 110, 180),
-        RGBColor(200, 60, 40),
-        RGBColor(40, 140, 70),
-        RGBColor(140, 80, 160),
-        RGBColor(90, 90, 90),
-    ];
-    macro_rules! body {
-        ($chart:ident) => {{
-            $chart
-                .configure_mesh()
-                .x_desc(x_desc)
-                .y_desc(y_desc)
-                .x_labels(if log_x { 4 } else { 12 })
-                .x_label_formatter(&|v: &f64| format!("{v}"))
-                .max_light_lines(if log_x { 1 } else { 4 })
-                .draw()?;
-            for &(mx, label) in markers {
-                $chart.draw_series(DashedLineSeries::new(
-                    vec![(mx, y_range.0), (mx, y_range.1)],
-                    5,
-                    4,
-                    RGBColor(120, 120, 120).stroke_width(1),
-                ))?;
-                $chart.draw_series(std::iter::once(Text::new(
-                    label.to_string(),
-                    (mx, y_range.1),
-                    (FONT, 12).into_font().color(&RGBColor(90, 90, 90)),
-                )))?;
-            }
-            for (k, l) in lines.iter().enumerate() {
-                let c = palette[k % palette.len()];
-                $chart
-                    .draw_series(LineSeries::new(
-                        l.points.iter().map(|p| (p.0, p.1)),
-                        c.stroke_width(2),
-                    ))?
-                    .label(l.label.clone())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
-                    });
-                $chart.draw_series(
-                    l.points
-                        .iter()
-                        .map(|p| Circle::new((p.0, p.1), 3, c.filled())),
-                )?;
-                $chart.draw_series(l.points.iter().filter(|p| p.2 > 0.0).map(|p| {
-                    PathElement::new(vec![(p.0, p.1 - p.2), (p.0, p.1 + p.2)], c.stroke_width(1))
-                }))?;
-            }
-            $chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::LowerRight)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .label_font((FONT, 13))
-                .draw()?;
-        }};
-    }
+    let what = XyBody {
+        x_desc,
+        y_desc,
+        lines,
+        y_range,
+        markers,
+        log_x,
+    };
+    let mut builder = ChartBuilder::on(&root);
+    builder
+        .margin(15)
+        .x_label_area_size(35)
+        .y_label_area_size(50);
     if log_x {
-        let mut chart = ChartBuilder::on(&root)
-            .margin(15)
-            .x_label_area_size(35)
-            .y_label_area_size(50)
-            .build_cartesian_2d((x0 * 0.8..x1 * 1.25).log_scale(), y_range.0..y_range.1)?;
-        body!(chart);
+        let range = (x0 * 0.8..x1 * 1.25).log_scale();
+        what.draw(&mut builder.build_cartesian_2d(range, y_range.0..y_range.1)?)?;
     } else {
         let pad = 0.03 * (x1 - x0).max(1e-9);
-        let mut chart = ChartBuilder::on(&root)
-            .margin(15)
-            .x_label_area_size(35)
-            .y_label_area_size(50)
-            .build_cartesian_2d(x0 - pad..x1 + pad, y_range.0..y_range.1)?;
-        body!(chart);
+        what.draw(&mut builder.build_cartesian_2d(x0 - pad..x1 + pad, y_range.0..y_range.1)?)?;
     }
     root.present()?;
     Ok(())
+}
+
+/// What [`xy_figure`] draws inside its axes, for a linear or a logarithmic x axis alike.
+struct XyBody<'a> {
+    x_desc: &'a str,
+    y_desc: &'a str,
+    lines: &'a [Line],
+    y_range: (f64, f64),
+    markers: &'a [(f64, &'a str)],
+    log_x: bool,
+}
+
+impl XyBody<'_> {
+    /// Mesh, markers, one line with its points and error bars per [`Line`], and the legend.
+    fn draw<'b, X>(
+        &self,
+        chart: &mut ChartContext<
+            'b,
+            SVGBackend<'b>,
+            Cartesian2d<X, plotters::coord::types::RangedCoordf64>,
+        >,
+    ) -> Result<(), PlotError>
+    where
+        X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+    {
+        let palette = [
+            RGBColor(70, 110, 180),
+            RGBColor(200, 60, 40),
+            RGBColor(40, 140, 70),
+            RGBColor(140, 80, 160),
+            RGBColor(90, 90, 90),
+        ];
+        let (y0, y1) = self.y_range;
+        chart
+            .configure_mesh()
+            .x_desc(self.x_desc)
+            .y_desc(self.y_desc)
+            .x_labels(if self.log_x { 4 } else { 12 })
+            .x_label_formatter(&|v: &f64| format!("{v}"))
+            .max_light_lines(if self.log_x { 1 } else { 4 })
+            .draw()?;
+        for &(mx, label) in self.markers {
+            chart.draw_series(DashedLineSeries::new(
+                vec![(mx, y0), (mx, y1)],
+                5,
+                4,
+                RGBColor(120, 120, 120).stroke_width(1),
+            ))?;
+            chart.draw_series(std::iter::once(Text::new(
+                label.to_string(),
+                (mx, y1),
+                (FONT, 12).into_font().color(&RGBColor(90, 90, 90)),
+            )))?;
+        }
+        for (k, l) in self.lines.iter().enumerate() {
+            let c = palette[k % palette.len()];
+            chart
+                .draw_series(LineSeries::new(
+                    l.points.iter().map(|p| (p.0, p.1)),
+                    c.stroke_width(2),
+                ))?
+                .label(l.label.clone())
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
+                });
+            chart.draw_series(
+                l.points
+                    .iter()
+                    .map(|p| Circle::new((p.0, p.1), 3, c.filled())),
+            )?;
+            chart.draw_series(l.points.iter().filter(|p| p.2 > 0.0).map(|p| {
+                PathElement::new(vec![(p.0, p.1 - p.2), (p.0, p.1 + p.2)], c.stroke_width(1))
+            }))?;
+        }
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::LowerRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font((FONT, 13))
+            .draw()?;
+        Ok(())
+    }
 }
 
 /// The radial profile of a cloud: how strongly the swarm heads for the cloud's centre against

@@ -3,6 +3,7 @@
 //! ([`crate::seeds::derive`]`(seed, [point, run])`), so they are spread over all cores with rayon
 //! and the results do not depend on the number of threads.
 
+use crate::stats;
 use nalgebra::Point2;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
@@ -136,8 +137,7 @@ pub fn sweep(
                 x_init: x,
                 runs,
                 successes: ok.len() as u32,
-                mean_success_periods: (!ok.is_empty())
-                    .then(|| ok.iter().sum::<f64>() / ok.len() as f64),
+                mean_success_periods: stats::mean(&ok),
             }
         })
         .collect())
@@ -243,8 +243,8 @@ pub fn radial_profile(
         .enumerate()
         .map(|(p, &d)| {
             let c = &cosines[p * runs as usize..(p + 1) * runs as usize];
-            let m = c.iter().sum::<f64>() / c.len() as f64;
-            let var = c.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / c.len() as f64;
+            let m = stats::mean(c).unwrap_or(f64::NAN);
+            let var = stats::variance(c).unwrap_or(f64::NAN);
             RadialPoint {
                 distance: d,
                 runs,
@@ -290,14 +290,13 @@ pub fn diversity_plateau(
                 .filter(|p| p.index > at)
                 .map(|p| p.diversity)
                 .collect();
-            Ok((tail.len() >= min_after as usize)
-                .then(|| tail.iter().sum::<f64>() / tail.len() as f64))
+            Ok((tail.len() >= min_after as usize).then(|| stats::mean(&tail).unwrap_or(f64::NAN)))
         })
         .collect::<Result<_, Error>>()?;
     let used: Vec<f64> = means.into_iter().flatten().collect();
     let n = used.len().max(1) as f64;
-    let m = used.iter().sum::<f64>() / n;
-    let var = used.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / n;
+    let m = stats::mean(&used).unwrap_or(0.0);
+    let var = stats::variance(&used).unwrap_or(0.0);
     Ok((m, (var / n).sqrt(), used.len()))
 }
 
@@ -324,7 +323,7 @@ pub fn waves_heard(scn: &Scenario, cfg: RunConfig, runs: u32, seed: u64) -> Resu
             Ok(heard as f64 / swarm.len().max(1) as f64)
         })
         .collect::<Result<_, Error>>()?;
-    Ok(per_run.iter().sum::<f64>() / per_run.len().max(1) as f64)
+    Ok(stats::mean(&per_run).unwrap_or(0.0))
 }
 
 /// Agent-steps per second at one swarm size.

@@ -172,6 +172,11 @@ impl WaveNode {
     /// time stops there (otherwise a cycle ending at `MAX` would start another one ending at
     /// `MAX`, and `poll(Instant::MAX)` would never return `None`).
     pub fn poll(&mut self, now: Instant, rng: &mut impl RngCore) -> Option<WaveAction> {
+        // Nothing due: the common case (every message an agent hears calls this first), and
+        // `poll_timeout` is the earliest of the same candidates.
+        if self.poll_timeout() > now {
+            return None;
+        }
         let rest = (self.state == WaveState::Refractory).then_some(self.refractory_until);
         let relay = (self.state == WaveState::Active).then_some(self.relay_at);
         let due = |t: Option<Instant>| t.filter(|&t| t <= now && t != Instant::MAX);

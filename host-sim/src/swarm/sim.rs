@@ -186,6 +186,9 @@ pub struct Sim<'a> {
     due: Vec<u32>,
     tx: Vec<(u32, Message)>,
     calls: u64,
+    /// The field's mean at every agent's position: positions change only when the swarm
+    /// moves, so the field is evaluated once per agent and period, not once per reading.
+    means: Vec<f64>,
 }
 
 /// The agents' due seconds: a wheel of one-second buckets covering `[now, now + WHEEL)` and a
@@ -311,7 +314,9 @@ impl<'a> Sim<'a> {
             due: Vec::new(),
             tx: Vec::new(),
             calls: 0,
+            means: Vec::with_capacity(n),
         };
+        sim.place_means();
         for i in 0..n {
             sim.reschedule(i);
         }
@@ -354,11 +359,18 @@ impl<'a> Sim<'a> {
         }
     }
 
+    /// Evaluates the field at every agent's position (after the swarm moved).
+    fn place_means(&mut self) {
+        let (swarm, field, centre) = (self.swarm, self.field, self.centre);
+        self.means.clear();
+        self.means
+            .extend((0..swarm.len()).map(|i| field.mean(swarm.position(i, centre))));
+    }
+
     /// A fresh reading for agent `i` at the current position.
     fn sample(&mut self, i: usize) {
-        let p = self.swarm.position(i, self.centre);
         let xi = self.cfg.noise * (self.noise_rng.random::<f64>() - 0.5);
-        self.agents[i].handle_reading((self.field.mean(p) + xi) as f32);
+        self.agents[i].handle_reading((self.means[i] + xi) as f32);
     }
 
     /// Runs every due second up to and including `until`.
@@ -403,12 +415,32 @@ impl<'a> Sim<'a> {
         for (s, m) in &tx {
             for l in self.swarm.neighbours(*s as usize) {
                 let r = l.agent as usize;
-                if self.agents[r].state() == WaveState::Inactive {
-                    self.sample(r);
+                if self.agents[r].state() != WaveState::Inactive {
+                    // An active or refractory agent ignores every message (the wave rule; most
+                    // deliveries are such: a wave comes back to the agents it came from). Not
+                    // calling it changes nothing but its `ignored`/`wrong_phase` counters,
+                    // which then count only messages heard while inactive.
+                    debug_assert!(!self.agents[r].clone().handle_message(
+                        now,
+                        l.bearing,
+                        m,
+                        &mut self.proto_rng.clone()
+                    ));
+                    continue;
                 }
-                self.agents[r].handle_message(now, l.bearing, m, &mut self.proto_rng);
+                self.sample(r);
+                let accepted =
+                    self.agents[r].handle_message(now, l.bearing, m, &mut self.proto_rng);
                 self.calls += 1;
                 debug_assert!(self.agents[r].poll_transmit().is_none());
+                if !accepted {
+                    // Every agent due at `t` was served above, so a refused message changed
+                    // nothing but a counter: no event, the same timeout (most deliveries reach
+                    // an agent that is already active or refractory).
+                    debug_assert!(self.agents[r].poll_event().is_none());
+                    debug_assert_eq!(secs(self.agents[r].poll_timeout()), self.scheduled[r]);
+                    continue;
+                }
                 while self.agents[r].poll_event().is_some() {}
                 self.reschedule(r);
             }
@@ -449,6 +481,7 @@ impl<'a> Sim<'a> {
         let direction = (decided > 0 && norm > 1e-12).then(|| sum.y.atan2(sum.x));
         if let Some(d) = direction {
             self.centre += self.cfg.step * Vector2::new(d.cos(), d.sin());
+            self.place_means();
         }
         Ok(Period {
             index: self.periods,

@@ -161,3 +161,44 @@ pub fn write_cycle_csv(path: &Path, rows: &[CycleRow]) -> std::io::Result<()> {
     }
     w.flush()
 }
+
+/// The averaged course of one scenario, one row per placement and period:
+/// `placement,t,runs,arrived,diversity_mean,diversity_q10,diversity_q90,consensus_mean,consensus_q10,consensus_q90`.
+///
+/// # Errors
+/// If the file cannot be written.
+pub fn write_course_csv(
+    path: &Path,
+    courses: &[(&str, &crate::swarm::timecourse::TimeCourse)],
+) -> std::io::Result<()> {
+    let mut w = create(path)?;
+    w.write_record([
+        "placement",
+        "t",
+        "runs",
+        "arrived",
+        "diversity_mean",
+        "diversity_q10",
+        "diversity_q90",
+        "consensus_mean",
+        "consensus_q10",
+        "consensus_q90",
+    ])?;
+    for (name, c) in courses {
+        for p in &c.points {
+            w.write_record([
+                (*name).to_owned(),
+                p.t.to_string(),
+                c.runs.to_string(),
+                p.arrived.to_string(),
+                fixed(p.diversity.mean, 4),
+                fixed(p.diversity.q10, 4),
+                fixed(p.diversity.q90, 4),
+                fixed(p.consensus.mean, 4),
+                fixed(p.consensus.q10, 4),
+                fixed(p.consensus.q90, 4),
+            ])?;
+        }
+    }
+    w.flush()
+}

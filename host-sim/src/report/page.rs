@@ -76,6 +76,10 @@ const TEMPLATES: &[(&str, &str)] = &[
         include_str!("../../templates/reproduction/cycle.md.j2"),
     ),
     (
+        "reproduction/course.md.j2",
+        include_str!("../../templates/reproduction/course.md.j2"),
+    ),
+    (
         "reproduction/speed.md.j2",
         include_str!("../../templates/reproduction/speed.md.j2"),
     ),

@@ -11,18 +11,21 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
 
+use crate::report::csv_files::write_course_csv;
 use crate::report::csv_files::{
     CycleRow, fixed, opt, write_cycle_csv, write_field_csv, write_radial_csv, write_run_csv,
     write_sweep_csv,
 };
 use crate::report::plot::{self, Line};
+use crate::report::timecourse_plot::{PaperMark, time_course_figure};
 use crate::seeds::derive;
 use crate::swarm::experiment::{
     self, Arrow, Error, Progress, RadialPoint, RunOutput, SweepPoint, direction_map,
-    diversity_plateau, radial_profile, sweep, waves_heard,
+    radial_profile, sweep, waves_heard,
 };
 use crate::swarm::geometry::{Swarm, lattice};
 use crate::swarm::scenario::{DEFAULT_PLACEMENT, LATTICE_SPACING, Placement, Scenario};
+use crate::swarm::timecourse::{TimeCourse, time_course};
 
 /// What `swarm reproduce` needs.
 #[derive(Clone, Debug)]
@@ -205,7 +208,11 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
     sweep_figures(&st.figs, main, [&sharp, &gradient], &sweeps, &other_sweeps)?;
     let maps = direction_maps(&mut st, [&sharp, &gradient, &cloud])?;
     let profile = cloud_profile(&mut st, &cloud)?;
-    let plateaus = plateaus(&mut st, [&sharp, &gradient])?;
+    let courses = time_courses(&mut st, main, [&sharp, &gradient])?;
+    let plateaus: Vec<(f64, f64, usize)> = courses
+        .iter()
+        .map(|[c, _]| (c.plateau, c.plateau_se, c.plateau_runs))
+        .collect();
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
 
     // Speed: one negotiation period per size on one thread (`swarm bench`).
@@ -232,7 +239,8 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         profile: &profile,
         profile_runs: PROFILE_RUNS,
         plateaus: &plateaus,
-        plateau_runs: PLATEAU_RUNS,
+        plateau_runs: COURSE_RUNS,
+        courses: &courses,
         cycle_rows: &cycle_rows,
         cycle_runs: CYCLE_RUNS,
     })?;
@@ -251,8 +259,8 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
 
 /// Runs per distance of the cloud's radial profile.
 const PROFILE_RUNS: u32 = 40;
-/// Runs per scenario of the diversity plateaus.
-const PLATEAU_RUNS: u32 = 20;
+/// Runs per scenario and placement of the averaged courses (Figs. 4b, 7b) and the plateaus.
+pub const COURSE_RUNS: u32 = 50;
 /// Runs per point of the cycle-length experiment.
 const CYCLE_RUNS: u32 = 50;
 
@@ -446,22 +454,83 @@ fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint
     Ok(profile)
 }
 
-/// Diversity plateaus: mean, standard error and the runs that count, per scenario.
-fn plateaus(st: &mut Stage<'_>, scns: [&Scenario; 2]) -> Result<Vec<(f64, f64, usize)>, Error> {
-    let mut plateaus = Vec::new();
+/// Figs. 4b and 7b averaged: [`COURSE_RUNS`] full runs from the start per scenario and
+/// placement (`[main, other]` per scenario), their CSV files and figures. The main placement's
+/// runs give the diversity plateaus.
+fn time_courses(
+    st: &mut Stage<'_>,
+    main: Placement,
+    scns: [&Scenario; 2],
+) -> Result<Vec<[TimeCourse; 2]>, Error> {
+    let mut courses = Vec::new();
     for (k, scn) in scns.into_iter().enumerate() {
-        let p = st.start(&format!("{} plateau", scn.name), u64::from(PLATEAU_RUNS));
-        plateaus.push(diversity_plateau(
-            scn,
-            PLATEAU_RUNS,
-            10,
-            st.seed(40 + k as u64),
-            &p,
-        )?);
-        st.done(&p);
+        let other = builtin_placed(&scn.name, main.other())?;
+        let mut pair = Vec::new();
+        for (j, (placed, placement)) in [(scn, main), (&other, main.other())]
+            .into_iter()
+            .enumerate()
+        {
+            let p = st.start(
+                &format!("{} course, {placement} placement", scn.name),
+                u64::from(COURSE_RUNS),
+            );
+            pair.push(time_course(
+                placed,
+                COURSE_RUNS,
+                10,
+                st.seed(40 + 2 * k as u64 + j as u64),
+                &p,
+            )?);
+            st.done(&p);
+        }
+        let [m, o]: [TimeCourse; 2] = pair.try_into().map_err(|_| "two courses")?;
+        let (main_name, other_name) = (main.to_string(), main.other().to_string());
+        let named = [(main_name.as_str(), &m), (other_name.as_str(), &o)];
+        write_course_csv(&st.figs.join(format!("{}-course.csv", scn.name)), &named)?;
+        let paper = &PAPER_COURSE[k];
+        let mut marks = vec![PaperMark {
+            value: paper.start,
+            label: format!("paper: start ≈ {}", paper.start),
+            at_start: true,
+        }];
+        for (v, what) in paper.plateaus {
+            marks.push(PaperMark {
+                value: *v,
+                label: format!("paper: plateau ≈ {v} ({what})"),
+                at_start: false,
+            });
+        }
+        time_course_figure(
+            &st.figs.join(format!("{}-course.svg", scn.name)),
+            &format!(
+                "{}: {} runs from x = {} per placement, averaged",
+                scn.name, COURSE_RUNS, scn.start.x
+            ),
+            &named,
+            &marks,
+        )?;
+        courses.push([m, o]);
     }
-    Ok(plateaus)
+    Ok(courses)
 }
+
+/// The paper's Figs. 4b and 7b: the diversity at the start and the plateau(s).
+struct PaperCourse {
+    start: f64,
+    plateaus: &'static [(f64, &'static str)],
+}
+
+/// Sharp border, then gradient.
+const PAPER_COURSE: [PaperCourse; 2] = [
+    PaperCourse {
+        start: 0.2,
+        plateaus: &[(4.5, "Fig. 4b")],
+    },
+    PaperCourse {
+        start: 0.3,
+        plateaus: &[(8.0, "caption of Fig. 7"), (20.0, "text")],
+    },
+];
 
 /// The cycle length: success and waves heard per cycle length, with the CSV file and figure.
 fn cycle_effect(st: &mut Stage<'_>, sharp: &Scenario) -> Result<Vec<CycleRow>, Error> {
@@ -581,6 +650,8 @@ struct Report<'a> {
     profile_runs: u32,
     plateaus: &'a [(f64, f64, usize)],
     plateau_runs: u32,
+    /// Per scenario, the averaged course of the main placement and of the other.
+    courses: &'a [[TimeCourse; 2]],
     cycle_rows: &'a [CycleRow],
     cycle_runs: u32,
 }
@@ -597,6 +668,7 @@ struct Page {
     gradient: GradientSection,
     cloud: CloudSection,
     cycle: CycleSection,
+    course: CourseSection,
     speed: SpeedSection,
     names: [String; 3],
     placement: PlacementNote,
@@ -969,6 +1041,128 @@ fn speed_section(r: &Report<'_>) -> SpeedSection {
     }
 }
 
+/// One placement's row of the averaged course.
+#[derive(Serialize)]
+struct CourseRow {
+    placement: String,
+    runs: u32,
+    /// Mean diversity at t = 0, and its 10–90 % range.
+    start: String,
+    start_range: String,
+    /// Percentage of agents at x ≥ 0 at the start.
+    across: String,
+    /// Mean diversity over the last 10 periods.
+    end: String,
+    /// Mean consensus at t = 0 and over the last 10 periods.
+    consensus_start: String,
+    consensus_end: String,
+    /// Runs that had arrived by the end.
+    arrived: u32,
+    /// The mean diversity at t = 0 is above the paper's.
+    above_paper: bool,
+    /// The consensus over the last 10 periods is below that at t = 0.
+    consensus_falls: bool,
+}
+
+/// One scenario of the averaged courses.
+#[derive(Serialize)]
+struct CourseScenario {
+    name: String,
+    x_start: String,
+    paper_start: String,
+    paper_plateaus: String,
+    rows: Vec<CourseRow>,
+    plateau: String,
+    plateau_runs: usize,
+    /// Diversity of the noise alone: noise² / 12.
+    noise_floor: String,
+    /// Mixture estimate of the starting diversity from the fraction across, main placement:
+    /// p (1 − p) Δ² + noise floor, Δ the field's step (sharp border only).
+    mixture: Option<String>,
+}
+
+/// The averaged courses' section.
+#[derive(Serialize)]
+struct CourseSection {
+    runs: u32,
+    periods: u32,
+    scenarios: Vec<CourseScenario>,
+}
+
+fn course_section(r: &Report<'_>) -> CourseSection {
+    let tail_of = |c: &TimeCourse, f: fn(&crate::swarm::timecourse::TimePoint) -> f64| {
+        let k = c.points.len().saturating_sub(10);
+        let v: Vec<f64> = c.points[k..].iter().map(f).collect();
+        crate::stats::mean(&v).unwrap_or(f64::NAN)
+    };
+    let tail = |c: &TimeCourse, f| fixed(tail_of(c, f), 2);
+    let scenarios = [r.sharp, r.gradient]
+        .iter()
+        .zip(r.courses)
+        .zip(&PAPER_COURSE)
+        .enumerate()
+        .map(|(k, ((scn, pair), paper))| {
+            let noise = scn.run.noise;
+            let floor = noise * noise / 12.0;
+            let rows = pair
+                .iter()
+                .zip([r.main, r.main.other()])
+                .map(|(c, placement)| {
+                    let first = c.points.first();
+                    CourseRow {
+                        placement: placement.to_string(),
+                        runs: c.runs,
+                        start: first.map_or(String::new(), |p| fixed(p.diversity.mean, 2)),
+                        start_range: first.map_or(String::new(), |p| {
+                            format!(
+                                "{}–{}",
+                                fixed(p.diversity.q10, 2),
+                                fixed(p.diversity.q90, 2)
+                            )
+                        }),
+                        across: fixed(100.0 * c.across_at_start, 0),
+                        end: tail(c, |p| p.diversity.mean),
+                        consensus_start: first
+                            .map_or(String::new(), |p| fixed(p.consensus.mean, 2)),
+                        consensus_end: tail(c, |p| p.consensus.mean),
+                        arrived: c.points.last().map_or(0, |p| p.arrived),
+                        above_paper: first.is_some_and(|p| p.diversity.mean > paper.start),
+                        consensus_falls: first
+                            .is_some_and(|p| tail_of(c, |p| p.consensus.mean) < p.consensus.mean),
+                    }
+                })
+                .collect();
+            let main = &pair[0];
+            let p = main.across_at_start;
+            CourseScenario {
+                name: scn.name.clone(),
+                x_start: scn.start.x.to_string(),
+                paper_start: paper.start.to_string(),
+                paper_plateaus: paper
+                    .plateaus
+                    .iter()
+                    .map(|(v, what)| format!("≈ {v} ({what})"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                rows,
+                plateau: format!("{:.1} ± {:.1}", main.plateau, main.plateau_se),
+                plateau_runs: main.plateau_runs,
+                noise_floor: fixed(floor, 2),
+                mixture: (k == 0).then(|| {
+                    let step = scn.field.mean(Point2::new(10.0, 0.0))
+                        - scn.field.mean(Point2::new(-10.0, 0.0));
+                    fixed(p * (1.0 - p) * step * step + floor, 2)
+                }),
+            }
+        })
+        .collect();
+    CourseSection {
+        runs: COURSE_RUNS,
+        periods: r.sharp.periods,
+        scenarios,
+    }
+}
+
 /// The page's data, every number formatted.
 fn page(r: &Report<'_>) -> Page {
     Page {
@@ -981,6 +1175,7 @@ fn page(r: &Report<'_>) -> Page {
         gradient: gradient_section(r),
         cloud: cloud_section(r),
         cycle: cycle_section(r),
+        course: course_section(r),
         speed: speed_section(r),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),
         placement: placement_note(r),

@@ -115,6 +115,62 @@ pub fn default_duration(p: &protocol::Params) -> Duration {
     longest.saturating_mul(3 * u64::from(p.negotiation_cycles)) + Duration::from_secs(1)
 }
 
+/// One experiment of the paper's lab suite: a light pattern, and for an alternating experiment
+/// the pattern it changes to once a run's duration has passed (paper section 4: "after
+/// reaching consensus, the light configurations were changed").
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct LabExperiment {
+    /// The pattern from the start.
+    pub first: Pattern,
+    /// The pattern after the change, for an alternating experiment.
+    pub then: Option<Pattern>,
+}
+
+impl LabExperiment {
+    /// `1000`, or `1000>0001` for an alternating experiment.
+    pub fn label(&self) -> String {
+        match &self.then {
+            Some(t) => format!("{}>{}", pattern_str(&self.first), pattern_str(t)),
+            None => pattern_str(&self.first),
+        }
+    }
+
+    /// A line of robots `spacing` metres apart under this experiment with `seed`: the first
+    /// pattern for `run`, then for an alternating experiment the second one for another `run`
+    /// (the run lasts twice `run`, [`judge`] checks the LEDs just before the change too).
+    pub fn config(&self, spacing: f64, run: Duration, seed: u64) -> ArenaConfig {
+        let mut cfg = ArenaConfig::line(self.first.clone(), spacing, run, seed);
+        if let Some(t) = &self.then {
+            cfg.env.schedule.push((Instant::ZERO + run, t.clone()));
+            cfg.duration = run.saturating_mul(2);
+        }
+        cfg
+    }
+}
+
+/// The paper's lab suite, what `cimax arena` runs without options: the six patterns
+/// ([`PAPER_PATTERNS`]) in the paper's order, then the alternating experiment from each of them
+/// to its mirror image ([`mirrored`]): `1000>0001`, `0111>1110`, `0001>1000`, `1110>0111`,
+/// `1100>0011`, `0011>1100`.
+///
+/// Mirroring a pattern mirrors its decisions and swaps left and right ([`expected`]), so the
+/// LEDs of `1000>0001` go from `LLLL` to `RRRR` and back for `0001>1000`. The border in the
+/// middle (`1100`, `0011`) stays in the middle: every robot's reading flips but its decision
+/// (`RRLL`) does not, and the LEDs must hold through the change (any change after consensus
+/// is a flicker and fails the run).
+pub fn paper_suite() -> Vec<LabExperiment> {
+    let six = protocol::lab::PAPER.map(|p| p.lit().to_vec());
+    let plain = six.iter().map(|p| LabExperiment {
+        first: p.clone(),
+        then: None,
+    });
+    let alternating = six.iter().map(|p| LabExperiment {
+        first: p.clone(),
+        then: Some(mirrored(p)),
+    });
+    plain.chain(alternating).collect()
+}
+
 /// The outcome of one run, as the paper's table reports it.
 #[derive(Clone, Debug)]
 pub struct LabRun {
@@ -268,6 +324,102 @@ mod tests {
         cfg.dead_at_start = vec![3, 0, 3];
         cfg.restarts = vec![(Instant::from_secs(1), 0)];
         assert_eq!(absent(&cfg), vec![3]);
+    }
+
+    #[test]
+    fn the_suite_is_the_six_patterns_then_each_mirrored() {
+        let labels: Vec<String> = paper_suite().iter().map(LabExperiment::label).collect();
+        assert_eq!(
+            labels,
+            [
+                "1000",
+                "0111",
+                "0001",
+                "1110",
+                "1100",
+                "0011",
+                "1000>0001",
+                "0111>1110",
+                "0001>1000",
+                "1110>0111",
+                "1100>0011",
+                "0011>1100"
+            ]
+        );
+        // What the LEDs must show before and after each change, from the paper's decisions
+        // (protocol::lab): mirroring swaps left and right, except for the border in the middle.
+        let leds = |p: &[bool]| {
+            let lab = protocol::lab::LabPattern::find(&pattern_str(p)).unwrap();
+            leds_str(&lab.decisions.map(|d| LedColor::for_decision(Some(d))))
+        };
+        let mut seen = Vec::new();
+        for e in paper_suite() {
+            let Some(t) = &e.then else { continue };
+            assert_eq!(leds(&e.first), leds_str(&expected(&e.first).unwrap()));
+            assert_eq!(leds(t), leds_str(&expected(t).unwrap()));
+            seen.push(format!("{} {}>{}", e.label(), leds(&e.first), leds(t)));
+        }
+        assert_eq!(
+            seen,
+            [
+                "1000>0001 LLLL>RRRR",
+                "0111>1110 LLLL>RRRR",
+                "0001>1000 RRRR>LLLL",
+                "1110>0111 RRRR>LLLL",
+                "1100>0011 RRLL>RRLL",
+                "0011>1100 RRLL>RRLL"
+            ]
+        );
+        let cfg = paper_suite()[10].config(1.0, Duration::from_secs(100), 7);
+        assert_eq!(cfg.duration, Duration::from_secs(200));
+        assert_eq!(
+            cfg.env.schedule,
+            [
+                (Instant::ZERO, p("1100")),
+                (Instant::from_secs(100), p("0011"))
+            ]
+        );
+        assert_eq!(cfg.seed, 7);
+    }
+
+    /// Runs `e` with seeds 1 to 5 (readings as `readings`) and returns, per run, the LEDs just
+    /// before the change and at the end; panics with the seed if a run fails.
+    fn alternate(e: &LabExperiment, readings: crate::Readings) -> Vec<(String, String)> {
+        let run = default_duration(&protocol::Params::robots());
+        (1..=5)
+            .map(|seed| {
+                let mut cfg = e.config(1.0, run, seed);
+                cfg.env.readings = readings;
+                let r = judge(&cfg).unwrap();
+                assert!(
+                    r.success,
+                    "{} {readings:?} seed {seed}: LEDs {}, flicker {:?}",
+                    e.label(),
+                    leds_str(&r.leds),
+                    r.flicker
+                );
+                let before = r
+                    .report
+                    .leds_at(Instant::ZERO + run - Duration::from_millis(1));
+                (leds_str(&before), leds_str(&r.leds))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn mirrored_alternating_experiments_end_as_the_paper_decides() {
+        let suite = paper_suite();
+        let find = |l: &str| suite.iter().find(|e| e.label() == l).unwrap();
+        for readings in [crate::Readings::Levels, crate::Readings::Binary] {
+            let both = |a: &str, b: &str| vec![(a.to_string(), b.to_string()); 5];
+            assert_eq!(alternate(find("1000>0001"), readings), both("LLLL", "RRRR"));
+            assert_eq!(alternate(find("0111>1110"), readings), both("LLLL", "RRRR"));
+            assert_eq!(alternate(find("0001>1000"), readings), both("RRRR", "LLLL"));
+            assert_eq!(alternate(find("1110>0111"), readings), both("RRRR", "LLLL"));
+            // The border stays in the middle: the LEDs hold RRLL through the change.
+            assert_eq!(alternate(find("1100>0011"), readings), both("RRLL", "RRLL"));
+            assert_eq!(alternate(find("0011>1100"), readings), both("RRLL", "RRLL"));
+        }
     }
 
     #[test]

@@ -69,8 +69,44 @@ fn arena_runs_the_paper_suite_in_the_emulator() {
     let out = cimax(&["arena", "--runs", "1"]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}");
-    assert!(stdout.contains("7 runs, 7 successful"), "{stdout}");
-    assert!(stdout.contains("1000>0001"), "{stdout}");
+    assert!(stdout.contains("12 runs, 12 successful"), "{stdout}");
+    // Every pattern's alternating experiment, with the LEDs before and after the mirroring.
+    for row in [
+        "1000>0001    LLLL>RRRR  RRRR ",
+        "0111>1110    LLLL>RRRR  RRRR ",
+        "0001>1000    RRRR>LLLL  LLLL ",
+        "1110>0111    RRRR>LLLL  LLLL ",
+        "1100>0011    RRLL>RRLL  RRLL ",
+        "0011>1100    RRLL>RRLL  RRLL ",
+    ] {
+        assert!(stdout.contains(row), "{row:?} in\n{stdout}");
+    }
+    let out = cimax(&["arena", "--runs", "1", "--binary-readings"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(
+        stdout.contains("binary readings (g = 1 lit, 0 dark)"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("12 runs, 12 successful"), "{stdout}");
+}
+
+#[test]
+fn arena_failing_runs_exit_1_and_print_the_command_that_replays_them() {
+    // 100 s is too short for a decision: every LED is still off, every run fails.
+    let out = cimax(&["arena", "--runs", "1", "--duration", "100", "--seed", "7"]);
+    assert_eq!(out.status.code(), Some(1));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("12 runs, 0 successful"), "{stdout}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    for replay in [
+        "FAILED 1100 seed 7: LEDs ----, expected RRLL (replay: cimax arena --lights 1100 \
+         --seed 7 --runs 1 --duration 100)",
+        "FAILED 1100 seed 7: LEDs ----, expected RRLL (replay: cimax arena --lights 0011 \
+         --switch-at 100 --then 1100 --seed 7 --runs 1 --duration 100)",
+    ] {
+        assert!(stderr.contains(replay), "{replay:?} in\n{stderr}");
+    }
 }
 
 #[test]

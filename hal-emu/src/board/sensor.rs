@@ -1,7 +1,8 @@
 //! The board's environmental sensor: what one robot reads of the world's
 //! [`Environment`] (a light pattern, or a field over the plane where the swarm is), with the
-//! environment's noise drawn from the robot's own RNG. It implements the firmware's
-//! [`Sensor`] and nothing else.
+//! environment's noise drawn from the robot's own RNG, or the paper's binary readings
+//! ([`Readings`](crate::world::env::Readings)). It implements the firmware's [`Sensor`] and
+//! nothing else.
 
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
@@ -61,15 +62,10 @@ impl Sensor for EmuSensor {
         }
         if let Some(f) = &self.env.field {
             let level = f.level(self.robot, self.offset.get());
-            return Ok(self.env.noisy(level, &mut self.rng));
+            return Ok(self.env.field_light(level, &mut self.rng));
         }
         let t = firmware::Clock::now(&self.clock);
-        let base = if self.env.is_lit(self.robot, t) {
-            self.env.lit
-        } else {
-            self.env.dark
-        };
-        Ok(self.env.noisy(base, &mut self.rng))
+        Ok(self.env.light(self.robot, t, &mut self.rng))
     }
 
     async fn oxygen(&mut self) -> Result<Level, ErrorKind> {
@@ -77,5 +73,38 @@ impl Sensor for EmuSensor {
             return Err(ErrorKind::Bus);
         }
         Ok(self.env.noisy(self.env.oxygen, &mut self.rng))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::world::env::Readings;
+    use firmware::Clock as _;
+    use protocol::Instant;
+    use rand_pcg::Pcg32;
+
+    #[tokio::test(flavor = "current_thread", start_paused = true)]
+    async fn binary_readings_reach_the_robot_as_zero_or_one() {
+        let mut env = Environment::constant(vec![false, true]);
+        env.schedule
+            .push((Instant::from_secs(60), vec![true, false]));
+        env.readings = Readings::Binary;
+        let env = Rc::new(env);
+        let clock = EmuClock::new(tokio::time::Instant::now());
+        let mut sensors: Vec<EmuSensor> = (0..2)
+            .map(|r| EmuSensor::new(env.clone(), r, clock, Pcg32::new(r as u64, 1)))
+            .collect();
+        let mut seen = Vec::new();
+        for _ in 0..4 {
+            for s in &mut sensors {
+                seen.push(s.ambient_light().await.unwrap().0);
+            }
+            clock
+                .sleep_until(clock.now() + protocol::Duration::from_secs(30))
+                .await;
+        }
+        // Dark-lit for the first minute, lit-dark after it.
+        assert_eq!(seen, [0, 1, 0, 1, 1, 0, 1, 0]);
     }
 }

@@ -24,6 +24,25 @@ pub struct Environment {
     /// A field over the plane instead of the light pattern, if set: each robot reads it where
     /// it is (`schedule`, `lit` and `dark` are then not used).
     pub field: Option<PlaneField>,
+    /// What the ambient-light sensor reports: noisy levels (the default) or the paper's binary
+    /// readings (Fig. 5(d): g = 1 lit, 0 dark).
+    pub readings: Readings,
+}
+
+/// What a robot's ambient-light sensor reports ([`Environment::light`]).
+///
+/// The oxygen reading is a noisy level either way (the lab experiment used light only).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Readings {
+    /// A level: [`Environment::lit`] or [`Environment::dark`] (or the field's level), off by the
+    /// environment's noise.
+    #[default]
+    Levels,
+    /// The paper's binary readings (Fig. 5(d), g ∈ {0, 1}): `Level(1)` for a lit robot and
+    /// `Level(0)` for a dark one, without noise (no draw from the robot's RNG). Over a
+    /// [`PlaneField`], 1 where the field's noiseless level is at least halfway between
+    /// [`Environment::dark`] and [`Environment::lit`] ([`Environment::binary_threshold`]).
+    Binary,
 }
 
 /// A scalar field over the plane as the robots' sensors read it (the swarm simulator's fields,
@@ -104,6 +123,7 @@ impl Environment {
             noise: 10,
             oxygen: 128,
             field: None,
+            readings: Readings::Levels,
         }
     }
 
@@ -139,6 +159,34 @@ impl Environment {
             .unwrap_or(false)
     }
 
+    /// What robot `robot`'s ambient-light sensor reports at `t` under the light pattern
+    /// ([`Readings`]): `lit` or `dark` with noise drawn from `rng`, or 1 or 0.
+    pub fn light(&self, robot: usize, t: Instant, rng: &mut Pcg32) -> Level {
+        let lit = self.is_lit(robot, t);
+        match self.readings {
+            Readings::Levels => self.noisy(if lit { self.lit } else { self.dark }, rng),
+            Readings::Binary => Level(u8::from(lit)),
+        }
+    }
+
+    /// What a sensor whose noiseless level is `level` (a [`PlaneField`]'s) reports
+    /// ([`Readings`]): `level` with noise drawn from `rng`, or 1 if it is at least
+    /// [`Self::binary_threshold`] and 0 below.
+    pub fn field_light(&self, level: u8, rng: &mut Pcg32) -> Level {
+        match self.readings {
+            Readings::Levels => self.noisy(level, rng),
+            Readings::Binary => Level(u8::from(level >= self.binary_threshold())),
+        }
+    }
+
+    /// The level from which a field reads as lit with [`Readings::Binary`]: halfway between
+    /// `dark` and `lit`, rounded up (115 with the defaults, between the sharp border's 30 and
+    /// 200).
+    pub fn binary_threshold(&self) -> u8 {
+        let (a, b) = (self.dark.min(self.lit), self.dark.max(self.lit));
+        a + (b - a).div_ceil(2)
+    }
+
     /// `level` off by a uniform draw in `-noise..=noise` from `rng`, saturated to `0..=255`.
     pub(crate) fn noisy(&self, level: u8, rng: &mut Pcg32) -> Level {
         let n = i16::from(self.noise);
@@ -160,6 +208,44 @@ mod tests {
         assert!(!e.is_lit(0, Instant::from_secs(100)));
         assert!(e.is_lit(1, Instant::from_secs(500)));
         assert!(!e.is_lit(7, Instant::ZERO));
+    }
+
+    #[test]
+    fn binary_readings_are_zero_or_one_and_follow_the_pattern() {
+        let mut e = Environment::constant(vec![true, false, false, true]);
+        e.schedule
+            .push((Instant::from_secs(100), vec![false, true, true, false]));
+        e.readings = Readings::Binary;
+        let mut rng = Pcg32::new(1, 1);
+        for s in (0..200).step_by(7) {
+            let t = Instant::from_secs(s);
+            for robot in 0..5 {
+                let g = e.light(robot, t, &mut rng).0;
+                assert!(g <= 1, "g = {g}");
+                assert_eq!(g == 1, e.is_lit(robot, t), "robot {robot} at {s} s");
+            }
+        }
+        // No noise is drawn: the robot's RNG is untouched.
+        assert_eq!(rng, Pcg32::new(1, 1));
+        // Levels (the default) stay levels, with noise.
+        e.readings = Readings::Levels;
+        let l = e.light(0, Instant::ZERO, &mut rng).0;
+        assert!((190..=210).contains(&l), "{l}");
+        assert_ne!(rng, Pcg32::new(1, 1));
+    }
+
+    #[test]
+    fn binary_readings_threshold_a_field_halfway() {
+        let mut e = Environment::constant(Vec::new());
+        e.readings = Readings::Binary;
+        assert_eq!(e.binary_threshold(), 115);
+        let mut rng = Pcg32::new(1, 1);
+        assert_eq!(e.field_light(200, &mut rng), Level(1));
+        assert_eq!(e.field_light(115, &mut rng), Level(1));
+        assert_eq!(e.field_light(114, &mut rng), Level(0));
+        assert_eq!(e.field_light(30, &mut rng), Level(0));
+        (e.lit, e.dark) = (0, 255);
+        assert_eq!(e.binary_threshold(), 128);
     }
 
     #[test]

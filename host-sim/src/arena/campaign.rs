@@ -668,15 +668,15 @@ fn decision_times(r: &ScenarioResult) -> (Option<f64>, Option<f64>) {
 /// and the time to consensus of each run (from the start, or from the mirroring).
 #[derive(Clone, Debug)]
 pub struct SuiteResult {
-    /// The experiment: a pattern, or `1000>0001` for the alternating one.
+    /// The experiment: a pattern, or e.g. `1000>0001` for an alternating one.
     pub label: String,
     /// Per run: success and time to consensus.
     pub runs: Vec<(bool, Option<f64>)>,
 }
 
-/// The lab suite under `decide`: the paper's six patterns and the alternating experiment
-/// (`1000`, mirrored once the run's duration has passed), seeds `seed..seed + seeds`, no
-/// fault, as `cimax arena --runs SEEDS --decide RULE` runs it.
+/// The lab suite under `decide` ([`hal_emu::lab::paper_suite`]): the paper's six patterns and
+/// the alternating experiment from each (mirrored once the run's duration has passed), seeds
+/// `seed..seed + seeds`, no fault, as `cimax arena --runs SEEDS --decide RULE` runs it.
 ///
 /// # Errors
 /// A message if a run cannot start.
@@ -684,33 +684,21 @@ pub fn lab_suite(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<SuiteResul
     let mut params = Params::robots();
     params.decide = decide.into();
     let run = hal_emu::lab::default_duration(&params);
-    let mut experiments: Vec<(String, Vec<bool>, Option<Vec<bool>>)> = PAPER_PATTERNS
+    hal_emu::lab::paper_suite()
         .iter()
-        .map(|p| Ok((p.to_string(), parse_pattern(p)?, None)))
-        .collect::<Result<_, String>>()?;
-    let a = parse_pattern("1000")?;
-    let b = hal_emu::lab::mirrored(&a);
-    experiments.push(("1000>0001".into(), a, Some(b)));
-    experiments
-        .iter()
-        .map(|(label, pattern, then)| {
+        .map(|e| {
             let runs = (0..seeds)
                 .into_par_iter()
                 .map(|k| {
-                    let mut cfg =
-                        ArenaConfig::line(pattern.clone(), 1.0, run, seed.wrapping_add(k));
+                    let mut cfg = e.config(1.0, run, seed.wrapping_add(k));
                     cfg.robot.params = params;
-                    if let Some(t) = then {
-                        cfg.env.schedule.push((Instant::ZERO + run, t.clone()));
-                        cfg.duration = run.saturating_mul(2);
-                    }
                     judge(&cfg)
                         .map(|r| (r.success, r.consensus_s))
                         .map_err(|e| e.to_string())
                 })
                 .collect::<Result<Vec<_>, String>>()?;
             Ok(SuiteResult {
-                label: label.clone(),
+                label: e.label(),
                 runs,
             })
         })

@@ -15,8 +15,10 @@ use crate::progress::Progress;
 use clap::Args;
 use firmware::LedColor;
 use hal_emu::arena::RobotFailure;
-use hal_emu::lab::{LabRun, PAPER_PATTERNS, judge, leds_str, mirrored, parse_pattern, pattern_str};
-use hal_emu::{ArenaConfig, ArenaError, MediumParams, TraceEvent};
+use hal_emu::lab::{
+    LabExperiment, LabRun, judge, leds_str, paper_suite, parse_pattern, pattern_str,
+};
+use hal_emu::{ArenaConfig, ArenaError, MediumParams, Readings, TraceEvent};
 use plotters::prelude::*;
 use protocol::{Duration, Instant, Params, SwarmKey};
 use rayon::prelude::*;
@@ -27,8 +29,8 @@ use serde::Serialize;
 /// without a bound a huge `--duration` or `--cycle` would run for ever or exhaust memory.
 pub const MAX_RUN_SECS: u64 = 1_000_000;
 
-/// Options of `cimax arena`. With none, the paper's suite: six patterns and the alternating
-/// experiment, five runs each.
+/// Options of `cimax arena`. With none, the paper's suite ([`paper_suite`]): six patterns and
+/// the alternating experiment from each to its mirror image, five runs each.
 #[derive(Args, Debug, Clone)]
 #[command(args_conflicts_with_subcommands = true)]
 pub struct ArenaArgs {
@@ -81,6 +83,10 @@ pub struct ArenaArgs {
     /// default three negotiation periods of the longest cycle.
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_RUN_SECS))]
     pub duration: Option<u64>,
+    /// The sensors report the paper's binary readings (Fig. 5(d), g in {0, 1}): 1 when lit,
+    /// 0 when dark, without noise, instead of levels of 200 and 30 with noise ±10.
+    #[arg(long)]
+    pub binary_readings: bool,
     /// Probability that a frame is lost at a receiver.
     #[arg(long, default_value_t = 0.0)]
     pub loss: f64,
@@ -132,6 +138,17 @@ pub struct ArenaArgs {
     /// `campaign`: the fault-injection campaign (`crate::campaign`).
     #[command(subcommand)]
     pub command: Option<Box<ArenaCommand>>,
+}
+
+impl ArenaArgs {
+    /// What the sensors report: binary readings with `--binary-readings`, else levels.
+    pub fn readings(&self) -> Readings {
+        if self.binary_readings {
+            Readings::Binary
+        } else {
+            Readings::Levels
+        }
+    }
 }
 
 fn parse_at(s: &str) -> Result<(usize, u64), String> {
@@ -264,8 +281,8 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
         }
     }
 
-    let config = |pattern: &[bool], seed: u64, duration: Duration| {
-        let mut c = ArenaConfig::line(pattern.to_vec(), args.spacing, duration, seed);
+    // The options' robots, medium, faults and sensors on a line of the experiment.
+    let setup = |mut c: ArenaConfig| {
         c.robot.params = params;
         c.robot.key = args.key;
         c.medium = medium;
@@ -279,69 +296,67 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
             .iter()
             .map(|&(r, t)| (Instant::from_secs(t), r))
             .collect();
+        c.env.readings = args.readings();
         c
     };
     let seeds = || (0..args.runs).map(|k| args.seed.wrapping_add(k));
 
-    let mut out = Vec::new();
-    let patterns: Vec<Vec<bool>> = match &lights {
-        Some(p) => vec![p.clone()],
-        None if robots == 4 => PAPER_PATTERNS
-            .iter()
-            .map(|p| parse_pattern(p))
-            .collect::<Result<_, _>>()?,
+    let suite: Vec<LabExperiment> = match &lights {
+        Some(p) => vec![LabExperiment {
+            first: p.clone(),
+            then: None,
+        }],
+        None if robots == 4 => paper_suite(),
         None => {
             return Err(format!(
                 "--robots {robots} needs --lights (the paper's patterns are for 4)"
             ));
         }
     };
-    for p in &patterns {
-        check(p, "pattern")?;
-        let mut label = pattern_str(p);
+    let mut out = Vec::new();
+    for e in &suite {
+        check(&e.first, "pattern")?;
+        // `--switch-at --then` changes a single pattern (the suite's alternating experiments
+        // have their own change).
+        let switch = match (args.switch_at, &then, &e.then) {
+            (Some(at), Some(t), None) => {
+                check(t, "--then pattern")?;
+                Some((Instant::from_secs(at), t))
+            }
+            _ => None,
+        };
         let configs = seeds()
             .map(|s| {
-                let mut c = config(p, s, run);
-                if let (Some(at), Some(t)) = (args.switch_at, &then) {
-                    c.env.schedule.push((Instant::from_secs(at), t.clone()));
-                    c.duration = c.duration.max(Duration::from_secs(at) + run);
+                let mut c = setup(e.config(args.spacing, run, s));
+                if let Some((at, t)) = switch {
+                    c.env.schedule.push((at, t.clone()));
+                    c.duration = c.duration.max(at.saturating_since(Instant::ZERO) + run);
                 }
                 c
             })
             .collect();
-        if let Some(t) = &then {
-            check(t, "--then pattern")?;
-            label = format!("{label}>{}", pattern_str(t));
-        }
+        let label = match switch {
+            Some((_, t)) => format!("{}>{}", e.label(), pattern_str(t)),
+            None => e.label(),
+        };
         out.push(Experiment { label, configs });
-    }
-    if lights.is_none() {
-        out.push(alternating(&config, args, run)?);
     }
     Ok(out)
 }
 
-/// The alternating experiment: after consensus on `1000` the pattern is mirrored; each run
-/// lasts twice `run`.
-fn alternating(
-    config: &dyn Fn(&[bool], u64, Duration) -> ArenaConfig,
-    args: &ArenaArgs,
-    run: Duration,
-) -> Result<Experiment, String> {
-    let a = parse_pattern("1000")?;
-    let b = mirrored(&a);
-    let configs = (0..args.runs)
-        .map(|k| args.seed.wrapping_add(k))
-        .map(|s| {
-            let mut c = config(&a, s, run.saturating_mul(2));
-            c.env.schedule.push((Instant::ZERO + run, b.clone()));
-            c
-        })
-        .collect();
-    Ok(Experiment {
-        label: format!("{}>{}", pattern_str(&a), pattern_str(&b)),
-        configs,
-    })
+/// The options that replay a run of `cfg` alone: its first pattern (`--lights`) and, if the
+/// pattern changes, when and to what (`--switch-at`, `--then`).
+fn replay_lights(cfg: &ArenaConfig) -> String {
+    let mut out = String::new();
+    for (i, (t, p)) in cfg.env.schedule.iter().enumerate() {
+        if i == 0 {
+            out += &format!("--lights {}", pattern_str(p));
+        } else {
+            let at = t.saturating_since(Instant::ZERO).as_millis() / 1000;
+            out += &format!(" --switch-at {at} --then {}", pattern_str(p));
+        }
+    }
+    out
 }
 
 /// One run in the `--json` report.
@@ -413,7 +428,14 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
         .iter()
         .map(|(_, r)| r.report.emulated.as_secs_f64())
         .sum();
-    let failures: Vec<&LabRun> = runs.iter().map(|(_, r)| r).filter(|r| !r.success).collect();
+    let failures: Vec<(&LabRun, String)> = runs
+        .iter()
+        .filter(|(_, r)| !r.success)
+        .map(|(i, r)| {
+            let cfg = experiments[*i].configs.iter().find(|c| c.seed == r.seed);
+            (r, cfg.map(replay_lights).unwrap_or_default())
+        })
+        .collect();
     let total = runs.len() + crashed.len();
     let successes = runs.len() - failures.len();
     if args.json {
@@ -514,16 +536,29 @@ fn print_json(
     Ok(())
 }
 
-/// One line on stderr per failed or crashed run, with the command that replays it.
-fn print_failures(args: &ArenaArgs, failures: &[&LabRun], crashed: &[(usize, Crashed)]) {
+/// The options of `args` a replay repeats (after `--runs 1`).
+fn replay_extra(args: &ArenaArgs) -> String {
     let mut extra = String::new();
+    if let Some(d) = args.duration {
+        extra += &format!(" --duration {d}");
+    }
     if args.decide != Decide::Fixed {
         extra += " --decide adaptive";
     }
     if args.loss > 0.0 {
         extra += &format!(" --loss {}", args.loss);
     }
-    for r in failures {
+    if args.binary_readings {
+        extra += " --binary-readings";
+    }
+    extra
+}
+
+/// One line on stderr per failed or crashed run (each failed run with the `--lights` options
+/// that replay it, [`replay_lights`]), with the command that replays it.
+fn print_failures(args: &ArenaArgs, failures: &[(&LabRun, String)], crashed: &[(usize, Crashed)]) {
+    let extra = replay_extra(args);
+    for (r, lights) in failures {
         let flicker = r
             .flicker
             .map(|(t, robot)| {
@@ -531,12 +566,11 @@ fn print_failures(args: &ArenaArgs, failures: &[&LabRun], crashed: &[(usize, Cra
             })
             .unwrap_or_default();
         eprintln!(
-            "FAILED {} seed {}: LEDs {}, expected {}{flicker} (replay: cimax arena --lights {} --seed {} --runs 1{extra})",
+            "FAILED {} seed {}: LEDs {}, expected {}{flicker} (replay: cimax arena {lights} --seed {} --runs 1{extra})",
             pattern_str(&r.lights),
             r.seed,
             leds_str(&r.leds),
             r.expected.as_deref().map(leds_str).unwrap_or_default(),
-            pattern_str(&r.lights),
             r.seed
         );
     }
@@ -554,6 +588,8 @@ struct Crashed {
     expected: Option<Vec<LedColor>>,
     /// Which robot, why, and the seed.
     failure: RobotFailure,
+    /// The options that replay it ([`replay_lights`]).
+    replay: String,
 }
 
 impl Crashed {
@@ -569,6 +605,7 @@ impl Crashed {
             lights,
             expected,
             failure,
+            replay: replay_lights(cfg),
         }
     }
 
@@ -576,9 +613,10 @@ impl Crashed {
     fn failed_line(&self, extra: &str) -> String {
         let (lights, seed) = (pattern_str(&self.lights), self.failure.seed);
         format!(
-            "FAILED {lights} seed {seed}: {}, expected {} (replay: cimax arena --lights {lights} --seed {seed} --runs 1{extra})",
+            "FAILED {lights} seed {seed}: {}, expected {} (replay: cimax arena {} --seed {seed} --runs 1{extra})",
             self.failure.what(),
             self.expected.as_deref().map(leds_str).unwrap_or_default(),
+            self.replay,
         )
     }
 
@@ -598,6 +636,20 @@ impl Crashed {
     }
 }
 
+/// What the LEDs of a run of `cfg` should show: the verdict of its pattern, or of each pattern
+/// in turn where the pattern changes (`LLLL>RRRR`); `(none)` for a pattern without a verdict.
+fn expected_str(cfg: &ArenaConfig) -> String {
+    let absent = hal_emu::lab::absent(cfg);
+    cfg.env
+        .schedule
+        .iter()
+        .map(|(_, p)| {
+            hal_emu::lab::expected_without(p, &absent).map_or("(none)".into(), |e| leds_str(&e))
+        })
+        .collect::<Vec<_>>()
+        .join(">")
+}
+
 fn print_table(
     args: &ArenaArgs,
     experiments: &[Experiment],
@@ -608,7 +660,11 @@ fn print_table(
         .cycle
         .unwrap_or(Params::robots().wave.cycle.as_secs_f64());
     println!(
-        "CIMAX lab arena: robots in a line running the robot program over the emulated light medium"
+        "CIMAX lab arena: robots in a line running the robot program over the emulated light medium{}",
+        match args.readings() {
+            Readings::Binary => "; binary readings (g = 1 lit, 0 dark)",
+            Readings::Levels => "",
+        }
     );
     println!(
         "{:<12} {:<10} {:<36} {:>8} {:>24} {:>9}",
@@ -638,11 +694,10 @@ fn print_table(
                 .max(1e-9);
         let mut leds: Vec<String> = rs.iter().map(|r| leds_str(&r.leds)).collect();
         leds.extend(crashes.iter().map(|_| "crashed".to_string()));
-        let exp = rs
+        let exp = e
+            .configs
             .first()
-            .and_then(|r| r.expected.as_deref())
-            .or(crashes.first().and_then(|c| c.expected.as_deref()))
-            .map_or("(none)".into(), leds_str);
+            .map_or_else(|| "(none)".into(), expected_str);
         // A crashed run is a failure whatever its pattern.
         let success = if crashes.is_empty() && rs.iter().all(|r| r.expected.is_none()) {
             "n/a".to_string()
@@ -882,9 +937,12 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
         || args.then.is_some()
         || !args.kill.is_empty()
         || !args.restart.is_empty()
+        || args.binary_readings
     {
         return Err(
-            "--field runs over a field: --lights, --then, --kill and --restart do not apply".into(),
+            "--field runs over a field: --lights, --then, --kill, --restart and \
+             --binary-readings do not apply"
+                .into(),
         );
     }
     let mut params = Params::robots();
@@ -926,6 +984,137 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use clap::Parser as _;
+
+    /// `cimax arena` as the tool parses it.
+    #[derive(clap::Parser)]
+    struct Cli {
+        #[command(subcommand)]
+        command: Cmd,
+    }
+
+    #[derive(clap::Subcommand)]
+    enum Cmd {
+        Arena(ArenaArgs),
+    }
+
+    /// The options of `cimax arena ARGS...`.
+    fn args(a: &[&str]) -> ArenaArgs {
+        let cli = Cli::try_parse_from(["cimax", "arena"].iter().chain(a)).unwrap();
+        let Cmd::Arena(args) = cli.command;
+        args
+    }
+
+    #[test]
+    fn the_default_suite_runs_every_pattern_and_its_mirror() {
+        let experiments = build(&args(&[])).unwrap();
+        let labels: Vec<&str> = experiments.iter().map(|e| e.label.as_str()).collect();
+        assert_eq!(
+            labels,
+            [
+                "1000",
+                "0111",
+                "0001",
+                "1110",
+                "1100",
+                "0011",
+                "1000>0001",
+                "0111>1110",
+                "0001>1000",
+                "1110>0111",
+                "1100>0011",
+                "0011>1100"
+            ]
+        );
+        let expected: Vec<String> = experiments
+            .iter()
+            .map(|e| expected_str(&e.configs[0]))
+            .collect();
+        assert_eq!(
+            expected[6..],
+            [
+                "LLLL>RRRR",
+                "LLLL>RRRR",
+                "RRRR>LLLL",
+                "RRRR>LLLL",
+                "RRLL>RRLL",
+                "RRLL>RRLL"
+            ]
+        );
+        for e in &experiments {
+            assert_eq!(e.configs.len(), 5, "{}", e.label);
+            let seeds: Vec<u64> = e.configs.iter().map(|c| c.seed).collect();
+            assert_eq!(seeds, [1, 2, 3, 4, 5]);
+            for c in &e.configs {
+                assert_eq!(c.env.readings, Readings::Levels);
+                let phases = if e.label.contains('>') { 2 } else { 1 };
+                assert_eq!(c.duration.as_millis(), phases * 2_101_000, "{}", e.label);
+            }
+        }
+        // A failing run of an alternating experiment replays with its change.
+        let last = &experiments[11].configs[2];
+        assert_eq!(
+            replay_lights(last),
+            "--lights 0011 --switch-at 2101 --then 1100"
+        );
+        assert_eq!(replay_lights(&experiments[0].configs[0]), "--lights 1000");
+        // One pattern with a change of its own: as before, no suite.
+        let one = build(&args(&[
+            "--lights",
+            "10",
+            "--switch-at",
+            "60",
+            "--then",
+            "01",
+        ]))
+        .unwrap();
+        assert_eq!(one.len(), 1);
+        assert_eq!(one[0].label, "10>01");
+        assert_eq!(
+            replay_lights(&one[0].configs[0]),
+            "--lights 10 --switch-at 60 --then 01"
+        );
+    }
+
+    #[test]
+    fn binary_readings_reach_every_run_and_its_replay() {
+        let a = args(&["--binary-readings", "--runs", "1"]);
+        let experiments = build(&a).unwrap();
+        assert!(
+            experiments
+                .iter()
+                .flat_map(|e| &e.configs)
+                .all(|c| c.env.readings == Readings::Binary)
+        );
+        assert_eq!(replay_extra(&a), " --binary-readings");
+        assert!(
+            plane_spec(&args(&["--field", "sharp", "--binary-readings"]))
+                .unwrap_err()
+                .contains("--binary-readings")
+        );
+        // The whole suite with binary readings, one run each: every verdict holds.
+        let ((runs, crashed), _) = run_all(&experiments).unwrap();
+        assert!(crashed.is_empty());
+        for (i, r) in &runs {
+            assert!(
+                r.success,
+                "{} seed {}: LEDs {}",
+                experiments[*i].label,
+                r.seed,
+                leds_str(&r.leds)
+            );
+        }
+        let end = |label: &str| {
+            let i = experiments.iter().position(|e| e.label == label).unwrap();
+            runs.iter()
+                .find(|(j, _)| *j == i)
+                .map(|(_, r)| leds_str(&r.leds))
+                .unwrap()
+        };
+        assert_eq!(end("1100>0011"), "RRLL");
+        assert_eq!(end("0001>1000"), "LLLL");
+        assert_eq!(end("0111>1110"), "RRRR");
+    }
 
     #[test]
     fn a_run_in_which_a_robot_panicked_is_reported_failed_with_its_replay() {
@@ -953,7 +1142,8 @@ mod tests {
         assert_eq!(
             c.failed_line(" --decide adaptive"),
             "FAILED 0011 seed 42: robot 1 panicked: attempt to subtract with overflow, expected \
-             RRLL (replay: cimax arena --lights 0011 --seed 42 --runs 1 --decide adaptive)"
+             RRLL (replay: cimax arena --lights 1100 --switch-at 2101 --then 0011 --seed 42 --runs 1 \
+             --decide adaptive)"
         );
         let json = serde_json::to_value(c.json()).unwrap();
         assert_eq!(json["success"], false);

@@ -10,3 +10,4 @@ pub mod geometry;
 pub mod reproduce;
 pub mod scenario;
 pub mod sim;
+pub mod waves;

@@ -207,6 +207,9 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
     let profile = cloud_profile(&mut st, &cloud)?;
     let plateaus = plateaus(&mut st, [&sharp, &gradient])?;
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
+    let p = st.start("one wave (Fig. 2)", 1);
+    let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(90))?;
+    st.done(&p);
 
     // Speed: one negotiation period per size on one thread (`swarm bench`).
     let mut speed = Vec::new();
@@ -235,6 +238,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         plateau_runs: PLATEAU_RUNS,
         cycle_rows: &cycle_rows,
         cycle_runs: CYCLE_RUNS,
+        waves,
     })?;
     let report = opts.docs.join("reproduction.md");
     std::fs::write(&report, md)?;
@@ -583,6 +587,7 @@ struct Report<'a> {
     plateau_runs: u32,
     cycle_rows: &'a [CycleRow],
     cycle_runs: u32,
+    waves: crate::swarm::waves::WavesSection,
 }
 
 /// `docs/reproduction.md` as its template sees it (`templates/reproduction.md.j2`).
@@ -598,6 +603,7 @@ struct Page {
     cloud: CloudSection,
     cycle: CycleSection,
     speed: SpeedSection,
+    waves: crate::swarm::waves::WavesSection,
     names: [String; 3],
     placement: PlacementNote,
 }
@@ -982,6 +988,7 @@ fn page(r: &Report<'_>) -> Page {
         cloud: cloud_section(r),
         cycle: cycle_section(r),
         speed: speed_section(r),
+        waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),
         placement: placement_note(r),
     }

@@ -74,7 +74,7 @@ fn xy(w: &Wave, i: usize) -> (f64, f64) {
 /// # Errors
 /// If the file cannot be written.
 pub fn waves_figure(path: &Path, w: &Wave, times: &[u64]) -> Result<(), PlotError> {
-    let root = SVGBackend::new(path, (1080, 850)).into_drawing_area();
+    let root = SVGBackend::new(path, (1080, 815)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(
         &format!(
@@ -155,7 +155,7 @@ fn draw_legend(area: &DrawingArea<SVGBackend<'_>, Shift>) -> Result<(), PlotErro
     let mut x = 40;
     for (c, label, width) in [
         (INACTIVE, "inactive", 95),
-        (ACTIVE, "active (transmits this second)", 250),
+        (ACTIVE, "active (transmits this second)", 235),
         (REFRACTORY, "refractory", 110),
     ] {
         area.draw(&Circle::new((x, y), 5, c.filled()))?;

@@ -29,6 +29,7 @@
 //! readings of the agents on the chain of parents back to the initiator: that chain is the path
 //! the message took ([`Wave::path`]).
 
+use std::collections::VecDeque;
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
 
@@ -379,6 +380,27 @@ fn follow(swarm: &Swarm, field: &Field, cfg: RunConfig, seed: u64) -> Result<Opt
     Err(format!("the wave lasted more than {MAX_WAVE_S} s").into())
 }
 
+/// Hops from agent `from` to every agent in the neighbour graph (breadth-first search; `None`
+/// for agents it cannot reach).
+pub fn hops_from(swarm: &Swarm, from: usize) -> Vec<Option<u64>> {
+    let mut d = vec![None; swarm.len()];
+    let mut q = VecDeque::new();
+    if from < swarm.len() {
+        d[from] = Some(0);
+        q.push_back((from, 0));
+    }
+    while let Some((i, h)) = q.pop_front() {
+        for l in swarm.neighbours(i) {
+            let j = l.agent as usize;
+            if d[j].is_none() {
+                d[j] = Some(h + 1);
+                q.push_back((j, h + 1));
+            }
+        }
+    }
+    d
+}
+
 /// One row of the snapshot table: t, inactive, active, refractory.
 type CountRow = [String; 4];
 
@@ -409,6 +431,11 @@ pub struct WavesSection {
     already_active: u64,
     blocked: u64,
     ignored: u64,
+    /// The ignored deliveries counted from the geometry equal the agents' own counters.
+    counters_agree: bool,
+    /// Every agent transmitted exactly as many seconds after the initiation as it is hops
+    /// from the initiator in the neighbour graph.
+    fronts_are_hops: bool,
     accepted_once: bool,
     paths: String,
     path_sectors: usize,
@@ -463,6 +490,8 @@ pub fn section(w: &Wave) -> WavesSection {
         already_active: d.already_active,
         blocked: d.upstream + d.same_front,
         ignored: w.ignored,
+        counters_agree: d.upstream + d.same_front + d.already_active == w.ignored,
+        fronts_are_hops: hops_from(&w.swarm, w.initiator) == w.sent_at,
         accepted_once: w
             .accepted
             .iter()
@@ -497,24 +526,6 @@ pub fn reproduce(figs: &Path, seed: u64) -> Result<WavesSection, Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::collections::VecDeque;
-
-    /// Hops from `from` in the neighbour graph (breadth-first search).
-    fn hops(swarm: &Swarm, from: usize) -> Vec<Option<u64>> {
-        let mut d = vec![None; swarm.len()];
-        d[from] = Some(0);
-        let mut q = VecDeque::from([from]);
-        while let Some(i) = q.pop_front() {
-            for l in swarm.neighbours(i) {
-                let j = l.agent as usize;
-                if d[j].is_none() {
-                    d[j] = Some(d[i].unwrap() + 1);
-                    q.push_back(j);
-                }
-            }
-        }
-        d
-    }
 
     fn wave(seed: u64) -> Wave {
         one_wave(&WaveSpec::paper(), seed).unwrap()
@@ -526,18 +537,18 @@ mod tests {
             let w = wave(seed);
             assert_eq!(w.len(), 80);
             assert!(w.swarm.is_connected());
-            let d = hops(&w.swarm, w.initiator);
+            let d = hops_from(&w.swarm, w.initiator);
             // The initiator is the only agent shown active at t = 0; the protocol holds it
             // inactive until it transmits.
             assert_eq!(w.counts(0), [79, 1, 0]);
             assert_eq!(w.shown(w.initiator, 0), WaveState::Active);
             assert_eq!(w.state(w.initiator, 0), WaveState::Inactive);
             for t in 0..=w.end_s() {
-                for i in 0..w.len() {
+                for (i, &hops) in d.iter().enumerate() {
                     // Active at t: exactly the agents t hops from the initiator.
                     assert_eq!(
                         w.shown(i, t) == WaveState::Active,
-                        d[i] == Some(t),
+                        hops == Some(t),
                         "seed {seed}, agent {i}, t {t}"
                     );
                     // And that is the agents' own state, but for the initiator at 0.
@@ -604,7 +615,8 @@ mod tests {
         // node: the counts from the geometry match the protocol's counters.
         assert_eq!(d.upstream + d.same_front + d.already_active, w.ignored);
         assert!(d.upstream > 0);
-        assert!(section(&w).accepted_once);
+        let s = section(&w);
+        assert!(s.accepted_once && s.counters_agree && s.fronts_are_hops);
     }
 
     #[test]
@@ -647,6 +659,38 @@ mod tests {
         assert_eq!(a.states, b.states);
         assert_eq!(a.parent, b.parent);
         assert_ne!(wave(8).swarm.offsets(), a.swarm.offsets());
+    }
+
+    #[test]
+    fn the_figure_the_csv_and_the_section_are_written() {
+        let dir = std::env::temp_dir().join(format!("cimax-waves-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let s = reproduce(&dir, 1).unwrap();
+        let svg = std::fs::read_to_string(dir.join("waves.svg")).unwrap();
+        for caption in ["(a) t = 0 s", "(e) t = 16 s", "(f) paths of"] {
+            assert!(svg.contains(caption), "{caption}");
+        }
+        let csv = std::fs::read_to_string(dir.join("waves.csv")).unwrap();
+        assert_eq!(csv.lines().count(), 81);
+        assert!(csv.starts_with(
+            "agent,x,y,sent_at_s,parent,state_t0,state_t2,state_t4,state_t11,state_t16\n"
+        ));
+        let md = crate::report::page::render(
+            "reproduction/waves.md.j2",
+            minijinja::context! { waves => s },
+        )
+        .unwrap();
+        assert!(md.starts_with("## Waves (paper Fig. 2)\n"), "{md}");
+        assert!(md.contains("| 0 | 79 | 1 | 0 |"), "{md}");
+        assert!(
+            md.contains("exactly the sum of the agents' own counters"),
+            "{md}"
+        );
+        if std::env::var_os("CIMAX_SHOW_WAVES").is_some() {
+            println!("{md}\nfigure: {}", dir.display());
+        } else {
+            std::fs::remove_dir_all(&dir).unwrap();
+        }
     }
 
     #[test]

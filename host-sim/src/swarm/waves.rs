@@ -286,12 +286,8 @@ pub fn one_wave(spec: &WaveSpec, seed: u64) -> Result<Wave, Error> {
         1.0,
         &mut rng,
     )?;
-    let field = Field::default();
-    let cfg = spec.config();
     for redraws in 0..MAX_REDRAWS {
-        let run_seed = derive(seed, &[1, redraws]);
-        if let Some(mut w) = follow(&swarm, &field, cfg, run_seed)? {
-            w.spec = *spec;
+        if let Some(mut w) = follow(spec, &swarm, derive(seed, &[1, redraws]))? {
             w.redraws = redraws;
             return Ok(w);
         }
@@ -306,8 +302,9 @@ fn transmissions(a: &crate::swarm::sim::Agent) -> u32 {
 }
 
 /// Runs one protocol seed; `None` if its first wave is not alone.
-fn follow(swarm: &Swarm, field: &Field, cfg: RunConfig, seed: u64) -> Result<Option<Wave>, Error> {
-    let mut sim = Sim::new(swarm, field, cfg, Point2::origin(), seed)?;
+fn follow(spec: &WaveSpec, swarm: &Swarm, seed: u64) -> Result<Option<Wave>, Error> {
+    let field = Field::default();
+    let mut sim = Sim::new(swarm, &field, spec.config(), Point2::origin(), seed)?;
     let n = swarm.len();
     // Before anything happens each agent's next timeout is its first initiation.
     let first: Vec<u64> = sim
@@ -349,7 +346,7 @@ fn follow(swarm: &Swarm, field: &Field, cfg: RunConfig, seed: u64) -> Result<Opt
                 })
                 .collect();
             return Ok(Some(Wave {
-                spec: WaveSpec::paper(),
+                spec: *spec,
                 swarm: swarm.clone(),
                 initiator,
                 start_s: start,
@@ -460,7 +457,7 @@ pub fn section(w: &Wave) -> WavesSection {
         diameter: w.spec.diameter.to_string(),
         degree: fixed(w.swarm.mean_degree(), 1),
         refractory_s: w.spec.refractory_s,
-        relay_s: 1,
+        relay_s: w.spec.config().params.wave.relay_delay.as_millis() / 1000,
         cycle_s: w.spec.cycle_s,
         initiator: w.initiator,
         start_s: w.start_s,

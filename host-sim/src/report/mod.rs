@@ -8,6 +8,7 @@ pub mod csv_files;
 pub mod page;
 pub mod plot;
 pub mod timecourse_plot;
+pub mod waves_plot;
 
 pub use csv_files::{
     CycleRow, write_cycle_csv, write_field_csv, write_radial_csv, write_run_csv, write_sweep_csv,

@@ -60,6 +60,10 @@ const TEMPLATES: &[(&str, &str)] = &[
         include_str!("../../templates/reproduction/sweep_table.md.j2"),
     ),
     (
+        "reproduction/waves.md.j2",
+        include_str!("../../templates/reproduction/waves.md.j2"),
+    ),
+    (
         "reproduction/sharp.md.j2",
         include_str!("../../templates/reproduction/sharp.md.j2"),
     ),

@@ -11,3 +11,4 @@ pub mod reproduce;
 pub mod scenario;
 pub mod sim;
 pub mod timecourse;
+pub mod waves;

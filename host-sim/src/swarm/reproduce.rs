@@ -214,6 +214,9 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         .map(|[c, _]| (c.plateau, c.plateau_se, c.plateau_runs))
         .collect();
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
+    let p = st.start("one wave (Fig. 2)", 1);
+    let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(90))?;
+    st.done(&p);
 
     // Speed: one negotiation period per size on one thread (`swarm bench`).
     let mut speed = Vec::new();
@@ -243,6 +246,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         courses: &courses,
         cycle_rows: &cycle_rows,
         cycle_runs: CYCLE_RUNS,
+        waves,
     })?;
     let report = opts.docs.join("reproduction.md");
     std::fs::write(&report, md)?;
@@ -654,6 +658,7 @@ struct Report<'a> {
     courses: &'a [[TimeCourse; 2]],
     cycle_rows: &'a [CycleRow],
     cycle_runs: u32,
+    waves: crate::swarm::waves::WavesSection,
 }
 
 /// `docs/reproduction.md` as its template sees it (`templates/reproduction.md.j2`).
@@ -670,6 +675,7 @@ struct Page {
     cycle: CycleSection,
     course: CourseSection,
     speed: SpeedSection,
+    waves: crate::swarm::waves::WavesSection,
     names: [String; 3],
     placement: PlacementNote,
 }
@@ -1177,6 +1183,7 @@ fn page(r: &Report<'_>) -> Page {
         cycle: cycle_section(r),
         course: course_section(r),
         speed: speed_section(r),
+        waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),
         placement: placement_note(r),
     }

@@ -9,6 +9,7 @@ pub use hal_emu::field;
 pub mod geometry;
 pub mod reproduce;
 pub mod scenario;
+pub mod sensitivity;
 pub mod sim;
 pub mod timecourse;
 pub mod waves;

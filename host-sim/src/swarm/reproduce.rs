@@ -25,6 +25,9 @@ use crate::swarm::experiment::{
 };
 use crate::swarm::geometry::{Swarm, lattice};
 use crate::swarm::scenario::{DEFAULT_PLACEMENT, LATTICE_SPACING, Placement, Scenario};
+use crate::swarm::sensitivity::{
+    Knob, diversity_at, heading_against_x, perception_edge, success_against,
+};
 use crate::swarm::timecourse::{TimeCourse, time_course};
 
 /// What `swarm reproduce` needs.
@@ -214,6 +217,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         .map(|[c, _]| (c.plateau, c.plateau_se, c.plateau_runs))
         .collect();
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
+    let sensitivity = sensitivity(&mut st, main, &sharp, &gradient)?;
     let p = st.start("one wave (Fig. 2)", 1);
     let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(90))?;
     st.done(&p);
@@ -244,6 +248,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         plateaus: &plateaus,
         plateau_runs: COURSE_RUNS,
         courses: &courses,
+        sensitivity: &sensitivity,
         cycle_rows: &cycle_rows,
         cycle_runs: CYCLE_RUNS,
         waves,
@@ -518,6 +523,269 @@ fn time_courses(
     Ok(courses)
 }
 
+/// Runs per point of the sensitivity figures.
+pub const SENS_RUNS: u32 = 20;
+/// Runs per point of the extent's heading profiles.
+pub const EXTENT_RUNS: u32 = 30;
+/// Where the sensitivity runs start (both fields).
+const SENS_X: f64 = -2.0;
+
+/// One sensitivity table: a knob's values down, the cases across.
+#[derive(Serialize)]
+struct SensTable {
+    key: &'static str,
+    what: &'static str,
+    figure: String,
+    cases: Vec<String>,
+    /// Per value: the value, then per case "success (mean time)".
+    rows: Vec<Vec<String>>,
+}
+
+/// The swarm's extent: perception edges per field and extent.
+#[derive(Serialize)]
+struct ExtentRow {
+    field: String,
+    diameter: String,
+    agents: usize,
+    edge: Option<String>,
+}
+
+/// The sensitivity section.
+#[derive(Serialize)]
+struct SensitivitySection {
+    runs: u32,
+    x: String,
+    tables: Vec<SensTable>,
+    /// Gradient: per slope, the diversity at the success line.
+    slope_rows: Vec<[String; 4]>,
+    extent_runs: u32,
+    extent: Vec<ExtentRow>,
+}
+
+/// Success and mean time as a table cell.
+fn cell(p: &SweepPoint) -> String {
+    format!(
+        "{} ({})",
+        fixed(p.success_rate(), 2),
+        opt(p.mean_success_periods, 1)
+    )
+}
+
+/// The knobs the paper leaves open, one at a time: success from [`SENS_X`] against each, the
+/// gradient's diversity against its slope, and the perception edge of a smaller swarm.
+fn sensitivity(
+    st: &mut Stage<'_>,
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+) -> Result<SensitivitySection, Error> {
+    let sharp_o = builtin_placed(&sharp.name, main.other())?;
+    let gradient_o = builtin_placed(&gradient.name, main.other())?;
+    let name = |s: &Scenario, p: Placement| format!("{}, {p}", s.name);
+    let mut tables = Vec::new();
+    let specs: [(&'static str, &'static str, Vec<(f64, Knob)>, bool, bool); 4] = [
+        (
+            "cycle",
+            "cycle length t_p^max / s",
+            [20u64, 50, 100, 200, 500, 1000, 2000]
+                .map(|c| (c as f64, Knob::Cycle(c)))
+                .to_vec(),
+            true,
+            true,
+        ),
+        (
+            "period",
+            "negotiation period / cycles (half gathering, half deciding)",
+            [2u16, 4, 10]
+                .map(|c| (f64::from(c), Knob::Period(c)))
+                .to_vec(),
+            false,
+            false,
+        ),
+        (
+            "diffusion",
+            "diffusion rate / %",
+            [0.05f32, 0.10, 0.20]
+                .map(|d| (f64::from(d * 100.0).round(), Knob::Diffusion(d)))
+                .to_vec(),
+            false,
+            false,
+        ),
+        (
+            "noise",
+            "noise width (ξ uniform in ±width/2)",
+            [0.5, 1.0, 2.0, 4.0].map(|w| (w, Knob::Noise(w))).to_vec(),
+            false,
+            false,
+        ),
+    ];
+    for (k, (key, what, values, log_x, both_placements)) in specs.into_iter().enumerate() {
+        let mut cases: Vec<(String, &Scenario)> = vec![
+            (name(sharp, main), sharp),
+            (name(gradient, main), gradient),
+        ];
+        if both_placements {
+            cases.insert(1, (name(&sharp_o, main.other()), &sharp_o));
+            cases.push((name(&gradient_o, main.other()), &gradient_o));
+        }
+        let knobs: Vec<Knob> = values.iter().map(|v| v.1).collect();
+        let p = st.start(
+            &format!("sensitivity: {key}"),
+            (cases.len() * knobs.len()) as u64 * u64::from(SENS_RUNS),
+        );
+        let mut results = Vec::new();
+        for (j, (_, scn)) in cases.iter().enumerate() {
+            results.push(success_against(
+                scn,
+                &knobs,
+                SENS_X,
+                SENS_RUNS,
+                st.seed(100 + 10 * k as u64 + j as u64),
+                &p,
+            )?);
+        }
+        st.done(&p);
+        let lines: Vec<Line> = cases
+            .iter()
+            .zip(&results)
+            .map(|((label, _), pts)| Line {
+                label: label.clone(),
+                points: values
+                    .iter()
+                    .zip(pts)
+                    .map(|(v, p)| (v.0, p.success_rate(), 0.0))
+                    .collect(),
+            })
+            .collect();
+        let figure = format!("sensitivity-{key}.svg");
+        plot::xy_figure(
+            &st.figs.join(&figure),
+            &format!("success from x = {SENS_X} against the {key}, {SENS_RUNS} runs per point"),
+            what,
+            "success rate",
+            &lines,
+            (0.0, 1.05),
+            &[],
+            log_x,
+        )?;
+        tables.push(SensTable {
+            key,
+            what,
+            figure,
+            cases: cases.iter().map(|c| c.0.clone()).collect(),
+            rows: values
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    std::iter::once(v.0.to_string())
+                        .chain(results.iter().map(|pts| cell(&pts[i])))
+                        .collect()
+                })
+                .collect(),
+        });
+    }
+
+    // The gradient's slope: success from SENS_X and the diversity at the success line.
+    let slopes = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0];
+    let knobs: Vec<Knob> = slopes.iter().map(|&k| Knob::Slope(k)).collect();
+    let p = st.start(
+        "sensitivity: slope",
+        2 * slopes.len() as u64 * u64::from(SENS_RUNS),
+    );
+    let success = success_against(gradient, &knobs, SENS_X, SENS_RUNS, st.seed(150), &p)?;
+    let line_x = match &gradient.success {
+        Some(crate::swarm::scenario::Success::BeyondX { x }) => *x,
+        _ => 2.33,
+    };
+    let mut slope_rows = Vec::new();
+    let mut div_line = Vec::new();
+    for (k, knob) in knobs.iter().enumerate() {
+        let s = knob.apply(gradient)?;
+        let (m, se) = diversity_at(
+            &s,
+            Point2::new(line_x, 0.0),
+            SENS_RUNS,
+            st.seed(160 + k as u64),
+            &p,
+        )?;
+        div_line.push((slopes[k], m, se));
+        slope_rows.push([
+            slopes[k].to_string(),
+            format!("{} ± {}", fixed(m, 1), fixed(se, 1)),
+            fixed(success[k].success_rate(), 2),
+            opt(success[k].mean_success_periods, 1),
+        ]);
+    }
+    st.done(&p);
+    plot::xy_figure(
+        &st.figs.join("sensitivity-slope.svg"),
+        &format!(
+            "gradient: the agents' mean diversity with the swarm at x = {line_x}, {SENS_RUNS} runs per slope"
+        ),
+        "slope of the ramp / per R",
+        "mean V_k",
+        &[Line {
+            label: format!("{} placement", main),
+            points: div_line,
+        }],
+        (0.0, 30.0),
+        &[],
+        false,
+    )?;
+
+    // The swarm's extent: 3 R against 2.5 R, the heading of the first move against x.
+    let xs: Vec<f64> = (1..=9).map(|k| -0.5 * f64::from(k)).rev().collect();
+    let mut extent = Vec::new();
+    let mut lines = Vec::new();
+    let p = st.start(
+        "sensitivity: extent",
+        4 * xs.len() as u64 * u64::from(EXTENT_RUNS),
+    );
+    for (k, scn) in [sharp, gradient].into_iter().enumerate() {
+        for (j, d) in [6.0, 5.0].into_iter().enumerate() {
+            let s = Knob::Extent(d).apply(scn)?;
+            let prof = heading_against_x(
+                &s,
+                &xs,
+                EXTENT_RUNS,
+                st.seed(170 + 2 * k as u64 + j as u64),
+                &p,
+            )?;
+            extent.push(ExtentRow {
+                field: scn.name.clone(),
+                diameter: d.to_string(),
+                agents: s.agents,
+                edge: perception_edge(&prof, 0.5).map(|e| e.to_string()),
+            });
+            lines.push(Line {
+                label: format!("{}, diameter {d} R ({} agents)", scn.name, s.agents),
+                points: prof,
+            });
+        }
+    }
+    st.done(&p);
+    plot::xy_figure(
+        &st.figs.join("sensitivity-extent.svg"),
+        &format!(
+            "heading of the first move toward +x against the start, {EXTENT_RUNS} runs per point ({main})"
+        ),
+        "x_init / R",
+        "mean cos(direction)",
+        &lines,
+        (-0.3, 1.05),
+        &[(-2.5, " paper: 2.5 R"), (-2.2, " paper: 2.2 R")],
+        false,
+    )?;
+    Ok(SensitivitySection {
+        runs: SENS_RUNS,
+        x: SENS_X.to_string(),
+        tables,
+        slope_rows,
+        extent_runs: EXTENT_RUNS,
+        extent,
+    })
+}
+
 /// The paper's Figs. 4b and 7b: the diversity at the start and the plateau(s).
 struct PaperCourse {
     start: f64,
@@ -656,6 +924,7 @@ struct Report<'a> {
     plateau_runs: u32,
     /// Per scenario, the averaged course of the main placement and of the other.
     courses: &'a [[TimeCourse; 2]],
+    sensitivity: &'a SensitivitySection,
     cycle_rows: &'a [CycleRow],
     cycle_runs: u32,
     waves: crate::swarm::waves::WavesSection,
@@ -663,7 +932,7 @@ struct Report<'a> {
 
 /// `docs/reproduction.md` as its template sees it (`templates/reproduction.md.j2`).
 #[derive(Serialize)]
-struct Page {
+struct Page<'a> {
     seed: u64,
     wall_s: String,
     threads: usize,
@@ -674,6 +943,7 @@ struct Page {
     cloud: CloudSection,
     cycle: CycleSection,
     course: CourseSection,
+    sensitivity: &'a SensitivitySection,
     speed: SpeedSection,
     waves: crate::swarm::waves::WavesSection,
     names: [String; 3],
@@ -1170,7 +1440,7 @@ fn course_section(r: &Report<'_>) -> CourseSection {
 }
 
 /// The page's data, every number formatted.
-fn page(r: &Report<'_>) -> Page {
+fn page<'a>(r: &Report<'a>) -> Page<'a> {
     Page {
         seed: r.seed,
         wall_s: fixed(r.wall_s, 0),
@@ -1182,6 +1452,7 @@ fn page(r: &Report<'_>) -> Page {
         cloud: cloud_section(r),
         cycle: cycle_section(r),
         course: course_section(r),
+        sensitivity: r.sensitivity,
         speed: speed_section(r),
         waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),

@@ -18,7 +18,7 @@ use protocol::Duration;
 
 #[derive(Args, Debug, Clone)]
 pub struct Common {
-    /// A built-in scenario (sharp, gradient, cloud) or the path of a scenario TOML file.
+    /// A built-in scenario (sharp, gradient, cloud, cloud-caption) or the path of a scenario TOML file.
     #[arg(long, default_value = "sharp")]
     scenario: String,
     /// Base seed: every run's seed is derived from it and the run's coordinates.

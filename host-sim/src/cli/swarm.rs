@@ -304,7 +304,7 @@ fn swarm_field(c: &Common) -> Res {
     ensure_parent(&csv)?;
     ensure_parent(&svg)?;
     report::write_field_csv(&csv, &arrows)?;
-    plot::direction_figure(&svg, &scn, &grid, &arrows)?;
+    plot::direction_figure_marked(&svg, &scn, &grid, &arrows, &reproduce::marks::map_for(&scn))?;
     println!(
         "{}: {} grid points in {:.1} s",
         scn.description,

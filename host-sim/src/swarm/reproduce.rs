@@ -25,7 +25,7 @@ use crate::swarm::geometry::{Swarm, lattice};
 use crate::swarm::scenario::{DEFAULT_PLACEMENT, LATTICE_SPACING, Placement, Scenario};
 
 mod caption_cloud;
-mod marks;
+pub mod marks;
 
 /// What `swarm reproduce` needs.
 #[derive(Clone, Debug)]

@@ -1,7 +1,9 @@
 //! The paper's values drawn on the figures of `swarm reproduce`, with where in the paper each
-//! comes from. Every legend text of a paper value starts with "paper".
+//! comes from. Every legend text of a paper value starts with "paper". `cimax swarm field`
+//! draws the same marks on the maps of built-in scenarios ([`map_for`]).
 
 use crate::report::plot::{MapMark, MapMarks, MapShape, SweepMark};
+use crate::swarm::scenario::Scenario;
 
 /// Fig. 5 and the text of section 3.1: success rate 1 for |x_init| < 2.5 R.
 pub(super) fn sharp_sweep() -> Vec<SweepMark> {
@@ -61,7 +63,7 @@ fn circle(radius: f64, label: &str) -> MapMark {
 /// - cloud-caption: the cloud's edge r = 5 and d = 7.5, with the same colours.
 ///
 /// Any other name: no marks, the sharp border's colours.
-pub(super) fn map(name: &str) -> MapMarks {
+pub fn map(name: &str) -> MapMarks {
     match name {
         "sharp" => MapMarks {
             marks: vec![lines(
@@ -99,6 +101,15 @@ pub(super) fn map(name: &str) -> MapMarks {
             ],
             high_is_yellow: true,
         },
+        _ => MapMarks::default(),
+    }
+}
+
+/// The marks of [`map`] for `scn` if it is a built-in scenario with the built-in's field; none
+/// (and the sharp border's colours) for any other, even one that borrows a built-in's name.
+pub fn map_for(scn: &Scenario) -> MapMarks {
+    match Scenario::builtin(&scn.name) {
+        Some(b) if b.field == scn.field => map(&scn.name),
         _ => MapMarks::default(),
     }
 }
@@ -175,5 +186,10 @@ mod tests {
             assert_eq!(m.high_is_yellow, name.starts_with("cloud"), "{name}");
         }
         assert_eq!(map("other"), MapMarks::default());
+        let cloud = Scenario::builtin("cloud").unwrap();
+        assert_eq!(map_for(&cloud), map("cloud"));
+        let mut borrowed = cloud.clone();
+        borrowed.field = Scenario::builtin("sharp").unwrap().field;
+        assert_eq!(map_for(&borrowed), MapMarks::default());
     }
 }

@@ -18,7 +18,7 @@ use protocol::Duration;
 
 #[derive(Args, Debug, Clone)]
 pub struct Common {
-    /// A built-in scenario (sharp, gradient, cloud) or the path of a scenario TOML file.
+    /// A built-in scenario (sharp, gradient, cloud, cloud-caption) or the path of a scenario TOML file.
     #[arg(long, default_value = "sharp")]
     scenario: String,
     /// Base seed: every run's seed is derived from it and the run's coordinates.
@@ -304,7 +304,7 @@ fn swarm_field(c: &Common) -> Res {
     ensure_parent(&csv)?;
     ensure_parent(&svg)?;
     report::write_field_csv(&csv, &arrows)?;
-    plot::direction_figure(&svg, &scn, &grid, &arrows)?;
+    plot::direction_figure_marked(&svg, &scn, &grid, &arrows, &reproduce::marks::map_for(&scn))?;
     println!(
         "{}: {} grid points in {:.1} s",
         scn.description,

@@ -76,6 +76,10 @@ const TEMPLATES: &[(&str, &str)] = &[
         include_str!("../../templates/reproduction/cloud.md.j2"),
     ),
     (
+        "reproduction/cloud_caption.md.j2",
+        include_str!("../../templates/reproduction/cloud_caption.md.j2"),
+    ),
+    (
         "reproduction/cycle.md.j2",
         include_str!("../../templates/reproduction/cycle.md.j2"),
     ),

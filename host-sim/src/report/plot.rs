@@ -4,7 +4,9 @@
 use std::f64::consts::PI;
 use std::path::Path;
 
+use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use crate::swarm::experiment::{Arrow, RadialPoint, RunOutput, SweepPoint};
 use crate::swarm::field::Field;
@@ -81,7 +83,10 @@ fn field_rects(field: &Field, x: (f64, f64), y: (f64, f64), cells: usize) -> (Ve
     (out, lo, hi)
 }
 
-fn level_colour(l: u8) -> RGBColor {
+/// The colour of level `l` (0..=23, low to high X): pale yellow to red, or red to pale yellow
+/// when `high_is_yellow`.
+fn level_colour(l: u8, high_is_yellow: bool) -> RGBColor {
+    let l = if high_is_yellow { 23 - l.min(23) } else { l };
     colour(f64::from(l), 0.0, 23.0)
 }
 
@@ -94,6 +99,7 @@ fn draw_field<DB: DrawingBackend>(
     field: &Field,
     x: (f64, f64),
     y: (f64, f64),
+    high_is_yellow: bool,
 ) -> Result<(f64, f64), PlotError>
 where
     DB::ErrorType: 'static,
@@ -103,7 +109,7 @@ where
         .draw_series(
             rects
                 .into_iter()
-                .map(|(a, b, l)| Rectangle::new([a, b], level_colour(l).filled())),
+                .map(|(a, b, l)| Rectangle::new([a, b], level_colour(l, high_is_yellow).filled())),
         )
         .map_err(|e| e.to_string())?;
     Ok((lo, hi))
@@ -211,7 +217,7 @@ pub fn run_figure(path: &Path, scn: &Scenario, out: &RunOutput) -> Result<(), Pl
         .x_desc("x / R")
         .y_desc("y / R")
         .draw()?;
-    draw_field(&mut chart, &scn.field, xr, yr)?;
+    draw_field(&mut chart, &scn.field, xr, yr, false)?;
     chart.draw_series(agents.iter().map(|&p| {
         Circle::new(
             p,
@@ -237,6 +243,152 @@ pub fn run_figure(path: &Path, scn: &Scenario, out: &RunOutput) -> Result<(), Pl
 
     diversity_panel(&right, out)?;
     root.present()?;
+    Ok(())
+}
+
+/// Colour of the paper's values on a sweep figure.
+const PAPER: RGBColor = RGBColor(200, 60, 40);
+
+/// What a legend entry shows beside its text.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Key {
+    /// A filled box: a bar series.
+    Bar(RGBColor),
+    /// A pale box with a border: a shaded band.
+    Band(RGBColor),
+    /// A solid line.
+    Line(RGBColor),
+    /// A dashed line.
+    Dashed(RGBColor),
+    /// A hollow circle: one value at one point.
+    Marker(RGBColor),
+    /// An arrow: a swarm's preferred direction.
+    Arrow,
+    /// A dot: no direction.
+    Dot,
+    /// The field's colour ramp from low X to high X; `true` when high X is pale yellow.
+    Ramp(bool),
+}
+
+/// A legend entry: its key and its text.
+pub type Entry = (Key, String);
+
+/// Height of one row of a legend strip, px.
+const LEGEND_ROW: i32 = 20;
+/// Width of a legend key, px.
+const KEY_W: i32 = 24;
+/// Font size of legend text, px.
+const LEGEND_FONT: u32 = 13;
+
+/// A generous estimate of the width of `text` in the legend font (SVG text is laid out by the
+/// viewer: 0.6 em per character covers sans-serif).
+fn text_width(text: &str) -> i32 {
+    (text.chars().count() as f64 * 0.6 * f64::from(LEGEND_FONT)).ceil() as i32
+}
+
+/// Where each entry of a legend strip `width` px wide goes, (x, row), filling rows left to
+/// right; and the number of rows.
+fn legend_layout(width: i32, entries: &[Entry]) -> (Vec<(i32, i32)>, i32) {
+    let (mut x, mut row) = (10, 0);
+    let mut out = Vec::with_capacity(entries.len());
+    for (_, text) in entries {
+        let w = KEY_W + 6 + text_width(text) + 20;
+        if x > 10 && x + w > width - 10 {
+            row += 1;
+            x = 10;
+        }
+        out.push((x, row));
+        x += w;
+    }
+    (out, if entries.is_empty() { 0 } else { row + 1 })
+}
+
+/// Height of the legend strip of `entries` across `width` px (0 without entries).
+fn legend_height(width: u32, entries: &[Entry]) -> u32 {
+    let (_, rows) = legend_layout(width as i32, entries);
+    if rows == 0 {
+        0
+    } else {
+        (rows * LEGEND_ROW + 8) as u32
+    }
+}
+
+/// Draws the key of a legend entry with its left end at `x` on the centre line `y` (px).
+fn draw_key(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    key: Key,
+    x: i32,
+    y: i32,
+) -> Result<(), PlotError> {
+    match key {
+        Key::Bar(c) => area.draw(&Rectangle::new(
+            [(x, y - 6), (x + KEY_W, y + 6)],
+            c.filled(),
+        ))?,
+        Key::Band(c) => {
+            area.draw(&Rectangle::new(
+                [(x, y - 6), (x + KEY_W, y + 6)],
+                c.mix(0.2).filled(),
+            ))?;
+            area.draw(&Rectangle::new(
+                [(x, y - 6), (x + KEY_W, y + 6)],
+                c.stroke_width(1),
+            ))?;
+        }
+        Key::Line(c) => area.draw(&PathElement::new(
+            vec![(x, y), (x + KEY_W, y)],
+            c.stroke_width(2),
+        ))?,
+        Key::Dashed(c) => {
+            for (a, b) in [(0, 7), (11, 18), (22, KEY_W)] {
+                area.draw(&PathElement::new(
+                    vec![(x + a, y), (x + b, y)],
+                    c.stroke_width(2),
+                ))?;
+            }
+        }
+        Key::Marker(c) => area.draw(&Circle::new((x + KEY_W / 2, y), 5, c.stroke_width(2)))?,
+        Key::Arrow => {
+            let style = BLACK.stroke_width(2);
+            area.draw(&PathElement::new(vec![(x, y), (x + KEY_W, y)], style))?;
+            area.draw(&PathElement::new(
+                vec![
+                    (x + KEY_W - 6, y - 4),
+                    (x + KEY_W, y),
+                    (x + KEY_W - 6, y + 4),
+                ],
+                style,
+            ))?;
+        }
+        Key::Dot => area.draw(&Circle::new((x + KEY_W / 2, y), 2, BLACK.filled()))?,
+        Key::Ramp(high_is_yellow) => {
+            for i in 0..KEY_W {
+                let l = (f64::from(i) * 23.0 / f64::from(KEY_W - 1)).round() as u8;
+                area.draw(&Rectangle::new(
+                    [(x + i, y - 6), (x + i + 1, y + 6)],
+                    level_colour(l, high_is_yellow).filled(),
+                ))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Draws `entries` in rows across `area`, a strip outside every plot, so that no entry can
+/// cover data.
+fn draw_legend(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    entries: &[Entry],
+) -> Result<(), PlotError> {
+    let (w, _) = area.dim_in_pixel();
+    let (pos, _) = legend_layout(w as i32, entries);
+    let font =
+        TextStyle::from((FONT, LEGEND_FONT).into_font()).pos(Pos::new(HPos::Left, VPos::Center));
+    for ((key, text), (x, row)) in entries.iter().zip(pos) {
+        let y = 4 + row * LEGEND_ROW + LEGEND_ROW / 2;
+        draw_key(area, *key, x, y)?;
+        area.draw(&Text::new(text.clone(), (x + KEY_W + 6, y), font.clone()))?;
+    }
     Ok(())
 }
 
@@ -298,8 +450,71 @@ fn times_panel(
     Ok(())
 }
 
+/// One of the paper's values on a sweep figure, drawn over the bars in [`PAPER`] red.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SweepMark {
+    /// One success rate `y` over `x.0 ≤ x_init < x.1`: a dashed line with ticks at its ends.
+    Level {
+        /// The initial positions it covers.
+        x: (f64, f64),
+        /// The rate.
+        y: f64,
+        /// Legend text.
+        label: String,
+    },
+    /// Rates between `y.0` and `y.1` over `x.0 ≤ x_init < x.1`: a shaded band.
+    Band {
+        /// The initial positions it covers.
+        x: (f64, f64),
+        /// The lowest and highest rate.
+        y: (f64, f64),
+        /// Legend text.
+        label: String,
+    },
+    /// One rate at one initial position: a hollow circle.
+    Point {
+        /// The initial position.
+        x: f64,
+        /// The rate.
+        y: f64,
+        /// Legend text.
+        label: String,
+    },
+}
+
+impl SweepMark {
+    /// The mark's legend entry.
+    fn entry(&self) -> Entry {
+        match self {
+            SweepMark::Level { label, .. } => (Key::Dashed(PAPER), label.clone()),
+            SweepMark::Band { label, .. } => (Key::Band(PAPER), label.clone()),
+            SweepMark::Point { label, .. } => (Key::Marker(PAPER), label.clone()),
+        }
+    }
+}
+
+/// The initial positions of a sweep figure's axis, `(x0, x1)`, and the spacing of its bars.
+fn sweep_axis(series: &[(&str, &[SweepPoint])]) -> ((f64, f64), f64) {
+    let step = series
+        .iter()
+        .flat_map(|(_, pts)| pts.windows(2).map(|w| w[1].x_init - w[0].x_init))
+        .filter(|d| *d > 0.0)
+        .fold(f64::MAX, f64::min)
+        .min(1.0);
+    let (lo, hi) = series
+        .iter()
+        .flat_map(|(_, pts)| pts.iter())
+        .fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+            (lo.min(p.x_init), hi.max(p.x_init))
+        });
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (-5.0, 5.0) };
+    ((lo - step, hi + step), step)
+}
+
 /// Figs. 5 and 8: success rate and mean success time against the initial position, one bar
-/// per series (label, points) at each initial position, and the paper's reported rate.
+/// per series (label, points) at each initial position, and the paper's reported rate as
+/// dashed lines (`paper`, sampled; label "paper"). [`sweep_figure_marked`] takes the paper's
+/// values as [`SweepMark`]s instead.
 ///
 /// # Errors
 /// If the file cannot be written.
@@ -309,22 +524,53 @@ pub fn sweep_figure(
     series: &[(&str, &[SweepPoint])],
     paper: Option<&dyn Fn(f64) -> Option<f64>>,
 ) -> Result<(), PlotError> {
-    let root = SVGBackend::new(path, (800, 640)).into_drawing_area();
+    let ((x0, x1), _) = sweep_axis(series);
+    let marks: Vec<SweepMark> = paper
+        .map(|paper| paper_segments(paper, x0, x1))
+        .unwrap_or_default()
+        .into_iter()
+        .filter_map(|s| {
+            let (first, last) = (s.first()?, s.last()?);
+            Some(SweepMark::Level {
+                x: (first.0, last.0),
+                y: first.1,
+                label: "paper".into(),
+            })
+        })
+        .collect();
+    sweep_figure_marked(path, title, series, &marks)
+}
+
+/// [`sweep_figure`] with the paper's values as marks. The legend (series, then each distinct
+/// mark label once) is a strip between the title and the plots, where it covers no bar.
+///
+/// # Errors
+/// If the file cannot be written.
+pub fn sweep_figure_marked(
+    path: &Path,
+    title: &str,
+    series: &[(&str, &[SweepPoint])],
+    marks: &[SweepMark],
+) -> Result<(), PlotError> {
+    let mut entries: Vec<Entry> = series
+        .iter()
+        .enumerate()
+        .map(|(s, (label, _))| (Key::Bar(COLOURS[s % COLOURS.len()]), (*label).to_string()))
+        .collect();
+    for m in marks {
+        let e = m.entry();
+        if !entries.iter().any(|(_, t)| *t == e.1) {
+            entries.push(e);
+        }
+    }
+    let legend_h = legend_height(800, &entries);
+    let root = SVGBackend::new(path, (800, 640 + legend_h)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(title, (FONT, 18))?;
-    let (top, bottom) = root.split_vertically(300);
-    let all = || series.iter().flat_map(|(_, pts)| pts.iter());
-    let step = series
-        .iter()
-        .flat_map(|(_, pts)| pts.windows(2).map(|w| w[1].x_init - w[0].x_init))
-        .filter(|d| *d > 0.0)
-        .fold(f64::MAX, f64::min)
-        .min(1.0);
-    let (lo, hi) = all().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
-        (lo.min(p.x_init), hi.max(p.x_init))
-    });
-    let (lo, hi) = if lo <= hi { (lo, hi) } else { (-5.0, 5.0) };
-    let (x0, x1) = (lo - step, hi + step);
+    let (legend, rest) = root.split_vertically(legend_h);
+    draw_legend(&legend, &entries)?;
+    let (top, bottom) = rest.split_vertically(300);
+    let ((x0, x1), step) = sweep_axis(series);
     let mut chart = ChartBuilder::on(&top)
         .margin(10)
         .x_label_area_size(35)
@@ -337,49 +583,109 @@ pub fn sweep_figure(
         .draw()?;
     let k = series.len().max(1) as f64;
     let w = 0.8 * step / k;
-    for (s, (label, points)) in series.iter().enumerate() {
+    for (s, (_, points)) in series.iter().enumerate() {
         let colour = COLOURS[s % COLOURS.len()];
         let left = -0.4 * step + s as f64 * w;
-        chart
-            .draw_series(points.iter().map(|p| {
-                Rectangle::new(
-                    [
-                        (p.x_init + left, 0.0),
-                        (p.x_init + left + w, p.success_rate()),
-                    ],
-                    colour.filled(),
-                )
-            }))?
-            .label(*label)
-            .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 15, y + 5)], colour.filled()));
+        chart.draw_series(points.iter().map(|p| {
+            Rectangle::new(
+                [
+                    (p.x_init + left, 0.0),
+                    (p.x_init + left + w, p.success_rate()),
+                ],
+                colour.filled(),
+            )
+        }))?;
     }
-    if let Some(paper) = paper {
-        let segments = paper_segments(paper, x0, x1);
-        let style = RGBColor(200, 60, 40).stroke_width(2);
-        for (k, s) in segments.into_iter().enumerate() {
-            let series = chart.draw_series(DashedLineSeries::new(s, 6, 4, style))?;
-            if k == 0 {
-                series
-                    .label("paper (text)")
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 15, y)], style));
+    let line = PAPER.stroke_width(2);
+    for m in marks {
+        match *m {
+            SweepMark::Level { x, y, .. } => {
+                chart.draw_series(DashedLineSeries::new(
+                    vec![(x.0, y), (x.1, y)],
+                    6,
+                    4,
+                    PAPER.stroke_width(3),
+                ))?;
+                for end in [x.0, x.1] {
+                    chart.draw_series(std::iter::once(PathElement::new(
+                        vec![(end, y - 0.04), (end, y + 0.02)],
+                        line,
+                    )))?;
+                }
+            }
+            SweepMark::Band { x, y, .. } => {
+                chart.draw_series(std::iter::once(Rectangle::new(
+                    [(x.0, y.0), (x.1, y.1)],
+                    PAPER.mix(0.2).filled(),
+                )))?;
+                for level in [y.0, y.1] {
+                    chart.draw_series(DashedLineSeries::new(
+                        vec![(x.0, level), (x.1, level)],
+                        6,
+                        4,
+                        PAPER.stroke_width(1),
+                    ))?;
+                }
+            }
+            SweepMark::Point { x, y, .. } => {
+                chart.draw_series(std::iter::once(PathElement::new(
+                    vec![(x - 0.45 * step, y), (x + 0.45 * step, y)],
+                    line,
+                )))?;
+                chart.draw_series(std::iter::once(Circle::new((x, y), 6, line)))?;
             }
         }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 13))
-        .draw()?;
 
     times_panel(&bottom, series, (x0, x1))?;
     root.present()?;
     Ok(())
 }
 
+/// Colours of the marks of a direction map (neither yellow nor red, so they show on the field).
+const MARK_COLOURS: [RGBColor; 4] = [
+    RGBColor(20, 70, 200),
+    RGBColor(0, 130, 60),
+    RGBColor(130, 40, 170),
+    RGBColor(0, 150, 170),
+];
+
+/// The shape of a mark on a direction map.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MapShape {
+    /// Vertical lines at these x.
+    XLines(Vec<f64>),
+    /// A circle.
+    Circle {
+        /// Its centre.
+        centre: (f64, f64),
+        /// Its radius, R.
+        radius: f64,
+    },
+}
+
+/// A mark on a direction map: a dashed shape in its own colour, with its legend text.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapMark {
+    /// What is drawn.
+    pub shape: MapShape,
+    /// Legend text.
+    pub label: String,
+}
+
+/// Marks on a direction map and the colours of its field.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MapMarks {
+    /// The marks, in legend order.
+    pub marks: Vec<MapMark>,
+    /// High X pale yellow and low X red (the paper's cloud figure) instead of the other way
+    /// round (its sharp border and gradient figures).
+    pub high_is_yellow: bool,
+}
+
 /// Figs. 6, 9 and 10: the preferred direction of a swarm centred at each grid point, over the
 /// field. Arrow length grows with the agreement among the agents (mean resultant length).
+/// [`direction_figure_marked`] adds marks.
 ///
 /// # Errors
 /// If the file cannot be written.
@@ -388,6 +694,21 @@ pub fn direction_figure(
     scn: &Scenario,
     grid: &GridSpec,
     arrows: &[Arrow],
+) -> Result<(), PlotError> {
+    direction_figure_marked(path, scn, grid, arrows, &MapMarks::default())
+}
+
+/// [`direction_figure`] with `marks` and their colouring. A legend strip under the title says
+/// what an arrow's length, a dot and the colours mean, and names each mark.
+///
+/// # Errors
+/// If the file cannot be written.
+pub fn direction_figure_marked(
+    path: &Path,
+    scn: &Scenario,
+    grid: &GridSpec,
+    arrows: &[Arrow],
+    marks: &MapMarks,
 ) -> Result<(), PlotError> {
     let spacing = |v: &[f64]| {
         v.windows(2)
@@ -401,9 +722,34 @@ pub fn direction_figure(
     let last = |v: &[f64]| v.last().copied().unwrap_or(0.0);
     let xr = (first(&grid.xs) - d, last(&grid.xs) + d);
     let yr = (first(&grid.ys) - d, last(&grid.ys) + d);
+    let mut entries: Vec<Entry> = vec![
+        (
+            Key::Arrow,
+            format!(
+                "preferred direction; length = consensus, the mean resultant length of the agents' decided bearings ({:.2} R at 1, at least a quarter of that)",
+                0.85 * d
+            ),
+        ),
+        (Key::Dot, "no agent decided".into()),
+        (
+            Key::Ramp(marks.high_is_yellow),
+            if marks.high_is_yellow {
+                "mean X: red low, pale yellow high (as the paper's cloud)".into()
+            } else {
+                "mean X: pale yellow low, red high (as the paper)".into()
+            },
+        ),
+    ];
+    entries.extend(marks.marks.iter().enumerate().map(|(k, m)| {
+        (
+            Key::Dashed(MARK_COLOURS[k % MARK_COLOURS.len()]),
+            m.label.clone(),
+        )
+    }));
     let w = 900u32;
+    let legend_h = legend_height(w, &entries);
     let h = ((f64::from(w - 60) * (yr.1 - yr.0) / (xr.1 - xr.0)) as u32 + 110).clamp(300, 1000);
-    let root = SVGBackend::new(path, (w, h)).into_drawing_area();
+    let root = SVGBackend::new(path, (w, h + legend_h)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(
         &format!(
@@ -413,7 +759,9 @@ pub fn direction_figure(
         ),
         (FONT, 17),
     )?;
-    let mut chart = ChartBuilder::on(&root)
+    let (legend, plot_area) = root.split_vertically(legend_h);
+    draw_legend(&legend, &entries)?;
+    let mut chart = ChartBuilder::on(&plot_area)
         .margin(10)
         .x_label_area_size(35)
         .y_label_area_size(40)
@@ -424,7 +772,25 @@ pub fn direction_figure(
         .x_desc("x / R")
         .y_desc("y / R")
         .draw()?;
-    draw_field(&mut chart, &scn.field, xr, yr)?;
+    draw_field(&mut chart, &scn.field, xr, yr, marks.high_is_yellow)?;
+    for (k, m) in marks.marks.iter().enumerate() {
+        let style = MARK_COLOURS[k % MARK_COLOURS.len()].stroke_width(2);
+        let paths: Vec<Vec<(f64, f64)>> = match &m.shape {
+            MapShape::XLines(xs) => xs.iter().map(|&x| vec![(x, yr.0), (x, yr.1)]).collect(),
+            MapShape::Circle { centre, radius } => vec![
+                (0..=240)
+                    .map(|i| {
+                        let a = 2.0 * PI * f64::from(i) / 240.0;
+                        (centre.0 + radius * a.cos(), centre.1 + radius * a.sin())
+                    })
+                    .filter(|p| (xr.0..=xr.1).contains(&p.0) && (yr.0..=yr.1).contains(&p.1))
+                    .collect(),
+            ],
+        };
+        for p in paths {
+            chart.draw_series(DashedLineSeries::new(p, 8, 5, style))?;
+        }
+    }
     let style = BLACK.stroke_width(2);
     for a in arrows {
         let (x, y) = (a.at.x, a.at.y);
@@ -459,7 +825,27 @@ pub struct Line {
     pub points: Vec<(f64, f64, f64)>,
 }
 
-/// A plain x–y figure with error bars and optional vertical marker lines.
+/// Colours of the lines of an [`xy_figure`].
+const XY_PALETTE: [RGBColor; 5] = [
+    RGBColor(70, 110, 180),
+    RGBColor(200, 60, 40),
+    RGBColor(40, 140, 70),
+    RGBColor(140, 80, 160),
+    RGBColor(90, 90, 90),
+];
+
+/// Colours of the vertical marker lines of an [`xy_figure`], in order.
+const MARKER_PALETTE: [RGBColor; 6] = [
+    RGBColor(130, 130, 130),
+    RGBColor(200, 60, 40),
+    RGBColor(0, 150, 170),
+    RGBColor(230, 140, 0),
+    RGBColor(130, 40, 170),
+    RGBColor(0, 130, 60),
+];
+
+/// A plain x–y figure with error bars and optional vertical marker lines, each in its own
+/// colour and named in the legend, a strip between the title and the axes.
 ///
 /// # Errors
 /// If the file cannot be written.
@@ -474,9 +860,23 @@ pub fn xy_figure(
     markers: &[(f64, &str)],
     log_x: bool,
 ) -> Result<(), PlotError> {
-    let root = SVGBackend::new(path, (800, 460)).into_drawing_area();
+    let entries: Vec<Entry> = lines
+        .iter()
+        .enumerate()
+        .map(|(k, l)| (Key::Line(XY_PALETTE[k % XY_PALETTE.len()]), l.label.clone()))
+        .chain(markers.iter().enumerate().map(|(k, (_, label))| {
+            (
+                Key::Dashed(MARKER_PALETTE[k % MARKER_PALETTE.len()]),
+                label.trim().to_string(),
+            )
+        }))
+        .collect();
+    let legend_h = legend_height(800, &entries);
+    let root = SVGBackend::new(path, (800, 460 + legend_h)).into_drawing_area();
     root.fill(&WHITE)?;
     let root = root.titled(title, (FONT, 17))?;
+    let (legend, root) = root.split_vertically(legend_h);
+    draw_legend(&legend, &entries)?;
     let xs = lines.iter().flat_map(|l| l.points.iter().map(|p| p.0));
     let x0 = xs.clone().fold(f64::MAX, f64::min);
     let x1 = xs.fold(f64::MIN, f64::max);
@@ -515,7 +915,7 @@ struct XyBody<'a> {
 }
 
 impl XyBody<'_> {
-    /// Mesh, markers, one line with its points and error bars per [`Line`], and the legend.
+    /// Mesh, markers, and one line with its points and error bars per [`Line`].
     fn draw<'b, X>(
         &self,
         chart: &mut ChartContext<
@@ -527,13 +927,6 @@ impl XyBody<'_> {
     where
         X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
     {
-        let palette = [
-            RGBColor(70, 110, 180),
-            RGBColor(200, 60, 40),
-            RGBColor(40, 140, 70),
-            RGBColor(140, 80, 160),
-            RGBColor(90, 90, 90),
-        ];
         let (y0, y1) = self.y_range;
         chart
             .configure_mesh()
@@ -543,30 +936,20 @@ impl XyBody<'_> {
             .x_label_formatter(&|v: &f64| format!("{v}"))
             .max_light_lines(if self.log_x { 1 } else { 4 })
             .draw()?;
-        for &(mx, label) in self.markers {
+        for (k, &(mx, _)) in self.markers.iter().enumerate() {
             chart.draw_series(DashedLineSeries::new(
                 vec![(mx, y0), (mx, y1)],
                 5,
                 4,
-                RGBColor(120, 120, 120).stroke_width(1),
+                MARKER_PALETTE[k % MARKER_PALETTE.len()].stroke_width(2),
             ))?;
-            chart.draw_series(std::iter::once(Text::new(
-                label.to_string(),
-                (mx, y1),
-                (FONT, 12).into_font().color(&RGBColor(90, 90, 90)),
-            )))?;
         }
         for (k, l) in self.lines.iter().enumerate() {
-            let c = palette[k % palette.len()];
-            chart
-                .draw_series(LineSeries::new(
-                    l.points.iter().map(|p| (p.0, p.1)),
-                    c.stroke_width(2),
-                ))?
-                .label(l.label.clone())
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 15, y)], c.stroke_width(2))
-                });
+            let c = XY_PALETTE[k % XY_PALETTE.len()];
+            chart.draw_series(LineSeries::new(
+                l.points.iter().map(|p| (p.0, p.1)),
+                c.stroke_width(2),
+            ))?;
             chart.draw_series(
                 l.points
                     .iter()
@@ -576,13 +959,6 @@ impl XyBody<'_> {
                 PathElement::new(vec![(p.0, p.1 - p.2), (p.0, p.1 + p.2)], c.stroke_width(1))
             }))?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::LowerRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font((FONT, 13))
-            .draw()?;
         Ok(())
     }
 }

@@ -30,6 +30,9 @@ use crate::swarm::sensitivity::{
 };
 use crate::swarm::timecourse::{TimeCourse, time_course};
 
+mod caption_cloud;
+pub mod marks;
+
 /// What `swarm reproduce` needs.
 #[derive(Clone, Debug)]
 pub struct Options {
@@ -211,6 +214,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
     sweep_figures(&st.figs, main, [&sharp, &gradient], &sweeps, &other_sweeps)?;
     let maps = direction_maps(&mut st, [&sharp, &gradient, &cloud])?;
     let profile = cloud_profile(&mut st, &cloud)?;
+    let caption = caption_cloud::run(&mut st, main)?;
     let courses = time_courses(&mut st, main, [&sharp, &gradient])?;
     let plateaus: Vec<(f64, f64, usize)> = courses
         .iter()
@@ -245,6 +249,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         maps: &maps,
         profile: &profile,
         profile_runs: PROFILE_RUNS,
+        caption_cloud: &caption,
         plateaus: &plateaus,
         plateau_runs: COURSE_RUNS,
         courses: &courses,
@@ -364,27 +369,15 @@ fn sweep_figures(
     sweeps: &[Vec<SweepPoint>],
     other_sweeps: &[Vec<SweepPoint>],
 ) -> Result<(), Error> {
-    let paper_sharp = |x: f64| (x.abs() < 2.5).then_some(1.0);
-    let paper_gradient = |x: f64| {
-        if (-2.0..2.33).contains(&x) {
-            Some(0.85)
-        } else {
-            None
-        }
-    };
     let [sharp, gradient] = scns;
     for (k, (scn, crit, paper)) in [
-        (
-            sharp,
-            "|x| < 0.33 R",
-            &paper_sharp as &dyn Fn(f64) -> Option<f64>,
-        ),
-        (gradient, "x ≥ 2.33", &paper_gradient),
+        (sharp, "|x| < 0.33 R", marks::sharp_sweep()),
+        (gradient, "x ≥ 2.33", marks::gradient_sweep()),
     ]
     .into_iter()
     .enumerate()
     {
-        plot::sweep_figure(
+        plot::sweep_figure_marked(
             &figs.join(format!("{}-sweep.svg", scn.name)),
             &format!(
                 "{}: success ({crit} within {} periods), {} runs per point",
@@ -399,7 +392,7 @@ fn sweep_figures(
                     &other_sweeps[k],
                 ),
             ],
-            Some(paper),
+            &paper,
         )?;
     }
     Ok(())
@@ -418,11 +411,12 @@ fn direction_maps(st: &mut Stage<'_>, scns: [&Scenario; 3]) -> Result<Vec<Vec<Ar
         st.done(&p);
         let figs = &st.figs;
         write_field_csv(&figs.join(format!("{}-field.csv", scn.name)), &arrows)?;
-        plot::direction_figure(
+        plot::direction_figure_marked(
             &figs.join(format!("{}-field.svg", scn.name)),
             scn,
             grid,
             &arrows,
+            &marks::map(&scn.name),
         )?;
         maps.push(arrows);
     }
@@ -454,11 +448,7 @@ fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint
             "cloud: heading of a swarm against its distance from the cloud's centre, {profile_runs} runs per point"
         ),
         &profile,
-        &[
-            (3.0, " ramp starts"),
-            (4.5, " ramp ends"),
-            (7.5, " 4.5 + swarm radius"),
-        ],
+        &marks::CLOUD_PROFILE,
     )?;
     Ok(profile)
 }
@@ -920,6 +910,8 @@ struct Report<'a> {
     maps: &'a [Vec<Arrow>],
     profile: &'a [RadialPoint],
     profile_runs: u32,
+    /// The cloud of Fig. 10's caption.
+    caption_cloud: &'a caption_cloud::CaptionCloud,
     plateaus: &'a [(f64, f64, usize)],
     plateau_runs: u32,
     /// Per scenario, the averaged course of the main placement and of the other.
@@ -941,6 +933,7 @@ struct Page<'a> {
     sharp: SharpSection,
     gradient: GradientSection,
     cloud: CloudSection,
+    caption_cloud: caption_cloud::CaptionSection,
     cycle: CycleSection,
     course: CourseSection,
     sensitivity: &'a SensitivitySection,
@@ -1450,6 +1443,7 @@ fn page<'a>(r: &Report<'a>) -> Page<'a> {
         sharp: sharp_section(r),
         gradient: gradient_section(r),
         cloud: cloud_section(r),
+        caption_cloud: caption_cloud::section(r.caption_cloud, r.profile),
         cycle: cycle_section(r),
         course: course_section(r),
         sensitivity: r.sensitivity,

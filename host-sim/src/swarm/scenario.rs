@@ -1,7 +1,7 @@
 //! Scenarios: the field, the swarm, the protocol parameters and what counts as success.
 //!
-//! The built-in scenarios `sharp`, `gradient` and `cloud` are TOML files compiled into the
-//! binary (`host-sim/scenarios/*.toml`); any other file in the same format can be passed to
+//! The built-in scenarios `sharp`, `gradient`, `cloud` (the paper text's cloud) and
+//! `cloud-caption` (the cloud of Fig. 10's caption) are TOML files compiled into the binary (`host-sim/scenarios/*.toml`); any other file in the same format can be passed to
 //! `--scenario`. Every key but `[[field]]` is optional:
 //!
 //! ```toml
@@ -190,10 +190,14 @@ pub fn check_runs(what: &[(u64, &str)]) -> Result<u64, String> {
 }
 
 /// The built-in scenarios, by name.
-pub const BUILTINS: [(&str, &str); 3] = [
+pub const BUILTINS: [(&str, &str); 4] = [
     ("sharp", include_str!("../../scenarios/sharp.toml")),
     ("gradient", include_str!("../../scenarios/gradient.toml")),
     ("cloud", include_str!("../../scenarios/cloud.toml")),
+    (
+        "cloud-caption",
+        include_str!("../../scenarios/cloud-caption.toml"),
+    ),
 ];
 
 /// When a run counts as a success (paper section 3).
@@ -932,6 +936,27 @@ mod tests {
         assert_eq!(c.field.mean(Point2::new(2.0, 2.0)), 0.0);
         assert!((c.field.mean(Point2::new(0.0, 3.75)) - 2.5).abs() < 1e-9);
         assert_eq!(c.field.mean(Point2::new(-8.0, 0.0)), 5.0);
+    }
+
+    #[test]
+    fn the_caption_cloud_rises_from_0_to_5_over_its_radius_with_noise_in_0_1() {
+        let c = Scenario::builtin("cloud-caption").unwrap();
+        assert_eq!(c.name, "cloud-caption");
+        assert_eq!(c.agents, 61);
+        assert_eq!(c.run.noise, 1.0);
+        // Mean of a reading: X + 0.5, the mean of a noise uniform in [0, 1).
+        let at = |d: f64, phi: f64| c.field.mean(Point2::new(d * phi.cos(), d * phi.sin())) - 0.5;
+        for phi in [0.0, 1.0, 2.5, 4.0] {
+            assert_eq!(at(0.0, phi), 0.0);
+            assert!((at(2.5, phi) - 2.5).abs() < 1e-12);
+            assert!((at(4.999, phi) - 4.999).abs() < 1e-9);
+            assert_eq!(at(5.0, phi), 5.0);
+            assert_eq!(at(6.0, phi), 5.0);
+            assert_eq!(at(20.0, phi), 5.0);
+        }
+        let grid = c.grid.as_ref().unwrap();
+        assert_eq!((grid.xs.len(), grid.ys.len()), (21, 21));
+        assert_eq!((grid.gather_cycles, grid.decide_cycles), (1, 1));
     }
 
     #[test]

@@ -88,6 +88,10 @@ const TEMPLATES: &[(&str, &str)] = &[
         include_str!("../../templates/reproduction/course.md.j2"),
     ),
     (
+        "reproduction/sensitivity.md.j2",
+        include_str!("../../templates/reproduction/sensitivity.md.j2"),
+    ),
+    (
         "reproduction/speed.md.j2",
         include_str!("../../templates/reproduction/speed.md.j2"),
     ),

@@ -32,6 +32,7 @@ use crate::swarm::timecourse::{TimeCourse, time_course};
 
 mod caption_cloud;
 pub mod marks;
+mod verdicts;
 
 /// What `swarm reproduce` needs.
 #[derive(Clone, Debug)]
@@ -223,7 +224,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
     let sensitivity = sensitivity(&mut st, main, &sharp, &gradient)?;
     let p = st.start("one wave (Fig. 2)", 1);
-    let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(90))?;
+    let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(95))?;
     st.done(&p);
 
     // Speed: one negotiation period per size on one thread (`swarm bench`).
@@ -273,6 +274,9 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
 
 /// Runs per distance of the cloud's radial profile.
 const PROFILE_RUNS: u32 = 40;
+/// Runs per point of the other placement's sweeps (the robustness check; the main placement
+/// runs the scenario's 50, as the paper did).
+pub const OTHER_RUNS: u32 = 20;
 /// Runs per scenario and placement of the averaged courses (Figs. 4b, 7b) and the plateaus.
 pub const COURSE_RUNS: u32 = 50;
 /// Runs per point of the cycle-length experiment.
@@ -331,27 +335,21 @@ fn sweeps(
             .as_ref()
             .ok_or("built-in scenario without sweep")?;
         let placed_other = builtin_placed(&scn.name, other)?;
-        for (out, scn, stage, suffix) in [
-            (&mut sweeps, scn, stage_of(main), ""),
+        for (out, scn, stage, suffix, runs) in [
+            (&mut sweeps, scn, stage_of(main), "", spec.runs),
             (
                 &mut other_sweeps,
                 &placed_other,
                 stage_of(other),
                 other_suffix.as_str(),
+                spec.runs.min(OTHER_RUNS),
             ),
         ] {
             let p = st.start(
                 &format!("{} sweep{suffix}", scn.name),
-                spec.xs.len() as u64 * u64::from(spec.runs),
+                spec.xs.len() as u64 * u64::from(runs),
             );
-            let pts = sweep(
-                scn,
-                scn.run,
-                &spec.xs,
-                spec.runs,
-                st.seed(stage + k as u64),
-                &p,
-            )?;
+            let pts = sweep(scn, scn.run, &spec.xs, runs, st.seed(stage + k as u64), &p)?;
             st.done(&p);
             let csv = st.figs.join(format!("{}-sweep{suffix}.csv", scn.name));
             write_sweep_csv(&csv, &pts)?;
@@ -380,10 +378,12 @@ fn sweep_figures(
         plot::sweep_figure_marked(
             &figs.join(format!("{}-sweep.svg", scn.name)),
             &format!(
-                "{}: success ({crit} within {} periods), {} runs per point",
+                "{}: success ({crit} within {} periods), runs per point: {main} {}, {} {}",
                 scn.name,
                 scn.periods,
-                scn.sweep.as_ref().map_or(0, |s| s.runs)
+                sweeps[k].first().map_or(0, |p| p.runs),
+                main.other(),
+                other_sweeps[k].first().map_or(0, |p| p.runs),
             ),
             &[
                 (format!("{main} placement").as_str(), &sweeps[k]),
@@ -550,7 +550,15 @@ struct SensitivitySection {
     slope_rows: Vec<[String; 4]>,
     extent_runs: u32,
     extent: Vec<ExtentRow>,
+    /// The 3 R swarm's edges are within 0.5 R (the sampling step) of the paper's 2.5 and 2.2.
+    extent_big_matches: bool,
+    /// The 2.5 R swarm's edges are shorter than the 3 R swarm's on both fields.
+    extent_small_shorter: bool,
 }
+
+/// One knob's sensitivity run: its key, what the axis shows, (value, knob) pairs, a
+/// logarithmic axis, and whether the other placement runs too.
+type SensSpec = (&'static str, &'static str, Vec<(f64, Knob)>, bool, bool);
 
 /// Success and mean time as a table cell.
 fn cell(p: &SweepPoint) -> String {
@@ -573,7 +581,7 @@ fn sensitivity(
     let gradient_o = builtin_placed(&gradient.name, main.other())?;
     let name = |s: &Scenario, p: Placement| format!("{}, {p}", s.name);
     let mut tables = Vec::new();
-    let specs: [(&'static str, &'static str, Vec<(f64, Knob)>, bool, bool); 4] = [
+    let specs: [SensSpec; 4] = [
         (
             "cycle",
             "cycle length t_p^max / s",
@@ -610,10 +618,8 @@ fn sensitivity(
         ),
     ];
     for (k, (key, what, values, log_x, both_placements)) in specs.into_iter().enumerate() {
-        let mut cases: Vec<(String, &Scenario)> = vec![
-            (name(sharp, main), sharp),
-            (name(gradient, main), gradient),
-        ];
+        let mut cases: Vec<(String, &Scenario)> =
+            vec![(name(sharp, main), sharp), (name(gradient, main), gradient)];
         if both_placements {
             cases.insert(1, (name(&sharp_o, main.other()), &sharp_o));
             cases.push((name(&gradient_o, main.other()), &gradient_o));
@@ -766,7 +772,18 @@ fn sensitivity(
         &[(-2.5, " paper: 2.5 R"), (-2.2, " paper: 2.2 R")],
         false,
     )?;
+    let edge = |k: usize| {
+        extent[k]
+            .edge
+            .as_ref()
+            .and_then(|e| e.parse::<f64>().ok())
+            .unwrap_or(0.0)
+    };
+    let extent_big_matches = (edge(0) - 2.5).abs() <= 0.5 && (edge(2) - 2.2).abs() <= 0.5;
+    let extent_small_shorter = edge(1) < edge(0) && edge(3) < edge(2);
     Ok(SensitivitySection {
+        extent_big_matches,
+        extent_small_shorter,
         runs: SENS_RUNS,
         x: SENS_X.to_string(),
         tables,
@@ -1015,6 +1032,9 @@ struct RunNote {
 /// The table of the paper's numbers beside ours, and the notes below it.
 #[derive(Serialize)]
 struct Comparison {
+    verdicts: Vec<verdicts::Verdict>,
+    /// "N reproduced, M partly, …".
+    verdict_counts: String,
     sharp_near: Pair<String>,
     sharp_25: Pair<String>,
     sharp_far: Vec<String>,
@@ -1039,7 +1059,7 @@ struct Comparison {
 /// The sharp border's section.
 #[derive(Serialize)]
 struct SharpSection {
-    rows: Vec<[String; 6]>,
+    rows: Vec<[String; 7]>,
     near: Pair<String>,
     degree: String,
     placements: u64,
@@ -1051,7 +1071,7 @@ struct SharpSection {
 /// The gradient's section.
 #[derive(Serialize)]
 struct GradientSection {
-    rows: Vec<[String; 6]>,
+    rows: Vec<[String; 7]>,
     mid: Pair<[String; 2]>,
     m4: Pair<String>,
 }
@@ -1096,7 +1116,7 @@ struct SpeedSection {
 }
 
 /// The rows of a sweep table: the main placement and the other side by side.
-fn sweep_rows(main: &[SweepPoint], other: &[SweepPoint]) -> Vec<[String; 6]> {
+fn sweep_rows(main: &[SweepPoint], other: &[SweepPoint]) -> Vec<[String; 7]> {
     main.iter()
         .zip(other)
         .map(|(p, q)| {
@@ -1105,6 +1125,7 @@ fn sweep_rows(main: &[SweepPoint], other: &[SweepPoint]) -> Vec<[String; 6]> {
                 p.runs.to_string(),
                 fixed(p.success_rate(), 2),
                 opt(p.mean_success_periods, 1),
+                q.runs.to_string(),
                 fixed(q.success_rate(), 2),
                 opt(q.mean_success_periods, 1),
             ]
@@ -1178,7 +1199,19 @@ fn comparison(r: &Report<'_>) -> Comparison {
     let (osharp, ogradient) = (&r.other_sweeps[0], &r.other_sweeps[1]);
     let sharp_25 = |pts: &[SweepPoint]| rate_span(rate_range(pts, |x| x.abs() < 2.5));
     let plateau = |k: usize| format!("{:.1} ± {:.1}", r.plateaus[k].0, r.plateaus[k].1);
+    let verdicts = verdicts::verdicts(r);
+    let count = |v: &str| verdicts.iter().filter(|x| x.verdict() == v).count();
+    let verdict_counts = format!(
+        "Of {} rows: {} reproduced, {} partly, {} not reproduced, {} by construction",
+        verdicts.len(),
+        count("reproduced"),
+        count("partly"),
+        count("not reproduced"),
+        count("by construction")
+    );
     Comparison {
+        verdicts,
+        verdict_counts,
         sharp_near: pair(r, sharp, osharp, |p| rate_span(sharp_near(p))),
         sharp_25: pair(r, sharp, osharp, sharp_25),
         sharp_far: [-3.0, -4.0, -5.0]

@@ -1009,6 +1009,8 @@ fn pair<T>(
 /// The set-up section.
 #[derive(Serialize)]
 struct Setup {
+    /// Runs per point of the other placement's sweeps.
+    other_runs: u32,
     agents: usize,
     degree: String,
     placements: u64,
@@ -1181,6 +1183,11 @@ fn of((ok, n): (usize, usize)) -> String {
 fn setup(r: &Report<'_>) -> Setup {
     let p = &r.sharp.run.params;
     Setup {
+        other_runs: r
+            .other_sweeps
+            .first()
+            .and_then(|s| s.first())
+            .map_or(0, |p| p.runs),
         agents: r.sharp.agents,
         degree: fixed(r.placement.redrawn_degree, 1),
         placements: PLACEMENTS,

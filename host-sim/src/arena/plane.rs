@@ -378,16 +378,6 @@ mod tests {
     }
 }
 
-/// The paper's success rates (section 3): sharp border, 1.0 within 2.5 R of it.
-pub fn paper_sharp(x: f64) -> Option<f64> {
-    (x.abs() < 2.5).then_some(1.0)
-}
-
-/// The paper's success rates (section 3): gradient, 85–100 % from −2 on (drawn at 0.85).
-pub fn paper_gradient(x: f64) -> Option<f64> {
-    (-2.0..2.33).contains(&x).then_some(0.85)
-}
-
 /// Prints the runs of one plane experiment (a table, or JSON with `json`); exit code 0.
 pub fn print_runs(
     spec: &PlaneSpec,
@@ -695,20 +685,18 @@ fn sweep_svg(
     if let Some(s) = swarm {
         series.push(("three-phase (cimax swarm)", s));
     }
-    let paper: Option<&dyn Fn(f64) -> Option<f64>> = match scenario.name.as_str() {
-        "sharp" => Some(&paper_sharp),
-        "gradient" => Some(&paper_gradient),
-        _ => None,
-    };
+    // The same paper marks as docs/reproduction.md's sweeps (the gradient's 85–100 % band and
+    // its 25 % at −4), for the built-in scenarios.
+    let paper = crate::swarm::reproduce::marks::sweep_for(&scenario.name);
     let svg = a.out.join(format!("arena-{}-sweep.svg", scenario.name));
-    crate::report::plot::sweep_figure(
+    crate::report::plot::sweep_figure_marked(
         &svg,
         &format!(
             "{}: {} robots ({:?}), success within {} moves, {} runs per point",
             scenario.name, a.robots, a.shape, a.moves, a.runs
         ),
         &series,
-        paper,
+        &paper,
     )
     .map_err(|e| format!("{}: {e}", svg.display()))?;
     Ok(svg)

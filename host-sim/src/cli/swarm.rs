@@ -260,11 +260,12 @@ fn swarm_sweep(
     ensure_parent(&svg)?;
     report::write_sweep_csv(&csv, &pts)?;
     let crit = scn.success.map(|s| s.to_string()).unwrap_or_default();
-    plot::sweep_figure(
+    // A built-in scenario's sweep carries the paper's marks, as on docs/reproduction.md.
+    plot::sweep_figure_marked(
         &svg,
         &format!("{}: success ({crit}), {n} runs per point", scn.description),
         &[("this simulator", &pts)],
-        None,
+        &reproduce::marks::sweep_for(&scn.name),
     )?;
     println!(
         "{}: success {crit} within {} periods, {n} runs per point, {:.1} s",

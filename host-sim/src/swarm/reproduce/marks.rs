@@ -6,7 +6,7 @@ use crate::report::plot::{MapMark, MapMarks, MapShape, SweepMark};
 use crate::swarm::scenario::Scenario;
 
 /// Fig. 5 and the text of section 3.1: success rate 1 for |x_init| < 2.5 R.
-pub(super) fn sharp_sweep() -> Vec<SweepMark> {
+pub fn sharp_sweep() -> Vec<SweepMark> {
     vec![SweepMark::Level {
         x: (-2.5, 2.5),
         y: 1.0,
@@ -16,7 +16,7 @@ pub(super) fn sharp_sweep() -> Vec<SweepMark> {
 
 /// Fig. 8 and sections 3.2 and 4: 85–100 % for −2 ≲ x_init < 2.33 ("the success rates vary
 /// between 85 % to 100 %"), and 25 % at x_init = −4.
-pub(super) fn gradient_sweep() -> Vec<SweepMark> {
+pub fn gradient_sweep() -> Vec<SweepMark> {
     vec![
         SweepMark::Band {
             x: (-2.0, 2.33),
@@ -29,6 +29,15 @@ pub(super) fn gradient_sweep() -> Vec<SweepMark> {
             label: "paper: 25 % at x_init = −4".into(),
         },
     ]
+}
+
+/// The paper's marks on the success sweep of the built-in scenario `name` (none for others).
+pub fn sweep_for(name: &str) -> Vec<SweepMark> {
+    match name {
+        "sharp" => sharp_sweep(),
+        "gradient" => gradient_sweep(),
+        _ => Vec::new(),
+    }
 }
 
 /// Vertical lines at `xs`.

@@ -63,7 +63,16 @@ pub fn shapes_figure(
         {
             let k = row * cols + c;
             let caption = format!("({}) {}: {what}", letter(k), s.name);
-            histogram_panel(&panels[k], &caption, bars, outline, row == 1)?;
+            let unit = ["of the runs", "of the agents"][row];
+            let desc = (c == 0).then(|| format!("{unit} per 10° bin"));
+            histogram_panel(
+                &panels[k],
+                &caption,
+                bars,
+                outline,
+                row == 1,
+                desc.as_deref(),
+            )?;
         }
     }
     draw_legend(&legend, w, diffusion_pct)?;
@@ -77,13 +86,15 @@ fn fractions(counts: &[usize]) -> Vec<f64> {
     counts.iter().map(|&c| c as f64 / n).collect()
 }
 
-/// One histogram over 0°–360°, bin `k` centred on `k × 360° / bins`.
+/// One histogram over 0°–360°, bin `k` centred on `k × 360° / bins`, with `y_desc` along its
+/// y axis if given.
 fn histogram_panel(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     caption: &str,
     bars: &[usize],
     outline: &[usize],
     bottom: bool,
+    y_desc: Option<&str>,
 ) -> Result<(), PlotError> {
     let bins = bars.len().max(1);
     let w = 360.0 / bins as f64;
@@ -98,7 +109,7 @@ fn histogram_panel(
         .margin_right(12)
         .caption(caption, (FONT, 14))
         .x_label_area_size(if bottom { 36 } else { 22 })
-        .y_label_area_size(44)
+        .y_label_area_size(if y_desc.is_some() { 58 } else { 44 })
         .build_cartesian_2d(-0.5 * w..360.0 - 0.5 * w, 0.0..top)?;
     let mut mesh = chart.configure_mesh();
     mesh.disable_mesh()
@@ -116,6 +127,9 @@ fn histogram_panel(
         .label_style((FONT, 11));
     if bottom {
         mesh.x_desc("direction (0° = +x, counter-clockwise)");
+    }
+    if let Some(d) = y_desc {
+        mesh.y_desc(d);
     }
     mesh.axis_desc_style((FONT, 12)).draw()?;
     let x0 = |k: usize| k as f64 * w - 0.5 * w;

@@ -501,10 +501,10 @@ pub fn reproduce(
             }
             _ => swarm0.mean_degree(),
         };
-        let extent = if f.extent() < 10.0 {
-            format!("{:.1}", f.extent())
-        } else {
-            format!("{:.0}", f.extent())
+        // One decimal, without a trailing ".0" beyond 10 R (45, 22.5, 6.0).
+        let extent = match format!("{:.1}", f.extent()) {
+            e if f.extent() >= 10.0 => e.trim_end_matches(".0").to_owned(),
+            e => e,
         };
         notes.push(FormationNote {
             name: f.name(),

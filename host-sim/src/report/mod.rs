@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 pub mod csv_files;
 pub mod page;
 pub mod plot;
+pub mod shapes_plot;
 pub mod timecourse_plot;
 pub mod waves_plot;
 

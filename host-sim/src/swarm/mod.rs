@@ -10,6 +10,7 @@ pub mod geometry;
 pub mod reproduce;
 pub mod scenario;
 pub mod sensitivity;
+pub mod shapes;
 pub mod sim;
 pub mod timecourse;
 pub mod waves;

@@ -223,6 +223,10 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         .collect();
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
     let sensitivity = sensitivity(&mut st, main, &sharp, &gradient)?;
+    let runs_n = 4 * u64::from(crate::swarm::shapes::RUNS);
+    let p = st.start("shapes on a random field", runs_n);
+    let shapes = crate::swarm::shapes::reproduce(&st.figs, sharp.run, st.seed(200), &p)?;
+    st.done(&p);
     let p = st.start("one wave (Fig. 2)", 1);
     let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(95))?;
     st.done(&p);
@@ -255,6 +259,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         plateau_runs: COURSE_RUNS,
         courses: &courses,
         sensitivity: &sensitivity,
+        shapes: &shapes,
         cycle_rows: &cycle_rows,
         cycle_runs: CYCLE_RUNS,
         waves,
@@ -934,6 +939,8 @@ struct Report<'a> {
     /// Per scenario, the averaged course of the main placement and of the other.
     courses: &'a [[TimeCourse; 2]],
     sensitivity: &'a SensitivitySection,
+    /// The discussion's line and cross on a random field.
+    shapes: &'a crate::swarm::shapes::ShapesSection,
     cycle_rows: &'a [CycleRow],
     cycle_runs: u32,
     waves: crate::swarm::waves::WavesSection,
@@ -954,6 +961,7 @@ struct Page<'a> {
     cycle: CycleSection,
     course: CourseSection,
     sensitivity: &'a SensitivitySection,
+    shapes: &'a crate::swarm::shapes::ShapesSection,
     speed: SpeedSection,
     waves: crate::swarm::waves::WavesSection,
     names: [String; 3],
@@ -1487,6 +1495,7 @@ fn page<'a>(r: &Report<'a>) -> Page<'a> {
         cycle: cycle_section(r),
         course: course_section(r),
         sensitivity: r.sensitivity,
+        shapes: r.shapes,
         speed: speed_section(r),
         waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),

@@ -641,7 +641,7 @@ fn sensitivity(
                 &knobs,
                 SENS_X,
                 SENS_RUNS,
-                st.seed(100 + 10 * k as u64 + j as u64),
+                st.seed(500 + 10 * k as u64 + j as u64),
                 &p,
             )?);
         }
@@ -693,7 +693,7 @@ fn sensitivity(
         "sensitivity: slope",
         2 * slopes.len() as u64 * u64::from(SENS_RUNS),
     );
-    let success = success_against(gradient, &knobs, SENS_X, SENS_RUNS, st.seed(150), &p)?;
+    let success = success_against(gradient, &knobs, SENS_X, SENS_RUNS, st.seed(550), &p)?;
     let line_x = match &gradient.success {
         Some(crate::swarm::scenario::Success::BeyondX { x }) => *x,
         _ => 2.33,
@@ -706,7 +706,7 @@ fn sensitivity(
             &s,
             Point2::new(line_x, 0.0),
             SENS_RUNS,
-            st.seed(160 + k as u64),
+            st.seed(560 + k as u64),
             &p,
         )?;
         div_line.push((slopes[k], m, se));
@@ -749,7 +749,7 @@ fn sensitivity(
                 &s,
                 &xs,
                 EXTENT_RUNS,
-                st.seed(170 + 2 * k as u64 + j as u64),
+                st.seed(570 + 2 * k as u64 + j as u64),
                 &p,
             )?;
             extent.push(ExtentRow {

@@ -1379,6 +1379,11 @@ struct CourseRow {
     above_paper: bool,
     /// The consensus over the last 10 periods is below that at t = 0.
     consensus_falls: bool,
+    /// Runs that arrived: mean periods to arrival, mean |y| at arrival, x gained per R walked
+    /// (as a percentage).
+    mean_arrival: String,
+    y_at_arrival: String,
+    straightness: String,
 }
 
 /// One scenario of the averaged courses.
@@ -1401,6 +1406,8 @@ struct CourseScenario {
 /// The averaged courses' section.
 #[derive(Serialize)]
 struct CourseSection {
+    /// Smallest and largest y of the gradient run figure's centre.
+    gradient_run_y: [String; 2],
     runs: u32,
     periods: u32,
     scenarios: Vec<CourseScenario>,
@@ -1444,6 +1451,9 @@ fn course_section(r: &Report<'_>) -> CourseSection {
                         consensus_end: tail(c, |p| p.consensus.mean),
                         arrived: c.points.last().map_or(0, |p| p.arrived),
                         above_paper: first.is_some_and(|p| p.diversity.mean > paper.start),
+                        mean_arrival: fixed(c.mean_arrival, 1),
+                        y_at_arrival: fixed(c.y_at_arrival, 1),
+                        straightness: fixed(100.0 * c.straightness, 0),
                         consensus_falls: first
                             .is_some_and(|p| tail_of(c, |p| p.consensus.mean) < p.consensus.mean),
                     }
@@ -1473,7 +1483,18 @@ fn course_section(r: &Report<'_>) -> CourseSection {
             }
         })
         .collect();
+    let ys: Vec<f64> = r.runs[1]
+        .1
+        .periods
+        .iter()
+        .map(|p| p.to.y)
+        .chain(std::iter::once(r.runs[1].1.start.y))
+        .collect();
+    let (lo, hi) = ys
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &y| (a.min(y), b.max(y)));
     CourseSection {
+        gradient_run_y: [fixed(lo, 1), fixed(hi, 1)],
         runs: COURSE_RUNS,
         periods: r.sharp.periods,
         scenarios,

@@ -68,6 +68,13 @@ pub struct TimeCourse {
     /// Mean over runs of the fraction of agents at x ≥ 0 at the start (the side of the sharp
     /// border and of the gradient's ramp).
     pub across_at_start: f64,
+    /// Over the runs that arrived: mean |y| of the centre at arrival (R).
+    pub y_at_arrival: f64,
+    /// Over the runs that arrived: the x gained until arrival over the path's length (1: every
+    /// move straight along +x).
+    pub straightness: f64,
+    /// Over the runs that arrived: mean periods until arrival.
+    pub mean_arrival: f64,
 }
 
 /// `runs` full runs of `scn` (its periods, not stopped at success) from its start; run `r` uses
@@ -134,7 +141,34 @@ pub fn summarise(outs: &[RunOutput], min_after: u32) -> TimeCourse {
         })
         .collect();
     let n = tails.len().max(1) as f64;
+    // The path of each run that arrived, up to its arrival.
+    let paths: Vec<(f64, f64, f64)> = outs
+        .iter()
+        .filter_map(|o| {
+            let at = o.success_at? as usize;
+            let moves = &o.periods[..at.min(o.periods.len())];
+            let end = moves.last().map_or(o.start, |p| p.to);
+            let length: f64 = moves.iter().map(|p| (p.to - p.from).norm()).sum();
+            let gained = end.x - o.start.x;
+            Some((
+                end.y.abs(),
+                if length > 0.0 {
+                    gained / length
+                } else {
+                    f64::NAN
+                },
+                at as f64,
+            ))
+        })
+        .collect();
+    let col = |f: fn(&(f64, f64, f64)) -> f64| {
+        let v: Vec<f64> = paths.iter().map(f).filter(|v| v.is_finite()).collect();
+        stats::mean(&v).unwrap_or(f64::NAN)
+    };
     TimeCourse {
+        y_at_arrival: col(|p| p.0),
+        straightness: col(|p| p.1),
+        mean_arrival: col(|p| p.2),
         runs: outs.len() as u32,
         points,
         plateau: stats::mean(&tails).unwrap_or(f64::NAN),

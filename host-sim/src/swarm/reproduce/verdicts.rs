@@ -242,6 +242,34 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
             },
         });
     }
+    // When the swarm arrives (Figs. 4b, 7b: the sharp run reaches the border at t ≈ 8, the
+    // gradient's diversity saturates at t ≈ 15).
+    for (k, (name, paper)) in [("Sharp border (Fig. 4)", 8.0), ("Gradient (Fig. 7)", 15.0)]
+        .into_iter()
+        .enumerate()
+    {
+        let c = &r.courses[k][0];
+        let v = level(c.mean_arrival, paper);
+        rows.push(Verdict {
+            quantity: format!("{name}: periods from x = −2.5 until the swarm arrives"),
+            paper: format!("≈ {paper} (one run)"),
+            ours: format!(
+                "{main}: {} (mean of the {} of {} runs that arrived)",
+                fixed(c.mean_arrival, 1),
+                c.success_at.iter().flatten().count(),
+                c.runs
+            ),
+            verdict: v,
+            why: if v == REPRODUCED {
+                String::new()
+            } else {
+                format!(
+                    "on the ramp the preferences along x largely cancel: {} % of the distance walked is gained along +x (the averaged courses)",
+                    fixed(100.0 * c.straightness, 0)
+                )
+            },
+        });
+    }
     let (sp, sse, sn) = r.plateaus[0];
     let v = level(sp, 4.5);
     rows.push(Verdict {

@@ -19,7 +19,7 @@ use heapless::{Deque, Vec};
 use rand_core::RngCore;
 
 use crate::direction::{turn_toward, wrap_positive};
-use crate::diversity::{Diversity, Moments, Variance};
+use crate::diversity::{Diversity, Pool, Variance};
 use crate::message::push_evicting;
 use crate::params::{ParamError, Params};
 use crate::time::Instant;
@@ -59,7 +59,7 @@ pub enum SimEvent {
     Evaluated {
         /// Preferred bearing, radians in `[0, 2π)`.
         preferred: Option<f32>,
-        /// Variance of every reading in every stored message.
+        /// The measure over every reading in every stored message ([`Diversity::Pool`]).
         diversity: f32,
     },
     /// The negotiation period ended; the agent's decision is its preferred bearing.
@@ -105,7 +105,7 @@ pub struct ThreePhaseAgent<D: Diversity = Variance, const N: usize = 32, const S
     phase_cycles: u16,
     periods: u32,
     weights: DirectionWeights<BearingKey, S>,
-    stored: Moments,
+    stored: D::Pool,
     last_diversity: f32,
     preferred: Option<f32>,
     decision: Option<f32>,
@@ -137,6 +137,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
         rng: &mut impl RngCore,
     ) -> Result<Self, ParamError> {
         params.validate()?;
+        let stored = diversity.pool();
         Ok(ThreePhaseAgent {
             params,
             diversity,
@@ -146,7 +147,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
             phase_cycles: 0,
             periods: 0,
             weights: DirectionWeights::default(),
-            stored: Moments::default(),
+            stored,
             last_diversity: 0.0,
             preferred: None,
             decision: None,
@@ -321,9 +322,9 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
                     .heaviest()
                     .map(f32::from_bits)
                     .filter(|b| b.is_finite());
-                self.last_diversity = self.stored.variance();
+                self.last_diversity = self.stored.value();
                 self.weights.clear();
-                self.stored = Moments::default();
+                self.stored = self.diversity.pool();
                 self.push_event(SimEvent::Evaluated {
                     preferred: self.preferred,
                     diversity: self.last_diversity,

@@ -11,6 +11,8 @@
 //! step = 0.33            # move per negotiation period, in R (R = 1)
 //! periods = 50           # negotiation periods per run
 //! start = [-2.5, 0.0]    # centre of mass for `swarm run`
+//! diversity = "variance" # the paper's measure; or { kind = "entropy", bin = 0.5 }: Shannon
+//!                        #   entropy (bits) of the readings binned at width `bin` (beyond the paper)
 //!
 //! [swarm]
 //! agents = 61
@@ -78,6 +80,7 @@ use toml::Spanned;
 
 use crate::swarm::field::{Along, Field, Layer, Segment};
 use crate::swarm::geometry::Shape;
+use crate::swarm::measure::Measure;
 pub use crate::swarm::sim::MAX_PERIOD_SECS;
 use crate::swarm::sim::{RunConfig, SimError};
 
@@ -317,6 +320,7 @@ struct Raw {
     step: Option<Spanned<f64>>,
     periods: Option<Spanned<u32>>,
     start: Option<Spanned<[f64; 2]>>,
+    diversity: Option<Spanned<toml::Value>>,
     swarm: Option<Spanned<RawSwarm>>,
     protocol: Option<Spanned<RawProtocol>>,
     field: Spanned<Vec<RawLayer>>,
@@ -711,6 +715,52 @@ impl Ctx<'_> {
         }
     }
 
+    /// `diversity`: `"variance"`, `{ kind = "variance" }` or `{ kind = "entropy", bin = b }`
+    /// with `b` finite and `> 0`.
+    fn diversity(&self, raw: &Raw) -> Result<Measure, ScenarioError> {
+        const FORMS: &str =
+            "diversity must be \"variance\" or { kind = \"entropy\", bin = 0.5 } (bin > 0)";
+        let Some(v) = &raw.diversity else {
+            return Ok(Measure::Variance);
+        };
+        let bad = |why: String| Err(self.err(v.span(), format!("{why}; {FORMS}")));
+        match v.get_ref() {
+            toml::Value::String(s) if s == "variance" => Ok(Measure::Variance),
+            toml::Value::String(s) if s == "entropy" => {
+                bad("diversity = \"entropy\" needs a bin width".into())
+            }
+            toml::Value::String(s) => bad(format!("unknown diversity {s:?}")),
+            toml::Value::Table(t) => {
+                if let Some(k) = t.keys().find(|k| !matches!(k.as_str(), "kind" | "bin")) {
+                    return bad(format!("unknown key diversity.{k}"));
+                }
+                let bin = match t.get("bin") {
+                    None => None,
+                    Some(toml::Value::Float(b)) => Some(*b),
+                    Some(toml::Value::Integer(b)) => Some(*b as f64),
+                    Some(b) => return bad(format!("diversity.bin = {b} is not a number")),
+                };
+                match (t.get("kind").and_then(toml::Value::as_str), bin) {
+                    (Some("variance"), None) => Ok(Measure::Variance),
+                    (Some("variance"), Some(_)) => {
+                        bad("diversity.bin is only for kind = \"entropy\"".into())
+                    }
+                    (Some("entropy"), Some(b)) => match Measure::entropy(b as f32) {
+                        Some(m) if b.is_finite() && b <= f64::from(f32::MAX) => Ok(m),
+                        _ => bad(format!(
+                            "diversity.bin = {} must be a positive number",
+                            num(b)
+                        )),
+                    },
+                    (Some("entropy"), None) => bad("diversity.bin is missing".into()),
+                    (Some(k), _) => bad(format!("unknown diversity.kind {k:?}")),
+                    (None, _) => bad("diversity.kind is missing".into()),
+                }
+            }
+            other => bad(format!("diversity = {other} is neither a name nor a table")),
+        }
+    }
+
     fn finite(&self, v: &Spanned<f64>, what: &str) -> Result<f64, ScenarioError> {
         let x = *v.get_ref();
         if x.is_finite() {
@@ -740,6 +790,7 @@ fn period_fits(params: &Params) -> Result<(), String> {
         params: *params,
         step: 0.33,
         noise: 1.0,
+        diversity: Measure::Variance,
     };
     match run.check() {
         Err(SimError::PeriodTooLong {
@@ -831,6 +882,7 @@ impl Scenario {
 
         let (agents, shape) = cx.swarm(&raw)?;
         let params = cx.protocol(&raw)?;
+        let diversity = cx.diversity(&raw)?;
 
         let noise = match &raw.noise {
             Some(v) if *v.get_ref() == 0.0 => 0.0,
@@ -877,6 +929,7 @@ impl Scenario {
                 params,
                 step,
                 noise,
+                diversity,
             },
             periods,
             start,
@@ -936,6 +989,57 @@ mod tests {
         assert_eq!(c.field.mean(Point2::new(2.0, 2.0)), 0.0);
         assert!((c.field.mean(Point2::new(0.0, 3.75)) - 2.5).abs() < 1e-9);
         assert_eq!(c.field.mean(Point2::new(-8.0, 0.0)), 5.0);
+    }
+
+    #[test]
+    fn the_diversity_key_picks_the_measure_and_names_itself_when_wrong() {
+        let base = "[[field]]\nalong = \"x\"\nsegments = [{ from = -inf, level = 0.0 }]\n";
+        let with = |d: &str| format!("diversity = {d}\n{base}");
+        let ok = |d: &str| {
+            Scenario::from_toml(&with(d), "d.toml")
+                .unwrap()
+                .run
+                .diversity
+        };
+        assert_eq!(
+            Scenario::from_toml(base, "d.toml").unwrap().run.diversity,
+            Measure::Variance
+        );
+        assert_eq!(ok("\"variance\""), Measure::Variance);
+        assert_eq!(ok("{ kind = \"variance\" }"), Measure::Variance);
+        assert_eq!(
+            ok("{ kind = \"entropy\", bin = 0.5 }"),
+            Measure::entropy(0.5).unwrap()
+        );
+        assert_eq!(
+            ok("{ kind = \"entropy\", bin = 2 }"),
+            Measure::entropy(2.0).unwrap()
+        );
+        for (bad, says) in [
+            ("\"entropy\"", "needs a bin width"),
+            ("\"gini\"", "unknown diversity \"gini\""),
+            ("{ kind = \"entropy\" }", "diversity.bin is missing"),
+            (
+                "{ kind = \"entropy\", bin = 0.0 }",
+                "diversity.bin = 0 must be a positive",
+            ),
+            ("{ kind = \"entropy\", bin = -1.0 }", "must be a positive"),
+            ("{ kind = \"entropy\", bin = nan }", "must be a positive"),
+            ("{ kind = \"entropy\", bin = 1e300 }", "must be a positive"),
+            ("{ kind = \"entropy\", bin = \"x\" }", "is not a number"),
+            ("{ kind = \"variance\", bin = 1.0 }", "only for kind"),
+            ("{ bin = 1.0 }", "diversity.kind is missing"),
+            (
+                "{ kind = \"entropy\", bin = 1.0, width = 2 }",
+                "unknown key diversity.width",
+            ),
+            ("3", "neither a name nor a table"),
+        ] {
+            let e = err(&with(bad));
+            assert_eq!(e.at.map(|a| a.0), Some(1), "{bad}: {e}");
+            assert!(e.message.contains(says), "{bad}: {e}");
+            assert!(e.message.contains("diversity must be"), "{bad}: {e}");
+        }
     }
 
     #[test]

@@ -36,10 +36,12 @@ use rand_pcg::Pcg64Mcg;
 
 use crate::swarm::field::Field;
 use crate::swarm::geometry::Swarm;
+use crate::swarm::measure::Measure;
 
-/// The agent the simulator steps: variance as the diversity, up to 32 readings per message, up
-/// to 16 distinct bearings per period.
-pub type Agent = ThreePhaseAgent;
+/// The agent the simulator steps: the run's [`Measure`] as the diversity (the variance unless
+/// the scenario says otherwise), up to 32 readings per message, up to 16 distinct bearings per
+/// period.
+pub type Agent = ThreePhaseAgent<Measure>;
 
 /// A message between agents.
 pub type Message = SimMessage<32>;
@@ -53,6 +55,8 @@ pub struct RunConfig {
     pub step: f64,
     /// Width of the noise: ξ uniform in `(−noise/2, noise/2)` (the paper: 1).
     pub noise: f64,
+    /// The agents' diversity measure (the paper: the variance).
+    pub diversity: Measure,
 }
 
 /// The longest negotiation period a run accepts, in seconds (11.6 days; the paper's period is
@@ -297,7 +301,12 @@ impl<'a> Sim<'a> {
         let n = swarm.len();
         let mut agents = Vec::with_capacity(n);
         for _ in 0..n {
-            agents.push(Agent::new(cfg.params, Instant::ZERO, &mut proto_rng)?);
+            agents.push(Agent::with_diversity(
+                cfg.params,
+                cfg.diversity,
+                Instant::ZERO,
+                &mut proto_rng,
+            )?);
         }
         let mut sim = Sim {
             swarm,
@@ -519,6 +528,7 @@ mod tests {
             params: Params::simulation_2d(),
             step: 0.33,
             noise: 1.0,
+            diversity: Measure::Variance,
         }
     }
 

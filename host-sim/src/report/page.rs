@@ -92,6 +92,10 @@ const TEMPLATES: &[(&str, &str)] = &[
         include_str!("../../templates/reproduction/sensitivity.md.j2"),
     ),
     (
+        "reproduction/beyond.md.j2",
+        include_str!("../../templates/reproduction/beyond.md.j2"),
+    ),
+    (
         "reproduction/speed.md.j2",
         include_str!("../../templates/reproduction/speed.md.j2"),
     ),

@@ -30,6 +30,7 @@ use crate::swarm::sensitivity::{
 };
 use crate::swarm::timecourse::{TimeCourse, time_course};
 
+mod beyond;
 mod caption_cloud;
 pub mod marks;
 mod verdicts;
@@ -223,6 +224,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         .collect();
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
     let sensitivity = sensitivity(&mut st, main, &sharp, &gradient)?;
+    let beyond = beyond::run(&mut st, [&sharp, &gradient])?;
     let p = st.start("one wave (Fig. 2)", 1);
     let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(95))?;
     st.done(&p);
@@ -255,6 +257,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         plateau_runs: COURSE_RUNS,
         courses: &courses,
         sensitivity: &sensitivity,
+        beyond: &beyond,
         cycle_rows: &cycle_rows,
         cycle_runs: CYCLE_RUNS,
         waves,
@@ -934,6 +937,8 @@ struct Report<'a> {
     /// Per scenario, the averaged course of the main placement and of the other.
     courses: &'a [[TimeCourse; 2]],
     sensitivity: &'a SensitivitySection,
+    /// Entropy instead of variance (beyond the paper).
+    beyond: &'a beyond::BeyondSection,
     cycle_rows: &'a [CycleRow],
     cycle_runs: u32,
     waves: crate::swarm::waves::WavesSection,
@@ -954,6 +959,7 @@ struct Page<'a> {
     cycle: CycleSection,
     course: CourseSection,
     sensitivity: &'a SensitivitySection,
+    beyond: &'a beyond::BeyondSection,
     speed: SpeedSection,
     waves: crate::swarm::waves::WavesSection,
     names: [String; 3],
@@ -1480,6 +1486,7 @@ fn page<'a>(r: &Report<'a>) -> Page<'a> {
         cycle: cycle_section(r),
         course: course_section(r),
         sensitivity: r.sensitivity,
+        beyond: r.beyond,
         speed: speed_section(r),
         waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),

@@ -178,3 +178,30 @@ fn a_scenario_file_with_every_option_runs() {
     assert_eq!(out.periods.len(), 2);
     assert_eq!(out.periods[1].end_s, 2 * 1000);
 }
+
+#[test]
+fn a_scenario_with_the_entropy_as_diversity_runs_and_measures_in_bits() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/examples/gradient-entropy.toml"
+    );
+    let scn = Scenario::load(path).expect("example parses");
+    assert_eq!(scn.run.diversity.kind(), "entropy");
+    let out = experiment::run(&scn, scn.run, Point2::new(2.33, 0.0), 1, 1, false).unwrap();
+    // Bits: above a uniform field's 1 bit (noise over two bins), below log2 of 64 bins.
+    let d = out.periods[0].diversity;
+    assert!((2.0..6.0).contains(&d), "{d}");
+    let variance = experiment::run(
+        &scn,
+        host_sim::sim::RunConfig {
+            diversity: host_sim::swarm::measure::Measure::Variance,
+            ..scn.run
+        },
+        Point2::new(2.33, 0.0),
+        1,
+        1,
+        false,
+    )
+    .unwrap();
+    assert!(variance.periods[0].diversity > 5.0);
+}

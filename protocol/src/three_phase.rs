@@ -456,6 +456,45 @@ mod tests {
     }
 
     #[test]
+    fn an_entropy_agent_prefers_the_most_varied_bins_and_pools_them() {
+        use crate::diversity::Entropy;
+        let mut rng = Pcg32::new(2, 2);
+        let params = Params::simulation_2d();
+        let mut a = ThreePhaseAgent::<Entropy, 8, 4>::with_diversity(
+            params,
+            Entropy { bin: 1.0 },
+            Instant::ZERO,
+            &mut rng,
+        )
+        .unwrap();
+        a.handle_reading(0.0);
+        let (east, west) = (0.0, PI);
+        let t = Instant::from_secs(1);
+        // East: 5, 5, 5 and the own 0: 0.811 bits. West 20 s later: 0, 1, 2, 0: 1.5 bits.
+        // The variance would prefer east (4.69 against 0.69).
+        assert!(a.handle_message(t, east, &readings(&[5.0, 5.0, 5.0]), &mut rng));
+        let t = t + Duration::from_secs(20);
+        assert!(a.handle_message(t, west, &readings(&[0.0, 1.0, 2.0]), &mut rng));
+        let (preferred, diversity) = loop {
+            let t = a.poll_timeout();
+            a.handle_timeout(t, &mut rng);
+            while a.poll_transmit().is_some() {}
+            if let Some(SimEvent::Evaluated {
+                preferred,
+                diversity,
+            }) = core::iter::from_fn(|| a.poll_event())
+                .find(|e| matches!(e, SimEvent::Evaluated { .. }))
+            {
+                break (preferred, diversity);
+            }
+        };
+        assert_eq!(preferred, Some(west));
+        // Stored: bins 5 ×3, 0 ×3, 1, 2: 2 · 3/8 · log2(8/3) + 2 · 1/8 · 3 = 1.8113 bits.
+        assert!((diversity - 1.811_278).abs() < 1e-5, "{diversity}");
+        assert_eq!(a.diversity(), diversity);
+    }
+
+    #[test]
     fn an_agent_without_opinion_adopts_the_first_it_hears() {
         let (mut a, mut rng) = agent();
         run_until(&mut a, &mut rng, |e| {

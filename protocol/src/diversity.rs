@@ -31,6 +31,11 @@ pub trait Diversity {
 pub trait Pool {
     /// Adds one reading (non-finite ones may be ignored, never a panic).
     fn push(&mut self, x: f32);
+    /// Adds every reading of `xs` in order (the same as [`push`](Self::push) on each; a pool
+    /// that dispatches at run time overrides it to dispatch once).
+    fn push_all<I: Iterator<Item = f32>>(&mut self, xs: I) {
+        xs.for_each(|x| self.push(x));
+    }
     /// The diversity of everything pushed (finite, `>= 0`).
     fn value(&self) -> f32;
 }

@@ -241,10 +241,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
                 if !self.weights.add(key(bearing), v) {
                     self.stats.slots_full = self.stats.slots_full.wrapping_add(1);
                 }
-                r.iter()
-                    .copied()
-                    .chain(own)
-                    .for_each(|x| self.stored.push(x));
+                self.stored.push_all(r.iter().copied().chain(own));
             }
             SimMessage::Opinion(Some(o)) if o.is_finite() => {
                 self.preferred = Some(match self.preferred {

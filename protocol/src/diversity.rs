@@ -9,31 +9,32 @@
 //! "diversity of all stored readings" is accumulated without keeping the readings
 //! ([`Diversity::Pool`]: [`Moments`] for the variance, [`Histogram`] for the entropy).
 
-/// A measure of how diverse a set of readings is. Larger means more informative.
+/// A measure of how diverse a set of readings of type `R` is (one quantity, `f32`, unless
+/// said otherwise; [`PerQuantity`] measures readings of several). Larger means more informative.
 ///
 /// Implementations must return a finite value `>= 0` for any finite input and `0` for fewer
 /// than two readings, and must not panic on any input (NaN included).
-pub trait Diversity {
+pub trait Diversity<R = f32> {
     /// Accumulates readings one at a time for the same measure over all of them (the
     /// observer's `V_k` of a gathering phase), in fixed memory.
-    type Pool: Pool + Clone + core::fmt::Debug;
+    type Pool: Pool<R> + Clone + core::fmt::Debug;
 
     /// The diversity of `readings`. The iterator is `Clone` so a measure may make two passes.
     fn measure<I>(&self, readings: I) -> f32
     where
-        I: Iterator<Item = f32> + Clone;
+        I: Iterator<Item = R> + Clone;
 
     /// An empty pool for this measure.
     fn pool(&self) -> Self::Pool;
 }
 
 /// Readings pushed one at a time, and the diversity of all of them so far.
-pub trait Pool {
+pub trait Pool<R = f32> {
     /// Adds one reading (non-finite ones may be ignored, never a panic).
-    fn push(&mut self, x: f32);
+    fn push(&mut self, x: R);
     /// Adds every reading of `xs` in order (the same as [`push`](Self::push) on each; a pool
     /// that dispatches at run time overrides it to dispatch once).
-    fn push_all<I: Iterator<Item = f32>>(&mut self, xs: I) {
+    fn push_all<I: Iterator<Item = R>>(&mut self, xs: I) {
         xs.for_each(|x| self.push(x));
     }
     /// The diversity of everything pushed (finite, `>= 0`).
@@ -261,9 +262,84 @@ impl Pool for Histogram {
     }
 }
 
+/// Several quantities at once (beyond the paper; its discussion suggests measuring e.g. light
+/// and oxygen together): readings are `[f32; K]`, one value per quantity, and the diversity is
+/// the sum over the quantities of `D`'s measure of that quantity alone (the sum of the
+/// per-quantity variances, or of the per-quantity entropies in bits).
+///
+/// A sum weighs the quantities by their own scales: with the variance, a quantity whose
+/// readings span ten times the range counts a hundred times as much (rescale the readings to
+/// weigh them otherwise); the entropy counts bins and so is scale-free once each quantity's
+/// bin width suits it. `K` passes over the readings; no heap.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PerQuantity<D, const K: usize>(pub D);
+
+impl<D: Diversity, const K: usize> Diversity<[f32; K]> for PerQuantity<D, K> {
+    type Pool = PerQuantityPool<D::Pool, K>;
+
+    fn measure<I>(&self, readings: I) -> f32
+    where
+        I: Iterator<Item = [f32; K]> + Clone,
+    {
+        let v: f32 = (0..K)
+            .map(|k| self.0.measure(readings.clone().map(move |r| r[k])))
+            .sum();
+        if v.is_finite() && v > 0.0 { v } else { 0.0 }
+    }
+
+    fn pool(&self) -> Self::Pool {
+        PerQuantityPool(core::array::from_fn(|_| self.0.pool()))
+    }
+}
+
+/// The pool of [`PerQuantity`]: one pool per quantity; its value is their sum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PerQuantityPool<P, const K: usize>(pub [P; K]);
+
+impl<P: Pool, const K: usize> Pool<[f32; K]> for PerQuantityPool<P, K> {
+    fn push(&mut self, x: [f32; K]) {
+        self.0.iter_mut().zip(x).for_each(|(p, v)| p.push(v));
+    }
+
+    fn value(&self) -> f32 {
+        let v: f32 = self.0.iter().map(Pool::value).sum();
+        if v.is_finite() && v > 0.0 { v } else { 0.0 }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn per_quantity_sums_the_quantities_measures() {
+        let xs = [[1.0f32, 0.0], [0.0, 0.0], [0.0, 3.0], [0.0, 0.0]];
+        let m = PerQuantity::<Variance, 2>(Variance);
+        // 3/16 for the first quantity, 27/16 for the second.
+        assert!((m.measure(xs.iter().copied()) - 30.0 / 16.0).abs() < 1e-6);
+        let e = PerQuantity::<Entropy, 2>(Entropy { bin: 1.0 });
+        // Bins (1, 0, 0, 0) and (0, 0, 3, 0): 0.811 bits each.
+        assert!((e.measure(xs.iter().copied()) - 2.0 * 0.811_278).abs() < 1e-5);
+        for (d, p) in [
+            (m.measure(xs.iter().copied()), {
+                let mut p = m.pool();
+                p.push_all(xs.iter().copied());
+                p.value()
+            }),
+            (e.measure(xs.iter().copied()), {
+                let mut p = e.pool();
+                p.push_all(xs.iter().copied());
+                p.value()
+            }),
+        ] {
+            assert!((d - p).abs() < 1e-5, "{d} {p}");
+        }
+        // One quantity alone is the plain measure; hostile input gives 0, not NaN.
+        let one = PerQuantity::<Variance, 1>(Variance);
+        assert_eq!(one.measure([[1.0], [0.0]].into_iter()), 0.25);
+        assert_eq!(m.measure([[f32::NAN, 1.0], [0.0, 1.0]].into_iter()), 0.0);
+        assert_eq!(m.measure(core::iter::empty()), 0.0);
+    }
 
     fn ent(bin: f32, xs: &[f32]) -> f32 {
         Entropy { bin }.measure(xs.iter().copied())

@@ -39,12 +39,13 @@ pub enum Phase {
     Deciding,
 }
 
-/// A message of the three-phase variant, up to `N` readings long. In memory only: the 2D
-/// simulator hands messages to neighbours directly.
+/// A message of the three-phase variant, up to `N` readings of type `R` long (`f32`: one
+/// quantity; `[f32; K]`: K quantities at once). In memory only: the 2D simulator hands messages
+/// to neighbours directly.
 #[derive(Clone, Debug, PartialEq)]
-pub enum SimMessage<const N: usize> {
+pub enum SimMessage<const N: usize, R = f32> {
     /// Gathering: the readings along the wave's path, oldest first (full: oldest dropped).
-    Readings(Vec<f32, N>),
+    Readings(Vec<R, N>),
     /// Deciding: the sender's preferred bearing in radians, if it has one.
     Opinion(Option<f32>),
 }
@@ -93,14 +94,21 @@ fn key(bearing: f32) -> BearingKey {
     if b.is_nan() { u32::MAX } else { b.to_bits() }
 }
 
-/// One agent of the 2D simulations. `N` readings per message, `S` distinct bearings per period.
-/// Sans-IO, with the same call order as [`crate::fused::FusedNode`].
+/// One agent of the 2D simulations. `N` readings per message, `S` distinct bearings per period,
+/// readings of type `R` (one quantity, `f32`, unless a [`crate::diversity::PerQuantity`]
+/// measure scores several at once). Sans-IO, with the same call order as
+/// [`crate::fused::FusedNode`].
 #[derive(Clone, Debug)]
-pub struct ThreePhaseAgent<D: Diversity = Variance, const N: usize = 32, const S: usize = 16> {
+pub struct ThreePhaseAgent<
+    D: Diversity<R> = Variance,
+    const N: usize = 32,
+    const S: usize = 16,
+    R: Copy + Default = f32,
+> {
     params: Params,
     diversity: D,
     wave: WaveNode,
-    reading: f32,
+    reading: R,
     phase: Phase,
     phase_cycles: u16,
     periods: u32,
@@ -109,8 +117,8 @@ pub struct ThreePhaseAgent<D: Diversity = Variance, const N: usize = 32, const S
     last_diversity: f32,
     preferred: Option<f32>,
     decision: Option<f32>,
-    pending: Option<SimMessage<N>>,
-    outbox: Deque<SimMessage<N>, OUTBOX>,
+    pending: Option<SimMessage<N, R>>,
+    outbox: Deque<SimMessage<N, R>, OUTBOX>,
     events: Deque<SimEvent, EVENT_QUEUE>,
     stats: AgentStats,
 }
@@ -125,7 +133,9 @@ impl<const N: usize, const S: usize> ThreePhaseAgent<Variance, N, S> {
     }
 }
 
-impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
+impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
+    ThreePhaseAgent<D, N, S, R>
+{
     /// An agent with a custom diversity measure.
     ///
     /// # Errors
@@ -142,7 +152,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
             params,
             diversity,
             wave: WaveNode::new(params.wave, now, rng),
-            reading: 0.0,
+            reading: R::default(),
             phase: Phase::Gathering,
             phase_cycles: 0,
             periods: 0,
@@ -206,8 +216,8 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
         self.wave.stats()
     }
 
-    /// A new (noisy) reading of the quantity X at the agent's position.
-    pub fn handle_reading(&mut self, reading: f32) {
+    /// A new (noisy) reading of the quantity X (or quantities) at the agent's position.
+    pub fn handle_reading(&mut self, reading: R) {
         self.reading = reading;
     }
 
@@ -217,7 +227,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
         &mut self,
         now: Instant,
         bearing: f32,
-        msg: &SimMessage<N>,
+        msg: &SimMessage<N, R>,
         rng: &mut impl RngCore,
     ) -> bool {
         self.handle_timeout(now, rng);
@@ -284,7 +294,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
     }
 
     /// The next message to broadcast to every neighbour in range.
-    pub fn poll_transmit(&mut self) -> Option<SimMessage<N>> {
+    pub fn poll_transmit(&mut self) -> Option<SimMessage<N, R>> {
         self.outbox.pop_front()
     }
 
@@ -294,7 +304,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
     }
 
     /// Puts this agent's own contribution into `m` and queues it.
-    fn send(&mut self, mut m: SimMessage<N>) {
+    fn send(&mut self, mut m: SimMessage<N, R>) {
         match &mut m {
             SimMessage::Readings(r) => {
                 push_evicting(r, self.reading);
@@ -489,6 +499,49 @@ mod tests {
         // Stored: bins 5 ×3, 0 ×3, 1, 2: 2 · 3/8 · log2(8/3) + 2 · 1/8 · 3 = 1.8113 bits.
         assert!((diversity - 1.811_278).abs() < 1e-5, "{diversity}");
         assert_eq!(a.diversity(), diversity);
+    }
+
+    #[test]
+    fn an_agent_of_two_quantities_scores_both() {
+        use crate::diversity::PerQuantity;
+        let mut rng = Pcg32::new(2, 2);
+        let mut a = ThreePhaseAgent::<PerQuantity<Variance, 2>, 8, 4, [f32; 2]>::with_diversity(
+            Params::simulation_2d(),
+            PerQuantity(Variance),
+            Instant::ZERO,
+            &mut rng,
+        )
+        .unwrap();
+        a.handle_reading([0.0, 0.0]);
+        let (east, west) = (0.0, PI);
+        let msg = |xs: &[[f32; 2]]| SimMessage::Readings(Vec::from_slice(xs).unwrap());
+        // East varies in the first quantity (1, 0, 0: variance 2/9), west in the second
+        // (3, 0, 0: variance 2): west is preferred.
+        let t = Instant::from_secs(1);
+        assert!(a.handle_message(t, east, &msg(&[[1.0, 0.0], [0.0, 0.0]]), &mut rng));
+        let t = t + Duration::from_secs(20);
+        assert!(a.handle_message(t, west, &msg(&[[0.0, 3.0], [0.0, 0.0]]), &mut rng));
+        assert_eq!(
+            a.poll_transmit(),
+            Some(msg(&[[1.0, 0.0], [0.0, 0.0], [0.0, 0.0]])),
+            "the first relay carries the own reading"
+        );
+        let diversity = loop {
+            let t = a.poll_timeout();
+            a.handle_timeout(t, &mut rng);
+            while a.poll_transmit().is_some() {}
+            if let Some(SimEvent::Evaluated {
+                preferred,
+                diversity,
+            }) = core::iter::from_fn(|| a.poll_event())
+                .find(|e| matches!(e, SimEvent::Evaluated { .. }))
+            {
+                assert_eq!(preferred, Some(west));
+                break diversity;
+            }
+        };
+        // Stored: first quantity 1, 0, 0, 0, 0, 0 (5/36); second 0, 0, 0, 3, 0, 0 (45/36).
+        assert!((diversity - 50.0 / 36.0).abs() < 1e-5, "{diversity}");
     }
 
     #[test]

@@ -34,6 +34,13 @@
 //!     { from = 0.0, level = 5.0 },
 //! ]
 //!
+//! [[field2]]             # optional, beyond the paper: a second quantity (e.g. oxygen beside
+//! along = "y"            #   light), same format; agents read both (each with its own noise
+//! segments = [           #   draw) and score the sum of the per-quantity diversities
+//!     { from = -inf, level = 0.0 },
+//!     { from = 1.0, level = 5.0 },
+//! ]
+//!
 //! [success]              # kind = "near_x" (|x − x0| < within) or "beyond_x" (x ≥ x0)
 //! kind = "near_x"
 //! x = 0.0
@@ -271,6 +278,10 @@ pub struct Scenario {
     pub description: String,
     /// The mean of X.
     pub field: Field,
+    /// The mean of a second quantity read alongside X (`[[field2]]`, beyond the paper), if
+    /// any: the agents then read both and score the sum of the two quantities' diversities.
+    /// Maps and profiles of the field show X only.
+    pub field2: Option<Field>,
     /// Number of agents.
     pub agents: usize,
     /// The outline the agents are scattered in.
@@ -324,6 +335,7 @@ struct Raw {
     swarm: Option<Spanned<RawSwarm>>,
     protocol: Option<Spanned<RawProtocol>>,
     field: Spanned<Vec<RawLayer>>,
+    field2: Option<Spanned<Vec<RawLayer>>>,
     success: Option<Spanned<RawSuccess>>,
     sweep: Option<Spanned<RawSweep>>,
     grid: Option<Spanned<RawGrid>>,
@@ -524,13 +536,13 @@ impl Ctx<'_> {
     }
 
     /// `[[field]]`: the layers of the field.
-    fn layers(&self, raw: &Raw) -> Result<Vec<Layer>, ScenarioError> {
+    fn layers(&self, field: &Spanned<Vec<RawLayer>>) -> Result<Vec<Layer>, ScenarioError> {
         // Field.
         let mut layers = Vec::new();
-        if raw.field.get_ref().is_empty() {
-            return Err(self.err(raw.field.span(), "the field needs at least one layer"));
+        if field.get_ref().is_empty() {
+            return Err(self.err(field.span(), "the field needs at least one layer"));
         }
-        for l in raw.field.get_ref() {
+        for l in field.get_ref() {
             let along = match (l.along.get_ref().as_str(), &l.centre) {
                 ("x", None) => Along::X,
                 ("y", None) => Along::Y,
@@ -909,7 +921,13 @@ impl Scenario {
             None => Point2::new(-2.5, 0.0),
         };
 
-        let layers = cx.layers(&raw)?;
+        let layers = cx.layers(&raw.field)?;
+        let field2 = match &raw.field2 {
+            Some(f) => Some(Field {
+                layers: cx.layers(f)?,
+            }),
+            None => None,
+        };
         let success = cx.success(&raw)?;
         let sweep = cx.sweep(&raw)?;
         let grid = cx.grid(&raw, &params)?;
@@ -923,6 +941,7 @@ impl Scenario {
             description: raw.description.unwrap_or_else(|| name.clone()),
             name,
             field: Field { layers },
+            field2,
             agents,
             shape,
             run: RunConfig {
@@ -1040,6 +1059,20 @@ mod tests {
             assert!(e.message.contains(says), "{bad}: {e}");
             assert!(e.message.contains("diversity must be"), "{bad}: {e}");
         }
+    }
+
+    #[test]
+    fn a_second_field_is_a_second_quantity() {
+        let base = "[[field]]\nalong = \"x\"\nsegments = [{ from = -inf, level = 0.0 }]\n";
+        assert_eq!(Scenario::from_toml(base, "q.toml").unwrap().field2, None);
+        let two = format!(
+            "{base}[[field2]]\nalong = \"y\"\nsegments = [{{ from = -inf, level = 1.0 }}, {{ from = 2.0, level = 3.0 }}]\n"
+        );
+        let f2 = Scenario::from_toml(&two, "q.toml").unwrap().field2.unwrap();
+        assert_eq!(f2.mean(Point2::new(0.0, 1.0)), 1.0);
+        assert_eq!(f2.mean(Point2::new(0.0, 2.5)), 3.0);
+        let e = err(&format!("field2 = []\n{base}"));
+        assert!(e.message.contains("at least one layer"), "{e}");
     }
 
     #[test]

@@ -16,7 +16,8 @@ use crate::swarm::sensitivity::{Knob, diversity_at};
 
 /// First stage of this section's seeds (clear of the other stages of `reproduce`, which stay
 /// below 200): success uses `STAGE + 10 · field + measure`, the diversity profile
-/// `STAGE + 50 + 10 · measure + point`, the slopes `STAGE + 80 + 2 · slope + measure`.
+/// `STAGE + 50 + 10 · measure + point`, the slopes `STAGE + 80 + 2 · slope + measure`, two
+/// quantities `STAGE + 90 + measure`.
 const STAGE: u64 = 300;
 /// The entropy's bin widths tried for success; [`MAIN_BIN`] is the one of the profile.
 const BINS: [f32; 3] = [0.25, 0.5, 1.0];
@@ -76,6 +77,11 @@ pub(super) struct BeyondSection {
     /// The entropy grew by at most log2 of the slopes' ratio (+ 0.25 bits) while the variance
     /// grew by more than the slopes' ratio.
     entropy_logarithmic: bool,
+    /// Two quantities (light uniform, oxygen the sharp border): per measure, its name and
+    /// success from `x` (rate and mean time).
+    two_rows: Vec<[String; 2]>,
+    /// Per measure: two quantities succeed within 0.15 of the sharp field alone.
+    two_same: Vec<bool>,
 }
 
 /// `scn` with the agents using `m`.
@@ -219,7 +225,30 @@ pub(super) fn run(st: &mut Stage<'_>, fields: [&Scenario; 2]) -> Result<BeyondSe
         &[(line_x, " success line")],
         false,
     )?;
+    // Two quantities: light uniform (no information), oxygen the sharp border.
+    let sharp = fields[0];
+    let mut two = sharp.clone();
+    two.field = crate::swarm::field::Field::default();
+    two.field2 = Some(sharp.field.clone());
+    let two_measures = [Measure::Variance, measures[main_m]];
+    let p = st.start(
+        "beyond the paper: two quantities",
+        two_measures.len() as u64 * u64::from(SENS_RUNS),
+    );
+    let mut two_rows = Vec::new();
+    let mut two_same = Vec::new();
+    for (m, &measure) in two_measures.iter().enumerate() {
+        let s = with(&two, measure);
+        let seed = st.seed(STAGE + 90 + m as u64);
+        let pt = sweep(&s, s.run, &[SENS_X], SENS_RUNS, seed, &p)?[0];
+        let alone = &results[0][if m == 0 { 0 } else { main_m }];
+        two_same.push((pt.success_rate() - alone.success_rate()).abs() <= 0.15);
+        two_rows.push([measure.to_string(), cell(&pt)]);
+    }
+    st.done(&p);
     Ok(BeyondSection {
+        two_rows,
+        two_same,
         runs: SENS_RUNS,
         x: SENS_X.to_string(),
         main_bin: MAIN_BIN.to_string(),

@@ -178,3 +178,55 @@ fn a_scenario_file_with_every_option_runs() {
     assert_eq!(out.periods.len(), 2);
     assert_eq!(out.periods[1].end_s, 2 * 1000);
 }
+
+#[test]
+fn a_scenario_with_the_entropy_as_diversity_runs_and_measures_in_bits() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/examples/gradient-entropy.toml"
+    );
+    let scn = Scenario::load(path).expect("example parses");
+    assert_eq!(scn.run.diversity.kind(), "entropy");
+    let out = experiment::run(&scn, scn.run, Point2::new(2.33, 0.0), 1, 1, false).unwrap();
+    // Bits: above a uniform field's 1 bit (noise over two bins), below log2 of 64 bins.
+    let d = out.periods[0].diversity;
+    assert!((2.0..6.0).contains(&d), "{d}");
+    let variance = experiment::run(
+        &scn,
+        host_sim::sim::RunConfig {
+            diversity: host_sim::swarm::measure::Measure::Variance,
+            ..scn.run
+        },
+        Point2::new(2.33, 0.0),
+        1,
+        1,
+        false,
+    )
+    .unwrap();
+    assert!(variance.periods[0].diversity > 5.0);
+}
+
+#[test]
+fn a_second_quantity_alone_leads_the_swarm_to_its_border() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenarios/examples/two-quantities.toml"
+    );
+    let two = Scenario::load(path).expect("example parses");
+    assert!(two.field2.is_some());
+    let mut light_only = two.clone();
+    light_only.field2 = None;
+    let rate = |scn: &Scenario| {
+        let p = Progress::new(10, "two quantities", true);
+        sweep(scn, scn.run, &[-1.5], 10, 7, &p).unwrap()[0].success_rate()
+    };
+    // Oxygen's border is found as the sharp scenario's is; light alone gives nothing to find.
+    let (both, one) = (rate(&two), rate(&light_only));
+    assert!(both >= 0.8, "{both}");
+    assert!(one <= 0.5, "{one}");
+    // The entropy scores two quantities as well.
+    let mut entropy = two.clone();
+    entropy.run.diversity = host_sim::swarm::measure::Measure::entropy(0.5).unwrap();
+    let e = rate(&entropy);
+    assert!(e >= 0.8, "{e}");
+}

@@ -48,7 +48,7 @@ pub mod weights;
 
 pub use auth::{KeyError, SwarmKey};
 pub use direction::{MAX_SECTORS, Sector};
-pub use diversity::{Diversity, Variance};
+pub use diversity::{Diversity, Entropy, PerQuantity, Variance};
 #[cfg(feature = "keyed")]
 pub use frame::encode_keyed;
 pub use frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode};

@@ -19,7 +19,7 @@ use heapless::{Deque, Vec};
 use rand_core::RngCore;
 
 use crate::direction::{turn_toward, wrap_positive};
-use crate::diversity::{Diversity, Moments, Variance};
+use crate::diversity::{Diversity, Pool, Variance};
 use crate::message::push_evicting;
 use crate::params::{ParamError, Params};
 use crate::time::Instant;
@@ -39,12 +39,13 @@ pub enum Phase {
     Deciding,
 }
 
-/// A message of the three-phase variant, up to `N` readings long. In memory only: the 2D
-/// simulator hands messages to neighbours directly.
+/// A message of the three-phase variant, up to `N` readings of type `R` long (`f32`: one
+/// quantity; `[f32; K]`: K quantities at once). In memory only: the 2D simulator hands messages
+/// to neighbours directly.
 #[derive(Clone, Debug, PartialEq)]
-pub enum SimMessage<const N: usize> {
+pub enum SimMessage<const N: usize, R = f32> {
     /// Gathering: the readings along the wave's path, oldest first (full: oldest dropped).
-    Readings(Vec<f32, N>),
+    Readings(Vec<R, N>),
     /// Deciding: the sender's preferred bearing in radians, if it has one.
     Opinion(Option<f32>),
 }
@@ -59,7 +60,7 @@ pub enum SimEvent {
     Evaluated {
         /// Preferred bearing, radians in `[0, 2π)`.
         preferred: Option<f32>,
-        /// Variance of every reading in every stored message.
+        /// The measure over every reading in every stored message ([`Diversity::Pool`]).
         diversity: f32,
     },
     /// The negotiation period ended; the agent's decision is its preferred bearing.
@@ -93,24 +94,31 @@ fn key(bearing: f32) -> BearingKey {
     if b.is_nan() { u32::MAX } else { b.to_bits() }
 }
 
-/// One agent of the 2D simulations. `N` readings per message, `S` distinct bearings per period.
-/// Sans-IO, with the same call order as [`crate::fused::FusedNode`].
+/// One agent of the 2D simulations. `N` readings per message, `S` distinct bearings per period,
+/// readings of type `R` (one quantity, `f32`, unless a [`crate::diversity::PerQuantity`]
+/// measure scores several at once). Sans-IO, with the same call order as
+/// [`crate::fused::FusedNode`].
 #[derive(Clone, Debug)]
-pub struct ThreePhaseAgent<D: Diversity = Variance, const N: usize = 32, const S: usize = 16> {
+pub struct ThreePhaseAgent<
+    D: Diversity<R> = Variance,
+    const N: usize = 32,
+    const S: usize = 16,
+    R: Copy + Default = f32,
+> {
     params: Params,
     diversity: D,
     wave: WaveNode,
-    reading: f32,
+    reading: R,
     phase: Phase,
     phase_cycles: u16,
     periods: u32,
     weights: DirectionWeights<BearingKey, S>,
-    stored: Moments,
+    stored: D::Pool,
     last_diversity: f32,
     preferred: Option<f32>,
     decision: Option<f32>,
-    pending: Option<SimMessage<N>>,
-    outbox: Deque<SimMessage<N>, OUTBOX>,
+    pending: Option<SimMessage<N, R>>,
+    outbox: Deque<SimMessage<N, R>, OUTBOX>,
     events: Deque<SimEvent, EVENT_QUEUE>,
     stats: AgentStats,
 }
@@ -125,7 +133,9 @@ impl<const N: usize, const S: usize> ThreePhaseAgent<Variance, N, S> {
     }
 }
 
-impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
+impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
+    ThreePhaseAgent<D, N, S, R>
+{
     /// An agent with a custom diversity measure.
     ///
     /// # Errors
@@ -137,16 +147,17 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
         rng: &mut impl RngCore,
     ) -> Result<Self, ParamError> {
         params.validate()?;
+        let stored = diversity.pool();
         Ok(ThreePhaseAgent {
             params,
             diversity,
             wave: WaveNode::new(params.wave, now, rng),
-            reading: 0.0,
+            reading: R::default(),
             phase: Phase::Gathering,
             phase_cycles: 0,
             periods: 0,
             weights: DirectionWeights::default(),
-            stored: Moments::default(),
+            stored,
             last_diversity: 0.0,
             preferred: None,
             decision: None,
@@ -205,8 +216,8 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
         self.wave.stats()
     }
 
-    /// A new (noisy) reading of the quantity X at the agent's position.
-    pub fn handle_reading(&mut self, reading: f32) {
+    /// A new (noisy) reading of the quantity X (or quantities) at the agent's position.
+    pub fn handle_reading(&mut self, reading: R) {
         self.reading = reading;
     }
 
@@ -216,7 +227,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
         &mut self,
         now: Instant,
         bearing: f32,
-        msg: &SimMessage<N>,
+        msg: &SimMessage<N, R>,
         rng: &mut impl RngCore,
     ) -> bool {
         self.handle_timeout(now, rng);
@@ -240,10 +251,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
                 if !self.weights.add(key(bearing), v) {
                     self.stats.slots_full = self.stats.slots_full.wrapping_add(1);
                 }
-                r.iter()
-                    .copied()
-                    .chain(own)
-                    .for_each(|x| self.stored.push(x));
+                self.stored.push_all(r.iter().copied().chain(own));
             }
             SimMessage::Opinion(Some(o)) if o.is_finite() => {
                 self.preferred = Some(match self.preferred {
@@ -286,7 +294,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
     }
 
     /// The next message to broadcast to every neighbour in range.
-    pub fn poll_transmit(&mut self) -> Option<SimMessage<N>> {
+    pub fn poll_transmit(&mut self) -> Option<SimMessage<N, R>> {
         self.outbox.pop_front()
     }
 
@@ -296,7 +304,7 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
     }
 
     /// Puts this agent's own contribution into `m` and queues it.
-    fn send(&mut self, mut m: SimMessage<N>) {
+    fn send(&mut self, mut m: SimMessage<N, R>) {
         match &mut m {
             SimMessage::Readings(r) => {
                 push_evicting(r, self.reading);
@@ -321,9 +329,9 @@ impl<D: Diversity, const N: usize, const S: usize> ThreePhaseAgent<D, N, S> {
                     .heaviest()
                     .map(f32::from_bits)
                     .filter(|b| b.is_finite());
-                self.last_diversity = self.stored.variance();
+                self.last_diversity = self.stored.value();
                 self.weights.clear();
-                self.stored = Moments::default();
+                self.stored = self.diversity.pool();
                 self.push_event(SimEvent::Evaluated {
                     preferred: self.preferred,
                     diversity: self.last_diversity,
@@ -452,6 +460,88 @@ mod tests {
         );
         assert_eq!(a.phase(), Phase::Gathering);
         assert_eq!(a.stats().wrong_phase, 1);
+    }
+
+    #[test]
+    fn an_entropy_agent_prefers_the_most_varied_bins_and_pools_them() {
+        use crate::diversity::Entropy;
+        let mut rng = Pcg32::new(2, 2);
+        let params = Params::simulation_2d();
+        let mut a = ThreePhaseAgent::<Entropy, 8, 4>::with_diversity(
+            params,
+            Entropy { bin: 1.0 },
+            Instant::ZERO,
+            &mut rng,
+        )
+        .unwrap();
+        a.handle_reading(0.0);
+        let (east, west) = (0.0, PI);
+        let t = Instant::from_secs(1);
+        // East: 5, 5, 5 and the own 0: 0.811 bits. West 20 s later: 0, 1, 2, 0: 1.5 bits.
+        // The variance would prefer east (4.69 against 0.69).
+        assert!(a.handle_message(t, east, &readings(&[5.0, 5.0, 5.0]), &mut rng));
+        let t = t + Duration::from_secs(20);
+        assert!(a.handle_message(t, west, &readings(&[0.0, 1.0, 2.0]), &mut rng));
+        let (preferred, diversity) = loop {
+            let t = a.poll_timeout();
+            a.handle_timeout(t, &mut rng);
+            while a.poll_transmit().is_some() {}
+            if let Some(SimEvent::Evaluated {
+                preferred,
+                diversity,
+            }) = core::iter::from_fn(|| a.poll_event())
+                .find(|e| matches!(e, SimEvent::Evaluated { .. }))
+            {
+                break (preferred, diversity);
+            }
+        };
+        assert_eq!(preferred, Some(west));
+        // Stored: bins 5 ×3, 0 ×3, 1, 2: 2 · 3/8 · log2(8/3) + 2 · 1/8 · 3 = 1.8113 bits.
+        assert!((diversity - 1.811_278).abs() < 1e-5, "{diversity}");
+        assert_eq!(a.diversity(), diversity);
+    }
+
+    #[test]
+    fn an_agent_of_two_quantities_scores_both() {
+        use crate::diversity::PerQuantity;
+        let mut rng = Pcg32::new(2, 2);
+        let mut a = ThreePhaseAgent::<PerQuantity<Variance, 2>, 8, 4, [f32; 2]>::with_diversity(
+            Params::simulation_2d(),
+            PerQuantity(Variance),
+            Instant::ZERO,
+            &mut rng,
+        )
+        .unwrap();
+        a.handle_reading([0.0, 0.0]);
+        let (east, west) = (0.0, PI);
+        let msg = |xs: &[[f32; 2]]| SimMessage::Readings(Vec::from_slice(xs).unwrap());
+        // East varies in the first quantity (1, 0, 0: variance 2/9), west in the second
+        // (3, 0, 0: variance 2): west is preferred.
+        let t = Instant::from_secs(1);
+        assert!(a.handle_message(t, east, &msg(&[[1.0, 0.0], [0.0, 0.0]]), &mut rng));
+        let t = t + Duration::from_secs(20);
+        assert!(a.handle_message(t, west, &msg(&[[0.0, 3.0], [0.0, 0.0]]), &mut rng));
+        assert_eq!(
+            a.poll_transmit(),
+            Some(msg(&[[1.0, 0.0], [0.0, 0.0], [0.0, 0.0]])),
+            "the first relay carries the own reading"
+        );
+        let diversity = loop {
+            let t = a.poll_timeout();
+            a.handle_timeout(t, &mut rng);
+            while a.poll_transmit().is_some() {}
+            if let Some(SimEvent::Evaluated {
+                preferred,
+                diversity,
+            }) = core::iter::from_fn(|| a.poll_event())
+                .find(|e| matches!(e, SimEvent::Evaluated { .. }))
+            {
+                assert_eq!(preferred, Some(west));
+                break diversity;
+            }
+        };
+        // Stored: first quantity 1, 0, 0, 0, 0, 0 (5/36); second 0, 0, 0, 3, 0, 0 (45/36).
+        assert!((diversity - 50.0 / 36.0).abs() < 1e-5, "{diversity}");
     }
 
     #[test]

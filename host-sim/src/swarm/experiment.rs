@@ -13,7 +13,7 @@ pub use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::swarm::geometry::Swarm;
 use crate::swarm::scenario::{GridSpec, Scenario, Success};
-use crate::swarm::sim::{Period, RunConfig, Sim};
+use crate::swarm::sim::{Period, RunConfig, Sim, SimError};
 
 /// Any failure of an experiment (parameters that do not validate, a swarm that cannot be placed).
 pub type Error = Box<dyn std::error::Error + Send + Sync>;
@@ -67,7 +67,7 @@ pub fn run(
     }
     let mut periods_out = Vec::with_capacity(periods as usize);
     {
-        let mut sim = Sim::new(&out.swarm, &scn.field, cfg, start, seed)?;
+        let mut sim = AnySim::new(&out.swarm, scn, cfg, start, seed)?;
         for _ in 0..periods {
             let p = sim.run_period()?;
             periods_out.push(p);
@@ -81,6 +81,70 @@ pub fn run(
     }
     out.periods = periods_out;
     Ok(out)
+}
+
+/// The simulation of a scenario: one quantity (the paper), or two when it has a `[[field2]]`.
+enum AnySim<'a> {
+    One(Sim<'a, f32>),
+    Two(Sim<'a, [f32; 2]>),
+}
+
+impl<'a> AnySim<'a> {
+    fn new(
+        swarm: &'a Swarm,
+        scn: &'a Scenario,
+        cfg: RunConfig,
+        start: Point2<f64>,
+        seed: u64,
+    ) -> Result<Self, SimError> {
+        Ok(match &scn.field2 {
+            None => AnySim::One(Sim::new(swarm, &scn.field, cfg, start, seed)?),
+            Some(f2) => AnySim::Two(Sim::with_fields(
+                swarm,
+                vec![&scn.field, f2],
+                cfg,
+                start,
+                seed,
+            )?),
+        })
+    }
+
+    fn run_period(&mut self) -> Result<Period, SimError> {
+        match self {
+            AnySim::One(s) => s.run_period(),
+            AnySim::Two(s) => s.run_period(),
+        }
+    }
+
+    fn run_until(&mut self, t: u64) -> u64 {
+        match self {
+            AnySim::One(s) => s.run_until(t),
+            AnySim::Two(s) => s.run_until(t),
+        }
+    }
+
+    fn calls(&self) -> u64 {
+        match self {
+            AnySim::One(s) => s.calls(),
+            AnySim::Two(s) => s.calls(),
+        }
+    }
+
+    /// Messages the agents accepted (scored or diffused), summed.
+    fn accepted(&self) -> u64 {
+        match self {
+            AnySim::One(s) => s
+                .agents()
+                .iter()
+                .map(|a| u64::from(a.stats().accepted))
+                .sum(),
+            AnySim::Two(s) => s
+                .agents()
+                .iter()
+                .map(|a| u64::from(a.stats().accepted))
+                .sum(),
+        }
+    }
 }
 
 /// Success statistics at one initial position.
@@ -312,14 +376,10 @@ pub fn waves_heard(scn: &Scenario, cfg: RunConfig, runs: u32, seed: u64) -> Resu
         .map(|r| {
             let s = derive(seed, &[u64::from(r)]);
             let swarm = place(scn, scn.agents, s)?;
-            let mut sim = Sim::new(&swarm, &scn.field, cfg, scn.start, s)?;
+            let mut sim = AnySim::new(&swarm, scn, cfg, scn.start, s)?;
             let cycle = cfg.params.wave.cycle.as_millis() / 1000;
             sim.run_until(cycle);
-            let heard: u64 = sim
-                .agents()
-                .iter()
-                .map(|a| u64::from(a.stats().accepted))
-                .sum();
+            let heard = sim.accepted();
             Ok(heard as f64 / swarm.len().max(1) as f64)
         })
         .collect::<Result<_, Error>>()?;
@@ -360,7 +420,7 @@ pub fn bench(scn: &Scenario, agents: usize, seed: u64) -> Result<BenchResult, Er
     let swarm = place(scn, agents, seed)?;
     let place_s = t0.elapsed().as_secs_f64();
     let t1 = std::time::Instant::now();
-    let mut sim = Sim::new(&swarm, &scn.field, scn.run, scn.start, seed)?;
+    let mut sim = AnySim::new(&swarm, scn, scn.run, scn.start, seed)?;
     sim.run_period()?;
     Ok(BenchResult {
         agents,

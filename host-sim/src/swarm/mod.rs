@@ -7,6 +7,7 @@ pub mod experiment;
 /// The environment's fields, shared with the emulated arena (they live in `hal-emu`).
 pub use hal_emu::field;
 pub mod geometry;
+pub mod measure;
 pub mod reproduce;
 pub mod scenario;
 pub mod sensitivity;

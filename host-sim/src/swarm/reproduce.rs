@@ -30,6 +30,7 @@ use crate::swarm::sensitivity::{
 };
 use crate::swarm::timecourse::{TimeCourse, time_course};
 
+mod beyond;
 mod caption_cloud;
 pub mod marks;
 mod verdicts;
@@ -227,6 +228,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
     let p = st.start("shapes on a random field", runs_n);
     let shapes = crate::swarm::shapes::reproduce(&st.figs, sharp.run, st.seed(200), &p)?;
     st.done(&p);
+    let beyond = beyond::run(&mut st, [&sharp, &gradient])?;
     let p = st.start("one wave (Fig. 2)", 1);
     let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(95))?;
     st.done(&p);
@@ -260,6 +262,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         courses: &courses,
         sensitivity: &sensitivity,
         shapes: &shapes,
+        beyond: &beyond,
         cycle_rows: &cycle_rows,
         cycle_runs: CYCLE_RUNS,
         waves,
@@ -941,6 +944,8 @@ struct Report<'a> {
     sensitivity: &'a SensitivitySection,
     /// The discussion's line and cross on a random field.
     shapes: &'a crate::swarm::shapes::ShapesSection,
+    /// Entropy instead of variance (beyond the paper).
+    beyond: &'a beyond::BeyondSection,
     cycle_rows: &'a [CycleRow],
     cycle_runs: u32,
     waves: crate::swarm::waves::WavesSection,
@@ -962,6 +967,7 @@ struct Page<'a> {
     course: CourseSection,
     sensitivity: &'a SensitivitySection,
     shapes: &'a crate::swarm::shapes::ShapesSection,
+    beyond: &'a beyond::BeyondSection,
     speed: SpeedSection,
     waves: crate::swarm::waves::WavesSection,
     names: [String; 3],
@@ -1517,6 +1523,7 @@ fn page<'a>(r: &Report<'a>) -> Page<'a> {
         course: course_section(r),
         sensitivity: r.sensitivity,
         shapes: r.shapes,
+        beyond: r.beyond,
         speed: speed_section(r),
         waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),

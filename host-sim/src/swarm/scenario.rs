@@ -11,6 +11,8 @@
 //! step = 0.33            # move per negotiation period, in R (R = 1)
 //! periods = 50           # negotiation periods per run
 //! start = [-2.5, 0.0]    # centre of mass for `swarm run`
+//! diversity = "variance" # the paper's measure; or { kind = "entropy", bin = 0.5 }: Shannon
+//!                        #   entropy (bits) of the readings binned at width `bin` (beyond the paper)
 //!
 //! [swarm]
 //! agents = 61
@@ -30,6 +32,13 @@
 //! segments = [           # from `from` on: level + slope · (s − from); sorted by `from`
 //!     { from = -inf, level = 0.0 },
 //!     { from = 0.0, level = 5.0 },
+//! ]
+//!
+//! [[field2]]             # optional, beyond the paper: a second quantity (e.g. oxygen beside
+//! along = "y"            #   light), same format; agents read both (each with its own noise
+//! segments = [           #   draw) and score the sum of the per-quantity diversities
+//!     { from = -inf, level = 0.0 },
+//!     { from = 1.0, level = 5.0 },
 //! ]
 //!
 //! [success]              # kind = "near_x" (|x − x0| < within) or "beyond_x" (x ≥ x0)
@@ -78,6 +87,7 @@ use toml::Spanned;
 
 use crate::swarm::field::{Along, Field, Layer, Segment};
 use crate::swarm::geometry::Shape;
+use crate::swarm::measure::Measure;
 pub use crate::swarm::sim::MAX_PERIOD_SECS;
 use crate::swarm::sim::{RunConfig, SimError};
 
@@ -268,6 +278,10 @@ pub struct Scenario {
     pub description: String,
     /// The mean of X.
     pub field: Field,
+    /// The mean of a second quantity read alongside X (`[[field2]]`, beyond the paper), if
+    /// any: the agents then read both and score the sum of the two quantities' diversities.
+    /// Maps and profiles of the field show X only.
+    pub field2: Option<Field>,
     /// Number of agents.
     pub agents: usize,
     /// The outline the agents are scattered in.
@@ -317,9 +331,11 @@ struct Raw {
     step: Option<Spanned<f64>>,
     periods: Option<Spanned<u32>>,
     start: Option<Spanned<[f64; 2]>>,
+    diversity: Option<Spanned<toml::Value>>,
     swarm: Option<Spanned<RawSwarm>>,
     protocol: Option<Spanned<RawProtocol>>,
     field: Spanned<Vec<RawLayer>>,
+    field2: Option<Spanned<Vec<RawLayer>>>,
     success: Option<Spanned<RawSuccess>>,
     sweep: Option<Spanned<RawSweep>>,
     grid: Option<Spanned<RawGrid>>,
@@ -520,13 +536,13 @@ impl Ctx<'_> {
     }
 
     /// `[[field]]`: the layers of the field.
-    fn layers(&self, raw: &Raw) -> Result<Vec<Layer>, ScenarioError> {
+    fn layers(&self, field: &Spanned<Vec<RawLayer>>) -> Result<Vec<Layer>, ScenarioError> {
         // Field.
         let mut layers = Vec::new();
-        if raw.field.get_ref().is_empty() {
-            return Err(self.err(raw.field.span(), "the field needs at least one layer"));
+        if field.get_ref().is_empty() {
+            return Err(self.err(field.span(), "the field needs at least one layer"));
         }
-        for l in raw.field.get_ref() {
+        for l in field.get_ref() {
             let along = match (l.along.get_ref().as_str(), &l.centre) {
                 ("x", None) => Along::X,
                 ("y", None) => Along::Y,
@@ -711,6 +727,52 @@ impl Ctx<'_> {
         }
     }
 
+    /// `diversity`: `"variance"`, `{ kind = "variance" }` or `{ kind = "entropy", bin = b }`
+    /// with `b` finite and `> 0`.
+    fn diversity(&self, raw: &Raw) -> Result<Measure, ScenarioError> {
+        const FORMS: &str =
+            "diversity must be \"variance\" or { kind = \"entropy\", bin = 0.5 } (bin > 0)";
+        let Some(v) = &raw.diversity else {
+            return Ok(Measure::Variance);
+        };
+        let bad = |why: String| Err(self.err(v.span(), format!("{why}; {FORMS}")));
+        match v.get_ref() {
+            toml::Value::String(s) if s == "variance" => Ok(Measure::Variance),
+            toml::Value::String(s) if s == "entropy" => {
+                bad("diversity = \"entropy\" needs a bin width".into())
+            }
+            toml::Value::String(s) => bad(format!("unknown diversity {s:?}")),
+            toml::Value::Table(t) => {
+                if let Some(k) = t.keys().find(|k| !matches!(k.as_str(), "kind" | "bin")) {
+                    return bad(format!("unknown key diversity.{k}"));
+                }
+                let bin = match t.get("bin") {
+                    None => None,
+                    Some(toml::Value::Float(b)) => Some(*b),
+                    Some(toml::Value::Integer(b)) => Some(*b as f64),
+                    Some(b) => return bad(format!("diversity.bin = {b} is not a number")),
+                };
+                match (t.get("kind").and_then(toml::Value::as_str), bin) {
+                    (Some("variance"), None) => Ok(Measure::Variance),
+                    (Some("variance"), Some(_)) => {
+                        bad("diversity.bin is only for kind = \"entropy\"".into())
+                    }
+                    (Some("entropy"), Some(b)) => match Measure::entropy(b as f32) {
+                        Some(m) if b.is_finite() && b <= f64::from(f32::MAX) => Ok(m),
+                        _ => bad(format!(
+                            "diversity.bin = {} must be a positive number",
+                            num(b)
+                        )),
+                    },
+                    (Some("entropy"), None) => bad("diversity.bin is missing".into()),
+                    (Some(k), _) => bad(format!("unknown diversity.kind {k:?}")),
+                    (None, _) => bad("diversity.kind is missing".into()),
+                }
+            }
+            other => bad(format!("diversity = {other} is neither a name nor a table")),
+        }
+    }
+
     fn finite(&self, v: &Spanned<f64>, what: &str) -> Result<f64, ScenarioError> {
         let x = *v.get_ref();
         if x.is_finite() {
@@ -740,6 +802,7 @@ fn period_fits(params: &Params) -> Result<(), String> {
         params: *params,
         step: 0.33,
         noise: 1.0,
+        diversity: Measure::Variance,
     };
     match run.check() {
         Err(SimError::PeriodTooLong {
@@ -831,6 +894,7 @@ impl Scenario {
 
         let (agents, shape) = cx.swarm(&raw)?;
         let params = cx.protocol(&raw)?;
+        let diversity = cx.diversity(&raw)?;
 
         let noise = match &raw.noise {
             Some(v) if *v.get_ref() == 0.0 => 0.0,
@@ -857,7 +921,13 @@ impl Scenario {
             None => Point2::new(-2.5, 0.0),
         };
 
-        let layers = cx.layers(&raw)?;
+        let layers = cx.layers(&raw.field)?;
+        let field2 = match &raw.field2 {
+            Some(f) => Some(Field {
+                layers: cx.layers(f)?,
+            }),
+            None => None,
+        };
         let success = cx.success(&raw)?;
         let sweep = cx.sweep(&raw)?;
         let grid = cx.grid(&raw, &params)?;
@@ -871,12 +941,14 @@ impl Scenario {
             description: raw.description.unwrap_or_else(|| name.clone()),
             name,
             field: Field { layers },
+            field2,
             agents,
             shape,
             run: RunConfig {
                 params,
                 step,
                 noise,
+                diversity,
             },
             periods,
             start,
@@ -936,6 +1008,71 @@ mod tests {
         assert_eq!(c.field.mean(Point2::new(2.0, 2.0)), 0.0);
         assert!((c.field.mean(Point2::new(0.0, 3.75)) - 2.5).abs() < 1e-9);
         assert_eq!(c.field.mean(Point2::new(-8.0, 0.0)), 5.0);
+    }
+
+    #[test]
+    fn the_diversity_key_picks_the_measure_and_names_itself_when_wrong() {
+        let base = "[[field]]\nalong = \"x\"\nsegments = [{ from = -inf, level = 0.0 }]\n";
+        let with = |d: &str| format!("diversity = {d}\n{base}");
+        let ok = |d: &str| {
+            Scenario::from_toml(&with(d), "d.toml")
+                .unwrap()
+                .run
+                .diversity
+        };
+        assert_eq!(
+            Scenario::from_toml(base, "d.toml").unwrap().run.diversity,
+            Measure::Variance
+        );
+        assert_eq!(ok("\"variance\""), Measure::Variance);
+        assert_eq!(ok("{ kind = \"variance\" }"), Measure::Variance);
+        assert_eq!(
+            ok("{ kind = \"entropy\", bin = 0.5 }"),
+            Measure::entropy(0.5).unwrap()
+        );
+        assert_eq!(
+            ok("{ kind = \"entropy\", bin = 2 }"),
+            Measure::entropy(2.0).unwrap()
+        );
+        for (bad, says) in [
+            ("\"entropy\"", "needs a bin width"),
+            ("\"gini\"", "unknown diversity \"gini\""),
+            ("{ kind = \"entropy\" }", "diversity.bin is missing"),
+            (
+                "{ kind = \"entropy\", bin = 0.0 }",
+                "diversity.bin = 0 must be a positive",
+            ),
+            ("{ kind = \"entropy\", bin = -1.0 }", "must be a positive"),
+            ("{ kind = \"entropy\", bin = nan }", "must be a positive"),
+            ("{ kind = \"entropy\", bin = 1e300 }", "must be a positive"),
+            ("{ kind = \"entropy\", bin = \"x\" }", "is not a number"),
+            ("{ kind = \"variance\", bin = 1.0 }", "only for kind"),
+            ("{ bin = 1.0 }", "diversity.kind is missing"),
+            (
+                "{ kind = \"entropy\", bin = 1.0, width = 2 }",
+                "unknown key diversity.width",
+            ),
+            ("3", "neither a name nor a table"),
+        ] {
+            let e = err(&with(bad));
+            assert_eq!(e.at.map(|a| a.0), Some(1), "{bad}: {e}");
+            assert!(e.message.contains(says), "{bad}: {e}");
+            assert!(e.message.contains("diversity must be"), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_second_field_is_a_second_quantity() {
+        let base = "[[field]]\nalong = \"x\"\nsegments = [{ from = -inf, level = 0.0 }]\n";
+        assert_eq!(Scenario::from_toml(base, "q.toml").unwrap().field2, None);
+        let two = format!(
+            "{base}[[field2]]\nalong = \"y\"\nsegments = [{{ from = -inf, level = 1.0 }}, {{ from = 2.0, level = 3.0 }}]\n"
+        );
+        let f2 = Scenario::from_toml(&two, "q.toml").unwrap().field2.unwrap();
+        assert_eq!(f2.mean(Point2::new(0.0, 1.0)), 1.0);
+        assert_eq!(f2.mean(Point2::new(0.0, 2.5)), 3.0);
+        let e = err(&format!("field2 = []\n{base}"));
+        assert!(e.message.contains("at least one layer"), "{e}");
     }
 
     #[test]

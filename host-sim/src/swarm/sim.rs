@@ -30,19 +30,72 @@ use std::fmt;
 
 use nalgebra::{Point2, Vector2};
 use protocol::three_phase::{SimMessage, ThreePhaseAgent};
+use protocol::{Diversity, PerQuantity};
 use protocol::{Instant, ParamError, Params, WaveState};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
 use crate::swarm::field::Field;
 use crate::swarm::geometry::Swarm;
+use crate::swarm::measure::Measure;
 
-/// The agent the simulator steps: variance as the diversity, up to 32 readings per message, up
-/// to 16 distinct bearings per period.
-pub type Agent = ThreePhaseAgent;
+/// The agent the simulator steps: the run's [`Measure`] as the diversity (the variance unless
+/// the scenario says otherwise), up to 32 readings per message, up to 16 distinct bearings per
+/// period, one quantity per reading.
+pub type Agent = AgentOf<f32>;
+
+/// The agent of a run whose readings are `R` (one quantity or several).
+pub type AgentOf<R> = ThreePhaseAgent<<R as Reading>::Measure, 32, 16, R>;
 
 /// A message between agents.
 pub type Message = SimMessage<32>;
+
+/// What an agent reads: one quantity (`f32`, the paper) or two at once (`[f32; 2]`, beyond
+/// the paper: a scenario with `[[field2]]`), and the measure that scores it.
+pub trait Reading: Copy + Default + fmt::Debug + PartialEq + Send + Sync + 'static {
+    /// Quantities per reading: the fields a run needs.
+    const QUANTITIES: usize;
+    /// The agents' diversity for readings of this type.
+    type Measure: Diversity<Self> + Clone + fmt::Debug + Send + Sync;
+    /// The diversity for the run's [`Measure`]: the measure itself for one quantity, the sum
+    /// over the quantities of it ([`PerQuantity`]) for several.
+    fn measure(m: Measure) -> Self::Measure;
+    /// A noisy reading from the fields' means at the agent (`QUANTITIES` values): each
+    /// quantity gets its own noise draw, in order.
+    fn sample(means: &[f64], noise: f64, rng: &mut Pcg64Mcg) -> Self;
+}
+
+impl Reading for f32 {
+    const QUANTITIES: usize = 1;
+    type Measure = Measure;
+
+    fn measure(m: Measure) -> Measure {
+        m
+    }
+
+    #[inline]
+    fn sample(means: &[f64], noise: f64, rng: &mut Pcg64Mcg) -> f32 {
+        let xi = noise * (rng.random::<f64>() - 0.5);
+        (means[0] + xi) as f32
+    }
+}
+
+impl Reading for [f32; 2] {
+    const QUANTITIES: usize = 2;
+    type Measure = PerQuantity<Measure, 2>;
+
+    fn measure(m: Measure) -> Self::Measure {
+        PerQuantity(m)
+    }
+
+    #[inline]
+    fn sample(means: &[f64], noise: f64, rng: &mut Pcg64Mcg) -> [f32; 2] {
+        [
+            f32::sample(&means[..1], noise, rng),
+            f32::sample(&means[1..2], noise, rng),
+        ]
+    }
+}
 
 /// What a run needs besides the geometry and the field.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,6 +106,8 @@ pub struct RunConfig {
     pub step: f64,
     /// Width of the noise: ξ uniform in `(−noise/2, noise/2)` (the paper: 1).
     pub noise: f64,
+    /// The agents' diversity measure (the paper: the variance).
+    pub diversity: Measure,
 }
 
 /// The longest negotiation period a run accepts, in seconds (11.6 days; the paper's period is
@@ -78,6 +133,13 @@ pub enum SimError {
     },
     /// The run has counted `u32::MAX` periods: it cannot count another.
     TooManyPeriods,
+    /// The run's readings need this many fields (quantities) but were given another number.
+    Fields {
+        /// Fields needed.
+        needed: usize,
+        /// Fields given.
+        given: usize,
+    },
 }
 
 impl fmt::Display for SimError {
@@ -100,6 +162,12 @@ impl fmt::Display for SimError {
             }
             SimError::TooManyPeriods => {
                 write!(f, "a run cannot count more than {} periods", u32::MAX)
+            }
+            SimError::Fields { needed, given } => {
+                write!(
+                    f,
+                    "a run of {needed} quantities needs {needed} fields, not {given}"
+                )
             }
         }
     }
@@ -169,11 +237,12 @@ pub struct Period {
 }
 
 /// One run of the simulation: the agents, where the swarm is and the clock.
-pub struct Sim<'a> {
+pub struct Sim<'a, R: Reading = f32> {
     swarm: &'a Swarm,
-    field: &'a Field,
+    /// One field per quantity of `R`.
+    fields: Vec<&'a Field>,
     cfg: RunConfig,
-    agents: Vec<Agent>,
+    agents: Vec<AgentOf<R>>,
     centre: Point2<f64>,
     periods: u32,
     queue: Calendar,
@@ -184,10 +253,11 @@ pub struct Sim<'a> {
     proto_rng: Pcg64Mcg,
     noise_rng: Pcg64Mcg,
     due: Vec<u32>,
-    tx: Vec<(u32, Message)>,
+    tx: Vec<(u32, SimMessage<32, R>)>,
     calls: u64,
-    /// The field's mean at every agent's position: positions change only when the swarm
-    /// moves, so the field is evaluated once per agent and period, not once per reading.
+    /// The fields' means at every agent's position (agent-major, `R::QUANTITIES` per agent):
+    /// positions change only when the swarm moves, so the fields are evaluated once per agent
+    /// and period, not once per reading.
     means: Vec<f64>,
 }
 
@@ -291,17 +361,45 @@ impl<'a> Sim<'a> {
         centre: Point2<f64>,
         seed: u64,
     ) -> Result<Self, SimError> {
+        Sim::with_fields(swarm, vec![field], cfg, centre, seed)
+    }
+}
+
+impl<'a, R: Reading> Sim<'a, R> {
+    /// [`Sim::new`] for readings of `R::QUANTITIES` quantities, one field each (the first is
+    /// X, sampled first at every reading).
+    ///
+    /// # Errors
+    /// As [`Sim::new`], and [`SimError::Fields`] unless `fields` has one field per quantity.
+    pub fn with_fields(
+        swarm: &'a Swarm,
+        fields: Vec<&'a Field>,
+        cfg: RunConfig,
+        centre: Point2<f64>,
+        seed: u64,
+    ) -> Result<Self, SimError> {
+        if fields.len() != R::QUANTITIES {
+            return Err(SimError::Fields {
+                needed: R::QUANTITIES,
+                given: fields.len(),
+            });
+        }
         cfg.check()?;
         let mut proto_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[1]));
         let noise_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[2]));
         let n = swarm.len();
         let mut agents = Vec::with_capacity(n);
         for _ in 0..n {
-            agents.push(Agent::new(cfg.params, Instant::ZERO, &mut proto_rng)?);
+            agents.push(AgentOf::<R>::with_diversity(
+                cfg.params,
+                R::measure(cfg.diversity),
+                Instant::ZERO,
+                &mut proto_rng,
+            )?);
         }
         let mut sim = Sim {
             swarm,
-            field,
+            fields,
             cfg,
             agents,
             centre,
@@ -314,7 +412,7 @@ impl<'a> Sim<'a> {
             due: Vec::new(),
             tx: Vec::new(),
             calls: 0,
-            means: Vec::with_capacity(n),
+            means: Vec::with_capacity(n * R::QUANTITIES),
         };
         sim.place_means();
         for i in 0..n {
@@ -334,7 +432,7 @@ impl<'a> Sim<'a> {
     }
 
     /// The agents, by index.
-    pub fn agents(&self) -> &[Agent] {
+    pub fn agents(&self) -> &[AgentOf<R>] {
         &self.agents
     }
 
@@ -361,16 +459,23 @@ impl<'a> Sim<'a> {
 
     /// Evaluates the field at every agent's position (after the swarm moved).
     fn place_means(&mut self) {
-        let (swarm, field, centre) = (self.swarm, self.field, self.centre);
+        let (swarm, centre) = (self.swarm, self.centre);
         self.means.clear();
-        self.means
-            .extend((0..swarm.len()).map(|i| field.mean(swarm.position(i, centre))));
+        for i in 0..swarm.len() {
+            let at = swarm.position(i, centre);
+            self.means.extend(self.fields.iter().map(|f| f.mean(at)));
+        }
     }
 
     /// A fresh reading for agent `i` at the current position.
     fn sample(&mut self, i: usize) {
-        let xi = self.cfg.noise * (self.noise_rng.random::<f64>() - 0.5);
-        self.agents[i].handle_reading((self.means[i] + xi) as f32);
+        let q = R::QUANTITIES;
+        let r = R::sample(
+            &self.means[i * q..(i + 1) * q],
+            self.cfg.noise,
+            &mut self.noise_rng,
+        );
+        self.agents[i].handle_reading(r);
     }
 
     /// Runs every due second up to and including `until`.
@@ -519,6 +624,7 @@ mod tests {
             params: Params::simulation_2d(),
             step: 0.33,
             noise: 1.0,
+            diversity: Measure::Variance,
         }
     }
 

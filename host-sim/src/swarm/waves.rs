@@ -95,6 +95,7 @@ impl WaveSpec {
             params,
             step: 0.33,
             noise: 1.0,
+            diversity: crate::swarm::measure::Measure::Variance,
         }
     }
 }

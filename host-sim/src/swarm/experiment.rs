@@ -319,51 +319,6 @@ pub fn radial_profile(
         .collect())
 }
 
-/// The observer's average diversity once the swarm has arrived: for each of `runs` full runs
-/// from the scenario's start (run `r` uses seed `derive(seed, [r])`) that met the success
-/// criterion at least `min_after` periods before the end, the mean over the periods after
-/// success. Returns the mean over those runs, its standard error, and how many runs counted.
-///
-/// # Errors
-/// The first run's error, if any run fails.
-pub fn diversity_plateau(
-    scn: &Scenario,
-    runs: u32,
-    min_after: u32,
-    seed: u64,
-    progress: &Progress,
-) -> Result<(f64, f64, usize), Error> {
-    let means: Vec<Option<f64>> = (0..runs)
-        .into_par_iter()
-        .map(|r| {
-            let out = run(
-                scn,
-                scn.run,
-                scn.start,
-                scn.periods,
-                derive(seed, &[u64::from(r)]),
-                false,
-            )?;
-            progress.inc();
-            let Some(at) = out.success_at else {
-                return Ok(None);
-            };
-            let tail: Vec<f64> = out
-                .periods
-                .iter()
-                .filter(|p| p.index > at)
-                .map(|p| p.diversity)
-                .collect();
-            Ok((tail.len() >= min_after as usize).then(|| stats::mean(&tail).unwrap_or(f64::NAN)))
-        })
-        .collect::<Result<_, Error>>()?;
-    let used: Vec<f64> = means.into_iter().flatten().collect();
-    let n = used.len().max(1) as f64;
-    let m = stats::mean(&used).unwrap_or(0.0);
-    let var = stats::variance(&used).unwrap_or(0.0);
-    Ok((m, (var / n).sqrt(), used.len()))
-}
-
 /// Mean number of waves an agent takes part in during one gathering cycle (the messages that
 /// activated it), over `runs` runs at the scenario's start: with `N` agents each initiating once,
 /// `N` means that every wave flooded the whole swarm; fewer, that waves collided.

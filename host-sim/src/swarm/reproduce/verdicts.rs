@@ -148,14 +148,10 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
         paper: "1.0".into(),
         ours: format!("{main}: {}; {other}: {}", span(m), span(o)),
         verdict: v,
-        why: if v == REPRODUCED {
-            String::new()
-        } else {
-            format!(
-                "{other} placement short of 1.0 at x = {}: its swarms settle where the border halves their agents, which need not pass within 0.33 R of the centre of mass (see the sharp border below)",
-                short.join(", ")
-            )
-        },
+        why: format!(
+            "{other} placement short of 1.0 at x = {}: its swarms settle where the border halves their agents, which need not pass within 0.33 R of the centre of mass (see the sharp border below)",
+            short.join(", ")
+        ),
     });
 
     // Sharp border: beyond, the rate falls.
@@ -225,9 +221,7 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
             paper: format!("≈ {paper_start}"),
             ours: format!("{main}: {} ({} runs)", fixed(start, 2), c.runs),
             verdict: v,
-            why: if v == REPRODUCED {
-                String::new()
-            } else if start > paper_start {
+            why: if start > paper_start {
                 format!(
                     "{} % of our agents stand across x = 0 at the start (our swarm's radius is 3 R) and read the other side; the noise alone gives {}",
                     fixed(100.0 * c.across_at_start, 0),
@@ -260,14 +254,10 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
                 c.runs
             ),
             verdict: v,
-            why: if v == REPRODUCED {
-                String::new()
-            } else {
-                format!(
-                    "on the ramp the preferences along x largely cancel: {} % of the distance walked is gained along +x (the averaged courses)",
-                    fixed(100.0 * c.straightness, 0)
-                )
-            },
+            why: format!(
+                "on the ramp the preferences along x largely cancel: {} % of the distance walked is gained along +x (the averaged courses)",
+                fixed(100.0 * c.straightness, 0)
+            ),
         });
     }
     let (sp, sse, sn) = r.plateaus[0];
@@ -277,11 +267,7 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
         paper: "≈ 4.5".into(),
         ours: format!("{} ± {} ({sn} runs)", fixed(sp, 1), fixed(sse, 1)),
         verdict: v,
-        why: if v == REPRODUCED {
-            String::new()
-        } else {
-            "not explained; the paper may average over messages rather than over the agents' stores (see the averaged courses)".into()
-        },
+        why: "not explained; the paper may average over messages rather than over the agents' stores (see the averaged courses)".into(),
     });
     let (gp, gse, gn) = r.plateaus[1];
     rows.push(Verdict {
@@ -309,11 +295,7 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
         paper: "random (about half)".into(),
         ours: of(far),
         verdict: v,
-        why: if v == REPRODUCED {
-            String::new()
-        } else {
-            "at \\|x\\| = 3 our swarm (radius 3 R) still touches the border, so those arrows point at it".into()
-        },
+        why: "at \\|x\\| = 3 our swarm (radius 3 R) still touches the border, so those arrows point at it".into(),
     });
 
     // Gradient sweep.
@@ -334,13 +316,9 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
         paper: "85–100 %".into(),
         ours: format!("{main}: {}; {other}: {}", span(m), span(o)),
         verdict: v,
-        why: if v == REPRODUCED {
-            String::new()
-        } else {
-            format!(
-                "{other} placement: its swarms' preferences along the ramp largely cancel and many march along y (see the gradient below)"
-            )
-        },
+        why: format!(
+            "{other} placement: its swarms' preferences along the ramp largely cancel and many march along y (see the gradient below)"
+        ),
     });
     let (m4, o4) = (rate_at(gradient, -4.0), rate_at(ogradient, -4.0));
     let v = combine(
@@ -358,11 +336,7 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
             runs(ogradient)
         ),
         verdict: v,
-        why: if v == REPRODUCED {
-            String::new()
-        } else {
-            "a rare event at 4 R: a few runs either way".into()
-        },
+        why: "a rare event at 4 R: a few runs either way".into(),
     });
     let gmap = &r.maps[1];
     let near = toward_plus_x(gmap, |x| (-2.2..=2.2).contains(&x));
@@ -380,11 +354,7 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
         paper: "random (about half)".into(),
         ours: of(far),
         verdict: v,
-        why: if v == REPRODUCED {
-            String::new()
-        } else {
-            "past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp, both ways: fewer than half point to +x".into()
-        },
+        why: "past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp, both ways: fewer than half point to +x".into(),
     });
 
     // Perception edges against the swarm's extent.
@@ -430,11 +400,7 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
         paper: "for d ≲ 4".into(),
         ours: out.map_or("not seen".into(), |d| format!("for d ≤ {} R", fixed(d, 1))),
         verdict: v,
-        why: if v == REPRODUCED {
-            String::new()
-        } else {
-            "our ramp starts at d = 3; between 3 and 4 the swarm straddles the ramp and its heading turns".into()
-        },
+        why: "our ramp starts at d = 3; between 3 and 4 the swarm straddles the ramp and its heading turns".into(),
     });
     let cl = perception_limit(&r.caption_cloud.profile, 0.5);
     rows.push(Verdict {
@@ -444,6 +410,12 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Verdict> {
         verdict: distance(cl, 7.5, 0.5),
         why: String::new(),
     });
+    // A reason is given only where ours and the paper's differ.
+    for row in &mut rows {
+        if row.verdict == REPRODUCED {
+            row.why.clear();
+        }
+    }
     rows
 }
 

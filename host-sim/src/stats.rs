@@ -14,6 +14,12 @@ pub fn variance(xs: &[f64]) -> Option<f64> {
     Some(xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / xs.len() as f64)
 }
 
+/// The standard error of the mean of `xs`, `sqrt(variance / n)` with the population variance;
+/// `None` for none.
+pub fn standard_error(xs: &[f64]) -> Option<f64> {
+    variance(xs).map(|v| (v / xs.len() as f64).sqrt())
+}
+
 /// The `p`-quantile (0 to 1) of the finite values of `xs` by the nearest-rank method; `None`
 /// if there are none.
 pub fn quantile(xs: &[f64], p: f64) -> Option<f64> {
@@ -35,6 +41,8 @@ mod tests {
         assert_eq!(mean(&[]), None);
         assert_eq!(mean(&[1.0, 2.0, 6.0]), Some(3.0));
         assert_eq!(variance(&[1.0, 3.0]), Some(1.0));
+        assert_eq!(standard_error(&[1.0, 3.0]), Some(0.5f64.sqrt()));
+        assert_eq!(standard_error(&[]), None);
         let xs: Vec<f64> = (1..=100).map(f64::from).collect();
         assert_eq!(quantile(&xs, 0.5), Some(50.0));
         assert_eq!(quantile(&xs, 0.95), Some(95.0));

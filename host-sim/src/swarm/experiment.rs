@@ -307,13 +307,11 @@ pub fn radial_profile(
         .enumerate()
         .map(|(p, &d)| {
             let c = &cosines[p * runs as usize..(p + 1) * runs as usize];
-            let m = stats::mean(c).unwrap_or(f64::NAN);
-            let var = stats::variance(c).unwrap_or(f64::NAN);
             RadialPoint {
                 distance: d,
                 runs,
-                inward: m,
-                inward_se: (var / c.len() as f64).sqrt(),
+                inward: stats::mean(c).unwrap_or(f64::NAN),
+                inward_se: stats::standard_error(c).unwrap_or(f64::NAN),
             }
         })
         .collect())

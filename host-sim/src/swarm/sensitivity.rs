@@ -131,7 +131,7 @@ pub fn diversity_at(
         })
         .collect::<Result<_, Error>>()?;
     let m = stats::mean(&v).unwrap_or(f64::NAN);
-    let se = (stats::variance(&v).unwrap_or(0.0) / v.len().max(1) as f64).sqrt();
+    let se = stats::standard_error(&v).unwrap_or(0.0);
     Ok((m, se))
 }
 
@@ -165,7 +165,7 @@ pub fn heading_against_x(
         .map(|(p, &x)| {
             let c = &cos[p * runs as usize..(p + 1) * runs as usize];
             let m = stats::mean(c).unwrap_or(f64::NAN);
-            let se = (stats::variance(c).unwrap_or(0.0) / c.len().max(1) as f64).sqrt();
+            let se = stats::standard_error(c).unwrap_or(0.0);
             (x, m, se)
         })
         .collect())

@@ -140,7 +140,6 @@ pub fn summarise(outs: &[RunOutput], min_after: u32) -> TimeCourse {
             (tail.len() >= min_after as usize).then(|| stats::mean(&tail).unwrap_or(f64::NAN))
         })
         .collect();
-    let n = tails.len().max(1) as f64;
     // The path of each run that arrived, up to its arrival.
     let paths: Vec<(f64, f64, f64)> = outs
         .iter()
@@ -172,7 +171,7 @@ pub fn summarise(outs: &[RunOutput], min_after: u32) -> TimeCourse {
         runs: outs.len() as u32,
         points,
         plateau: stats::mean(&tails).unwrap_or(f64::NAN),
-        plateau_se: (stats::variance(&tails).unwrap_or(0.0) / n).sqrt(),
+        plateau_se: stats::standard_error(&tails).unwrap_or(0.0),
         plateau_runs: tails.len(),
         success_at: outs.iter().map(|o| o.success_at).collect(),
         across_at_start: stats::mean(

@@ -7,9 +7,11 @@ Markdown table of successful runs. Build first: `cargo build --release -p host-s
 
     python3 scripts/lines_table.py [--runs 50] [--seed 1] [--cimax target/release/cimax]
 
-With `--sweep`, every line of 3 to 64 robots in the list below, every border whose majority is
-at least 55 %, lit on either side, `--runs` seeds each (docs: `--sweep --runs 5 --seed 7000`,
-once with `--loss 0` and once with `--loss 0.1`); prints the totals and each failing run.
+With `--sweep`, every line of 2 to 64 robots in the list below, every border whose majority is
+at least 55 % and the exact tie, lit on either side, `--runs` seeds each (docs: `--sweep --runs 5
+--seed 7000`, once with `--loss 0` and once with `--loss 0.1`); prints the totals and each
+failing run. `--readings KIND` passes `cimax arena --readings` (full, binary, levels:N,
+gain:G,offset:B); `--decide` the decision rule.
 """
 import argparse
 import json
@@ -17,32 +19,33 @@ import subprocess
 import sys
 
 LINES = {8: (1, 2, 3), 16: (2, 4, 7), 32: (4, 8, 14), 64: (8, 16, 28)}
-SWEEP = (3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 16, 17, 20, 24, 31, 32, 40, 48, 63, 64)
+SWEEP = (2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 16, 17, 20, 24, 31, 32, 40, 48, 63, 64)
 
 
 def sweep(a):
     ok = total = 0
     for n in SWEEP:
         for b in range(1, n):
-            if max(b, n - b) / n < 0.55:
+            if max(b, n - b) / n < 0.55 and b * 2 != n:
                 continue
             for pattern in ("1" * b + "0" * (n - b), "0" * b + "1" * (n - b)):
                 good, runs, failed = run(a.cimax, pattern, a.runs, a.seed, a.loss)
                 ok, total = ok + good, total + runs
                 for s in failed:
                     print(f"FAILED: cimax arena --lights {pattern} --seed {s} --runs 1 "
-                          f"--loss {a.loss}")
+                          f"--loss {a.loss} --decide {DECIDE} --readings {READINGS}")
         print(f"up to {n} robots: {ok}/{total}", flush=True)
     print(f"total: {ok}/{total} successful runs at loss {a.loss}")
 
 
 DECIDE = "fixed"
+READINGS = "full"
 
 
 def run(cimax, pattern, runs, seed, loss):
     out = subprocess.run(
         [cimax, "arena", "--lights", pattern, "--runs", str(runs), "--seed", str(seed),
-         "--loss", str(loss), "--decide", DECIDE, "--json"],
+         "--loss", str(loss), "--decide", DECIDE, "--readings", READINGS, "--json"],
         capture_output=True, text=True, check=False)
     if out.returncode not in (0, 1):
         sys.exit(f"cimax failed on {pattern}: {out.stderr}")
@@ -66,9 +69,12 @@ def main():
     ap.add_argument("--loss", type=float, default=0.0, help="with --sweep")
     ap.add_argument("--decide", choices=["fixed", "adaptive"], default="fixed",
                     help="the robots' decision rule (cimax arena --decide)")
+    ap.add_argument("--readings", default="full",
+                    help="what the sensors report (cimax arena --readings)")
     a = ap.parse_args()
-    global DECIDE
+    global DECIDE, READINGS
     DECIDE = a.decide
+    READINGS = a.readings
     if a.sweep:
         sweep(a)
         return
@@ -92,8 +98,8 @@ def main():
         print(f"\ntime to consensus at {loss:.0%} loss over every line: median "
               f"{t[len(t) // 2]:.0f} s, p95 {t[min(len(t) - 1, int(0.95 * len(t)))]:.0f} s")
     for pattern, s, loss in failures:
-        print(f"FAILED: cimax arena --lights {pattern} --seed {s} --runs 1 --loss {loss}",
-              file=sys.stderr)
+        print(f"FAILED: cimax arena --lights {pattern} --seed {s} --runs 1 --loss {loss} "
+              f"--decide {DECIDE} --readings {READINGS}", file=sys.stderr)
 
 
 if __name__ == "__main__":

@@ -47,15 +47,13 @@ pub const GOLDEN_KEY: [u8; KEY_LEN] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12,
 // Keyed golden vectors of payload format 2, as in `frame.rs`'s tests (computed by
 // `protocol/tests/golden/gen_golden.py`).
 /// The one-hop message under [`GOLDEN_KEY`].
-pub const GOLDEN_KEYED_ONE_HOP: &[u8] = b"ss\x70\x52\x72\x76\x08\x86\xac\x48ss";
+pub const GOLDEN_KEYED_ONE_HOP: &[u8] = b"ss\x70\x32\x72\x76\xd0\x78\xe9\x68ss";
 /// The four-hop message under [`GOLDEN_KEY`].
-pub const GOLDEN_KEYED_FOUR_HOPS: &[u8] =
-    b"ss\x77\x57\x72\x72\x71\x71\x71\x71\x72\x76\xfb\x6a\x0b\xb9ss";
+pub const GOLDEN_KEYED_FOUR_HOPS: &[u8] = b"ss\x77\x37\x72\x72\x71\x71\x71\x71\x72\x76\x9f\x4a\x44\xfess";
 /// The `s` message under [`GOLDEN_KEY`].
-pub const GOLDEN_KEYED_S_BYTES: &[u8] = b"ss\x70\x51\x00\x71\x00\x76\xfc\xd8\x3e\x84ss";
+pub const GOLDEN_KEYED_S_BYTES: &[u8] = b"ss\x70\x31\x00\x71\x00\x76\xae\x49\xd2\x28ss";
 /// The ray message ([`reference::GOLDEN_RAY_FOUR`]'s) under [`GOLDEN_KEY`].
-pub const GOLDEN_KEYED_RAY_FOUR: &[u8] =
-    b"ss\x75\x47\x72\x72\x72\x62\x71\x51\x77\x41\x61\x77\x79\x00\x97\x03\x71\x71\x88\xc2\xd0\x67ss";
+pub const GOLDEN_KEYED_RAY_FOUR: &[u8] = b"ss\x75\x27\x72\x72\x72\x62\x71\x51\x7c\x41\x61\x77\xbf\x72\xfb\x4c\x72\x71\x71\xdb\x6c\xee\xbbss";
 
 /// The mode bytes.
 pub const STREAM: u8 = 0;

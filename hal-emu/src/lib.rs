@@ -62,7 +62,7 @@ pub mod env {
 pub use adversary::{Adversary, AdversaryKind, Replayer, Rogue};
 pub use arena::{ArenaConfig, ArenaError, LedChange, RunReport, run};
 pub use clock::EmuClock;
-pub use env::{Environment, Readings};
+pub use env::{Environment, Readings, ReadingsError};
 pub use medium::{DropReason, MediumParams, MediumStats, TraceEvent};
 /// Positions in the arena, metres (re-exported so callers need not depend on nalgebra).
 pub use nalgebra::Point2;

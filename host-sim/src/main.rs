@@ -40,7 +40,7 @@ enum Command {
     /// The lab experiment in the emulated arena: robots in a line running the robot program
     /// over an emulated light medium; with no options the paper's six patterns and the
     /// alternating experiment from each to its mirror image, five runs each, judged by the LEDs.
-    Arena(arena::ArenaArgs),
+    Arena(Box<arena::ArenaArgs>),
     /// The paper's 2D simulations (section 3): a swarm of agents running the three-phase CIMAX.
     Swarm {
         #[command(subcommand)]

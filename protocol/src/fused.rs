@@ -87,10 +87,11 @@ const OUTBOX: usize = 2;
 /// neighbour is taken instead (`FusedNode::take_ray`).
 const SENDER_SWITCH_CYCLES: u32 = 3;
 
-/// The least diversity, and the least lead over every other direction's, that makes a
-/// preference a vote under the adaptive rule: 16² (readings 16 levels apart), above the spread
-/// a sensor's noise gives a uniform stretch (the emulator's lit robots differ by up to 17).
-const CLEAR_MARGIN: f32 = 256.0;
+/// Two diversities within this relative distance of each other count as equal (2⁻¹⁰): far
+/// above the rounding of `f32` sums (about 2⁻²⁰ relative over a period's messages), so that an
+/// exact tie stays a tie, and an order stays an order, whatever the sensor's gain
+/// (`docs/protocol.md` §5.6).
+pub const TIE_TOLERANCE: f32 = 1.0 / 1024.0;
 
 /// Rays taken per sector remembered by the adaptive rule (`FusedNode::take_ray`).
 const RAY_HISTORY: usize = 4;
@@ -188,6 +189,11 @@ pub struct NodeStats {
     pub transmits_lost: u32,
     /// Events dropped because `poll_event` was not called in time.
     pub events_lost: u32,
+    /// Negotiation periods completed.
+    pub periods: u32,
+    /// Negotiation periods completed in which the robot initiated fewer waves than the period
+    /// has cycles (the paper: "every aMussel initiated at least 10 messages").
+    pub periods_short: u32,
 }
 
 /// One robot running fused CIMAX. Sans-IO: no clock, no radio, no globals.
@@ -215,6 +221,14 @@ pub struct FusedNode<D: Diversity = Variance> {
     /// The sector whose ray the next initiation carries (round robin).
     next_initiation_ray: u8,
     period_cycles: u16,
+    /// Waves initiated in the period under way.
+    period_initiations: u16,
+    /// While `decide_pending`: waves initiated in the period that follows.
+    next_period_initiations: u16,
+    /// The period's last cycle ended while an initiation was owed: the period's end (the fixed
+    /// rule's decision, the adaptive rule's cap) waits for it, at most until the next cycle's
+    /// end.
+    decide_pending: bool,
     periods: u32,
     /// When the node started: a whole cycle later every neighbour has initiated once.
     born: Instant,
@@ -288,6 +302,9 @@ impl<D: Diversity> FusedNode<D> {
             rays: [None; MAX_SECTORS],
             next_initiation_ray: 0,
             period_cycles: 0,
+            period_initiations: 0,
+            next_period_initiations: 0,
+            decide_pending: false,
             periods: 0,
             born: now,
             heard: 0,
@@ -454,7 +471,7 @@ impl<D: Diversity> FusedNode<D> {
         } else {
             self.weights.add(from, v);
         }
-        if let Some(best) = self.weights.heaviest()
+        if let Some(best) = self.weights.heaviest_within(TIE_TOLERANCE)
             && self.pref != Some(best)
         {
             self.pref = Some(best);
@@ -465,15 +482,27 @@ impl<D: Diversity> FusedNode<D> {
     /// Does whatever is due at `now`: relays, initiations, the end of the refractory time,
     /// cycle and period ends.
     pub fn handle_timeout(&mut self, now: Instant, rng: &mut impl RngCore) {
-        let skipped = self.wave.stats().skipped_initiations;
         self.poll_wave(now, rng);
-        if self.params.decide == DecisionRule::Adaptive
-            && self.wave.stats().skipped_initiations != skipped
-            && !self.wave.extra_pending()
-        {
-            // The adaptive rule defers a skipped initiation.
-            let at = self.extra_initiation_at(now, rng);
+        if self.wave.owed() > 0 && !self.wave.extra_pending() {
+            // An initiation that fell while the robot was busy is deferred, not lost (both
+            // rules): the paper's robots initiate at least once per cycle.
+            let at = self.deferred_initiation_at(now, rng);
             self.wave.initiate_extra(at);
+        }
+    }
+
+    /// When a skipped initiation is made up: as [`extra_initiation_at`](Self::extra_initiation_at),
+    /// but within the cycle under way where it leaves room (a relay delay and a refractory
+    /// time), so that the initiation counts in the negotiation period it was due in.
+    fn deferred_initiation_at(&self, now: Instant, rng: &mut impl RngCore) -> Instant {
+        let w = &self.params.wave;
+        let earliest = now + w.relay_delay + w.refractory;
+        let at = self.extra_initiation_at(now, rng);
+        let last = self.wave.cycle_end() - w.tick.max(crate::time::Duration::from_millis(1));
+        if at > last && earliest <= last {
+            last
+        } else {
+            at
         }
     }
 
@@ -495,7 +524,17 @@ impl<D: Diversity> FusedNode<D> {
         while let Some(action) = self.wave.poll(now, rng) {
             match action {
                 WaveAction::Initiate => {
-                    self.wave.cancel_extra();
+                    if self.decide_pending && !self.wave.last_was_extra() {
+                        // The next period's first cycle initiated before the owed one.
+                        self.next_period_initiations =
+                            self.next_period_initiations.saturating_add(1);
+                    } else {
+                        self.period_initiations = self.period_initiations.saturating_add(1);
+                    }
+                    if self.wave.owed() == 0 {
+                        // Nothing to make up: this initiation carries any news.
+                        self.wave.cancel_extra();
+                    }
                     let sector = match self.trigger.take() {
                         Some(s) => s,
                         None => self.initiation_ray(),
@@ -504,6 +543,10 @@ impl<D: Diversity> FusedNode<D> {
                     self.send_with_ray(now, m, sector);
                     if self.params.decide == DecisionRule::Adaptive {
                         self.spread_news(now, rng);
+                    }
+                    if self.decide_pending && self.wave.owed() == 0 {
+                        self.decide_pending = false;
+                        self.end_of_period(now);
                     }
                 }
                 WaveAction::Relay => {
@@ -521,25 +564,44 @@ impl<D: Diversity> FusedNode<D> {
                 }
                 WaveAction::Rested => self.push_event(Event::State(WaveState::Inactive)),
                 WaveAction::CycleEnded(_) => {
+                    let adaptive = self.params.decide == DecisionRule::Adaptive;
+                    if adaptive {
+                        // Evidence of the last cycle only (and a one-message prior), so that a
+                        // changed environment shows within a cycle or two.
+                        self.weights.shrink_to_prior();
+                    }
+                    if self.decide_pending {
+                        // The owed initiation did not go out within a cycle: end the period.
+                        self.decide_pending = false;
+                        self.end_of_period(now);
+                    }
                     self.period_cycles = self.period_cycles.saturating_add(1);
-                    let period_ends = self.period_cycles >= self.params.negotiation_cycles;
-                    match self.params.decide {
-                        DecisionRule::Fixed if period_ends => self.decide(now),
-                        DecisionRule::Fixed => {}
-                        DecisionRule::Adaptive => {
-                            // Evidence of the last cycle only (and a one-message prior), so
-                            // that a changed environment shows within a cycle or two.
-                            self.weights.shrink_to_prior();
-                            if period_ends {
-                                self.end_period(now);
-                            }
-                            self.settle(now, None);
-                            self.triggered_in_cycle = 0;
-                            self.spread_news(now, rng);
+                    if self.period_cycles >= self.params.negotiation_cycles {
+                        if self.wave.owed() > 0 {
+                            // A period ends once its owed initiation went out: every robot
+                            // initiates once per cycle of the period (paper section 4).
+                            self.decide_pending = true;
+                            self.period_cycles = 0;
+                        } else {
+                            self.end_of_period(now);
                         }
+                    }
+                    if adaptive {
+                        self.settle(now, None);
+                        self.triggered_in_cycle = 0;
+                        self.spread_news(now, rng);
                     }
                 }
             }
+        }
+    }
+
+    /// The end of a negotiation period: the fixed rule decides, the adaptive rule applies its
+    /// cap ([`end_period`](Self::end_period)).
+    fn end_of_period(&mut self, now: Instant) {
+        match self.params.decide {
+            DecisionRule::Fixed => self.decide(now),
+            DecisionRule::Adaptive => self.end_period(now),
         }
     }
 
@@ -784,10 +846,21 @@ impl<D: Diversity> FusedNode<D> {
         self.expire_rays(now);
         let votes = self.votes();
         let decision = self.tally(&votes);
-        self.periods = self.periods.wrapping_add(1);
+        self.count_period();
         self.show(decision, votes, self.periods);
         self.weights.shrink_to_prior();
+    }
+
+    /// The end of a negotiation period (both rules): counts it, and whether the robot
+    /// initiated a wave per cycle in it.
+    fn count_period(&mut self) {
+        self.periods = self.periods.wrapping_add(1);
+        self.stats.periods = self.stats.periods.wrapping_add(1);
+        if self.period_initiations < self.params.negotiation_cycles {
+            self.stats.periods_short = self.stats.periods_short.wrapping_add(1);
+        }
         self.period_cycles = 0;
+        self.period_initiations = core::mem::take(&mut self.next_period_initiations);
     }
 
     /// Shows `decision` (emits [`Event::Decided`]).
@@ -815,20 +888,20 @@ impl<D: Diversity> FusedNode<D> {
         }
     }
 
-    /// True if the preferred direction's average diversity is more than twice every other's and
-    /// ahead of each by [`CLEAR_MARGIN`]:
-    /// a preference between near-equal diversities (a robot amid a uniform stretch of a long
-    /// line, whose rays do not reach a border yet) is no vote.
+    /// True if the preferred direction's average diversity is positive and more than twice
+    /// every other's (by more than [`TIE_TOLERANCE`]): a preference between near-equal
+    /// diversities (a robot amid a uniform stretch of a long line, whose rays do not reach a
+    /// border yet) is no vote. Only ratios: the test gives the same answer whatever the
+    /// sensor's unit, gain or offset.
     fn is_clear(&self) -> bool {
         let Some(p) = self.pref else { return false };
         let Some(best) = self.weights.weight(p) else {
             return false;
         };
-        best > CLEAR_MARGIN
-            && self
-                .weights
-                .iter()
-                .all(|(d, w, _)| d == p || (best > 2.0 * w && best - w > CLEAR_MARGIN))
+        best > 0.0
+            && self.weights.iter().all(|(d, w, _)| {
+                d == p || (best > 2.0 * w && !crate::weights::within(best, 2.0 * w, TIE_TOLERANCE))
+            })
     }
 
     /// True once the robot has taken a ray from each of its K sectors, or a whole longest
@@ -875,8 +948,7 @@ impl<D: Diversity> FusedNode<D> {
     /// fixed rule.
     fn end_period(&mut self, now: Instant) {
         self.expire_rays(now);
-        self.periods = self.periods.wrapping_add(1);
-        self.period_cycles = 0;
+        self.count_period();
         self.neighbours = 0;
         let period = self
             .longest_cycle()
@@ -1202,13 +1274,14 @@ mod tests {
         let mut t = Instant::from_secs(1);
         let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, r, None)).collect();
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full);
-        // 25 payload bytes: header, a two-sector ray (8 bytes), 8 hops.
-        assert_eq!(out.len(), 8);
-        assert_eq!(out.encoded_len(), 25);
-        assert_eq!(out.hops()[0], hop(5, 5, None));
-        let last = out.hops()[7];
+        // 24 payload bytes: header, a two-sector ray (9 bytes), 7 hops (an eighth does not
+        // fit the 25).
+        assert_eq!(out.len(), 7);
+        assert_eq!(out.encoded_len(), 24);
+        assert_eq!(out.hops()[0], hop(6, 6, None));
+        let last = out.hops()[6];
         assert_eq!((last.reading, last.tag), (Level(9), n.tag()));
-        assert_eq!(n.stats().hops_evicted, 5);
+        assert_eq!(n.stats().hops_evicted, 6);
         // Nothing held from the left yet: the ray is the robot alone.
         let ray = out.ray().unwrap();
         assert_eq!(
@@ -1227,18 +1300,18 @@ mod tests {
         n.handle_reading(Level(9));
         let mut t = Instant::from_secs(1);
         // A full plain message (12 hops) relayed by an 11-hop node: a payload of 23 bytes,
-        // the ray's 8 and 7 hops.
+        // the ray's 9 and 6 hops.
         let full: std::vec::Vec<Hop> = (0..MAX_HOPS as u8).map(|r| hop(r, r, None)).collect();
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full);
-        assert_eq!(out.len(), 7);
-        assert_eq!(out.encoded_len(), 23);
-        assert_eq!(out.hops()[0], hop(6, 6, None));
-        assert_eq!(out.hops()[6].reading, Level(9));
-        assert_eq!(n.stats().hops_evicted, 6);
+        assert_eq!(out.len(), 6);
+        assert_eq!(out.encoded_len(), 22);
+        assert_eq!(out.hops()[0], hop(7, 7, None));
+        assert_eq!(out.hops()[5].reading, Level(9));
+        assert_eq!(n.stats().hops_evicted, 7);
         // Shorter ones just grow, and an encoded relay always fits a keyed frame.
         let out = hear(&mut n, &mut rng, &mut t, Sector::LEFT, &full[..3]);
         assert_eq!(out.len(), 4);
-        assert_eq!(n.stats().hops_evicted, 6);
+        assert_eq!(n.stats().hops_evicted, 7);
         #[cfg(feature = "keyed")]
         assert!(crate::frame::encode_keyed(&out, &crate::auth::SwarmKey::new([5; 16])).is_ok());
     }
@@ -1775,10 +1848,9 @@ mod tests {
         assert_eq!((decision, changed), (R, false));
         assert_eq!(votes[..2], [1, 0], "rays expired");
         // The diversities carry over as one-message priors: the left's 0 (robot 0 lit like
-        // this robot), the right's 1/4 (readings 0, 0 and the own 1: 2/9, in the ray's quarter
-        // steps).
+        // this robot), the right's 2/9 (readings 0, 0 and the own 1, exact in the ray's sums).
         let right = n.weight(Sector::RIGHT).unwrap();
-        assert_eq!(right, 0.25);
+        assert_eq!(right, 2.0 / 9.0);
         assert_eq!(n.weight(Sector::LEFT), Some(0.0));
         // Robot 0's light goes out, and a wave from farther left (robots 6, 5, 4: 1, 2, 1)
         // passes it: with the own 1, diversity 2/5. On its own that beats the right's 1/4;

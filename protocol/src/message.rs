@@ -9,7 +9,7 @@
 //! A message holds at most [`MAX_HOPS`] hops and at most [`PAYLOAD_BUDGET`] bytes encoded, its
 //! optional [`Ray`] included (payload format 2, see [`crate::frame`], which proves the sizes at
 //! compile time). A robot relaying a full message **drops the oldest hops** (those farthest away
-//! along the wave's path) to make room for its own hop and its ray: 8 hops fit beside a
+//! along the wave's path) to make room for its own hop and its ray: 7 hops fit beside a
 //! two-sector ray. The wave keeps travelling, each receiver still sees the robots nearest to it
 //! along the path with fresh preferences, and a message's diversity becomes that of a sliding
 //! window; what lies beyond the window is summarised by the ray. Relaying unchanged would freeze
@@ -126,11 +126,13 @@ impl<'de> Deserialize<'de> for Hop {
     }
 }
 
-/// Version bits of the payload's first byte (its top three bits): `0b001` for this format.
+/// Version bits of the payload's first byte (its top three bits): `0b010` for this format,
+/// format 3 (rays carry exact sums of the readings, `docs/protocol.md` revision 3.0).
 ///
 /// The first format (before rays) began with the hop count as a varint, `1..=12`, whose top
-/// three bits are zero: each format refuses the other's payloads as undecodable.
-pub const FORMAT_BITS: u8 = 0x20;
+/// three bits are zero; format 2 (rays with a rounded mean and variance) had `0b001`: each
+/// format refuses the others' payloads as undecodable.
+pub const FORMAT_BITS: u8 = 0x40;
 /// Header bit set when a [`Ray`] follows the hops.
 const RAY_BIT: u8 = 0x10;
 /// Mask of the header's hop count.
@@ -145,12 +147,14 @@ pub const PAYLOAD_BUDGET: usize = 1 + MAX_HOPS * 2;
 ///
 /// A message's hops are the last robots of its path (at most [`MAX_HOPS`]); a ray is the
 /// *sufficient statistics* of the whole chain of robots beyond, however long: how many there
-/// are, the mean and variance of their readings, and how many prefer each sector. A robot
-/// keeps the latest ray heard from each of its sectors and, when it transmits, extends the
-/// ray of one sector by itself ([`Ray::extended`]). See `docs/protocol.md` §5.3.
+/// are, the sum and the sum of squares of their readings (exact integers, so the variance
+/// derived from them is exact and does not depend on the sensor's unit: §5.3 of
+/// `docs/protocol.md`), and how many prefer each sector. A robot keeps the latest ray heard
+/// from each of its sectors and, when it transmits, extends the ray of one sector by itself
+/// ([`Ray::extended`]).
 ///
-/// On the wire `6 + sectors` bytes: `sector << 4 | sectors`, `robots`, `mean` (u16 LE),
-/// `var` (u16 LE), then `votes[..sectors]`, one byte each.
+/// On the wire `7 + sectors` bytes: `sector << 4 | sectors`, `robots`, `sum` (u16 LE),
+/// `sum_sq` (u24 LE), then `votes[..sectors]`, one byte each.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Ray {
@@ -159,12 +163,12 @@ pub struct Ray {
     pub sector: Sector,
     /// The sender's number of sectors K, `2..=8`; `votes` has this many entries.
     pub sectors: u8,
-    /// Robots summarised, `1..=255` (saturating).
+    /// Robots summarised, `1..=255` (a ray of 255 robots takes no more readings).
     pub robots: u8,
-    /// Mean of their readings, fixed point 8.8 (`256` = 1.0).
-    pub mean: u16,
-    /// Population variance of their readings, in quarters (`4` = 1.0, at most 16256.25).
-    pub var: u16,
+    /// Sum of their readings, exact (at most `255 · robots`).
+    pub sum: u16,
+    /// Sum of the squares of their readings, exact (at most `255 · sum`, below 2²⁴).
+    pub sum_sq: u32,
     /// Robots preferring each sector (saturating); entries `sectors..` are zero.
     pub votes: [u8; MAX_SECTORS],
 }
@@ -181,12 +185,13 @@ impl Ray {
         if !(2..=MAX_SECTORS as u8).contains(&sectors) || sector.index() >= sectors {
             return None;
         }
+        let x = u16::from(reading.0);
         let mut ray = Ray {
             sector,
             sectors,
             robots: 1,
-            mean: u16::from(reading.0) << 8,
-            var: 0,
+            sum: x,
+            sum_sq: u32::from(x * x),
             votes: [0; MAX_SECTORS],
         };
         ray.vote(pref);
@@ -194,50 +199,63 @@ impl Ray {
     }
 
     /// This ray with one more robot, nearer than all it holds (the relaying robot): its reading
-    /// joins the moments (Welford's update) and its preference the votes.
+    /// joins the sums and its preference the votes. Exact integer arithmetic: no rounding. A
+    /// ray of [`RAY_ROBOTS_MAX`] robots is full: its sums stay as they are (the robot's vote
+    /// still counts, saturating).
     pub fn extended(&self, reading: Level, pref: Option<Sector>) -> Ray {
-        let n1 = f32::from(self.robots);
-        let n = n1 + 1.0;
-        let m1 = self.mean_level();
-        let x = f32::from(reading);
-        let m = m1 + (x - m1) / n;
-        // Sum of squared deviations: n1 · var1 + (x − m1)(x − m).
-        let m2 = n1 * self.variance() + (x - m1) * (x - m);
-        let mut ray = Ray {
-            robots: self.robots.saturating_add(1),
-            mean: quantise(m * 256.0).min(MEAN_MAX),
-            var: quantise(m2 / n * 4.0).min(VAR_MAX),
-            ..*self
-        };
+        let mut ray = *self;
+        if self.robots < RAY_ROBOTS_MAX {
+            let x = u16::from(reading.0);
+            ray.robots += 1;
+            // Cannot overflow for a valid ray: sum <= 255 * 254 + 255 < 2^16,
+            // sum_sq <= 65025 * 255 < 2^24; saturate anyway so that no input can panic.
+            ray.sum = ray.sum.saturating_add(x);
+            ray.sum_sq = ray.sum_sq.saturating_add(u32::from(x * x));
+        }
         ray.vote(pref);
         ray
     }
 
     /// The mean reading, in [`Level`] units.
     pub fn mean_level(&self) -> f32 {
-        f32::from(self.mean) / 256.0
+        f32::from(self.sum) / f32::from(self.robots.max(1))
     }
 
-    /// The population variance of the readings, in [`Level`] units squared.
+    /// `n² · variance` = `n · Σx² − (Σx)²`, exact: the population variance of the readings
+    /// times the number of robots squared (0 for an inconsistent ray).
+    pub fn scaled_variance(&self) -> u64 {
+        let n = u64::from(self.robots);
+        let s = u64::from(self.sum);
+        (n * u64::from(self.sum_sq)).saturating_sub(s * s)
+    }
+
+    /// The population variance of the readings, in [`Level`] units squared:
+    /// [`scaled_variance`](Self::scaled_variance) / n², rounded once to `f32`.
     pub fn variance(&self) -> f32 {
-        f32::from(self.var) / 4.0
+        let n = u32::from(self.robots.max(1));
+        div_to_f32(self.scaled_variance(), n * n)
     }
 
     /// Bytes on the wire.
     pub fn encoded_len(&self) -> usize {
-        6 + usize::from(self.sectors)
+        7 + usize::from(self.sectors)
     }
 
     /// True if the fields are consistent: `2 <= sectors <= 8`, `sector < sectors`,
-    /// `robots >= 1`, a mean of at most 255.0 (`0xFF00`) and a variance of at most 127.5²
-    /// (65025 quarters), no vote beyond `sectors`, no sector with more votes than robots.
+    /// `robots >= 1`, sums that `robots` readings in `0..=255` can have
+    /// (`sum <= 255 · robots`, `sum² <= robots · sum_sq <= 255 · robots · sum`, which also
+    /// keeps `sum_sq` below 2²⁴), no vote beyond `sectors`, no sector with more votes than
+    /// robots.
     pub fn is_valid(&self) -> bool {
         let k = usize::from(self.sectors);
+        let n = u64::from(self.robots);
+        let (s, q) = (u64::from(self.sum), u64::from(self.sum_sq));
         (2..=MAX_SECTORS).contains(&k)
             && usize::from(self.sector.index()) < k
             && self.robots >= 1
-            && self.mean <= MEAN_MAX
-            && self.var <= VAR_MAX
+            && s <= 255 * n
+            && q <= 255 * s
+            && s * s <= n * q
             && self.votes[k..].iter().all(|&v| v == 0)
             && self.votes.iter().all(|&v| v <= self.robots)
     }
@@ -253,15 +271,45 @@ impl Ray {
     }
 }
 
-/// The largest mean a ray can hold: 255.0 in 8.8 fixed point.
-const MEAN_MAX: u16 = 255 << 8;
-/// The largest population variance of readings in `0..=255`: 127.5², in quarters.
-const VAR_MAX: u16 = 65025;
+/// The most robots a ray summarises (its count is one byte).
+pub const RAY_ROBOTS_MAX: u8 = u8::MAX;
 
-/// `x` rounded to the nearest `u16`, saturating (NaN gives 0).
-fn quantise(x: f32) -> u16 {
-    // `as` saturates and maps NaN to 0.
-    (x + 0.5) as u16
+/// `num / den` correctly rounded to the nearest `f32` (ties to even), for `den > 0`; 0 for
+/// `den == 0`. Integer arithmetic, then one exact scaling by a power of two: equal fractions
+/// give equal results whatever their terms (`f32` division of the two converted integers
+/// would round each term first once it passes 2²⁴). 64-bit integers only (a `u128` division
+/// would cost the robot image a kilobyte).
+pub fn div_to_f32(num: u64, den: u32) -> f32 {
+    if num == 0 || den == 0 {
+        return 0.0;
+    }
+    let den = u64::from(den);
+    let bits = |x: u64| 64 - x.leading_zeros() as i32;
+    // q = ⌊num · 2^s / den⌋ with 2^25 <= q < 2^27 (s may be negative: den shifted instead).
+    // Either way the shifted term has at most 26 + 32 bits.
+    let s = 26 - (bits(num) - bits(den));
+    let (n, d) = if s >= 0 {
+        (num << s, den)
+    } else {
+        (num, den << -s)
+    };
+    let (q, r) = (n / d, n % d);
+    // Keep 24 significant bits; round to nearest, ties to even, the remainder as sticky bit.
+    let e = bits(q) - 24;
+    let dropped = q & ((1 << e) - 1);
+    let half = 1 << (e - 1);
+    let mut m = q >> e;
+    if dropped > half || (dropped == half && (r != 0 || m & 1 == 1)) {
+        m += 1;
+    }
+    // m <= 2^24 is exact in f32, and so is the scaling by a power of two: the value lies in
+    // [2^-32, 2^64], far from f32's subnormals and infinities.
+    (m as f32) * pow2(e - s)
+}
+
+/// 2^k as an `f32`, for `-126 <= k <= 127`.
+fn pow2(k: i32) -> f32 {
+    f32::from_bits(((127 + k.clamp(-126, 127)) as u32) << 23)
 }
 
 /// A wave's message: at least one hop, at most [`MAX_HOPS`], and optionally the sender's
@@ -289,8 +337,9 @@ impl Serialize for Message {
             let k = usize::from(r.sectors);
             t.serialize_element(&(r.sector.index() << 4 | r.sectors))?;
             t.serialize_element(&r.robots)?;
-            t.serialize_element(&r.mean.to_le_bytes())?;
-            t.serialize_element(&r.var.to_le_bytes())?;
+            t.serialize_element(&r.sum.to_le_bytes())?;
+            let q = r.sum_sq.to_le_bytes();
+            t.serialize_element(&[q[0], q[1], q[2]])?;
             for v in r.votes.get(..k).unwrap_or(&[]) {
                 t.serialize_element(v)?;
             }
@@ -300,7 +349,7 @@ impl Serialize for Message {
 }
 
 /// Serde's "expected" text for a bad header.
-const HEADER_EXPECTED: &str = "a header 0b001r_nnnn with 1..=12 hops";
+const HEADER_EXPECTED: &str = "a header 0b010r_nnnn with 1..=12 hops";
 /// Serde's "expected" text for a bad ray.
 const RAY_EXPECTED: &str = "a ray with 2..=8 sectors, sector < sectors, robots >= votes >= 0";
 
@@ -332,8 +381,8 @@ impl<'de> serde::de::Visitor<'de> for MessageVisitor {
         let ray = if header & RAY_BIT != 0 {
             let sk: u8 = seq.next_element()?.ok_or_else(missing)?;
             let robots: u8 = seq.next_element()?.ok_or_else(missing)?;
-            let mean: [u8; 2] = seq.next_element()?.ok_or_else(missing)?;
-            let var: [u8; 2] = seq.next_element()?.ok_or_else(missing)?;
+            let sum: [u8; 2] = seq.next_element()?.ok_or_else(missing)?;
+            let sum_sq: [u8; 3] = seq.next_element()?.ok_or_else(missing)?;
             let sectors = sk & 0x0F;
             let bad =
                 || A::Error::invalid_value(Unexpected::Unsigned(u64::from(sk)), &RAY_EXPECTED);
@@ -341,8 +390,8 @@ impl<'de> serde::de::Visitor<'de> for MessageVisitor {
                 sector: Sector::new(sk >> 4).ok_or_else(bad)?,
                 sectors,
                 robots,
-                mean: u16::from_le_bytes(mean),
-                var: u16::from_le_bytes(var),
+                sum: u16::from_le_bytes(sum),
+                sum_sq: u32::from_le_bytes([sum_sq[0], sum_sq[1], sum_sq[2], 0]),
                 votes: [0; MAX_SECTORS],
             };
             if !(2..=MAX_SECTORS as u8).contains(&sectors) {
@@ -368,7 +417,8 @@ impl<'de> serde::de::Visitor<'de> for MessageVisitor {
 
 impl<'de> Deserialize<'de> for Message {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        // Longest possible tuple: header, MAX_HOPS hops, a ray of 4 + MAX_SECTORS elements.
+        // Longest possible tuple: header, MAX_HOPS hops, a ray of 4 + MAX_SECTORS elements
+        // (sector byte, robots, the sum's 2 bytes and the sum of squares' 3 bytes as arrays).
         d.deserialize_tuple(1 + MAX_HOPS + 4 + MAX_SECTORS, MessageVisitor)
     }
 }

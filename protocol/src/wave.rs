@@ -78,6 +78,10 @@ pub struct WaveNode {
     initiate_at: Option<Instant>,
     /// An extra initiation asked for by the variant ([`WaveNode::initiate_extra`]).
     extra_at: Option<Instant>,
+    /// Cycle initiations skipped while busy and not yet made up by an extra initiation.
+    owed: u32,
+    /// Whether the last initiation that went out was an extra one.
+    last_extra: bool,
     cycles: u32,
     stats: WaveStats,
 }
@@ -94,6 +98,8 @@ impl WaveNode {
             cycle_end: now,
             initiate_at: None,
             extra_at: None,
+            owed: 0,
+            last_extra: false,
             cycles: 0,
             stats: WaveStats::default(),
         };
@@ -139,6 +145,23 @@ impl WaveNode {
         }
         self.extra_at = Some(at);
         true
+    }
+
+    /// The cycle's own initiations skipped while the node was busy and not yet made up: each
+    /// extra initiation that goes out ([`initiate_extra`](Self::initiate_extra)) makes up one.
+    /// The variant decides whether to make them up (the fused variant does).
+    pub fn owed(&self) -> u32 {
+        self.owed
+    }
+
+    /// True if the last [`WaveAction::Initiate`] was an extra initiation, not the cycle's own.
+    pub fn last_was_extra(&self) -> bool {
+        self.last_extra
+    }
+
+    /// When the cycle under way ends.
+    pub fn cycle_end(&self) -> Instant {
+        self.cycle_end
     }
 
     /// True while an extra initiation is pending.
@@ -210,8 +233,15 @@ impl WaveNode {
                 }
                 if self.state != WaveState::Inactive {
                     self.stats.skipped_initiations = self.stats.skipped_initiations.wrapping_add(1);
+                    if which == 2 {
+                        self.owed = self.owed.saturating_add(1);
+                    }
                     return self.poll(now, rng);
                 }
+                if which == 4 {
+                    self.owed = self.owed.saturating_sub(1);
+                }
+                self.last_extra = which == 4;
                 self.stats.initiated = self.stats.initiated.wrapping_add(1);
                 self.transmitted(at);
                 WaveAction::Initiate

@@ -3,6 +3,11 @@
 
 use heapless::Vec;
 
+/// True if `a` and `b` are within a relative `tolerance` of each other.
+pub fn within(a: f32, b: f32, tolerance: f32) -> bool {
+    (a - b).abs() <= tolerance * a.abs().max(b.abs())
+}
+
 /// One direction's running average.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Slot<K> {
@@ -89,6 +94,25 @@ impl<K: Copy + PartialEq, const D: usize> DirectionWeights<K, D> {
             Some((dir, w)) if !tied && w > 0.0 => Some(dir),
             _ => None,
         }
+    }
+
+    /// Like [`heaviest`](Self::heaviest), but two averages within a relative `tolerance` of
+    /// each other count as equal (`|a − b| <= tolerance · max(a, b)`): the heaviest direction
+    /// must lead every other by more than that. The fused variant uses it so that rounding in
+    /// `f32` does not break an exact tie differently when the readings are scaled
+    /// (`docs/protocol.md` §5.6).
+    pub fn heaviest_within(&self, tolerance: f32) -> Option<K> {
+        let (dir, best) =
+            self.iter()
+                .map(|(d, w, _)| (d, w))
+                .fold(None, |acc: Option<(K, f32)>, (d, w)| match acc {
+                    Some((_, b)) if w <= b => acc,
+                    _ => Some((d, w)),
+                })?;
+        let tied = self
+            .iter()
+            .any(|(d, w, _)| d != dir && within(w, best, tolerance));
+        (!tied && best > 0.0).then_some(dir)
     }
 
     /// Keeps each direction's average but with the weight of a single message: a prior that

@@ -33,25 +33,71 @@ fn six_patterns_light_the_expected_leds() {
 }
 
 #[test]
-fn alternating_experiment_switches_the_leds() {
-    for seed in 1..=5 {
-        let mut cfg = lab("1000", seed);
-        cfg.env.schedule.push((
-            Instant::ZERO + RUN,
-            mirrored(&parse_pattern("1000").unwrap()),
-        ));
-        cfg.duration = RUN.saturating_mul(2);
-        let r = judge(&cfg).unwrap();
-        assert!(
-            r.success,
-            "LEDs {}; replay with seed {seed}",
-            leds_str(&r.leds)
-        );
-        assert_eq!(r.leds, vec![LedColor::Blue; 4]);
-        assert_eq!(
-            r.report.leds_at(Instant::ZERO + RUN),
-            vec![LedColor::Green; 4]
-        );
+fn alternating_experiment_switches_the_leds_from_every_pattern() {
+    for pattern in PAPER_PATTERNS {
+        let first = parse_pattern(pattern).unwrap();
+        let then = mirrored(&first);
+        for seed in 1..=3 {
+            let mut cfg = lab(pattern, seed);
+            cfg.env.schedule.push((Instant::ZERO + RUN, then.clone()));
+            cfg.duration = RUN.saturating_mul(2);
+            let r = judge(&cfg).unwrap();
+            let replay = format!(
+                "cimax arena --lights {pattern} --switch-at {} --then {} --seed {seed} --runs 1",
+                RUN.as_secs_f64(),
+                leds_pattern(&then)
+            );
+            assert!(r.success, "LEDs {}; replay: {replay}", leds_str(&r.leds));
+            assert_eq!(Some(r.leds.clone()), expected(&then), "{replay}");
+            assert_eq!(
+                Some(r.report.leds_at(Instant::ZERO + RUN)),
+                expected(&first),
+                "{replay}"
+            );
+        }
+    }
+}
+
+/// A pattern as `--lights` spells it.
+fn leds_pattern(p: &[bool]) -> String {
+    p.iter().map(|&l| if l { '1' } else { '0' }).collect()
+}
+
+/// Every lab pattern with sensors of another resolution, gain or offset, under both rules:
+/// the same LEDs (docs/lab-experiment.md, "Readings").
+#[test]
+fn every_pattern_decides_right_with_binary_coarse_and_scaled_readings() {
+    use hal_emu::Readings;
+    use protocol::params::DecisionRule;
+    let readings = [
+        Readings::Binary,
+        Readings::Quantised(4),
+        Readings::Scaled {
+            gain: 0.25,
+            offset: 7.0,
+        },
+    ];
+    for decide in [DecisionRule::Fixed, DecisionRule::Adaptive] {
+        for r in readings {
+            for pattern in PAPER_PATTERNS {
+                let seed = 11;
+                let mut cfg = lab(pattern, seed);
+                cfg.env.readings = r;
+                cfg.robot.params.decide = decide;
+                let j = judge(&cfg).unwrap();
+                assert!(
+                    j.success,
+                    "LEDs {}; replay: cimax arena --lights {pattern} --readings {r} --decide {} \
+                     --seed {seed} --runs 1",
+                    leds_str(&j.leds),
+                    if decide == DecisionRule::Adaptive {
+                        "adaptive"
+                    } else {
+                        "fixed"
+                    }
+                );
+            }
+        }
     }
 }
 

@@ -14,6 +14,7 @@ use std::rc::Rc;
 use embassy_futures::select::select;
 use firmware::{Clock, Config, Hardware, LedColor, Observer, Robot, SetupError, Stats};
 use nalgebra::{Point2, Vector2};
+use protocol::fused::NodeStats;
 use protocol::wave::WaveStats;
 use protocol::{Duration, Event, Instant, Sector, WaveState};
 use rand_pcg::Pcg32;
@@ -291,6 +292,9 @@ pub struct RunReport {
     /// Each robot's wave counters (of its last life): waves initiated, relayed, initiations
     /// skipped while busy.
     pub waves: Vec<WaveStats>,
+    /// Each robot's protocol counters (of its last life): messages scored, rays, negotiation
+    /// periods and those in which it initiated fewer waves than cycles.
+    pub nodes: Vec<NodeStats>,
     /// Emulated time.
     pub emulated: Duration,
     /// Wall time the run took.
@@ -461,11 +465,11 @@ async fn life_of<const N: usize>(
         robot,
     };
     select(r.run_observed(&mut hw, &mut tracer), stop).await;
-    Ok((*r.stats(), *r.node().wave_stats()))
+    Ok((*r.stats(), *r.node().wave_stats(), *r.node().stats()))
 }
 
-/// What a robot's life leaves: its counters and its wave counters.
-type Counters = (Stats, WaveStats);
+/// What a robot's life leaves: its counters, its wave counters and its protocol counters.
+type Counters = (Stats, WaveStats, NodeStats);
 
 /// Checks that the robot program accepts `config` with as many receivers as it has sectors.
 fn check_robot(config: Config) -> Result<(), SetupError> {
@@ -607,7 +611,7 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
         let mut stops: Vec<Option<oneshot::Sender<()>>> = (0..n).map(|_| None).collect();
         let mut handles: Vec<Option<tokio::task::JoinHandle<Result<Counters, String>>>> =
             (0..n).map(|_| None).collect();
-        let mut stats = vec![(Stats::default(), WaveStats::default()); n];
+        let mut stats = vec![(Stats::default(), WaveStats::default(), NodeStats::default()); n];
         // The first robot that stopped on its own (a panic, or no boot), if any: the run goes
         // on to its end (so that it stays the same run) and then fails.
         let mut failure: Option<RobotFailure> = None;
@@ -707,6 +711,7 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             medium: m.stats(),
             robots: stats.iter().map(|c| c.0).collect(),
             waves: stats.iter().map(|c| c.1).collect(),
+            nodes: stats.iter().map(|c| c.2).collect(),
             emulated: end,
             wall: std::time::Duration::ZERO,
         })

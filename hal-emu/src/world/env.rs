@@ -24,15 +24,17 @@ pub struct Environment {
     /// A field over the plane instead of the light pattern, if set: each robot reads it where
     /// it is (`schedule`, `lit` and `dark` are then not used).
     pub field: Option<PlaneField>,
-    /// What the ambient-light sensor reports: noisy levels (the default) or the paper's binary
-    /// readings (Fig. 5(d): g = 1 lit, 0 dark).
+    /// What the ambient-light sensor reports: noisy levels (the default), the paper's binary
+    /// readings (Fig. 5(d): g = 1 lit, 0 dark), a coarser sensor, or a scaled and offset one.
     pub readings: Readings,
 }
 
-/// What a robot's ambient-light sensor reports ([`Environment::light`]).
+/// What a robot's ambient-light sensor reports ([`Environment::light`]): the same light seen
+/// through sensors of another unit, gain, offset or resolution. CIMAX compares diversities, so
+/// none of these may change a decision (`docs/protocol.md` §5.6).
 ///
 /// The oxygen reading is a noisy level either way (the lab experiment used light only).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub enum Readings {
     /// A level: [`Environment::lit`] or [`Environment::dark`] (or the field's level), off by the
     /// environment's noise.
@@ -43,6 +45,112 @@ pub enum Readings {
     /// [`PlaneField`], 1 where the field's noiseless level is at least halfway between
     /// [`Environment::dark`] and [`Environment::lit`] ([`Environment::binary_threshold`]).
     Binary,
+    /// A coarser sensor of `N` levels (`2..=256`): the noisy level `x` of [`Readings::Levels`]
+    /// read as `⌊x · N / 256⌋`, `0..N` (16 levels: lit 200 reads 12, dark 30 reads 1).
+    Quantised(u16),
+    /// A sensor of another gain and offset: the noisy level `x` read as
+    /// `round(gain · x + offset)`, saturated to `0..=255`.
+    Scaled {
+        /// Levels of this sensor per level of the default one (`> 0`).
+        gain: f64,
+        /// Added after the gain.
+        offset: f64,
+    },
+}
+
+impl Readings {
+    /// What a sensor of this kind reports for the noisy level `x` (not for [`Readings::Binary`],
+    /// which reads lit or dark without noise: `x` unchanged).
+    pub fn read(self, x: Level) -> Level {
+        match self {
+            Readings::Levels | Readings::Binary => x,
+            Readings::Quantised(n) => {
+                Level((u32::from(x.0) * u32::from(n.clamp(2, 256)) / 256) as u8)
+            }
+            Readings::Scaled { gain, offset } => {
+                // `as` saturates and maps NaN to 0.
+                Level((gain * f64::from(x.0) + offset).round().clamp(0.0, 255.0) as u8)
+            }
+        }
+    }
+
+    /// True for [`Readings::Binary`] (no noise is drawn).
+    pub fn is_binary(self) -> bool {
+        self == Readings::Binary
+    }
+}
+
+impl core::fmt::Display for Readings {
+    /// The `--readings` spelling: `full`, `binary`, `levels:N`, `gain:G,offset:B`.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Readings::Levels => write!(f, "full"),
+            Readings::Binary => write!(f, "binary"),
+            Readings::Quantised(n) => write!(f, "levels:{n}"),
+            Readings::Scaled { gain, offset } => write!(f, "gain:{gain},offset:{offset}"),
+        }
+    }
+}
+
+/// A `--readings` value that does not parse: says what was expected.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ReadingsError(pub String);
+
+impl core::fmt::Display for ReadingsError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ReadingsError {}
+
+impl core::str::FromStr for Readings {
+    type Err = ReadingsError;
+
+    /// `full`, `binary`, `levels:N` (N in 2..=256) or `gain:G,offset:B` (G > 0, both finite;
+    /// either part may be left out: gain 1, offset 0).
+    fn from_str(s: &str) -> Result<Readings, ReadingsError> {
+        let err = |why: &str| {
+            ReadingsError(format!(
+                "{s:?}: {why} (expected full, binary, levels:N with N in 2..=256, or gain:G,offset:B)"
+            ))
+        };
+        match s.trim() {
+            "full" => return Ok(Readings::Levels),
+            "binary" => return Ok(Readings::Binary),
+            _ => {}
+        }
+        if let Some(n) = s.trim().strip_prefix("levels:") {
+            let n: u16 = n
+                .trim()
+                .parse()
+                .map_err(|_| err("the number of levels is not a whole number"))?;
+            if !(2..=256).contains(&n) {
+                return Err(err("a sensor has 2 to 256 levels"));
+            }
+            return Ok(Readings::Quantised(n));
+        }
+        let (mut gain, mut offset) = (1.0, 0.0);
+        for part in s.split(',') {
+            let (key, value) = part
+                .split_once(':')
+                .ok_or_else(|| err("unknown kind of readings"))?;
+            let v: f64 = value
+                .trim()
+                .parse()
+                .map_err(|_| err("gain and offset must be numbers"))?;
+            if !v.is_finite() {
+                return Err(err("gain and offset must be finite"));
+            }
+            match key.trim() {
+                "gain" if v > 0.0 => gain = v,
+                "gain" => return Err(err("the gain must be above 0")),
+                "offset" => offset = v,
+                _ => return Err(err("unknown kind of readings")),
+            }
+        }
+        Ok(Readings::Scaled { gain, offset })
+    }
 }
 
 /// A scalar field over the plane as the robots' sensors read it (the swarm simulator's fields,
@@ -160,22 +268,23 @@ impl Environment {
     }
 
     /// What robot `robot`'s ambient-light sensor reports at `t` under the light pattern
-    /// ([`Readings`]): `lit` or `dark` with noise drawn from `rng`, or 1 or 0.
+    /// ([`Readings`]): `lit` or `dark` with noise drawn from `rng` as the sensor reads it, or
+    /// 1 or 0.
     pub fn light(&self, robot: usize, t: Instant, rng: &mut Pcg32) -> Level {
         let lit = self.is_lit(robot, t);
         match self.readings {
-            Readings::Levels => self.noisy(if lit { self.lit } else { self.dark }, rng),
             Readings::Binary => Level(u8::from(lit)),
+            r => r.read(self.noisy(if lit { self.lit } else { self.dark }, rng)),
         }
     }
 
     /// What a sensor whose noiseless level is `level` (a [`PlaneField`]'s) reports
-    /// ([`Readings`]): `level` with noise drawn from `rng`, or 1 if it is at least
-    /// [`Self::binary_threshold`] and 0 below.
+    /// ([`Readings`]): `level` with noise drawn from `rng` as the sensor reads it, or 1 if it
+    /// is at least [`Self::binary_threshold`] and 0 below.
     pub fn field_light(&self, level: u8, rng: &mut Pcg32) -> Level {
         match self.readings {
-            Readings::Levels => self.noisy(level, rng),
             Readings::Binary => Level(u8::from(level >= self.binary_threshold())),
+            r => r.read(self.noisy(level, rng)),
         }
     }
 
@@ -232,6 +341,69 @@ mod tests {
         let l = e.light(0, Instant::ZERO, &mut rng).0;
         assert!((190..=210).contains(&l), "{l}");
         assert_ne!(rng, Pcg32::new(1, 1));
+    }
+
+    #[test]
+    fn coarse_and_scaled_sensors_read_the_noisy_level() {
+        let mut rng = Pcg32::new(1, 2);
+        let mut e = Environment::constant(vec![true, false]);
+        e.noise = 0;
+        e.readings = Readings::Quantised(16);
+        assert_eq!(e.light(0, Instant::ZERO, &mut rng), Level(12));
+        assert_eq!(e.light(1, Instant::ZERO, &mut rng), Level(1));
+        e.readings = Readings::Quantised(4);
+        assert_eq!(e.light(0, Instant::ZERO, &mut rng), Level(3));
+        assert_eq!(e.light(1, Instant::ZERO, &mut rng), Level(0));
+        e.readings = Readings::Scaled {
+            gain: 0.5,
+            offset: 100.0,
+        };
+        assert_eq!(e.light(0, Instant::ZERO, &mut rng), Level(200));
+        assert_eq!(e.light(1, Instant::ZERO, &mut rng), Level(115));
+        // Saturation at the top.
+        e.readings = Readings::Scaled {
+            gain: 2.0,
+            offset: 0.0,
+        };
+        assert_eq!(e.light(0, Instant::ZERO, &mut rng), Level(255));
+    }
+
+    #[test]
+    fn readings_parse_and_print_back() {
+        for (text, r) in [
+            ("full", Readings::Levels),
+            ("binary", Readings::Binary),
+            ("levels:16", Readings::Quantised(16)),
+            (
+                "gain:0.5,offset:100",
+                Readings::Scaled {
+                    gain: 0.5,
+                    offset: 100.0,
+                },
+            ),
+        ] {
+            let got: Readings = text.parse().unwrap();
+            assert_eq!(got, r, "{text}");
+            assert_eq!(got.to_string().parse::<Readings>().unwrap(), r);
+        }
+        for bad in [
+            "",
+            "bin",
+            "levels:1",
+            "levels:257",
+            "levels:x",
+            "gain:0",
+            "gain:-1",
+            "gain:x",
+            "offset:inf",
+            "gain:2,foo:1",
+        ] {
+            let e = bad.parse::<Readings>().unwrap_err();
+            assert!(
+                e.to_string().contains("expected full, binary"),
+                "{bad}: {e}"
+            );
+        }
     }
 
     #[test]

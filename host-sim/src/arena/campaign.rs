@@ -22,7 +22,7 @@ use clap::builder::PossibleValuesParser;
 use clap::{Args, Subcommand};
 use hal_emu::arena::RobotFailure;
 use hal_emu::lab::{PAPER_PATTERNS, judge, leds_str, parse_pattern, pattern_str};
-use hal_emu::{Adversary, ArenaConfig, ArenaError, MediumStats, Point2};
+use hal_emu::{Adversary, ArenaConfig, ArenaError, MediumStats, Point2, Readings};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use protocol::{Duration, Instant, Params};
@@ -244,6 +244,9 @@ pub struct Outcome {
     pub frame_errors: u64,
     /// Each robot's wave counters at the end (of its last life; empty if the run crashed).
     pub waves: Vec<WaveStats>,
+    /// Each robot's protocol counters at the end (of its last life; empty if the run crashed):
+    /// negotiation periods, and those with fewer initiations than cycles.
+    pub nodes: Vec<protocol::fused::NodeStats>,
     /// The run's emulated length, s.
     pub duration_s: f64,
 }
@@ -420,6 +423,7 @@ fn crashed(cfg: &ArenaConfig, failure: &RobotFailure) -> Outcome {
         medium: MediumStats::default(),
         frame_errors: 0,
         waves: Vec::new(),
+        nodes: Vec::new(),
         duration_s: cfg.duration.as_secs_f64(),
     }
 }
@@ -480,6 +484,7 @@ fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<Outcome, String
             .map(|s| u64::from(s.frame_errors))
             .sum(),
         waves: run.report.waves.clone(),
+        nodes: run.report.nodes.clone(),
         duration_s: cfg.duration.as_secs_f64(),
     };
     Ok(o)
@@ -674,13 +679,27 @@ pub struct SuiteResult {
     pub runs: Vec<(bool, Option<f64>)>,
 }
 
+/// The share of the lab suite's runs that must succeed, per rule and readings: the paper's
+/// 5 of 5 for every pattern allows no failure in five runs; over 200 seeds, one in a hundred.
+pub const SUITE_BAR: f64 = 0.99;
+
+/// The readings the campaign runs the lab suite with: the emulator's levels and the paper's
+/// binary readings (Fig. 5(d), g ∈ {0, 1}).
+pub const SUITE_READINGS: [Readings; 2] = [Readings::Levels, Readings::Binary];
+
 /// The lab suite under `decide` ([`hal_emu::lab::paper_suite`]): the paper's six patterns and
 /// the alternating experiment from each (mirrored once the run's duration has passed), seeds
-/// `seed..seed + seeds`, no fault, as `cimax arena --runs SEEDS --decide RULE` runs it.
+/// `seed..seed + seeds`, no fault, the sensors reporting `readings`, as
+/// `cimax arena --runs SEEDS --decide RULE --readings KIND` runs it.
 ///
 /// # Errors
 /// A message if a run cannot start.
-pub fn lab_suite(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<SuiteResult>, String> {
+pub fn lab_suite(
+    decide: Decide,
+    readings: Readings,
+    seed: u64,
+    seeds: u64,
+) -> Result<Vec<SuiteResult>, String> {
     let mut params = Params::robots();
     params.decide = decide.into();
     let run = hal_emu::lab::default_duration(&params);
@@ -692,6 +711,7 @@ pub fn lab_suite(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<SuiteResul
                 .map(|k| {
                     let mut cfg = e.config(1.0, run, seed.wrapping_add(k));
                     cfg.robot.params = params;
+                    cfg.env.readings = readings;
                     judge(&cfg)
                         .map(|r| (r.success, r.consensus_s))
                         .map_err(|e| e.to_string())
@@ -709,8 +729,16 @@ pub fn lab_suite(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<SuiteResul
 /// `templates/reliability/suite.md.j2`).
 #[derive(Serialize)]
 pub struct SuiteSection {
+    /// The readings, as `--readings` spells them (`full`, `binary`).
+    pub readings: String,
+    /// What they are, in words.
+    pub readings_text: String,
+    /// The bar, formatted (`99 %`).
+    pub bar: String,
     /// Seeds per experiment.
     pub seeds: u64,
+    /// The rules whose success over the whole suite is below [`SUITE_BAR`], one line each.
+    pub missed: Vec<String>,
     /// Per experiment, and `all` last: its label and its cells (success of each rule, median
     /// and p95 time of each rule).
     pub rows: Vec<LabelledRow>,
@@ -725,8 +753,14 @@ pub struct LabelledRow {
     pub cells: Vec<String>,
 }
 
-/// The lab suite of both rules as the page's section (success, median and p95 time).
-pub fn suite_section(fixed: &[SuiteResult], adaptive: &[SuiteResult], seeds: u64) -> SuiteSection {
+/// The lab suite of both rules with `readings` as the page's section (success, median and p95
+/// time, the bar).
+pub fn suite_section(
+    fixed: &[SuiteResult],
+    adaptive: &[SuiteResult],
+    readings: Readings,
+    seeds: u64,
+) -> SuiteSection {
     let stats = |r: &SuiteResult| {
         let ok = r.runs.iter().filter(|x| x.0).count();
         let t: Vec<f64> = r.runs.iter().filter_map(|x| x.1).collect();
@@ -761,7 +795,30 @@ pub fn suite_section(fixed: &[SuiteResult], adaptive: &[SuiteResult], seeds: u64
             secs(quantile(&all[1], 0.95)),
         ],
     });
-    SuiteSection { seeds, rows }
+    let mut missed = Vec::new();
+    for (name, r) in [("fixed", fixed), ("adaptive", adaptive)] {
+        let share = ok(r) as f64 / n(r).max(1) as f64;
+        if share < SUITE_BAR {
+            missed.push(format!(
+                "bar missed: the lab suite with {readings} readings succeeded in {} of runs under \
+                 the {name} rule, below its bar of {}",
+                pct(share),
+                pct(SUITE_BAR)
+            ));
+        }
+    }
+    SuiteSection {
+        readings: readings.to_string(),
+        readings_text: match readings {
+            Readings::Levels => "levels (lit 200, dark 30, noise ±10)".into(),
+            Readings::Binary => "the paper's binary readings (g = 1 lit, 0 dark, no noise)".into(),
+            r => format!("readings {r}"),
+        },
+        bar: pct(SUITE_BAR),
+        seeds,
+        rows,
+        missed,
+    }
 }
 
 /// The adaptive rule's campaign beside the fixed rule's, as the page's section shows it
@@ -1037,8 +1094,8 @@ pub struct Page {
     pub campaign: CampaignSection,
     /// Both rules side by side.
     pub rules: Option<RulesSection>,
-    /// The lab suite under both rules.
-    pub suite: Option<SuiteSection>,
+    /// The lab suite under both rules, once per [`SUITE_READINGS`].
+    pub suites: Vec<SuiteSection>,
     /// Initiations per negotiation period.
     pub initiations: Option<crate::arena::stress::InitiationsSection>,
     /// The loss sweep.
@@ -1151,7 +1208,7 @@ pub fn markdown(report: &Report, figure: Option<&str>) -> String {
     let page = Page {
         campaign: campaign_section(report, figure),
         rules: None,
-        suite: None,
+        suites: Vec::new(),
         initiations: None,
         loss: None,
     };
@@ -1337,13 +1394,21 @@ pub fn main(args: &CampaignArgs) -> ExitCode {
         .out
         .clone()
         .or_else(|| documented.then(|| crate::report::default_docs_dir().join("reliability.md")));
-    if let Some(out) = out
-        && let Err(e) = write_page(&reports, &out, args.figure.clone())
-    {
-        eprintln!("cimax arena campaign: {}: {e}", out.display());
-        return ExitCode::from(2);
-    }
     let mut failed = false;
+    if let Some(out) = out {
+        match write_page(&reports, &out, args.figure.clone()) {
+            Ok(missed) => {
+                for m in missed {
+                    eprintln!("{m}");
+                    failed = true;
+                }
+            }
+            Err(e) => {
+                eprintln!("cimax arena campaign: {}: {e}", out.display());
+                return ExitCode::from(2);
+            }
+        }
+    }
     for report in &reports {
         let plan = &report.plan;
         for r in &report.results {
@@ -1425,9 +1490,16 @@ fn run_rule(plan: &Plan, args: &CampaignArgs) -> Result<Report, ExitCode> {
 /// Writes the page `out` with its figures beside it (`figures/reliability.svg`, or `figure`,
 /// and `reliability-rules.svg` next to it): the first report's page and, with two rules, the
 /// section setting them side by side.
-fn write_page(reports: &[Report], out: &Path, figure: Option<PathBuf>) -> Result<(), String> {
+///
+/// Returns the lab suite's missed bars, one line each.
+fn write_page(
+    reports: &[Report],
+    out: &Path,
+    figure: Option<PathBuf>,
+) -> Result<Vec<String>, String> {
+    let mut missed = Vec::new();
     let Some(first) = reports.first() else {
-        return Ok(());
+        return Ok(missed);
     };
     let figure = figure.unwrap_or_else(|| {
         out.parent()
@@ -1443,7 +1515,7 @@ fn write_page(reports: &[Report], out: &Path, figure: Option<PathBuf>) -> Result
     let mut page = Page {
         campaign: campaign_section(first, Some(&relative(&figure, out))),
         rules: None,
-        suite: None,
+        suites: Vec::new(),
         initiations: None,
         loss: None,
     };
@@ -1455,9 +1527,13 @@ fn write_page(reports: &[Report], out: &Path, figure: Option<PathBuf>) -> Result
             Some(&relative(&rules_figure, out)),
         ));
         let (seed, seeds) = (fixed.plan.seed, fixed.plan.seeds);
-        let f = lab_suite(Decide::Fixed, seed, seeds)?;
-        let a = lab_suite(Decide::Adaptive, seed, seeds)?;
-        page.suite = Some(suite_section(&f, &a, seeds));
+        for readings in SUITE_READINGS {
+            let f = lab_suite(Decide::Fixed, readings, seed, seeds)?;
+            let a = lab_suite(Decide::Adaptive, readings, seed, seeds)?;
+            let section = suite_section(&f, &a, readings, seeds);
+            missed.extend(section.missed.iter().map(|m| m.replace('`', "")));
+            page.suites.push(section);
+        }
         page.initiations = Some(crate::arena::stress::initiations_section(fixed, adaptive));
         let sweep_seeds = seeds.min(crate::arena::stress::SWEEP_SEEDS);
         let f = crate::arena::stress::loss_sweep(Decide::Fixed, seed, sweep_seeds)?;
@@ -1473,7 +1549,8 @@ fn write_page(reports: &[Report], out: &Path, figure: Option<PathBuf>) -> Result
         println!("wrote {} and {}", out.display(), figure.display());
     }
     let page = page.render()?;
-    std::fs::write(out, page).map_err(|e| e.to_string())
+    std::fs::write(out, page).map_err(|e| e.to_string())?;
+    Ok(missed)
 }
 
 #[cfg(test)]

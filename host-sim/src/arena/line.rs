@@ -83,8 +83,13 @@ pub struct ArenaArgs {
     /// default three negotiation periods of the longest cycle.
     #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_RUN_SECS))]
     pub duration: Option<u64>,
-    /// The sensors report the paper's binary readings (Fig. 5(d), g in {0, 1}): 1 when lit,
-    /// 0 when dark, without noise, instead of levels of 200 and 30 with noise ±10.
+    /// What the light sensors report: `full` (levels of 200 lit and 30 dark with noise ±10,
+    /// or the field's level), `binary` (the paper's g in {0, 1}: 1 lit, 0 dark, without noise),
+    /// `levels:N` (a coarser sensor of N levels, 2 to 256) or `gain:G,offset:B` (a sensor of
+    /// another gain and offset, saturating at 0 and 255). None of these may change a decision.
+    #[arg(long, value_name = "KIND", default_value_t = Readings::Levels, conflicts_with = "binary_readings")]
+    pub readings: Readings,
+    /// The same as `--readings binary`.
     #[arg(long)]
     pub binary_readings: bool,
     /// Probability that a frame is lost at a receiver.
@@ -141,12 +146,12 @@ pub struct ArenaArgs {
 }
 
 impl ArenaArgs {
-    /// What the sensors report: binary readings with `--binary-readings`, else levels.
+    /// What the sensors report: `--readings`, binary with `--binary-readings`.
     pub fn readings(&self) -> Readings {
         if self.binary_readings {
             Readings::Binary
         } else {
-            Readings::Levels
+            self.readings
         }
     }
 }
@@ -548,8 +553,10 @@ fn replay_extra(args: &ArenaArgs) -> String {
     if args.loss > 0.0 {
         extra += &format!(" --loss {}", args.loss);
     }
-    if args.binary_readings {
-        extra += " --binary-readings";
+    match args.readings() {
+        Readings::Levels => {}
+        Readings::Binary => extra += " --binary-readings",
+        r => extra += &format!(" --readings {r}"),
     }
     extra
 }
@@ -662,8 +669,9 @@ fn print_table(
     println!(
         "CIMAX lab arena: robots in a line running the robot program over the emulated light medium{}",
         match args.readings() {
-            Readings::Binary => "; binary readings (g = 1 lit, 0 dark)",
-            Readings::Levels => "",
+            Readings::Binary => "; binary readings (g = 1 lit, 0 dark)".to_string(),
+            Readings::Levels => String::new(),
+            r => format!("; readings {r}"),
         }
     );
     println!(
@@ -937,12 +945,9 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
         || args.then.is_some()
         || !args.kill.is_empty()
         || !args.restart.is_empty()
-        || args.binary_readings
     {
         return Err(
-            "--field runs over a field: --lights, --then, --kill, --restart and \
-             --binary-readings do not apply"
-                .into(),
+            "--field runs over a field: --lights, --then, --kill and --restart do not apply".into(),
         );
     }
     let mut params = Params::robots();
@@ -978,6 +983,7 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
         moves: args.moves,
         medium,
         params,
+        readings: args.readings(),
     })
 }
 
@@ -1087,11 +1093,21 @@ mod tests {
                 .all(|c| c.env.readings == Readings::Binary)
         );
         assert_eq!(replay_extra(&a), " --binary-readings");
-        assert!(
-            plane_spec(&args(&["--field", "sharp", "--binary-readings"]))
-                .unwrap_err()
-                .contains("--binary-readings")
+        // The same as `--readings binary`; on a plane too.
+        assert_eq!(
+            build(&args(&["--readings", "binary", "--runs", "1"])).unwrap()[0].configs[0]
+                .env
+                .readings,
+            Readings::Binary
         );
+        assert_eq!(
+            plane_spec(&args(&["--field", "sharp", "--binary-readings"]))
+                .unwrap()
+                .readings,
+            Readings::Binary
+        );
+        let scaled = args(&["--readings", "gain:0.5,offset:100", "--runs", "1"]);
+        assert_eq!(replay_extra(&scaled), " --readings gain:0.5,offset:100");
         // The whole suite with binary readings, one run each: every verdict holds.
         let ((runs, crashed), _) = run_all(&experiments).unwrap();
         assert!(crashed.is_empty());

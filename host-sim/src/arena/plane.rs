@@ -60,6 +60,8 @@ pub struct PlaneSpec {
     /// Positions relative to the swarm, in R, for [`Placement::File`] (recentred on their
     /// centre of mass).
     pub file_positions: Vec<Vector2<f64>>,
+    /// What the light sensors report (`--readings`).
+    pub readings: hal_emu::Readings,
 }
 
 /// Reads robot positions, in R: one robot per line, `x y` or `x,y`; empty lines and lines
@@ -235,6 +237,7 @@ pub fn config(spec: &PlaneSpec, seed: u64) -> Result<ArenaConfig, PlaneError> {
         f.gain = gain;
     }
     c.env.noise = noise;
+    c.env.readings = spec.readings;
     c.motion = Some(Motion {
         period,
         step: spec.scenario.run.step,
@@ -502,6 +505,10 @@ pub struct SweepArgs {
     /// Probability that a frame is lost at a receiver.
     #[arg(long, default_value_t = 0.0)]
     pub loss: f64,
+    /// What the light sensors report (`full`, `binary`, `levels:N`, `gain:G,offset:B`; see
+    /// `cimax arena --help`).
+    #[arg(long, value_name = "KIND", default_value_t = hal_emu::Readings::Levels)]
+    pub readings: hal_emu::Readings,
     /// Runs of the 2D simulator (`cimax swarm`, three-phase variant, same placement) per
     /// position, for the curve beside, 0 to 100,000; 0 leaves it out.
     #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=i64::from(crate::swarm::scenario::MAX_RUNS_PER_POINT)))]
@@ -597,6 +604,7 @@ fn arena_points(
         medium,
         params: Params::robots(),
         file_positions: Vec::new(),
+        readings: a.readings,
     };
     let jobs: Vec<(usize, u64)> = (0..xs.len())
         .flat_map(|p| (0..a.runs).map(move |k| (p, a.seed.wrapping_add(k))))
@@ -760,6 +768,7 @@ pub fn bench_main(a: &BenchArgs) -> std::process::ExitCode {
             medium: MediumParams::default(),
             params: Params::robots(),
             file_positions: Vec::new(),
+            readings: hal_emu::Readings::Levels,
         };
         match run(&spec, a.seed) {
             Ok(r) => {

@@ -143,6 +143,18 @@ pub fn per_period(runs: &[Outcome], params: &Params) -> (Vec<f64>, Vec<f64>) {
     (initiated, skipped)
 }
 
+/// Negotiation periods the robots of `runs` completed, and the share of them in which the robot
+/// initiated at least one wave per cycle (`NodeStats::periods_short`); `None` without periods.
+pub fn full_periods(runs: &[Outcome]) -> (u64, Option<f64>) {
+    let (mut periods, mut short) = (0u64, 0u64);
+    for n in runs.iter().flat_map(|o| &o.nodes) {
+        periods += u64::from(n.periods);
+        short += u64::from(n.periods_short);
+    }
+    let share = (periods > 0).then(|| (periods - short) as f64 / periods as f64);
+    (periods, share)
+}
+
 /// Initiations per negotiation period of both rules, as the page's section shows it
 /// (`initiations` in `templates/reliability/initiations.md.j2`).
 #[derive(Serialize)]
@@ -154,8 +166,9 @@ pub struct InitiationsSection {
     /// The nominal cycle, s.
     pub cycle_s: String,
     /// Per rule: its name, robot-runs, initiated min, p5, median, mean, skipped median, share
-    /// of robot-runs with at least 10.
-    pub rows: Vec<[String; 8]>,
+    /// of robot-runs with at least 10 per nominal period, the robots' own negotiation periods
+    /// completed and the share of them with at least one initiation per cycle.
+    pub rows: Vec<[String; 10]>,
 }
 
 /// Initiations per negotiation period of both rules in the baseline scenario, as the page's
@@ -171,6 +184,7 @@ pub fn initiations_section(fixed: &Report, adaptive: &Report) -> InitiationsSect
         let mean = crate::stats::mean(&init).unwrap_or(0.0);
         let ten = init.iter().filter(|&&x| x >= 10.0).count() as f64 / init.len().max(1) as f64;
         let f = |x: Option<f64>| x.map_or("-".into(), |v| format!("{v:.1}"));
+        let (periods, full) = full_periods(&r.runs);
         rows.push([
             report.plan.decide.name().to_string(),
             init.len().to_string(),
@@ -180,6 +194,8 @@ pub fn initiations_section(fixed: &Report, adaptive: &Report) -> InitiationsSect
             format!("{mean:.1}"),
             f(quantile(&skip, 0.5)),
             pct(ten),
+            periods.to_string(),
+            full.map_or("-".into(), pct),
         ]);
     }
     InitiationsSection {
@@ -208,6 +224,7 @@ mod tests {
             restore_s: None,
             medium: Default::default(),
             frame_errors: 0,
+            nodes: Vec::new(),
             waves: waves
                 .iter()
                 .map(|&(initiated, skipped_initiations)| WaveStats {
@@ -227,6 +244,25 @@ mod tests {
         let (init, skip) = per_period(&runs, &Params::robots());
         assert_eq!(init, [9.0, 10.0]);
         assert_eq!(skip, [1.0, 2.0]);
+    }
+
+    #[test]
+    fn full_periods_count_the_robots_own_periods() {
+        use protocol::fused::NodeStats;
+        let mut o = outcome(true, Some(500.0), &[]);
+        o.nodes = vec![
+            NodeStats {
+                periods: 3,
+                periods_short: 1,
+                ..NodeStats::default()
+            },
+            NodeStats {
+                periods: 5,
+                ..NodeStats::default()
+            },
+        ];
+        assert_eq!(full_periods(&[o]), (8, Some(7.0 / 8.0)));
+        assert_eq!(full_periods(&[]), (0, None));
     }
 
     #[test]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Golden frames of payload format 2, computed independently of the Rust encoder.
+"""Golden frames of payload format 3, computed independently of the Rust encoder.
 
 Run from anywhere, Python 3 only (no packages):
 
@@ -11,11 +11,11 @@ format description (docs/protocol.md, protocol/src/message.rs's doc), and CRC-16
 COBS, the XOR with 's' and SipHash-2-4 are written out below and checked against their
 published check values before anything is printed.
 
-Payload format 2:
-    byte 0    header 0b001r_nnnn: 001 = format 2, r = 1 if a ray follows, nnnn = hops 1..=12
+Payload format 3 (docs/protocol.md revision 3.0):
+    byte 0    header 0b010r_nnnn: 010 = format 3, r = 1 if a ray follows, nnnn = hops 1..=12
     2 / hop   reading, tag << 4 | pref (pref nibble 0 = none, sector + 1 otherwise)
-    ray       sector << 4 | sectors, robots, mean u16 LE (8.8), var u16 LE (quarters),
-              votes[sectors]
+    ray       sector << 4 | sectors, robots, sum u16 LE (sum of the readings),
+              sum_sq u24 LE (sum of their squares), votes[sectors]
     payload <= 25 bytes
 Frame: 'ss' + (COBS(payload + check) XOR 's') + 'ss'; check = CRC-16/IBM-3740 LE (plain) or
 the first 4 bytes of the little-endian SipHash-2-4 output (keyed).
@@ -118,21 +118,24 @@ def hop(reading, pref=None, tag=0):
     return (reading, tag, pref)
 
 
-def ray(sector, sectors, robots, mean, var, votes):
+def ray(sector, sectors, robots, total, total_sq, votes):
     assert 2 <= sectors <= 8 and sector < sectors and robots >= 1
     assert len(votes) == sectors and all(0 <= v <= robots for v in votes)
-    return (sector, sectors, robots, mean, var, votes)
+    # Sums that `robots` readings in 0..=255 can have (docs/protocol.md §1.2).
+    assert total <= 255 * robots and total_sq <= 255 * total
+    assert total * total <= robots * total_sq
+    return (sector, sectors, robots, total, total_sq, votes)
 
 
 def payload(hops, r=None):
     assert 1 <= len(hops) <= 12
-    out = bytearray([0x20 | (0x10 if r else 0) | len(hops)])
+    out = bytearray([0x40 | (0x10 if r else 0) | len(hops)])
     for reading, tag, pref in hops:
         out += bytes([reading, tag << 4 | (0 if pref is None else pref + 1)])
     if r:
-        sector, sectors, robots, mean, var, votes = r
+        sector, sectors, robots, total, total_sq, votes = r
         out += bytes([sector << 4 | sectors, robots])
-        out += mean.to_bytes(2, "little") + var.to_bytes(2, "little")
+        out += total.to_bytes(2, "little") + total_sq.to_bytes(3, "little")
         out += bytes(votes)
     assert len(out) <= PAYLOAD_BUDGET
     return bytes(out)
@@ -159,12 +162,12 @@ S_BYTES = [hop(S), hop(S)]
 TAGGED_FOUR = [hop(1, RIGHT, 0), hop(1, RIGHT, 1), hop(0, LEFT, 2), hop(0, LEFT, 3)]
 WIDEST_TAGGED = hop(0xFF, 7, 15)
 WIDEST = hop(0xFF, 7, 0)
-# The ray of RAY_FOUR: the LEFT side of a robot with K = 2, 4 robots, mean 115.0, variance
-# 7225.0 (28900 quarters), two votes each way.
-RAY_LEFT_K2 = ray(LEFT, 2, 4, 0x7300, 28900, [2, 2])
-# An 8-sector ray (14 bytes): sector 7, 200 robots, mean 0x7373 (115.45, two 's' bytes),
-# variance 0x0401 quarters, votes summing to 200.
-RAY_K8 = ray(7, 8, 200, 0x7373, 0x0401, [10, 20, 30, 40, 50, 0, 0, 50])
+# The ray of RAY_FOUR: the LEFT side of a robot with K = 2, 4 robots reading 200, 200, 30, 30
+# (sum 460, sum of squares 81800: mean 115.0, variance 7225.0), two votes each way.
+RAY_LEFT_K2 = ray(LEFT, 2, 4, 460, 81800, [2, 2])
+# A 7-sector ray (14 bytes): sector 6, 200 robots, sum 0x7373 (two 's' bytes), sum of squares
+# 0x700473 (one more), votes summing to 200.
+RAY_K7 = ray(6, 7, 200, 0x7373, 0x700473, [10, 20, 30, 40, 50, 0, 50])
 
 VECTORS = [
     ("GOLDEN_ONE_HOP", payload(ONE_HOP), None),
@@ -173,8 +176,8 @@ VECTORS = [
     ("GOLDEN_TAGGED_FOUR", payload(TAGGED_FOUR), None),
     ("GOLDEN_TAGGED_TWELVE", payload([WIDEST_TAGGED] * 12), None),
     ("GOLDEN_RAY_FOUR", payload(TAGGED_FOUR, RAY_LEFT_K2), None),
-    # 5 hops + an 8-sector ray: 1 + 10 + 14 = 25 bytes, the whole budget.
-    ("GOLDEN_RAY_LARGEST", payload([WIDEST_TAGGED] * 5, RAY_K8), None),
+    # 5 hops + a 7-sector ray: 1 + 10 + 14 = 25 bytes, the whole budget.
+    ("GOLDEN_RAY_LARGEST", payload([WIDEST_TAGGED] * 5, RAY_K7), None),
     ("GOLDEN_KEYED_ONE_HOP", payload(ONE_HOP), GOLDEN_KEY),
     ("GOLDEN_KEYED_FOUR_HOPS", payload(FOUR_HOPS), GOLDEN_KEY),
     ("GOLDEN_KEYED_S_BYTES", payload(S_BYTES), GOLDEN_KEY),
@@ -182,8 +185,8 @@ VECTORS = [
     ("GOLDEN_KEYED_TAGGED_ELEVEN", payload([WIDEST_TAGGED] * 11), GOLDEN_KEY),
     ("GOLDEN_KEYED_ELEVEN", payload([WIDEST] * 11), GOLDEN_KEY),
     ("GOLDEN_KEYED_RAY_FOUR", payload(TAGGED_FOUR, RAY_LEFT_K2), GOLDEN_KEY),
-    # 4 hops + an 8-sector ray: 1 + 8 + 14 = 23 bytes, the keyed budget.
-    ("GOLDEN_KEYED_RAY_LARGEST", payload([WIDEST_TAGGED] * 4, RAY_K8), GOLDEN_KEY),
+    # 4 hops + a 7-sector ray: 1 + 8 + 14 = 23 bytes, the keyed budget.
+    ("GOLDEN_KEYED_RAY_LARGEST", payload([WIDEST_TAGGED] * 4, RAY_K7), GOLDEN_KEY),
 ]
 
 

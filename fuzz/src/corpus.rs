@@ -72,19 +72,19 @@ fn decoded(payload: &[u8]) -> Message {
     reference::decode_payload(payload).expect("a valid payload")
 }
 
-/// A format-2 payload claiming `n` hops of (0xFF, sector 7) (header `0x20 | n`, so 13 is
-/// `0x2D`), with all of them present.
+/// A format-3 payload claiming `n` hops of (0xFF, sector 7) (header `0x40 | n`, so 13 is
+/// `0x4D`), with all of them present.
 fn wide_payload(n: u8) -> Vec<u8> {
-    let mut p = vec![0x20 | n];
+    let mut p = vec![0x40 | n];
     for _ in 0..n {
         p.extend_from_slice(&[0xFF, 8]);
     }
     p
 }
 
-/// A payload of `n` hops of (1, no preference) and the ray bytes `ray` (header `0x30 | n`).
+/// A payload of `n` hops of (1, no preference) and the ray bytes `ray` (header `0x50 | n`).
 fn ray_payload(n: u8, ray: &[u8]) -> Vec<u8> {
-    let mut p = vec![0x30 | n];
+    let mut p = vec![0x50 | n];
     for _ in 0..n {
         p.extend_from_slice(&[1, 0]);
     }
@@ -92,9 +92,10 @@ fn ray_payload(n: u8, ray: &[u8]) -> Vec<u8> {
     p
 }
 
-/// The 8-sector ray bytes of `frame.rs`'s GOLDEN_RAY_LARGEST: sector 7, 200 robots.
-const RAY_K8: [u8; 14] = [
-    0x78, 200, 0x73, 0x73, 0x01, 0x04, 10, 20, 30, 40, 50, 0, 0, 50,
+/// The 7-sector ray bytes of `frame.rs`'s GOLDEN_RAY_LARGEST: sector 6, 200 robots, sum
+/// 0x7373, sum of squares 0x700473.
+const RAY_K7: [u8; 14] = [
+    0x67, 200, 0x73, 0x73, 0x73, 0x04, 0x70, 10, 20, 30, 40, 50, 0, 50,
 ];
 
 /// Seeds of the `deframer` target.
@@ -134,7 +135,7 @@ pub fn deframer() -> Vec<DeframerSeed> {
         seed(
             "preference-nibble-9-with-tag",
             &[],
-            frame_payload(&[0x21, 0, 0x39]),
+            frame_payload(&[0x41, 0, 0x39]),
             vec![Err(FrameError::Undecodable)],
         ),
         seed(
@@ -144,21 +145,21 @@ pub fn deframer() -> Vec<DeframerSeed> {
             vec![Ok(ray_four()), Ok(one_hop())],
         ),
         seed(
-            "max-length-ray-5-hops-8-sectors",
+            "max-length-ray-5-hops-7-sectors",
             &[],
-            frame_payload(&ray_payload(5, &RAY_K8)),
-            vec![Ok(decoded(&ray_payload(5, &RAY_K8)))],
+            frame_payload(&ray_payload(5, &RAY_K7)),
+            vec![Ok(decoded(&ray_payload(5, &RAY_K7)))],
         ),
         seed(
-            "over-budget-ray-6-hops-8-sectors",
+            "over-budget-ray-6-hops-7-sectors",
             &[],
-            frame_payload(&ray_payload(6, &RAY_K8)),
+            frame_payload(&ray_payload(6, &RAY_K7)),
             vec![Err(TooLong)],
         ),
         seed(
             "ray-vote-over-robots",
             &[],
-            frame_payload(&ray_payload(1, &[0x12, 2, 0, 1, 0, 0, 3, 0])),
+            frame_payload(&ray_payload(1, &[0x12, 2, 2, 0, 2, 0, 0, 3, 0])),
             vec![Err(Undecodable)],
         ),
         seed(
@@ -261,19 +262,19 @@ pub fn deframer() -> Vec<DeframerSeed> {
         seed(
             "zero-hops",
             &[],
-            frame_payload(&[0x20]),
+            frame_payload(&[0x40]),
             vec![Err(Undecodable)],
         ),
         seed(
             "length-lies-more",
             &[],
-            frame_payload(&[0x22, 1, 0]),
+            frame_payload(&[0x42, 1, 0]),
             vec![Err(Undecodable)],
         ),
         seed(
             "length-lies-less",
             &[],
-            frame_payload(&[0x21, 1, 0, 0, 0]),
+            frame_payload(&[0x41, 1, 0, 0, 0]),
             vec![Err(Undecodable)],
         ),
         seed(
@@ -291,7 +292,7 @@ pub fn deframer() -> Vec<DeframerSeed> {
         seed(
             "preference-byte-9",
             &[],
-            frame_payload(&[0x21, 0, 9]),
+            frame_payload(&[0x41, 0, 9]),
             vec![Err(Undecodable)],
         ),
         seed("bad-crc", &[], bad_crc, vec![Err(BadCheck)]),
@@ -352,46 +353,46 @@ pub fn message_decode() -> Vec<DecodeSeed> {
     };
     let four = GOLDEN_FOUR_HOPS;
     vec![
-        payload("payload-one-hop", vec![0x21, 1, 0], Ok(one_hop())),
+        payload("payload-one-hop", vec![0x41, 1, 0], Ok(one_hop())),
         payload("payload-ray-four", payload_of(&ray_four()), Ok(ray_four())),
         payload(
             "payload-ray-largest",
-            ray_payload(5, &RAY_K8),
-            Ok(decoded(&ray_payload(5, &RAY_K8))),
+            ray_payload(5, &RAY_K7),
+            Ok(decoded(&ray_payload(5, &RAY_K7))),
         ),
         payload(
             "payload-ray-over-budget",
-            ray_payload(6, &RAY_K8),
+            ray_payload(6, &RAY_K7),
             Err(TooLong),
         ),
         payload(
             "payload-ray-1-sector",
-            ray_payload(1, &[0x01, 1, 0, 1, 0, 0, 1]),
+            ray_payload(1, &[0x01, 1, 1, 0, 1, 0, 0, 1]),
             Err(Undecodable),
         ),
         payload(
             "payload-ray-9-sectors",
-            ray_payload(1, &[0x09, 1, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0]),
+            ray_payload(1, &[0x09, 1, 1, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0]),
             Err(Undecodable),
         ),
         payload(
             "payload-ray-sector-not-below-k",
-            ray_payload(1, &[0x22, 1, 0, 1, 0, 0, 1, 0]),
+            ray_payload(1, &[0x22, 1, 1, 0, 1, 0, 0, 1, 0]),
             Err(Undecodable),
         ),
         payload(
             "payload-ray-no-robots",
-            ray_payload(1, &[0x02, 0, 0, 1, 0, 0, 0, 0]),
+            ray_payload(1, &[0x02, 0, 0, 0, 0, 0, 0, 0, 0]),
             Err(Undecodable),
         ),
         payload(
             "payload-ray-vote-over-robots",
-            ray_payload(1, &[0x12, 2, 0, 1, 0, 0, 3, 0]),
+            ray_payload(1, &[0x12, 2, 2, 0, 2, 0, 0, 3, 0]),
             Err(Undecodable),
         ),
         payload(
             "payload-ray-cut-short",
-            ray_payload(2, &[0x12, 2, 0, 1, 0, 0, 1]),
+            ray_payload(2, &[0x12, 2, 2, 0, 2, 0, 0, 1]),
             Err(Undecodable),
         ),
         payload(
@@ -417,16 +418,21 @@ pub fn message_decode() -> Vec<DecodeSeed> {
         ),
         payload("payload-13-hops", wide_payload(13), Err(TooLong)),
         payload("payload-zero-length", vec![], Err(TooShort)),
-        payload("payload-zero-hops", vec![0x20], Err(Undecodable)),
-        payload("payload-13-hops-header", vec![0x2D, 1, 0], Err(Undecodable)),
+        payload("payload-zero-hops", vec![0x40], Err(Undecodable)),
+        payload("payload-13-hops-header", vec![0x4D, 1, 0], Err(Undecodable)),
+        payload(
+            "payload-format-2-one-hop",
+            vec![0x21, 1, 0],
+            Err(Undecodable),
+        ),
         payload(
             "payload-length-lies-more",
-            vec![0x22, 1, 0],
+            vec![0x42, 1, 0],
             Err(Undecodable),
         ),
         payload(
             "payload-length-lies-less",
-            vec![0x21, 1, 0, 0, 0],
+            vec![0x41, 1, 0, 0, 0],
             Err(Undecodable),
         ),
         payload(
@@ -436,17 +442,17 @@ pub fn message_decode() -> Vec<DecodeSeed> {
         ),
         payload(
             "payload-preference-byte-9",
-            vec![0x21, 0, 9],
+            vec![0x41, 0, 9],
             Err(Undecodable),
         ),
         payload(
             "payload-tag-15-no-preference",
-            vec![0x21, 7, 0xF0],
+            vec![0x41, 7, 0xF0],
             Ok(msg(&[tagged(7, 15, None)])),
         ),
         payload(
             "payload-tag-3-preference-nibble-9",
-            vec![0x21, 7, 0x39],
+            vec![0x41, 7, 0x39],
             Err(Undecodable),
         ),
         payload(
@@ -477,7 +483,7 @@ pub fn message_decode() -> Vec<DecodeSeed> {
         ),
         frame(
             "frame-length-lies",
-            frame_payload(&[0x22, 1, 0]),
+            frame_payload(&[0x42, 1, 0]),
             Err(Undecodable),
         ),
         frame(
@@ -535,18 +541,25 @@ pub fn roundtrip() -> Vec<(&'static str, roundtrip::Input)> {
             input((0..36).map(|r| hop(r * 7, None)).collect(), 200, 0x55),
         ),
         (
-            "12-hops-ray-k2-drops-4",
+            "12-hops-ray-k2-drops-5",
             roundtrip::Input {
                 ray: Some(reference::ray_left_k2()),
                 ..input(widest(MAX_HOPS), 5, 0x20)
             },
         ),
         (
-            "20-hops-ray-k8-keeps-5",
+            "20-hops-ray-k7-keeps-5",
             roundtrip::Input {
-                ray: reference::decode_payload(&ray_payload(1, &RAY_K8))
-                    .ok()
-                    .and_then(|m| m.ray().copied()),
+                // A 7-sector ray of 200 robots, 45 reading 147 and 155 reading 148 (sum 0x7373):
+                // the input spells two reading values (`reference::ArbRay`).
+                ray: Some(Ray {
+                    sector: reference::sector(6),
+                    sectors: 7,
+                    robots: 200,
+                    sum: 0x7373,
+                    sum_sq: 147 * 147 * 45 + 148 * 148 * 155,
+                    votes: [10, 20, 30, 40, 50, 0, 50, 0],
+                }),
                 ..input((0..20).map(|r| hop(r, Some(r % 8))).collect(), 17, 0x73)
             },
         ),
@@ -601,17 +614,18 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
         ray: Some(ray),
         time,
     };
-    // A ray of `sector` (of `k`), with `robots` robots of mean reading `mean`, variance `var`
-    // (quarters) and `votes`.
-    let ray = |sector: u8, k: u8, robots: u8, mean: u8, var: u16, v: &[u8]| {
+    // A ray of `sector` (of `k`), with `robots` robots of which `c` read `b` and the others
+    // `a` (exact sums, wire format 3), and `votes`.
+    let ray = |sector: u8, k: u8, robots: u8, (a, b, c): (u8, u8, u8), v: &[u8]| {
         let mut votes = [0; MAX_SECTORS];
         votes[..v.len()].copy_from_slice(v);
+        let (n, a, b, c) = (u32::from(robots), u32::from(a), u32::from(b), u32::from(c));
         Ray {
             sector: reference::sector(sector),
             sectors: k,
             robots,
-            mean: u16::from(mean) << 8,
-            var,
+            sum: (a * (n - c) + b * c) as u16,
+            sum_sq: a * a * (n - c) + b * b * c,
             votes,
         }
     };
@@ -657,7 +671,7 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
             sector: 7,
             noise: vec![],
             hops: vec![hop(9, None)],
-            ray: Some(ray(7, 8, 3, 9, 100, &[0, 0, 0, 0, 0, 0, 0, 3])),
+            ray: Some(ray(7, 8, 3, (4, 19, 1), &[0, 0, 0, 0, 0, 0, 0, 3])),
             time: later,
         }),
         d(Action::Bytes {
@@ -759,49 +773,49 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
     // The lab's line with rays (K = 2): the left neighbour (tag 0) sends the left side's ray,
     // the right neighbour (tag 3) the right side's; then a ray for the wrong side, one of
     // another K, the left neighbour's frame replayed on the right (followed elsewhere), a
-    // farther-reaching ray from another sender, and an implausible variance.
+    // farther-reaching ray from another sender, and the largest variance three robots have.
     let mut rays = vec![
         d(Action::Reading(1)),
         d(with_ray(
             1,
             vec![tagged(1, 1, Some(1)), tagged(1, 0, Some(1))],
-            ray(1, 2, 2, 1, 0, &[0, 2]),
+            ray(1, 2, 2, (1, 1, 0), &[0, 2]),
             later,
         )),
         d(with_ray(
             0,
             vec![tagged(0, 2, Some(0)), tagged(0, 3, Some(0))],
-            ray(0, 2, 2, 0, 0, &[2, 0]),
+            ray(0, 2, 2, (0, 0, 0), &[2, 0]),
             later,
         )),
         d(with_ray(
             0,
             vec![tagged(0, 3, None)],
-            ray(1, 2, 1, 0, 0, &[0, 0]),
+            ray(1, 2, 1, (0, 0, 0), &[0, 0]),
             later,
         )),
         d(with_ray(
             1,
             vec![tagged(1, 0, None)],
-            ray(1, 3, 3, 1, 0, &[0, 3, 0]),
+            ray(1, 3, 3, (1, 1, 0), &[0, 3, 0]),
             later,
         )),
         d(with_ray(
             0,
             vec![tagged(1, 0, Some(1))],
-            ray(0, 2, 9, 1, 0, &[0, 9]),
+            ray(0, 2, 9, (1, 1, 0), &[0, 9]),
             TimeStep::Nudge(3),
         )),
         d(with_ray(
             1,
             vec![tagged(1, 5, Some(1))],
-            ray(1, 2, 30, 1, 4, &[1, 29]),
+            ray(1, 2, 30, (0, 2, 15), &[1, 29]),
             later,
         )),
         d(with_ray(
             1,
             vec![tagged(0, 0, Some(1))],
-            ray(1, 2, 3, 0, 65025, &[0, 3]),
+            ray(1, 2, 3, (0, 255, 2), &[0, 3]),
             later,
         )),
     ];
@@ -814,7 +828,7 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
             d(with_ray(
                 s,
                 widest(5),
-                ray(s, 8, 200, s * 30, 400, &[25; 8]),
+                ray(s, 8, 200, (s * 30, s * 30 + 40, 50), &[25; 8]),
                 later,
             ))
         })
@@ -1138,7 +1152,7 @@ pub fn keyed() -> Vec<KeyedSeed> {
             "stream-length-lies-with-good-tag",
             k,
             &[],
-            reference_frame(k, &[0x22, 1, 0]),
+            reference_frame(k, &[0x42, 1, 0]),
             vec![Err(Undecodable)],
         ),
         stream(
@@ -1149,17 +1163,17 @@ pub fn keyed() -> Vec<KeyedSeed> {
             vec![Ok(ray_four())],
         ),
         stream(
-            "stream-keyed-max-ray-4-hops-8-sectors",
+            "stream-keyed-max-ray-4-hops-7-sectors",
             k,
             &[],
-            reference_frame(k, &ray_payload(4, &RAY_K8)),
-            vec![Ok(decoded(&ray_payload(4, &RAY_K8)))],
+            reference_frame(k, &ray_payload(4, &RAY_K7)),
+            vec![Ok(decoded(&ray_payload(4, &RAY_K7)))],
         ),
         stream(
-            "stream-keyed-ray-5-hops-8-sectors-too-long",
+            "stream-keyed-ray-5-hops-7-sectors-too-long",
             k,
             &[],
-            reference_frame(k, &ray_payload(5, &RAY_K8)),
+            reference_frame(k, &ray_payload(5, &RAY_K7)),
             vec![Err(TooLong)],
         ),
         framing("framing-no-hops", k, vec![]),
@@ -1168,7 +1182,7 @@ pub fn keyed() -> Vec<KeyedSeed> {
         framing("framing-12-hops-too-many", k, widest(MAX_HOPS)),
         framing("framing-s-readings", k, vec![hop(DELIMITER, Some(3)); 6]),
         KeyedSeed {
-            name: "framing-ray-k8-too-long-then-fit",
+            name: "framing-ray-k7-too-long-then-fit",
             bytes: keyed::input(
                 FRAMING,
                 k,
@@ -1176,7 +1190,7 @@ pub fn keyed() -> Vec<KeyedSeed> {
                     hops: widest(MAX_HOPS),
                     at: 3,
                     mask: 0x11,
-                    ray: reference::decode_payload(&ray_payload(1, &RAY_K8))
+                    ray: reference::decode_payload(&ray_payload(1, &RAY_K7))
                         .ok()
                         .and_then(|m| m.ray().copied()),
                 }

@@ -436,7 +436,8 @@ pub fn check_decision(
 
 /// Checks the ray a transmission carries for `sector`: this robot's ray of that side, the ray
 /// `held` extended by itself (its reading and preference), or itself alone if none is held.
-/// The moments are checked against an `f64` computation, within the quantisation.
+/// The sums are exact (wire format 3): robots + 1 (a ray of 255 robots keeps its sums), the
+/// reading added to the sum and its square to the sum of squares.
 pub fn ray_matches(
     ray: &Ray,
     sector: Sector,
@@ -452,35 +453,29 @@ pub fn ray_matches(
     if let Some(i) = pref.map(|p| usize::from(p.index())).filter(|&i| i < k) {
         votes[i] = votes[i].saturating_add(1);
     }
-    let x = f64::from(reading.0);
+    let x = u32::from(reading.0);
     let Some(h) = held else {
         return ray.robots == 1
-            && ray.mean == u16::from(reading.0) << 8
-            && ray.var == 0
+            && u32::from(ray.sum) == x
+            && ray.sum_sq == x * x
             && ray.votes == votes;
     };
-    let n1 = f64::from(h.ray.robots);
-    let n = n1 + 1.0;
-    let m1 = f64::from(h.ray.mean) / 256.0;
-    let v1 = f64::from(h.ray.var) / 4.0;
-    let m = m1 + (x - m1) / n;
-    let var = (n1 * v1 + (x - m1) * (x - m)) / n;
-    let mean_ok = (f64::from(ray.mean) / 256.0 - m).abs() <= 0.5 / 256.0 + 1e-3;
-    // The variance is clamped to 127.5² (65025 quarters; finding 7), within a rounding.
-    let var_ok = if var * 4.0 >= 65025.0 - 1.0 {
-        ray.var >= 65025 - 4
+    let (robots, sum, sum_sq) = if h.ray.robots == u8::MAX {
+        (h.ray.robots, u32::from(h.ray.sum), h.ray.sum_sq)
     } else {
-        (f64::from(ray.var) / 4.0 - var.max(0.0)).abs() <= 0.125 + 1e-3 + var.abs() * 1e-5
+        (
+            h.ray.robots + 1,
+            u32::from(h.ray.sum) + x,
+            h.ray.sum_sq + x * x,
+        )
     };
-    ray.robots == h.ray.robots.saturating_add(1) && ray.votes == votes && mean_ok && var_ok
+    ray.robots == robots && u32::from(ray.sum) == sum && ray.sum_sq == sum_sq && ray.votes == votes
 }
 
-/// True if a ray's moments are those of some 8-bit readings: mean at most 255, variance at
-/// most `mean · (255 − mean)` (Bhatia–Davis), both within a rounding. A ray that is not (any
-/// u16 passes the wire format) can give a direction a weight above 127.5².
+/// True if a ray's sums are those of some 8-bit readings. Since wire format 3 every ray that
+/// decodes is ([`reference::ray_is_valid`]); kept so that the check stays where it was.
 pub fn ray_is_plausible(r: &Ray) -> bool {
-    let m = f64::from(r.mean) / 256.0;
-    m <= 255.0 && f64::from(r.var) / 4.0 <= m * (255.0 - m) + 1.0
+    reference::ray_is_valid(r)
 }
 
 struct Run {
@@ -891,7 +886,7 @@ impl Run {
         let cap = usize::from(self.params.max_hops).max(1);
         // Payload budget of a transmission: 25 bytes, and that of `max_hops` plain hops.
         let budget = PAYLOAD_BUDGET.min(1 + 2 * cap);
-        let ray_len = 6 + k;
+        let ray_len = 7 + k;
         // Hops a transmission keeps beside its ray: as many as fit the budget, at least one.
         let room = (budget.saturating_sub(1 + ray_len) / 2).max(1);
         let ray_ok = |m: &Message, s: Sector| {
@@ -1169,7 +1164,10 @@ mod tests {
             None
         ));
         assert!(ray_is_plausible(&ray));
-        assert!(!ray_is_plausible(&Ray { var: 0xFFFF, ..ray }));
+        assert!(!ray_is_plausible(&Ray {
+            sum_sq: ray.sum_sq + 255 * u32::from(ray.sum) + 1,
+            ..ray
+        }));
     }
 
     #[test]

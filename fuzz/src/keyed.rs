@@ -49,7 +49,8 @@ pub const GOLDEN_KEY: [u8; KEY_LEN] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12,
 /// The one-hop message under [`GOLDEN_KEY`].
 pub const GOLDEN_KEYED_ONE_HOP: &[u8] = b"ss\x70\x32\x72\x76\xd0\x78\xe9\x68ss";
 /// The four-hop message under [`GOLDEN_KEY`].
-pub const GOLDEN_KEYED_FOUR_HOPS: &[u8] = b"ss\x77\x37\x72\x72\x71\x71\x71\x71\x72\x76\x9f\x4a\x44\xfess";
+pub const GOLDEN_KEYED_FOUR_HOPS: &[u8] =
+    b"ss\x77\x37\x72\x72\x71\x71\x71\x71\x72\x76\x9f\x4a\x44\xfess";
 /// The `s` message under [`GOLDEN_KEY`].
 pub const GOLDEN_KEYED_S_BYTES: &[u8] = b"ss\x70\x31\x00\x71\x00\x76\xae\x49\xd2\x28ss";
 /// The ray message ([`reference::GOLDEN_RAY_FOUR`]'s) under [`GOLDEN_KEY`].

@@ -119,7 +119,11 @@ mod tests {
     #[test]
     fn payload_expectations() {
         assert_eq!(expected_for_payload(&[]), Err(FrameError::TooShort));
-        assert_eq!(expected_for_payload(&[0x21, 1, 0]), Ok(one_hop()));
+        assert_eq!(expected_for_payload(&[0x41, 1, 0]), Ok(one_hop()));
+        assert_eq!(
+            expected_for_payload(&[0x21, 1, 0]),
+            Err(FrameError::Undecodable)
+        );
         assert_eq!(
             expected_for_payload(&payload_of(&four_hops())),
             Ok(four_hops())

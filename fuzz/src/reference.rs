@@ -1,5 +1,5 @@
 //! What the checks compare the protocol against: the golden vectors and an independent
-//! implementation of the frame layout of `docs/protocol.md` §1 (payload format 2: header, hops,
+//! implementation of the frame layout of `docs/protocol.md` §1 (payload format 3: header, hops,
 //! optional ray, 25-byte budget; CRC-16/IBM-3740, COBS, XOR with `s`), written from the
 //! document rather than from `frame.rs` or `message.rs` (the payload parser below does not
 //! call postcard or the protocol's `Deserialize`).
@@ -9,21 +9,24 @@ use protocol::frame::{self, BODY_MAX, CRC_LEN, DELIMITER, FRAME_MAX, FrameError}
 use protocol::message::{MAX_TAGS, PAYLOAD_BUDGET, Ray, Tag};
 use protocol::{Hop, Level, MAX_HOPS, MAX_SECTORS, Message, Sector};
 
-// The golden vectors of payload format 2, as in `frame.rs`'s tests, computed by
+// The golden vectors of payload format 3, as in `frame.rs`'s tests, computed by
 // `protocol/tests/golden/gen_golden.py` (independently of the Rust encoder).
 
-/// One hop, reading 1, no preference (payload `21 01 00`).
+/// One hop, reading 1, no preference (payload `41 01 00`).
 pub const GOLDEN_ONE_HOP: &[u8] = b"ss\x70\x32\x72\x70\x43\xa6ss";
-/// (1, RIGHT), (0, LEFT), (0, LEFT), (0, none) (payload `24 01 01 00 02 00 02 00 00`).
+/// (1, RIGHT), (0, LEFT), (0, LEFT), (0, none) (payload `44 01 01 00 02 00 02 00 00`).
 pub const GOLDEN_FOUR_HOPS: &[u8] = b"ss\x77\x37\x72\x72\x71\x71\x71\x71\x72\x70\x66\x7dss";
-/// Two hops with reading `s` (0x73) and no preference (payload `22 73 00 73 00`).
+/// Two hops with reading `s` (0x73) and no preference (payload `42 73 00 73 00`).
 pub const GOLDEN_S_BYTES: &[u8] = b"ss\x70\x31\x00\x71\x00\x70\x37\xb3ss";
-/// [`GOLDEN_TAGGED_FOUR`]'s hops and the ray of the LEFT side of a robot with K = 2: 4 robots,
-/// mean 115.0 (0x7300), variance 7225.0 (28900 quarters), votes [2, 2] (17-byte payload).
-pub const GOLDEN_RAY_FOUR: &[u8] = b"ss\x75\x27\x72\x72\x72\x62\x71\x51\x7e\x41\x61\x77\xbf\x72\xfb\x4c\x72\x71\x71\x28\x2dss";
+/// [`GOLDEN_TAGGED_FOUR`]'s hops and the ray of the LEFT side of a robot with K = 2: 4 robots
+/// reading 200, 200, 30, 30 (sum 460, sum of squares 81800), votes [2, 2] (18-byte payload).
+pub const GOLDEN_RAY_FOUR: &[u8] =
+    b"ss\x75\x27\x72\x72\x72\x62\x71\x51\x7e\x41\x61\x77\xbf\x72\xfb\x4c\x72\x71\x71\x28\x2dss";
 /// The first byte of a format-1 payload was the hop count; the old one-hop golden frame is
 /// `Undecodable` now.
 pub const GOLDEN_V1_ONE_HOP: &[u8] = b"ss\x70\x72\x72\x70\xee\xbbss";
+/// Format 2's one-hop golden frame (header `21`): `Undecodable` now too.
+pub const GOLDEN_V2_ONE_HOP: &[u8] = b"ss\x70\x52\x72\x70\x28\x3dss";
 
 /// The frame check of §1.3.
 pub const CRC16: crc::Crc<u16> = crc::Crc::<u16>::new(&crc::CRC_16_IBM_3740);
@@ -112,8 +115,8 @@ pub fn ray_left_k2() -> Ray {
         sector: sector(1),
         sectors: 2,
         robots: 4,
-        mean: 0x7300,
-        var: 28900,
+        sum: 460,
+        sum_sq: 81800,
         votes,
     }
 }
@@ -171,19 +174,28 @@ impl ArbHop {
 }
 
 /// A ray as the fuzz input spells it, always made valid: `sectors` taken as `2 + sectors % 7`,
-/// `sector` modulo that, `robots` 0 read as 1, `mean` modulo 0xFF01, `var` modulo 65026, each
-/// vote modulo `robots + 1`. Read with the
-/// `arbitrary` crate: `u8` sectors, `u8` sector, `u8` robots, `u16` mean, `u16` var, 8 `u8`.
+/// `sector` modulo that, `robots` 0 read as 1, its robots' readings as two values `a` and `b`,
+/// `count % (robots + 1)` of them reading `b` and the others `a` (so that the sums are those
+/// of real readings), each vote modulo `robots + 1`. Read with the `arbitrary` crate: `u8`
+/// sectors, `u8` sector, `u8` robots, `u8` a, `u8` b, `u8` count, 8 `u8`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ArbRay(pub Ray);
+
+/// The sums of `n − c` readings `a` and `c` readings `b`.
+fn sums(n: u32, a: u32, b: u32, c: u32) -> (u16, u32) {
+    ((a * (n - c) + b * c) as u16, a * a * (n - c) + b * b * c)
+}
 
 impl<'a> Arbitrary<'a> for ArbRay {
     fn arbitrary(u: &mut Unstructured<'a>) -> arbitrary::Result<Self> {
         let k = 2 + u.arbitrary::<u8>()? % 7;
         let s = u.arbitrary::<u8>()? % k;
         let robots = u.arbitrary::<u8>()?.max(1);
-        let mean = u.arbitrary::<u16>()? % (0xFF00 + 1);
-        let var = u.arbitrary::<u16>()? % (65025 + 1);
+        let a = u32::from(u.arbitrary::<u8>()?);
+        let b = u32::from(u.arbitrary::<u8>()?);
+        let n = u32::from(robots);
+        let c = u32::from(u.arbitrary::<u8>()?) % (n + 1);
+        let (sum, sum_sq) = sums(n, a, b, c);
         let raw: [u8; MAX_SECTORS] = u.arbitrary()?;
         let mut votes = [0; MAX_SECTORS];
         for (v, r) in votes.iter_mut().zip(raw).take(usize::from(k)) {
@@ -197,19 +209,42 @@ impl<'a> Arbitrary<'a> for ArbRay {
             sector: sector(s),
             sectors: k,
             robots,
-            mean,
-            var,
+            sum,
+            sum_sq,
             votes,
         }))
     }
 }
 
 impl ArbRay {
-    /// Writes a valid ray so that it reads back as itself.
+    /// Writes a valid ray of two reading values (as [`ArbRay::arbitrary`] makes them, and the
+    /// golden [`ray_left_k2`]) so that it reads back as itself; a ray of more values is written
+    /// as the two-valued ray of the same robots and mean nearest to it (searched).
     pub fn write(self, w: &mut crate::input::Writer) {
         let r = self.0;
+        let n = u32::from(r.robots);
+        let mut best = (u64::MAX, 0u32, 0u32, 0u32);
+        'search: for c in 0..=n {
+            for a in 0..=255u32 {
+                for b in [a, (u32::from(r.sum).saturating_sub(a * (n - c))) / c.max(1)] {
+                    if b > 255 {
+                        continue;
+                    }
+                    let (s, q) = sums(n, a, b, c);
+                    let miss =
+                        u64::from(s.abs_diff(r.sum)) * (1 << 32) + u64::from(q.abs_diff(r.sum_sq));
+                    if miss < best.0 {
+                        best = (miss, a, b, c);
+                        if miss == 0 {
+                            break 'search;
+                        }
+                    }
+                }
+            }
+        }
+        let (_, a, b, c) = best;
         w.u8(r.sectors - 2).u8(r.sector.index()).u8(r.robots);
-        w.u16(r.mean).u16(r.var);
+        w.u8(a as u8).u8(b as u8).u8(c as u8);
         for v in r.votes {
             w.u8(v);
         }
@@ -248,20 +283,20 @@ pub fn message(hops: &[Hop]) -> Message {
     Message::from_hops(hops).unwrap_or_default()
 }
 
-/// Version bits of a format-2 header (its top three bits, `001`).
-pub const FORMAT_2: u8 = 0x20;
+/// Version bits of a format-3 header (its top three bits, `010`).
+pub const FORMAT_3: u8 = 0x40;
 /// The header's ray bit.
 pub const RAY_BIT: u8 = 0x10;
 
-/// The payload of format 2: the header `0b001r_nnnn` (r = a ray follows, n = hops), then per
+/// The payload of format 3: the header `0b010r_nnnn` (r = a ray follows, n = hops), then per
 /// hop the reading and the preference byte, whose high nibble is the robot's tag and low
 /// nibble 0 for no preference or `sector + 1`, then the ray if any: `sector << 4 | sectors`,
-/// robots, mean (u16 LE), variance (u16 LE), one vote byte per sector.
+/// robots, the readings' sum (u16 LE) and sum of squares (u24 LE), one vote byte per sector.
 pub fn payload_of(msg: &Message) -> Vec<u8> {
     let n = u8::try_from(msg.len()).expect("at most MAX_HOPS hops");
     assert!(n <= 0x0F);
     let r = msg.ray().map_or(0, |_| RAY_BIT);
-    let mut p = vec![FORMAT_2 | r | n];
+    let mut p = vec![FORMAT_3 | r | n];
     for h in msg.hops() {
         p.push(h.reading.0);
         p.push(pref_byte(h));
@@ -272,25 +307,29 @@ pub fn payload_of(msg: &Message) -> Vec<u8> {
     p
 }
 
-/// A ray's bytes: `sector << 4 | sectors`, robots, mean LE, variance LE, `votes[..sectors]`.
+/// A ray's bytes: `sector << 4 | sectors`, robots, sum LE (2), sum of squares LE (3),
+/// `votes[..sectors]`.
 pub fn ray_bytes(r: &Ray) -> Vec<u8> {
     let mut p = vec![r.sector.index() << 4 | r.sectors, r.robots];
-    p.extend_from_slice(&r.mean.to_le_bytes());
-    p.extend_from_slice(&r.var.to_le_bytes());
+    p.extend_from_slice(&r.sum.to_le_bytes());
+    p.extend_from_slice(&r.sum_sq.to_le_bytes()[..3]);
     p.extend_from_slice(&r.votes[..usize::from(r.sectors).min(MAX_SECTORS)]);
     p
 }
 
-/// True if a ray satisfies the rules of format 2: 2..=8 sectors, its sector below that, at
-/// least one robot, a mean of at most 255.0 (0xFF00) and a variance of at most 127.5² (65025
-/// quarters), no vote above `robots`, nothing beyond `sectors` votes.
+/// True if a ray satisfies the rules of format 3: 2..=8 sectors, its sector below that, at
+/// least one robot, sums that `robots` readings of 0..=255 can have (`sum <= 255 · robots`,
+/// `sum_sq <= 255 · sum`, `sum² <= robots · sum_sq`), no vote above `robots`, nothing beyond
+/// `sectors` votes.
 pub fn ray_is_valid(r: &Ray) -> bool {
     let k = usize::from(r.sectors);
+    let (n, s, q) = (u64::from(r.robots), u64::from(r.sum), u64::from(r.sum_sq));
     (2..=MAX_SECTORS).contains(&k)
         && usize::from(r.sector.index()) < k
         && r.robots >= 1
-        && r.mean <= 0xFF00
-        && r.var <= 65025
+        && s <= 255 * n
+        && q <= 255 * s
+        && s * s <= n * q
         && r.votes.iter().all(|&v| v <= r.robots)
         && r.votes[k..].iter().all(|&v| v == 0)
 }
@@ -300,7 +339,7 @@ pub fn ray_is_valid(r: &Ray) -> bool {
 pub enum ParseError {
     /// No byte, or fewer than the header announces.
     Short,
-    /// Top three bits not `001`, or a hop count of 0 or above MAX_HOPS.
+    /// Top three bits not `010`, or a hop count of 0 or above MAX_HOPS.
     Header,
     /// A preference nibble above 8.
     Pref,
@@ -310,12 +349,12 @@ pub enum ParseError {
     Budget,
 }
 
-/// Reads one format-2 message from the start of `data`, independently of the protocol's
+/// Reads one format-3 message from the start of `data`, independently of the protocol's
 /// decoder: returns it (built through the public API) and the bytes it used.
 pub fn parse_prefix(data: &[u8]) -> Result<(Message, usize), ParseError> {
     let &header = data.first().ok_or(ParseError::Short)?;
     let n = usize::from(header & 0x0F);
-    if header & 0xE0 != FORMAT_2 || n == 0 || n > MAX_HOPS {
+    if header & 0xE0 != FORMAT_3 || n == 0 || n > MAX_HOPS {
         return Err(ParseError::Header);
     }
     let hop_bytes = data.get(1..1 + 2 * n).ok_or(ParseError::Short)?;
@@ -329,7 +368,7 @@ pub fn parse_prefix(data: &[u8]) -> Result<(Message, usize), ParseError> {
     }
     let mut used = 1 + 2 * n;
     let ray = if header & RAY_BIT != 0 {
-        let fixed = data.get(used..used + 6).ok_or(ParseError::Short)?;
+        let fixed = data.get(used..used + 7).ok_or(ParseError::Short)?;
         let (s, k) = (fixed[0] >> 4, fixed[0] & 0x0F);
         let robots = fixed[1];
         // The sector byte is checked before the votes are read: its K says how many follow.
@@ -337,25 +376,28 @@ pub fn parse_prefix(data: &[u8]) -> Result<(Message, usize), ParseError> {
             return Err(ParseError::Ray);
         }
         let v = data
-            .get(used + 6..used + 6 + usize::from(k))
+            .get(used + 7..used + 7 + usize::from(k))
             .ok_or(ParseError::Short)?;
-        let (mean, var) = (
-            u16::from_le_bytes([fixed[2], fixed[3]]),
-            u16::from_le_bytes([fixed[4], fixed[5]]),
-        );
-        // Moments of 8-bit readings: a mean of at most 255.0, a variance of at most 127.5².
-        if v.iter().any(|&x| x > robots) || mean > 0xFF00 || var > 65025 {
+        let sum = u16::from_le_bytes([fixed[2], fixed[3]]);
+        let sum_sq = u32::from_le_bytes([fixed[4], fixed[5], fixed[6], 0]);
+        // Sums of 8-bit readings: sum <= 255 n, sum_sq <= 255 sum, sum² <= n sum_sq.
+        let (n64, s64, q64) = (u64::from(robots), u64::from(sum), u64::from(sum_sq));
+        if v.iter().any(|&x| x > robots)
+            || s64 > 255 * n64
+            || q64 > 255 * s64
+            || s64 * s64 > n64 * q64
+        {
             return Err(ParseError::Ray);
         }
         let mut votes = [0; MAX_SECTORS];
         votes[..v.len()].copy_from_slice(v);
-        used += 6 + usize::from(k);
+        used += 7 + usize::from(k);
         Some(Ray {
             sector: sector(s),
             sectors: k,
             robots,
-            mean,
-            var,
+            sum,
+            sum_sq,
             votes,
         })
     } else {
@@ -519,31 +561,41 @@ mod tests {
     }
 
     #[test]
-    fn the_parser_refuses_what_format_2_refuses() {
+    fn the_parser_refuses_what_format_3_refuses() {
         let ok = |p: &[u8]| parse_prefix(p).map(|(m, used)| (m.len(), used));
-        assert_eq!(ok(&[0x21, 1, 0]), Ok((1, 3)));
-        assert_eq!(ok(&[0x21, 1, 0, 9]), Ok((1, 3)));
+        assert_eq!(ok(&[0x41, 1, 0]), Ok((1, 3)));
+        assert_eq!(ok(&[0x41, 1, 0, 9]), Ok((1, 3)));
         assert_eq!(ok(&[]), Err(ParseError::Short));
-        assert_eq!(ok(&[0x22, 1, 0]), Err(ParseError::Short));
-        for h in [0x20, 0x2D, 0x2F, 0x30, 0x01, 0x04, 0x41, 0xE1] {
+        assert_eq!(ok(&[0x42, 1, 0]), Err(ParseError::Short));
+        // No hop, 13 hops, formats 1 and 2, other version bits.
+        for h in [0x40, 0x4D, 0x4F, 0x50, 0x01, 0x04, 0x21, 0x31, 0x61, 0xE1] {
             assert_eq!(ok(&[h, 1, 0, 1, 0]), Err(ParseError::Header), "{h:#x}");
         }
-        assert_eq!(ok(&[0x21, 1, 9]), Err(ParseError::Pref));
+        assert_eq!(ok(&[0x41, 1, 9]), Err(ParseError::Pref));
         let ray = |r: &[u8]| {
-            let mut p = vec![0x31, 1, 0];
+            let mut p = vec![0x51, 1, 0];
             p.extend_from_slice(r);
             ok(&p)
         };
-        assert_eq!(ray(&[0x12, 2, 0, 1, 0, 0, 2, 2]), Ok((1, 11)));
-        assert_eq!(ray(&[0x01, 2, 0, 1, 0, 0, 2]), Err(ParseError::Ray));
-        assert_eq!(ray(&[0x09, 2, 0, 1, 0, 0]), Err(ParseError::Ray));
-        assert_eq!(ray(&[0x22, 2, 0, 1, 0, 0, 2, 2]), Err(ParseError::Ray));
-        assert_eq!(ray(&[0x02, 0, 0, 1, 0, 0, 0, 0]), Err(ParseError::Ray));
-        assert_eq!(ray(&[0x02, 2, 0, 1, 0, 0, 3, 0]), Err(ParseError::Ray));
-        assert_eq!(ray(&[0x02, 2, 0, 1, 0, 0, 1]), Err(ParseError::Short));
-        let mut big = vec![0x39];
-        big.extend_from_slice(&[1, 0].repeat(9));
-        big.extend_from_slice(&[0x02, 1, 0, 1, 0, 0, 1, 0]);
+        // Two robots reading 1: sum 2, sum of squares 2.
+        assert_eq!(ray(&[0x12, 2, 2, 0, 2, 0, 0, 2, 2]), Ok((1, 12)));
+        assert_eq!(ray(&[0x01, 2, 2, 0, 2, 0, 0, 2]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x09, 2, 2, 0, 2, 0, 0]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x22, 2, 2, 0, 2, 0, 0, 2, 2]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x02, 0, 0, 0, 0, 0, 0, 0, 0]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x02, 2, 2, 0, 2, 0, 0, 3, 0]), Err(ParseError::Ray));
+        // Sums no readings have: a sum above 255 per robot, a sum of squares above 255 times
+        // the sum, a negative variance (sum² above robots × sum of squares).
+        assert_eq!(ray(&[0x02, 1, 0, 1, 0, 0, 1, 1, 0]), Err(ParseError::Ray));
+        assert_eq!(
+            ray(&[0x02, 1, 7, 0, 0xFF, 0x06, 0, 1, 0]),
+            Err(ParseError::Ray)
+        );
+        assert_eq!(ray(&[0x02, 2, 14, 0, 97, 0, 0, 1, 1]), Err(ParseError::Ray));
+        assert_eq!(ray(&[0x02, 2, 2, 0, 2, 0, 0, 1]), Err(ParseError::Short));
+        let mut big = vec![0x58];
+        big.extend_from_slice(&[1, 0].repeat(8));
+        big.extend_from_slice(&[0x02, 1, 1, 0, 1, 0, 0, 1, 0]);
         assert_eq!(ok(&big), Err(ParseError::Budget));
         assert!(postcard::from_bytes::<Message>(&big).is_err());
     }

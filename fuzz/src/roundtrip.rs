@@ -90,7 +90,7 @@ pub fn check(data: &[u8]) {
 
     // Hops that fit beside the ray (all MAX_HOPS without one).
     let cap = input.ray.map_or(MAX_HOPS, |r| {
-        ((PAYLOAD_BUDGET - 1 - 6 - usize::from(r.sectors)) / 2).min(MAX_HOPS)
+        ((PAYLOAD_BUDGET - 1 - 7 - usize::from(r.sectors)) / 2).min(MAX_HOPS)
     });
 
     match Message::from_hops(hops) {
@@ -271,8 +271,9 @@ mod tests {
                 sector: reference::sector(k - 1),
                 sectors: k,
                 robots: 255,
-                mean: 0x7373,
-                var: 65025,
+                // 128 robots reading 255, 127 reading 0: the largest variance.
+                sum: 255 * 128,
+                sum_sq: 255 * 255 * 128,
                 votes,
             };
             let with = Input {

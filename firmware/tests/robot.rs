@@ -675,12 +675,12 @@ async fn a_keyed_robot_relays_at_most_eleven_hops() {
         .collect();
     assert!(relays.len() > 5, "{sent:?}");
     for m in relays {
-        // The oldest hops made room for the robot's own and its two-sector ray (8 bytes): a
-        // keyed payload holds 23 bytes, 1 + 2 × 7 + 8.
-        assert_eq!(m.len(), 7);
-        assert_eq!(m.encoded_len(), protocol::frame::KEYED_PAYLOAD_MAX);
-        assert_eq!(m.hops()[0].reading, Level(6));
-        assert_eq!(m.hops()[6].reading, Level(0));
+        // The oldest hops made room for the robot's own and its two-sector ray (9 bytes): a
+        // keyed payload holds 23 bytes, 1 + 2 × 6 + 9 = 22 (a seventh hop does not fit).
+        assert_eq!(m.len(), 6);
+        assert_eq!(m.encoded_len(), protocol::frame::KEYED_PAYLOAD_MAX - 1);
+        assert_eq!(m.hops()[0].reading, Level(7));
+        assert_eq!(m.hops()[5].reading, Level(0));
         assert_eq!(m.ray().map(|r| r.sector), Some(Sector::LEFT));
     }
     assert!(robot.node().stats().hops_evicted > 5);

@@ -18,6 +18,7 @@ fn spec(robots: usize, x_init: f64, moves: u32) -> PlaneSpec {
         medium: hal_emu::MediumParams::default(),
         params: Params::robots(),
         file_positions: Vec::new(),
+        readings: hal_emu::Readings::Levels,
     }
 }
 
@@ -51,6 +52,27 @@ fn a_lattice_left_of_the_border_moves_to_it() {
         .filter(|c| c.decision().is_none())
         .count();
     assert!(undecided <= 3, "{undecided} undecided: {:?}", r.final_leds);
+}
+
+/// The paper's binary readings on the plane (1 from halfway between dark and lit): the swarm
+/// still heads for the border and reaches it (docs/lab-experiment.md, "Readings").
+#[test]
+fn binary_readings_lead_a_lattice_to_the_border_too() {
+    let mut s = spec(37, -1.5, 6);
+    s.readings = hal_emu::Readings::Binary;
+    let c = config(&s, 3).unwrap();
+    assert_eq!(c.env.readings, hal_emu::Readings::Binary);
+    let r = run(&c).unwrap();
+    let before: Vec<_> = r.moves.iter().filter(|m| m.centre.x < -0.33).collect();
+    assert!(!before.is_empty(), "{:?}", r.moves);
+    for m in &before {
+        assert!(m.heading.is_some_and(|h| h.cos() > 0.8), "{:?}", r.moves);
+    }
+    assert!(
+        r.moves.iter().any(|m| m.centre.x.abs() < 0.33),
+        "{:?}",
+        r.moves
+    );
 }
 
 #[test]

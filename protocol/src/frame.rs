@@ -1521,6 +1521,17 @@ mod tests {
         let mut d = Deframer::new();
         let _ = d.frames(b"xyzss").count();
         assert_eq!(d.stats().skipped_bytes, 3);
+        // After `TooLong`, a lone `s` loses the synchronisation (§2.1 rule 2, no second
+        // error): the byte after it and every byte up to the next `ss` are skipped bytes.
+        let mut d = Deframer::new();
+        let mut stream = StdVec::from(&b"ss"[..]);
+        stream.extend(core::iter::repeat_n(0x41, BODY_MAX + 5));
+        stream.extend_from_slice(b"sab");
+        stream.extend_from_slice(GOLDEN_ONE_HOP);
+        let got: StdVec<_> = d.frames(&stream).collect();
+        assert_eq!(got, [Err(FrameError::TooLong), Ok(one_hop())]);
+        assert_eq!(d.stats().skipped_bytes, 2);
+        assert_eq!(d.stats().lone_delimiter, 0);
     }
 
     #[test]

@@ -40,9 +40,9 @@
 //!
 //! # Rays: counting every robot once, however far
 //! A robot keeps the latest ray taken from each sector ([`FusedNode::votes`], `take_ray`): how
-//! many robots lie that way, the mean and variance of their readings and their votes. Relaying
-//! a wave from `d` it sends its ray of `d` extended by itself, which the robots ahead of the wave
-//! hear from their own side `d`; initiations carry the ray of the side holding the fewest
+//! many robots lie that way, the exact sum and sum of squares of their readings and their
+//! votes. Relaying a wave from `d` it sends its ray of `d` extended by itself, which the robots
+//! ahead of the wave hear from their own side `d`; initiations carry the ray of the side holding the fewest
 //! robots (at a swarm's edge, the empty outward side). A ray grows one robot per hop and so
 //! summarises a whole line, beyond any message's horizon and without ids: each robot is counted
 //! once, in the one ray that reaches it. The decision is the sector nearest the resultant of the
@@ -92,6 +92,12 @@ const SENDER_SWITCH_CYCLES: u32 = 3;
 /// exact tie stays a tie, and an order stays an order, whatever the sensor's gain
 /// (`docs/protocol.md` §5.6).
 pub const TIE_TOLERANCE: f32 = 1.0 / 1024.0;
+
+/// How many times every other direction's diversity the preferred one's must be for the
+/// adaptive rule to count the preference as a vote (`FusedNode::is_clear`). Four, not two: the
+/// ratio of two sides' sensor noise alone exceeds 2 often enough (a robot amid a uniform
+/// stretch of a long line) that noisy levels tipped ties (`docs/protocol.md` §5.4).
+const CLEAR_RATIO: f32 = 4.0;
 
 /// Rays taken per sector remembered by the adaptive rule (`FusedNode::take_ray`).
 const RAY_HISTORY: usize = 4;
@@ -888,11 +894,11 @@ impl<D: Diversity> FusedNode<D> {
         }
     }
 
-    /// True if the preferred direction's average diversity is positive and more than twice
-    /// every other's (by more than [`TIE_TOLERANCE`]): a preference between near-equal
-    /// diversities (a robot amid a uniform stretch of a long line, whose rays do not reach a
-    /// border yet) is no vote. Only ratios: the test gives the same answer whatever the
-    /// sensor's unit, gain or offset.
+    /// True if the preferred direction's average diversity is positive and more than
+    /// [`CLEAR_RATIO`] times every other's (by more than [`TIE_TOLERANCE`]): a preference
+    /// between near-equal diversities (a robot amid a uniform stretch of a long line, whose
+    /// rays do not reach a border yet) is no vote. Only ratios: the test gives the same answer
+    /// whatever the sensor's unit, gain or offset.
     fn is_clear(&self) -> bool {
         let Some(p) = self.pref else { return false };
         let Some(best) = self.weights.weight(p) else {
@@ -900,7 +906,9 @@ impl<D: Diversity> FusedNode<D> {
         };
         best > 0.0
             && self.weights.iter().all(|(d, w, _)| {
-                d == p || (best > 2.0 * w && !crate::weights::within(best, 2.0 * w, TIE_TOLERANCE))
+                d == p
+                    || (best > CLEAR_RATIO * w
+                        && !crate::weights::within(best, CLEAR_RATIO * w, TIE_TOLERANCE))
             })
     }
 

@@ -50,16 +50,16 @@ fn with_a_key_the_six_patterns_light_the_expected_leds() {
             let messages: u32 = r.report.robots.iter().map(|s| s.messages).sum();
             assert!(messages > 200, "pattern {pattern}, seed {seed}: {messages}");
             if cfg.trace {
-                // Keyed frames: 10 + 2 × hops bytes and the two-sector ray's 8 (a plain
-                // one-hop frame with its ray is 18), at most 32.
+                // Keyed frames: 10 + 2 × hops bytes and the two-sector ray's 9 (a plain
+                // one-hop frame with its ray is 19), at most 32.
                 let lens = sent_lengths(&r.report.trace);
                 assert!(!lens.is_empty());
                 assert!(
                     lens.iter()
-                        .all(|&n| n % 2 == 0 && (20..=FRAME_MAX).contains(&n)),
+                        .all(|&n| n % 2 == 1 && (21..=FRAME_MAX).contains(&n)),
                     "{lens:?}"
                 );
-                assert!(lens.contains(&20), "initiations are 20 bytes: {lens:?}");
+                assert!(lens.contains(&21), "initiations are 21 bytes: {lens:?}");
             }
         }
     }
@@ -67,13 +67,13 @@ fn with_a_key_the_six_patterns_light_the_expected_leds() {
 
 #[test]
 fn a_plain_run_sends_plain_frames() {
-    // The control for the length check above: without a key an initiation is 18 bytes.
+    // The control for the length check above: without a key an initiation is 19 bytes.
     let mut cfg = lab("1000", 1, None);
     cfg.trace = true;
     let r = judge(&cfg).unwrap();
     assert!(r.success);
     let lens = sent_lengths(&r.report.trace);
-    assert!(lens.contains(&18), "{lens:?}");
+    assert!(lens.contains(&19), "{lens:?}");
     assert!(r.report.robots.iter().all(|s| s.bad_mac == 0));
 }
 

@@ -805,7 +805,7 @@ mod tests {
         assert!(k.bad_mac > 5, "{:?}", r.robots);
         assert_eq!(p.bad_mac, 0, "a plain robot checks CRCs");
         assert!(p.frame_errors > 5, "{:?}", r.robots);
-        // Initiations: 20 bytes keyed, 18 plain.
+        // Initiations: 21 bytes keyed, 19 plain.
         let sent = |robot: usize| -> Vec<usize> {
             r.trace
                 .iter()
@@ -816,12 +816,12 @@ mod tests {
                 .collect()
         };
         assert!(
-            sent(0).contains(&20) && !sent(0).contains(&18),
+            sent(0).contains(&21) && !sent(0).contains(&19),
             "{:?}",
             sent(0)
         );
         assert!(
-            sent(1).contains(&18) && !sent(1).contains(&20),
+            sent(1).contains(&19) && !sent(1).contains(&21),
             "{:?}",
             sent(1)
         );

@@ -274,11 +274,11 @@ fn decoding_matches_the_host() -> bool {
     use firmware::protocol::FrameError::{TooLong, Undecodable};
     use firmware::protocol::{Deframer, Hop, Message, Tag};
     // GOLDEN_ONE_HOP: reading 1, no preference, tag 0.
-    const ONE_HOP: &[u8] = b"ss\x70\x52\x72\x70\x28\x3dss";
+    const ONE_HOP: &[u8] = b"ss\x70\x32\x72\x70\x43\xa6ss";
     // The overlong hop count (format 1's count 1 in 6 varint bytes): undecodable.
     const OVERLONG: &[u8] = b"ss\x75\xf2\xf3\xf3\xf3\xf3\x71\x72\x70\x1f\x4b\x73\x73";
     // GOLDEN_TAGGED_TWELVE with byte 30 (its closing delimiter's first `s`) corrupted.
-    const TWELVE_CUT: &[u8] = b"ss\x6f\x5f\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x0a\xc1\x00s";
+    const TWELVE_CUT: &[u8] = b"ss\x6f\x3f\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x8c\x8b\x92\x99\x00s";
     let one_hop = Message::from_hops(&[Hop {
         reading: Level(1),
         pref: None,

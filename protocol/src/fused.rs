@@ -42,10 +42,10 @@
 //! A robot keeps the latest ray taken from each sector ([`FusedNode::votes`], `take_ray`): how
 //! many robots lie that way, the exact sum and sum of squares of their readings and their
 //! votes. Relaying a wave from `d` it sends its ray of `d` extended by itself, which the robots
-//! ahead of the wave hear from their own side `d`; initiations carry the ray of the side holding the fewest
-//! robots (at a swarm's edge, the empty outward side). A ray grows one robot per hop and so
-//! summarises a whole line, beyond any message's horizon and without ids: each robot is counted
-//! once, in the one ray that reaches it. The decision is the sector nearest the resultant of the
+//! ahead of the wave hear from their own side `d`; initiations carry the ray of the side
+//! holding the fewest robots (at a swarm's edge, the empty outward side). A ray grows one
+//! robot per hop and so summarises a whole line, beyond any message's horizon and without ids:
+//! each robot is counted once, in the one ray that reaches it. The decision is the sector nearest the resultant of the
 //! robot's own preference and every held ray's votes (K = 2: a plain majority). A robot follows
 //! one neighbour per direction (the one whose ray reaches farthest) and refuses a robot it
 //! follows on another side, so a replayed frame does not replace its neighbour's ray; rays not
@@ -235,7 +235,6 @@ pub struct FusedNode<D: Diversity = Variance> {
     /// rule's decision, the adaptive rule's cap) waits for it, at most until the next cycle's
     /// end.
     decide_pending: bool,
-    periods: u32,
     /// When the node started: a whole cycle later every neighbour has initiated once.
     born: Instant,
     /// Sectors a ray was ever taken from (bit `i` for sector `i`).
@@ -311,7 +310,6 @@ impl<D: Diversity> FusedNode<D> {
             period_initiations: 0,
             next_period_initiations: 0,
             decide_pending: false,
-            periods: 0,
             born: now,
             heard: 0,
             neighbours: 0,
@@ -357,7 +355,7 @@ impl<D: Diversity> FusedNode<D> {
 
     /// Negotiation periods completed.
     pub fn periods(&self) -> u32 {
-        self.periods
+        self.stats.periods
     }
 
     /// The wave state.
@@ -853,14 +851,13 @@ impl<D: Diversity> FusedNode<D> {
         let votes = self.votes();
         let decision = self.tally(&votes);
         self.count_period();
-        self.show(decision, votes, self.periods);
+        self.show(decision, votes, self.stats.periods);
         self.weights.shrink_to_prior();
     }
 
     /// The end of a negotiation period (both rules): counts it, and whether the robot
     /// initiated a wave per cycle in it.
     fn count_period(&mut self) {
-        self.periods = self.periods.wrapping_add(1);
         self.stats.periods = self.stats.periods.wrapping_add(1);
         if self.period_initiations < self.params.negotiation_cycles {
             self.stats.periods_short = self.stats.periods_short.wrapping_add(1);
@@ -966,7 +963,7 @@ impl<D: Diversity> FusedNode<D> {
         if cap {
             let votes = self.votes();
             let decision = self.tally(&votes);
-            self.show(decision, votes, self.periods);
+            self.show(decision, votes, self.stats.periods);
             self.candidate = decision;
             self.differs_since = None;
         }
@@ -1028,7 +1025,7 @@ impl<D: Diversity> FusedNode<D> {
         if overturned {
             return;
         }
-        self.show(candidate, votes, self.periods.wrapping_add(1));
+        self.show(candidate, votes, self.stats.periods.wrapping_add(1));
     }
 }
 

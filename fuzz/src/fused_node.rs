@@ -648,13 +648,18 @@ impl Run {
     }
 
     /// The strictly heaviest sector by `weight()`, above zero, if any.
+    /// The sector the preference must name (docs/protocol.md §5.1): the largest average,
+    /// above 0, ahead of every other by more than `TIE_TOLERANCE` relative (closer is a tie).
     fn heaviest(&self) -> Option<Sector> {
+        let tol = protocol::fused::TIE_TOLERANCE;
         let w: Vec<(Sector, f32)> = (0..self.k as u8)
             .map(reference::sector)
             .filter_map(|s| self.node.weight(s).map(|w| (s, w)))
             .collect();
         let max = w.iter().map(|&(_, x)| x).fold(f32::NEG_INFINITY, f32::max);
-        let mut tops = w.iter().filter(|&&(_, x)| x == max);
+        let mut tops = w
+            .iter()
+            .filter(|&&(_, x)| (max - x).abs() <= tol * max.abs().max(x.abs()));
         match (tops.next(), tops.next()) {
             (Some(&(s, x)), None) if x > 0.0 => Some(s),
             _ => None,

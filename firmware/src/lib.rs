@@ -12,6 +12,8 @@
 //!   polls out, sleep until the next deadline, show each decision on the LEDs.
 //! - [`identity`]: a robot's id from the chip's unique ID and its random seed from the
 //!   hardware RNG mixed with that ID (pure functions, tested on the host).
+//! - [`hil`]: the hardware-in-the-loop link's codec (version 1, `docs/hil.md`): the messages a
+//!   robot and the host exchange over one byte stream, framed with COBS and a CRC.
 //! - [`wired`]: hardware made of memory (pipes, fixed sensor, LED state), for the QEMU board's
 //!   virtual robots and for tests.
 //!
@@ -43,6 +45,7 @@
 mod fmt;
 
 pub mod hal;
+pub mod hil;
 pub mod identity;
 pub mod robot;
 pub mod wired;

@@ -73,11 +73,6 @@ impl Readings {
             }
         }
     }
-
-    /// True for [`Readings::Binary`] (no noise is drawn).
-    pub fn is_binary(self) -> bool {
-        self == Readings::Binary
-    }
 }
 
 impl core::fmt::Display for Readings {

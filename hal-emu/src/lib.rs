@@ -40,7 +40,7 @@ pub mod board;
 pub mod judge;
 pub mod world;
 
-pub use world::{adversary, arena, clock, field};
+pub use world::{adversary, arena, clock, field, hil};
 
 /// The judge under its former name: `hal_emu::lab::judge` is [`judge::judge`].
 pub use judge as lab;

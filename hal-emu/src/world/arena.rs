@@ -11,7 +11,7 @@
 use std::cell::{Cell, RefCell};
 use std::rc::Rc;
 
-use embassy_futures::select::select;
+use embassy_futures::select::{Either, select};
 use firmware::{Clock, Config, Hardware, LedColor, Observer, Robot, SetupError, Stats};
 use nalgebra::{Point2, Vector2};
 use protocol::fused::NodeStats;
@@ -25,6 +25,7 @@ use crate::board::sensor::EmuSensor;
 use crate::world::adversary::{self, Adversary};
 use crate::world::clock::EmuClock;
 use crate::world::env::Environment;
+use crate::world::hil::{Bridge, HilReport, HilRobot, HilTimeouts, setup_of, setup_seed};
 use crate::world::medium::{Medium, MediumParams, MediumStats, SharedMedium, TraceEvent};
 
 /// Everything that defines a run.
@@ -68,6 +69,13 @@ pub struct ArenaConfig {
     pub seed: u64,
     /// Keep a full trace of frames, LEDs and events.
     pub trace: bool,
+    /// Robots in the loop ([`crate::hil`]): these places are taken by robots running the real
+    /// image elsewhere (QEMU, a board, a socket), reached over the link of `docs/hil.md`. With
+    /// any that is not in this process the run goes in real time.
+    pub hil: Vec<HilRobot>,
+    /// How long the host waits for a robot in the loop to say hello, and how much silence it
+    /// takes.
+    pub hil_timeouts: HilTimeouts,
 }
 
 impl ArenaConfig {
@@ -92,7 +100,14 @@ impl ArenaConfig {
             configs: Vec::new(),
             ids: None,
             motion: None,
+            hil: Vec::new(),
+            hil_timeouts: HilTimeouts::default(),
         }
+    }
+
+    /// True if the run goes in real time: a robot in the loop runs on its own clock.
+    pub fn real_time(&self) -> bool {
+        self.hil.iter().any(|h| !h.transport.virtual_time())
     }
 
     /// The same run with robot `robot` running `config` instead of the shared
@@ -180,6 +195,11 @@ pub enum ArenaError {
     Adversary(String),
     /// The tokio runtime could not be built.
     Runtime(String),
+    /// A robot in the loop cannot be: its place does not exist or is taken twice, or the run
+    /// asks what the link cannot carry (kills and restarts of it, a swarm key).
+    Hil(String),
+    /// The run was interrupted (Ctrl-C) before its end; robots in the loop were stopped.
+    Interrupted,
     /// A robot stopped before the end of the run: its task panicked (a bug in the robot
     /// program or the emulator) or it could not boot. The run then has no valid result (its
     /// LEDs and counters would be those of a swarm that lost a robot without anyone killing
@@ -194,19 +214,16 @@ pub struct RobotFailure {
     pub robot: usize,
     /// The run's seed ([`ArenaConfig::seed`]): it replays the failure.
     pub seed: u64,
-    /// True if the robot's task panicked; false if the robot could not boot.
+    /// True if the robot's task panicked; false if the robot could not boot, or (a robot in the
+    /// loop) its link failed.
     pub panicked: bool,
-    /// The panic's message, or why the robot could not boot.
+    /// The panic's message, or why the robot could not boot or its link failed.
     pub message: String,
 }
 
 impl std::fmt::Display for RobotFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let what = if self.panicked {
-            "panicked"
-        } else {
-            "could not boot"
-        };
+        let what = if self.panicked { "panicked" } else { "failed" };
         write!(
             f,
             "robot {} {what} (seed {}): {}",
@@ -218,11 +235,7 @@ impl std::fmt::Display for RobotFailure {
 impl RobotFailure {
     /// What stopped the robot, without the seed: `robot 2 panicked: MESSAGE`.
     pub fn what(&self) -> String {
-        let how = if self.panicked {
-            "panicked"
-        } else {
-            "could not boot"
-        };
+        let how = if self.panicked { "panicked" } else { "failed" };
         format!("robot {} {how}: {}", self.robot, self.message)
     }
 
@@ -258,6 +271,8 @@ impl std::fmt::Display for ArenaError {
             }
             ArenaError::Adversary(e) => write!(f, "adversary: {e}"),
             ArenaError::Runtime(e) => write!(f, "runtime: {e}"),
+            ArenaError::Hil(e) => write!(f, "robots in the loop: {e}"),
+            ArenaError::Interrupted => f.write_str("interrupted"),
             ArenaError::Robot(e) => e.fmt(f),
         }
     }
@@ -301,6 +316,8 @@ pub struct RunReport {
     pub wall: std::time::Duration,
     /// The swarm's moves, with [`ArenaConfig::motion`].
     pub moves: Vec<Move>,
+    /// Each robot in the loop's link ([`ArenaConfig::hil`], in that order).
+    pub hil: Vec<HilReport>,
 }
 
 impl RunReport {
@@ -345,6 +362,13 @@ struct Shared {
     seed: u64,
     /// The swarm's displacement over a plane field.
     offset: Rc<Cell<Vector2<f64>>>,
+    /// Robots in the loop, and how long to wait for them.
+    hil: Vec<HilRobot>,
+    hil_timeouts: HilTimeouts,
+    /// Told when a robot in the loop fails: the run ends there.
+    failed: Rc<tokio::sync::Notify>,
+    /// What the robots in the loop's bridges reported, as they ended.
+    hil_reports: RefCell<Vec<HilReport>>,
 }
 
 /// Puts a robot's protocol events into the trace.
@@ -404,6 +428,14 @@ async fn life(
     life: u32,
     stop: oneshot::Receiver<()>,
 ) -> Result<Counters, String> {
+    if let Some(h) = shared.hil.iter().find(|h| h.robot == robot) {
+        let transport = h.transport.clone();
+        let out = in_the_loop(shared.clone(), robot, life, transport, stop).await;
+        if out.is_err() {
+            shared.failed.notify_one();
+        }
+        return out;
+    }
     match shared.config.params.sectors {
         2 => life_of::<2>(shared, robot, life, stop).await,
         3 => life_of::<3>(shared, robot, life, stop).await,
@@ -445,13 +477,8 @@ async fn life_of<const N: usize>(
         leds,
         clock,
     };
-    let id = shared
-        .ids
-        .as_ref()
-        .and_then(|ids| ids.get(robot).copied())
-        .unwrap_or(robot as u16);
     let config = Config {
-        id,
+        id: id_of(&shared, robot),
         ..config_of(shared.config, &shared.configs, robot)
     };
     let mut r = Robot::<Pcg32, N>::new(
@@ -466,6 +493,54 @@ async fn life_of<const N: usize>(
     };
     select(r.run_observed(&mut hw, &mut tracer), stop).await;
     Ok((*r.stats(), *r.node().wave_stats(), *r.node().stats()))
+}
+
+/// The id robot `robot` has in the run.
+fn id_of(shared: &Shared, robot: usize) -> u16 {
+    shared
+        .ids
+        .as_ref()
+        .and_then(|ids| ids.get(robot).copied())
+        .unwrap_or(robot as u16)
+}
+
+/// A robot in the loop's life: its place in the medium, sensor and LEDs bridged over its link
+/// ([`Bridge`]). Its counters are the robot's own business: the report has its link's.
+async fn in_the_loop(
+    shared: Rc<Shared>,
+    robot: usize,
+    life: u32,
+    transport: crate::world::hil::Transport,
+    stop: oneshot::Receiver<()>,
+) -> Result<Counters, String> {
+    let (tx, rx) = Medium::attach(&shared.medium, robot).map_err(|e| e.to_string())?;
+    let clock = shared.clock;
+    let config = Config {
+        id: id_of(&shared, robot),
+        ..config_of(shared.config, &shared.configs, robot)
+    };
+    let seed = rand_core::RngCore::next_u64(&mut rng(shared.seed, RNG_PROTOCOL, robot, life));
+    let bridge = Bridge {
+        robot,
+        transport,
+        clock,
+        transmitter: Some(tx),
+        receivers: rx,
+        sensor: EmuSensor::new(
+            shared.env.clone(),
+            robot,
+            clock,
+            rng(shared.seed, RNG_SENSOR, robot, life),
+        )
+        .moving_with(shared.offset.clone()),
+        leds: EmuLeds::new(shared.leds.clone(), robot),
+        config,
+        setup: setup_of(&config, setup_seed(seed)),
+        timeouts: shared.hil_timeouts,
+    };
+    let report = bridge.run(stop).await?;
+    shared.hil_reports.borrow_mut().push(report);
+    Ok(Default::default())
 }
 
 /// What a robot's life leaves: its counters, its wave counters and its protocol counters.
@@ -485,6 +560,43 @@ fn check_robot(config: Config) -> Result<(), SetupError> {
         7 => with::<7>(config),
         _ => with::<8>(config),
     }
+}
+
+/// Checks the robots in the loop: places that exist, each taken once, no kills or restarts of
+/// them, no swarm key (link version 1 carries none).
+fn check_hil(cfg: &ArenaConfig) -> Result<(), ArenaError> {
+    let n = cfg.positions.len();
+    let mut seen = std::collections::BTreeSet::new();
+    for h in &cfg.hil {
+        if h.robot >= n {
+            return Err(ArenaError::Hil(format!(
+                "there is no place {} (robots are 0..{})",
+                h.robot,
+                n.saturating_sub(1)
+            )));
+        }
+        if !seen.insert(h.robot) {
+            return Err(ArenaError::Hil(format!("place {} is taken twice", h.robot)));
+        }
+        let scheduled = cfg
+            .kills
+            .iter()
+            .chain(&cfg.restarts)
+            .any(|&(_, r)| r == h.robot)
+            || cfg.dead_at_start.contains(&h.robot);
+        if scheduled {
+            return Err(ArenaError::Hil(format!(
+                "robot {} is in the loop: it cannot be killed or restarted",
+                h.robot
+            )));
+        }
+        if cfg.config_of(h.robot).key.is_some() {
+            return Err(ArenaError::Hil(
+                "link version 1 carries no swarm key: robots in the loop send plain frames".into(),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Moves the swarm every `motion.period` along the heading of the LEDs, for ever.
@@ -546,6 +658,7 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
         check_robot(*own).map_err(ArenaError::Setup)?;
     }
     cfg.medium.validate().map_err(ArenaError::Medium)?;
+    check_hil(cfg)?;
     for a in &cfg.adversaries {
         a.validate().map_err(ArenaError::Adversary)?;
     }
@@ -570,11 +683,20 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
     // Stable: simultaneous controls keep their listed order.
     controls.sort_by_key(|(t, _)| *t);
 
-    let runtime = tokio::runtime::Builder::new_current_thread()
-        .enable_time()
-        .start_paused(true)
-        .build()
-        .map_err(|e| ArenaError::Runtime(e.to_string()))?;
+    // Virtual time, unless a robot in the loop has a clock of its own: then real time, with
+    // I/O (its link) and signals (Ctrl-C stops the run and its QEMU processes).
+    let real_time = cfg.real_time();
+    let runtime = if real_time {
+        tokio::runtime::Builder::new_current_thread()
+            .enable_all()
+            .build()
+    } else {
+        tokio::runtime::Builder::new_current_thread()
+            .enable_time()
+            .start_paused(true)
+            .build()
+    }
+    .map_err(|e| ArenaError::Runtime(e.to_string()))?;
     let wall = std::time::Instant::now();
     let local = tokio::task::LocalSet::new();
     let report = local.block_on(&runtime, async {
@@ -602,6 +724,10 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             offset: Rc::new(Cell::new(
                 cfg.env.field.as_ref().map_or(Vector2::zeros(), |f| f.start),
             )),
+            hil: cfg.hil.clone(),
+            hil_timeouts: cfg.hil_timeouts,
+            failed: Rc::new(tokio::sync::Notify::new()),
+            hil_reports: RefCell::new(Vec::new()),
         });
         let moves = Rc::new(RefCell::new(Vec::new()));
         if let Some(motion) = cfg.motion {
@@ -649,46 +775,66 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             }
         }
         let end = cfg.duration;
-        for (t, c) in controls {
-            if t > Instant::ZERO + end {
-                break;
-            }
-            clock.sleep_until(t).await;
-            match c {
-                Control::Kill(r) => {
-                    if let Some(s) = stops[r].take() {
-                        let _ = s.send(());
-                    }
-                    if let Some(h) = handles[r].take() {
-                        ended(r, h, &mut stats, &mut failure).await;
-                    }
-                    medium.borrow_mut().detach(r);
-                    medium.borrow_mut().log(TraceEvent::Killed {
-                        t_ms: t.as_millis(),
-                        robot: r,
-                    });
-                    shared.leds.record(r, LedColor::Off);
+        let mut interrupted = false;
+        let schedule = async {
+            for (t, c) in controls {
+                if t > Instant::ZERO + end {
+                    break;
                 }
-                Control::Restart(r) => {
-                    if stops[r].is_none() {
-                        medium.borrow_mut().log(TraceEvent::Restarted {
+                clock.sleep_until(t).await;
+                match c {
+                    Control::Kill(r) => {
+                        if let Some(s) = stops[r].take() {
+                            let _ = s.send(());
+                        }
+                        if let Some(h) = handles[r].take() {
+                            ended(r, h, &mut stats, &mut failure).await;
+                        }
+                        medium.borrow_mut().detach(r);
+                        medium.borrow_mut().log(TraceEvent::Killed {
                             t_ms: t.as_millis(),
                             robot: r,
                         });
-                        let (tx, h) = spawn(r, &mut lives);
-                        stops[r] = Some(tx);
-                        handles[r] = Some(h);
+                        shared.leds.record(r, LedColor::Off);
+                    }
+                    Control::Restart(r) => {
+                        if stops[r].is_none() {
+                            medium.borrow_mut().log(TraceEvent::Restarted {
+                                t_ms: t.as_millis(),
+                                robot: r,
+                            });
+                            let (tx, h) = spawn(r, &mut lives);
+                            stops[r] = Some(tx);
+                            handles[r] = Some(h);
+                        }
+                    }
+                    Control::Pattern(lights) => {
+                        medium.borrow_mut().log(TraceEvent::Pattern {
+                            t_ms: t.as_millis(),
+                            lights,
+                        });
                     }
                 }
-                Control::Pattern(lights) => {
-                    medium.borrow_mut().log(TraceEvent::Pattern {
-                        t_ms: t.as_millis(),
-                        lights,
-                    });
-                }
             }
+            clock.sleep_until(Instant::ZERO + end).await;
+        };
+        // A robot in the loop that fails ends the run (its failure is the run's result), and
+        // so does Ctrl-C in real time.
+        let failed = shared.failed.clone();
+        let interrupt = async {
+            if real_time {
+                if tokio::signal::ctrl_c().await.is_err() {
+                    std::future::pending::<()>().await;
+                }
+            } else {
+                std::future::pending::<()>().await;
+            }
+        };
+        if let Either::Second(Either::Second(())) =
+            select(schedule, select(failed.notified(), interrupt)).await
+        {
+            interrupted = true;
         }
-        clock.sleep_until(Instant::ZERO + end).await;
         for r in 0..n {
             if let Some(s) = stops[r].take() {
                 let _ = s.send(());
@@ -697,8 +843,11 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
                 ended(r, h, &mut stats, &mut failure).await;
             }
         }
+        if interrupted {
+            return Err(None);
+        }
         if let Some(f) = failure {
-            return Err(f);
+            return Err(Some(f));
         }
         let leds = shared.leds.changes();
         let moves = moves.borrow().clone();
@@ -714,9 +863,14 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
             nodes: stats.iter().map(|c| c.2).collect(),
             emulated: end,
             wall: std::time::Duration::ZERO,
+            hil: {
+                let mut h = shared.hil_reports.borrow().clone();
+                h.sort_by_key(|r| r.robot);
+                h
+            },
         })
     });
-    let mut report = report.map_err(ArenaError::Robot)?;
+    let mut report = report.map_err(|f| f.map_or(ArenaError::Interrupted, ArenaError::Robot))?;
     report.wall = wall.elapsed();
     report.final_leds = report.leds_at(Instant::ZERO + report.emulated);
     Ok(report)

@@ -13,8 +13,10 @@
 //! again at the next 0x00 ([`LinkDecoder`]). Every error is typed ([`LinkError`]) and counted
 //! ([`LinkStats`]); nothing here panics, allocates or blocks.
 //!
-//! This module is the codec only. The `Hardware` adaptor over one UART, the host's bridge into
-//! the emulated medium and the QEMU image are the next steps of issue 20 (`docs/hil.md`).
+//! This module is the codec; [`robot`] runs the unchanged robot program over it (the
+//! `Hardware` adaptor over one UART). The host's end is `hal-emu`'s `hil` module.
+
+pub mod robot;
 
 use heapless::Vec;
 use serde::{Deserialize, Serialize};
@@ -26,15 +28,16 @@ pub const LINK_VERSION: u8 = 1;
 /// (`protocol::frame::FRAME_MAX`, 32). A stream of more is sent as several messages.
 pub const CHUNK_MAX: usize = 32;
 
-/// Largest payload: a variant tag, a sector and a length (one byte each as postcard varints)
-/// and [`CHUNK_MAX`] bytes. Every other message is shorter (a `Hello` at most 6 bytes, a
-/// `Heartbeat` at most 6).
-pub const PAYLOAD_MAX: usize = 3 + CHUNK_MAX;
+/// Largest payload: a [`LinkMsg::Setup`] with every field at its longest varint (38 bytes:
+/// the tag, 3 for the id, 5 for each of the seed and five durations, 3 for the negotiation
+/// period, 1 for the rule). An `Rx` of [`CHUNK_MAX`] bytes takes 35, a `Hello` at most 6, a
+/// `Heartbeat` at most 6.
+pub const PAYLOAD_MAX: usize = 38;
 
 /// Bytes of the frame check.
 const CRC_LEN: usize = 2;
 
-/// Largest frame on the link, its 0x00 included.
+/// Largest frame on the link, its 0x00 included (42 bytes).
 pub const LINK_FRAME_MAX: usize = cobs::max_encoding_length(PAYLOAD_MAX + CRC_LEN) + 1;
 
 /// The frame check: the light frame's CRC (`docs/protocol.md` §1.3).
@@ -75,6 +78,36 @@ pub enum LinkMsg {
     Led(u8),
     /// 5, both ways: still alive; the sequence number counts up from 0.
     Heartbeat(u32),
+    /// 6, host → robot, after the robot's `Hello` and again before every run: (re)start the
+    /// robot program with fresh state, this id and seed and this timing. The robot runs
+    /// nothing before its first `Setup`.
+    Setup(Setup),
+}
+
+/// What [`LinkMsg::Setup`] tells a robot: who it is in this run, its seed, and the protocol's
+/// timing (the arena shrinks the paper's to make a run in real time short). Everything else
+/// is the robot image's own [`Config`](crate::Config).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Setup {
+    /// The robot's id in this run (its tag on the wire is `id mod 16`).
+    pub id: u16,
+    /// The seed of the robot's random draws in this run.
+    pub seed: u32,
+    /// Mean cycle, milliseconds (`WaveParams::cycle`).
+    pub cycle_ms: u32,
+    /// Cycle spread, milliseconds.
+    pub spread_ms: u32,
+    /// Relay delay, milliseconds.
+    pub relay_ms: u32,
+    /// Refractory time, milliseconds.
+    pub refractory_ms: u32,
+    /// Negotiation period, cycles.
+    pub negotiation: u16,
+    /// The decision rule: false fixed, true adaptive.
+    pub adaptive: bool,
+    /// How often the robot reads its sensor, milliseconds.
+    pub sample_ms: u32,
 }
 
 /// What went wrong with one frame of the link.
@@ -276,7 +309,20 @@ mod tests {
         Vec::from_slice(b).unwrap()
     }
 
-    fn every_kind() -> [LinkMsg; 7] {
+    /// A `Setup` with every field at its longest encoding.
+    const LONGEST_SETUP: Setup = Setup {
+        id: u16::MAX,
+        seed: u32::MAX,
+        cycle_ms: u32::MAX,
+        spread_ms: u32::MAX,
+        relay_ms: u32::MAX,
+        refractory_ms: u32::MAX,
+        negotiation: u16::MAX,
+        adaptive: true,
+        sample_ms: u32::MAX,
+    };
+
+    fn every_kind() -> [LinkMsg; 8] {
         [
             LinkMsg::Hello {
                 version: LINK_VERSION,
@@ -298,6 +344,7 @@ mod tests {
             },
             LinkMsg::Led(2),
             LinkMsg::Heartbeat(u32::MAX),
+            LinkMsg::Setup(LONGEST_SETUP),
         ]
     }
 
@@ -316,12 +363,20 @@ mod tests {
             assert_eq!(all(&mut d, &f), [Ok(m)]);
             assert_eq!(d.stats().frames, 1);
         }
-        // The largest frame is exactly LINK_FRAME_MAX.
-        let big = frame(&LinkMsg::Rx {
+        // The largest frame is exactly LINK_FRAME_MAX: the longest Setup's payload is
+        // PAYLOAD_MAX.
+        let mut raw = [0u8; 64];
+        let n = postcard::to_slice(&LinkMsg::Setup(LONGEST_SETUP), &mut raw)
+            .unwrap()
+            .len();
+        assert_eq!(n, PAYLOAD_MAX);
+        let big = frame(&LinkMsg::Setup(LONGEST_SETUP));
+        assert_eq!(big.len(), LINK_FRAME_MAX);
+        let rx = frame(&LinkMsg::Rx {
             sector: 7,
             bytes: chunk(&[0xFF; CHUNK_MAX]),
         });
-        assert_eq!(big.len(), LINK_FRAME_MAX);
+        assert!(rx.len() < LINK_FRAME_MAX);
     }
 
     /// Golden frames, worked out in docs/hil.md ("Examples"); their CRCs and COBS computed
@@ -404,7 +459,7 @@ mod tests {
     #[test]
     fn bad_payloads_with_a_good_check_are_undecodable() {
         for payload in [
-            &[0x06][..],               // variant 6 does not exist
+            &[0x07][..],               // variant 7 does not exist
             &[0x01, 33],               // a chunk of 33 bytes claimed
             &[0x04, 0x01, 0x00],       // a byte left over
             &[0x02, 0x01, 0x02, 0xAA], // Rx cut short

@@ -1,0 +1,391 @@
+//! The robot's end of the link: the unchanged robot program ([`Robot::run`]) on hardware made
+//! of one byte stream to the host (`docs/hil.md`).
+//!
+//! ```text
+//!           UART rx ──▶ pump: LinkDecoder ──Rx{sector}──▶ pipe[sector] ──▶ receiver (Read)
+//!                                         ──Reading────▶ levels ─────────▶ sensor
+//!                                         ──Setup──────▶ (re)start the robot program
+//!  transmitter (Write) ──Tx──┐
+//!  LEDs ─────────────────Led─┼──▶ writer (one at a time) ──▶ UART tx
+//!  beat ──Hello…, Heartbeat──┘
+//! ```
+//!
+//! [`Link`] holds what the pieces share: the UART's writing half behind an async mutex (one
+//! frame at a time), a pipe per receiver, the last sensor levels, the pending [`Setup`] and
+//! the counters. [`run`] joins three futures and never returns: the pump (reads the UART,
+//! decodes, dispatches), the beat (a `Hello` every period until the first `Setup`, then a
+//! `Heartbeat`), and the robot program itself, restarted with fresh state at every `Setup`.
+//!
+//! Nothing here allocates, panics on input or waits for ever on the host: a corrupt link frame
+//! is counted ([`LinkStats`]) and skipped, bytes a full pipe cannot take are counted in
+//! [`HilStats::rx_lost`], and the robot program bounds every transmission and LED update by its
+//! own `io_timeout`. Light bytes are handed over as they are: the host's medium applies airtime,
+//! collisions and loss to them, and the robot's deframers see what its receivers would.
+
+use core::cell::Cell;
+use core::convert::Infallible;
+
+use embassy_futures::join::join3;
+use embassy_futures::select::{Either, select};
+use embassy_sync::blocking_mutex::raw::NoopRawMutex;
+use embassy_sync::mutex::Mutex;
+use embassy_sync::pipe::Pipe;
+use embassy_sync::signal::Signal;
+use embedded_io_async::{ErrorKind, Read, Write};
+use protocol::params::DecisionRule;
+use protocol::{Duration, Level, Sector};
+use rand_core::RngCore;
+
+use super::{CHUNK_MAX, LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkMsg, LinkStats, Setup};
+use crate::hal::{self, Clock, ErrorType, LedColor, Leds, Quantity, Sensor};
+use crate::robot::{Config, Hardware, Robot};
+
+/// Bytes of buffer per receiver: four full light frames.
+pub const RX_PIPE: usize = 128;
+
+/// How often the robot says `Hello` (before its first `Setup`) or `Heartbeat` (after).
+pub const BEAT: Duration = Duration::from_millis(500);
+
+/// Counters of the robot's end of the link. They wrap after 2³² events.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct HilStats {
+    /// Link frames sent.
+    pub sent: u32,
+    /// What the decoder saw: frames received and every kind of bad frame.
+    pub link: LinkStats,
+    /// Light bytes lost because a receiver's pipe was full.
+    pub rx_lost: u32,
+    /// `Rx` for a sector the robot does not have, or a message only a robot sends.
+    pub unexpected: u32,
+    /// Errors of the UART (reading or writing).
+    pub uart_errors: u32,
+    /// `Setup`s received: runs started.
+    pub setups: u32,
+}
+
+/// What the robot's hardware shares over one link: `W` is the UART's writing half, `N` the
+/// number of receivers.
+pub struct Link<W, const N: usize> {
+    writer: Mutex<NoopRawMutex, W>,
+    pipes: [Pipe<NoopRawMutex, RX_PIPE>; N],
+    ambient: Cell<Option<Level>>,
+    oxygen: Cell<Option<Level>>,
+    setup: Signal<NoopRawMutex, Setup>,
+    set_up: Cell<bool>,
+    stats: Cell<HilStats>,
+}
+
+impl<W, const N: usize> core::fmt::Debug for Link<W, N> {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.debug_struct("Link")
+            .field("stats", &self.stats.get())
+            .finish_non_exhaustive()
+    }
+}
+
+impl<W: Write, const N: usize> Link<W, N> {
+    /// A link writing to `writer` (the UART's transmitting half).
+    pub fn new(writer: W) -> Self {
+        Link {
+            writer: Mutex::new(writer),
+            pipes: core::array::from_fn(|_| Pipe::new()),
+            ambient: Cell::new(None),
+            oxygen: Cell::new(None),
+            setup: Signal::new(),
+            set_up: Cell::new(false),
+            stats: Cell::new(HilStats::default()),
+        }
+    }
+
+    /// The counters.
+    pub fn stats(&self) -> HilStats {
+        self.stats.get()
+    }
+
+    fn count(&self, f: impl FnOnce(&mut HilStats)) {
+        let mut s = self.stats.get();
+        f(&mut s);
+        self.stats.set(s);
+    }
+
+    /// Sends one message as one link frame.
+    ///
+    /// # Errors
+    /// The UART's error kind if it failed.
+    pub async fn send(&self, msg: &LinkMsg) -> Result<(), ErrorKind> {
+        let mut buf = [0u8; LINK_FRAME_MAX];
+        // Cannot fail: every message fits LINK_FRAME_MAX (the codec's tests).
+        let frame = super::encode(msg, &mut buf).map_err(|_| ErrorKind::Other)?;
+        let mut w = self.writer.lock().await;
+        let r = match w.write_all(frame).await {
+            Ok(()) => w.flush().await,
+            Err(e) => Err(e),
+        };
+        match r {
+            Ok(()) => {
+                self.count(|s| s.sent = s.sent.wrapping_add(1));
+                Ok(())
+            }
+            Err(e) => {
+                self.count(|s| s.uart_errors = s.uart_errors.wrapping_add(1));
+                Err(embedded_io_async::Error::kind(&e))
+            }
+        }
+    }
+
+    /// Reads the UART's receiving half for as long as it gives bytes, and hands each message
+    /// to its place. Returns when the stream ends (`Ok(0)`).
+    pub async fn pump<R: Read>(&self, mut reader: R) {
+        let mut decoder = LinkDecoder::new();
+        let mut buf = [0u8; 32];
+        loop {
+            match reader.read(&mut buf).await {
+                Ok(0) => return,
+                Ok(n) => {
+                    for &b in buf.get(..n).unwrap_or(&[]) {
+                        if let Some(Ok(msg)) = decoder.push(b) {
+                            self.dispatch(msg);
+                        }
+                    }
+                    let link = *decoder.stats();
+                    self.count(|s| s.link = link);
+                }
+                Err(_) => {
+                    // A framing or overrun error: the decoder resynchronises at the next 0x00.
+                    // Yield, so that a UART that keeps failing cannot starve the robot.
+                    self.count(|s| s.uart_errors = s.uart_errors.wrapping_add(1));
+                    embassy_futures::yield_now().await;
+                }
+            }
+        }
+    }
+
+    fn dispatch(&self, msg: LinkMsg) {
+        match msg {
+            LinkMsg::Rx { sector, bytes } => {
+                let Some(pipe) = self.pipes.get(usize::from(sector)) else {
+                    self.count(|s| s.unexpected = s.unexpected.wrapping_add(1));
+                    return;
+                };
+                // Like light, the host never waits: what does not fit is lost.
+                let mut rest = &bytes[..];
+                while let Ok(n @ 1..) = pipe.try_write(rest) {
+                    rest = rest.get(n..).unwrap_or(&[]);
+                }
+                let lost = u32::try_from(rest.len()).unwrap_or(u32::MAX);
+                self.count(|s| s.rx_lost = s.rx_lost.wrapping_add(lost));
+            }
+            LinkMsg::Reading { quantity, level } => match quantity {
+                0 => self.ambient.set(Some(Level(level))),
+                1 => self.oxygen.set(Some(Level(level))),
+                _ => self.count(|s| s.unexpected = s.unexpected.wrapping_add(1)),
+            },
+            LinkMsg::Setup(setup) => {
+                self.count(|s| s.setups = s.setups.wrapping_add(1));
+                self.set_up.set(true);
+                self.setup.signal(setup);
+            }
+            // The host's heartbeat only proves it is there; nothing to do.
+            LinkMsg::Heartbeat(_) => {}
+            LinkMsg::Hello { .. } | LinkMsg::Tx(_) | LinkMsg::Led(_) => {
+                self.count(|s| s.unexpected = s.unexpected.wrapping_add(1));
+            }
+        }
+    }
+
+    /// Says `Hello` every [`BEAT`] until the first `Setup`, then `Heartbeat` every [`BEAT`],
+    /// for ever.
+    pub async fn beat<C: Clock>(&self, clock: &C, id: u16) -> Infallible {
+        let mut seq: u32 = 0;
+        let mut next = clock.now();
+        loop {
+            let msg = if self.set_up.get() {
+                seq = seq.wrapping_add(1);
+                LinkMsg::Heartbeat(seq - 1)
+            } else {
+                LinkMsg::Hello {
+                    version: LINK_VERSION,
+                    id,
+                    sectors: N as u8,
+                }
+            };
+            // A failed write is counted; the next beat tries again.
+            let _ = self.send(&msg).await;
+            next += BEAT;
+            clock.sleep_until(next).await;
+        }
+    }
+
+    /// The robot's hardware over this link, with `clock`.
+    pub fn hardware<C: Clock>(
+        &self,
+        clock: C,
+    ) -> Hardware<
+        HilTransmitter<'_, W, N>,
+        &Pipe<NoopRawMutex, RX_PIPE>,
+        HilSensor<'_, W, N>,
+        HilLeds<'_, W, N>,
+        C,
+        N,
+    > {
+        Hardware {
+            transmitter: HilTransmitter { link: self },
+            receivers: core::array::from_fn(|i| &self.pipes[i]),
+            sensor: HilSensor { link: self },
+            leds: HilLeds { link: self },
+            clock,
+        }
+    }
+}
+
+/// `base` with what `setup` sets: id, timing, decision rule, sample period.
+pub fn configure(base: Config, setup: &Setup) -> Config {
+    let mut c = base;
+    c.id = setup.id;
+    let ms = |v: u32| Duration::from_millis(u64::from(v));
+    c.params.wave.cycle = ms(setup.cycle_ms);
+    c.params.wave.cycle_spread = ms(setup.spread_ms);
+    c.params.wave.relay_delay = ms(setup.relay_ms);
+    c.params.wave.refractory = ms(setup.refractory_ms);
+    c.params.negotiation_cycles = setup.negotiation;
+    c.params.decide = if setup.adaptive {
+        DecisionRule::Adaptive
+    } else {
+        DecisionRule::Fixed
+    };
+    c.sample_period = ms(setup.sample_ms);
+    c
+}
+
+/// Runs a robot in the loop for ever: the pump over `reader`, the beat, and the robot program
+/// with `base` as [`configure`]d by each `Setup`, its random draws from `rng(setup.seed)`. The
+/// robot program starts afresh (new state, empty receivers) at every `Setup`; a `Setup` the
+/// program refuses (bad timing) is logged and the robot waits for the next.
+pub async fn run<W, R, C, G, const N: usize>(
+    link: &Link<W, N>,
+    reader: R,
+    clock: &C,
+    base: Config,
+    mut rng: impl FnMut(u32) -> G,
+) -> Infallible
+where
+    W: Write,
+    R: Read,
+    C: Clock,
+    G: RngCore,
+{
+    let robot = async {
+        let mut setup = link.setup.wait().await;
+        loop {
+            for p in &link.pipes {
+                p.clear();
+            }
+            let config = configure(base, &setup);
+            match Robot::<G, N>::new(config, clock.now(), rng(setup.seed)) {
+                Ok(mut robot) => {
+                    info!("hil: robot {} starts", config.id);
+                    let mut hw = link.hardware(clock);
+                    match select(robot.run(&mut hw), link.setup.wait()).await {
+                        Either::First(never) => match never {},
+                        Either::Second(next) => setup = next,
+                    }
+                }
+                Err(_e) => {
+                    warn!("hil: setup refused: {:?}", _e);
+                    setup = link.setup.wait().await;
+                }
+            }
+        }
+    };
+    let pump = async {
+        link.pump(reader).await;
+        warn!("hil: the link's stream ended");
+        core::future::pending::<Infallible>().await
+    };
+    let (never, _, _) = join3(robot, pump, link.beat(clock, base.id)).await;
+    never
+}
+
+/// The light transmitter over the link: each write goes to the host as `Tx` messages of at most
+/// [`CHUNK_MAX`] bytes (a light frame is one).
+pub struct HilTransmitter<'a, W, const N: usize> {
+    link: &'a Link<W, N>,
+}
+
+impl<W: Write, const N: usize> embedded_io_async::ErrorType for HilTransmitter<'_, W, N> {
+    type Error = ErrorKind;
+}
+
+impl<W: Write, const N: usize> Write for HilTransmitter<'_, W, N> {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
+        let n = buf.len().min(CHUNK_MAX);
+        let chunk =
+            heapless::Vec::from_slice(buf.get(..n).unwrap_or(&[])).map_err(|_| ErrorKind::Other)?;
+        self.link.send(&LinkMsg::Tx(chunk)).await?;
+        Ok(n)
+    }
+
+    async fn flush(&mut self) -> Result<(), ErrorKind> {
+        Ok(())
+    }
+}
+
+/// The sensor over the link: the last level the host sent for each quantity
+/// ([`hal::ErrorKind::NotReady`] before the first).
+pub struct HilSensor<'a, W, const N: usize> {
+    link: &'a Link<W, N>,
+}
+
+impl<W, const N: usize> ErrorType for HilSensor<'_, W, N> {
+    type Error = hal::ErrorKind;
+}
+
+impl<W, const N: usize> Sensor for HilSensor<'_, W, N> {
+    async fn ambient_light(&mut self) -> Result<Level, hal::ErrorKind> {
+        self.link.ambient.get().ok_or(hal::ErrorKind::NotReady)
+    }
+
+    async fn oxygen(&mut self) -> Result<Level, hal::ErrorKind> {
+        self.link.oxygen.get().ok_or(hal::ErrorKind::NotReady)
+    }
+
+    async fn read(&mut self, quantity: Quantity) -> Result<Level, hal::ErrorKind> {
+        match quantity {
+            Quantity::AmbientLight => self.ambient_light().await,
+            Quantity::Oxygen => self.oxygen().await,
+        }
+    }
+}
+
+/// The LEDs over the link: each change goes to the host as `Led` (0 off, `1 + sector`).
+pub struct HilLeds<'a, W, const N: usize> {
+    link: &'a Link<W, N>,
+}
+
+impl<W, const N: usize> ErrorType for HilLeds<'_, W, N> {
+    type Error = hal::ErrorKind;
+}
+
+impl<W: Write, const N: usize> Leds for HilLeds<'_, W, N> {
+    async fn show(&mut self, color: LedColor) -> Result<(), hal::ErrorKind> {
+        let code = led_code(color);
+        self.link
+            .send(&LinkMsg::Led(code))
+            .await
+            .map_err(|_| hal::ErrorKind::Bus)
+    }
+}
+
+/// The `Led` code of `color`: 0 off, `1 + sector` a decision (green is left, sector 1).
+pub fn led_code(color: LedColor) -> u8 {
+    match color.decision() {
+        None => 0,
+        Some(s) => s.index().saturating_add(1),
+    }
+}
+
+/// The decision an `Led` code shows (`None`: off, or a code that is no sector).
+pub fn led_decision(code: u8) -> Option<Sector> {
+    code.checked_sub(1).and_then(Sector::new)
+}

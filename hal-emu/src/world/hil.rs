@@ -1,0 +1,832 @@
+//! Robots in the loop: the host's end of the link of `docs/hil.md`.
+//!
+//! A robot in the loop runs the real robot program somewhere else (a QEMU process, a board on
+//! a serial port, anything behind a TCP socket) and talks to the arena over one byte stream
+//! (`firmware::hil`). Here it takes the place of a virtual robot in the medium: what its
+//! transmitter sends (`Tx`) goes on air through the medium like any robot's frame (airtime,
+//! collisions, loss, byte errors); what reaches its receivers goes back as `Rx`; its sensor
+//! reads the arena's environment (`Reading`, every sample period); its `Led` messages go into
+//! the LED record the judge reads. [`Transport`] says how to reach it; [`HilReport`] is what
+//! the run reports about its link.
+//!
+//! A run with a robot in the loop runs in real time (the robot has its own clock), except when
+//! every such robot runs in this process ([`Transport::InProcess`]: the unchanged
+//! `firmware::hil::robot::run` over a channel, on the run's virtual clock), which tests the
+//! link without QEMU, deterministically.
+//!
+//! The bridge fails its run, naming the robot and its transport, if the robot says no `Hello`
+//! within [`HilTimeouts::hello`], speaks another link version or has other sectors, says
+//! `Hello` again (it rebooted) or goes silent for [`HilTimeouts::silence`], or its stream
+//! ends. Child processes are killed and reaped on every path ([`LinkEnds`]'s drop).
+
+use std::fmt;
+use std::path::PathBuf;
+use std::process::Stdio;
+use std::str::FromStr;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use embedded_io_async::{ErrorKind, ErrorType, Read, Write};
+use firmware::hil::robot::{Link, led_decision};
+use firmware::hil::{
+    CHUNK_MAX, LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkError, LinkMsg, Setup,
+};
+use firmware::{Clock, Config, LedColor, Leds, Quantity, Sensor};
+use protocol::{Duration, Instant};
+use rand_core::SeedableRng;
+use rand_pcg::Pcg32;
+use tokio::io::{AsyncReadExt, AsyncWriteExt};
+use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
+use tokio::task::JoinHandle;
+
+use crate::board::leds::EmuLeds;
+use crate::board::light::{EmuReceiver, EmuTransmitter};
+use crate::board::sensor::EmuSensor;
+use crate::world::clock::EmuClock;
+
+/// How the arena reaches one robot in the loop.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Transport {
+    /// A fresh `qemu-system-arm -machine mps2-an386` process per run, booting this image (the
+    /// one-robot HIL image, `cargo hil-image`), its UART0 on the process's stdin and stdout.
+    Qemu(PathBuf),
+    /// A board on a serial port at this baud rate (the Nucleo's ST-LINK virtual COM port).
+    Serial(PathBuf, u32),
+    /// Anything that speaks the link on a TCP socket (`HOST:PORT`), e.g. QEMU started by hand
+    /// with `-serial tcp::PORT,server=on`.
+    Tcp(String),
+    /// The unchanged robot program (`firmware::hil::robot::run`) in this process, over a
+    /// channel: the link and the bridge without QEMU.
+    InProcess,
+}
+
+impl Transport {
+    /// True if the robot runs on the arena's own (virtual) clock.
+    pub fn virtual_time(&self) -> bool {
+        matches!(self, Transport::InProcess)
+    }
+}
+
+impl fmt::Display for Transport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Transport::Qemu(_) => f.write_str("qemu"),
+            Transport::Serial(p, baud) => write!(f, "serial:{}@{baud}", p.display()),
+            Transport::Tcp(a) => write!(f, "tcp:{a}"),
+            Transport::InProcess => f.write_str("loopback"),
+        }
+    }
+}
+
+/// The robots in the loop of a run, as `cimax arena --hil` names them.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum HilSpec {
+    /// `qemu:N`: N QEMU robots.
+    Qemu(usize),
+    /// `serial:PATH[@BAUD]`: one board (115200 Bd by default).
+    Serial(PathBuf, u32),
+    /// `tcp:HOST:PORT`: one robot on a socket.
+    Tcp(String),
+    /// `loopback:N`: N robots in this process, over the link.
+    Loopback(usize),
+}
+
+/// The default baud rate of `serial:PATH`: the Nucleo image's USART2.
+pub const DEFAULT_BAUD: u32 = 115_200;
+
+impl HilSpec {
+    /// How many robots it brings.
+    pub fn robots(&self) -> usize {
+        match self {
+            HilSpec::Qemu(n) | HilSpec::Loopback(n) => *n,
+            HilSpec::Serial(..) | HilSpec::Tcp(_) => 1,
+        }
+    }
+
+    /// Each robot's transport; QEMU robots boot `image`.
+    pub fn transports(&self, image: &std::path::Path) -> Vec<Transport> {
+        match self {
+            HilSpec::Qemu(n) => vec![Transport::Qemu(image.to_path_buf()); *n],
+            HilSpec::Loopback(n) => vec![Transport::InProcess; *n],
+            HilSpec::Serial(p, b) => vec![Transport::Serial(p.clone(), *b)],
+            HilSpec::Tcp(a) => vec![Transport::Tcp(a.clone())],
+        }
+    }
+}
+
+impl FromStr for HilSpec {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, String> {
+        let count = |n: &str, what: &str| -> Result<usize, String> {
+            match n.parse::<usize>() {
+                Ok(k @ 1..=64) => Ok(k),
+                _ => Err(format!("{what}:N needs N from 1 to 64, not {n:?}")),
+            }
+        };
+        if let Some(n) = s.strip_prefix("qemu:") {
+            return count(n, "qemu").map(HilSpec::Qemu);
+        }
+        if let Some(n) = s.strip_prefix("loopback:") {
+            return count(n, "loopback").map(HilSpec::Loopback);
+        }
+        if let Some(rest) = s.strip_prefix("serial:") {
+            let (path, baud) = match rest.rsplit_once('@') {
+                Some((p, b)) => {
+                    let baud = b
+                        .parse::<u32>()
+                        .ok()
+                        .filter(|&b| b > 0)
+                        .ok_or_else(|| format!("serial:PATH@BAUD: {b:?} is no baud rate"))?;
+                    (p, baud)
+                }
+                None => (rest, DEFAULT_BAUD),
+            };
+            if path.is_empty() {
+                return Err("serial:PATH needs a path, e.g. serial:/dev/ttyACM0".into());
+            }
+            return Ok(HilSpec::Serial(PathBuf::from(path), baud));
+        }
+        if let Some(addr) = s.strip_prefix("tcp:") {
+            let ok = addr
+                .rsplit_once(':')
+                .is_some_and(|(h, p)| !h.is_empty() && p.parse::<u16>().is_ok());
+            if !ok {
+                return Err(format!("tcp:HOST:PORT: {addr:?} is no host and port"));
+            }
+            return Ok(HilSpec::Tcp(addr.to_string()));
+        }
+        Err(format!(
+            "{s:?}: a robot in the loop is qemu:N, serial:PATH[@BAUD], tcp:HOST:PORT or loopback:N"
+        ))
+    }
+}
+
+/// One robot of a run in the loop.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct HilRobot {
+    /// Its place (index into the arena's positions).
+    pub robot: usize,
+    /// How to reach it.
+    pub transport: Transport,
+}
+
+/// How long the host waits for a robot in the loop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HilTimeouts {
+    /// From connecting to its `Hello`.
+    pub hello: Duration,
+    /// Longest silence (no frame at all) once it runs.
+    pub silence: Duration,
+}
+
+impl Default for HilTimeouts {
+    /// 15 s to boot (QEMU, or a board reset by opening its port), 5 s of silence (ten
+    /// heartbeats).
+    fn default() -> Self {
+        HilTimeouts {
+            hello: Duration::from_secs(15),
+            silence: Duration::from_secs(5),
+        }
+    }
+}
+
+/// What a run reports about one robot in the loop.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct HilReport {
+    /// Its place.
+    pub robot: usize,
+    /// Its transport (`qemu`, `serial:PATH@BAUD`, `tcp:HOST:PORT`, `loopback`).
+    pub transport: String,
+    /// The id it said hello with.
+    pub hello_id: u16,
+    /// Link frames the host sent it.
+    pub frames_sent: u64,
+    /// Link frames the host received from it (good ones).
+    pub frames_received: u64,
+    /// Bad link frames from it (every `LinkError`).
+    pub link_errors: u64,
+    /// Light frames it transmitted (`Tx` messages).
+    pub tx: u64,
+    /// Light bytes its receivers were sent (`Rx`).
+    pub rx_bytes: u64,
+    /// Milliseconds from connecting to its `Hello`.
+    pub hello_ms: u64,
+}
+
+/// The two directions of one link, as channels of byte chunks, and whatever keeps the other
+/// end alive (a child process, reader and writer tasks or threads). Dropping it kills the child
+/// and stops the tasks; [`LinkEnds::close`] also reaps the child.
+pub struct LinkEnds {
+    /// Bytes from the robot.
+    pub from_robot: UnboundedReceiver<Vec<u8>>,
+    /// Bytes to the robot.
+    pub to_robot: UnboundedSender<Vec<u8>>,
+    child: Option<tokio::process::Child>,
+    tasks: Vec<JoinHandle<()>>,
+    stop: Arc<AtomicBool>,
+}
+
+impl LinkEnds {
+    fn new(from_robot: UnboundedReceiver<Vec<u8>>, to_robot: UnboundedSender<Vec<u8>>) -> Self {
+        LinkEnds {
+            from_robot,
+            to_robot,
+            child: None,
+            tasks: Vec::new(),
+            stop: Arc::new(AtomicBool::new(false)),
+        }
+    }
+
+    /// Ends the link: stops the tasks and threads, kills the child process and waits for it.
+    pub async fn close(mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        for t in self.tasks.drain(..) {
+            t.abort();
+        }
+        if let Some(mut c) = self.child.take() {
+            let _ = c.start_kill();
+            let _ = c.wait().await;
+        }
+    }
+}
+
+impl Drop for LinkEnds {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        for t in &self.tasks {
+            t.abort();
+        }
+        // `kill_on_drop` kills a child left here; tokio reaps it in the background.
+    }
+}
+
+/// Opens the link to one robot (its place `robot`, for the in-process one; `base` is the
+/// configuration an in-process robot's image would have).
+///
+/// # Errors
+/// Why the transport could not be opened (no QEMU, no such port, connection refused).
+pub async fn open(
+    transport: &Transport,
+    clock: EmuClock,
+    base: Config,
+) -> Result<LinkEnds, String> {
+    let (to_host, from_robot) = unbounded_channel::<Vec<u8>>();
+    let (to_robot, from_host) = unbounded_channel::<Vec<u8>>();
+    let mut ends = LinkEnds::new(from_robot, to_robot);
+    match transport {
+        Transport::InProcess => {
+            ends.tasks.push(tokio::task::spawn_local(in_process(
+                to_host, from_host, clock, base,
+            )));
+        }
+        Transport::Tcp(addr) => {
+            let s = tokio::time::timeout(
+                std::time::Duration::from_secs(10),
+                tokio::net::TcpStream::connect(addr.as_str()),
+            )
+            .await
+            .map_err(|_| format!("tcp:{addr}: no connection within 10 s"))?
+            .map_err(|e| format!("tcp:{addr}: {e}"))?;
+            let _ = s.set_nodelay(true);
+            let (r, w) = s.into_split();
+            ends.tasks
+                .push(tokio::task::spawn_local(pump_in(r, to_host)));
+            ends.tasks
+                .push(tokio::task::spawn_local(pump_out(w, from_host)));
+        }
+        Transport::Qemu(image) => {
+            if !image.is_file() {
+                return Err(format!(
+                    "no HIL image at {} (build it with `cargo hil-image`, docs/hil.md)",
+                    image.display()
+                ));
+            }
+            let mut child = tokio::process::Command::new("qemu-system-arm")
+                .args(qemu_args(image))
+                .stdin(Stdio::piped())
+                .stdout(Stdio::piped())
+                .stderr(Stdio::null())
+                .kill_on_drop(true)
+                .spawn()
+                .map_err(|e| format!("qemu-system-arm: {e} (is QEMU installed?)"))?;
+            let (Some(out), Some(inp)) = (child.stdout.take(), child.stdin.take()) else {
+                return Err("qemu-system-arm: no pipes".into());
+            };
+            ends.tasks
+                .push(tokio::task::spawn_local(pump_in(out, to_host)));
+            ends.tasks
+                .push(tokio::task::spawn_local(pump_out(inp, from_host)));
+            ends.child = Some(child);
+        }
+        Transport::Serial(path, baud) => {
+            serial(path, *baud, to_host, from_host, ends.stop.clone())?;
+        }
+    }
+    // Either end sends a 0x00 first, so that the other starts with an empty buffer.
+    let _ = ends.to_robot.send(vec![0]);
+    Ok(ends)
+}
+
+/// The QEMU command line of a robot in the loop: mps2-an386 in real time (no `-icount`), its
+/// UART0 on stdio, semihosting (the image's log and exit) to nowhere.
+pub fn qemu_args(image: &std::path::Path) -> Vec<std::ffi::OsString> {
+    let mut a: Vec<std::ffi::OsString> = [
+        "-machine",
+        "mps2-an386",
+        "-cpu",
+        "cortex-m4",
+        "-display",
+        "none",
+        "-monitor",
+        "none",
+        "-serial",
+        "stdio",
+        "-chardev",
+        "null,id=log",
+        "-semihosting-config",
+        "enable=on,target=native,chardev=log",
+        "-kernel",
+    ]
+    .iter()
+    .map(Into::into)
+    .collect();
+    a.push(image.as_os_str().to_owned());
+    a
+}
+
+/// Copies a byte stream into a channel until either ends.
+async fn pump_in<R: tokio::io::AsyncRead + Unpin>(mut r: R, to: UnboundedSender<Vec<u8>>) {
+    let mut buf = [0u8; 256];
+    loop {
+        match r.read(&mut buf).await {
+            Ok(0) | Err(_) => return,
+            Ok(n) => {
+                if to.send(buf[..n].to_vec()).is_err() {
+                    return;
+                }
+            }
+        }
+    }
+}
+
+/// Copies a channel into a byte stream until either ends.
+async fn pump_out<W: tokio::io::AsyncWrite + Unpin>(
+    mut w: W,
+    mut from: UnboundedReceiver<Vec<u8>>,
+) {
+    while let Some(b) = from.recv().await {
+        if w.write_all(&b).await.is_err() || w.flush().await.is_err() {
+            return;
+        }
+    }
+}
+
+/// A serial port, read and written by two threads (the port is blocking I/O).
+fn serial(
+    path: &std::path::Path,
+    baud: u32,
+    to_host: UnboundedSender<Vec<u8>>,
+    mut from_host: UnboundedReceiver<Vec<u8>>,
+    stop: Arc<AtomicBool>,
+) -> Result<(), String> {
+    let name = path.to_string_lossy().into_owned();
+    let mut port = serialport::new(&name, baud)
+        .timeout(std::time::Duration::from_millis(50))
+        .open()
+        .map_err(|e| format!("serial:{name}: {e}"))?;
+    let mut writer = port
+        .try_clone()
+        .map_err(|e| format!("serial:{name}: {e}"))?;
+    let stop_r = stop.clone();
+    std::thread::spawn(move || {
+        let mut buf = [0u8; 256];
+        while !stop_r.load(Ordering::Relaxed) {
+            match port.read(&mut buf) {
+                Ok(0) => return,
+                Ok(n) => {
+                    if to_host.send(buf[..n].to_vec()).is_err() {
+                        return;
+                    }
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::TimedOut => {}
+                Err(_) => return,
+            }
+        }
+    });
+    std::thread::spawn(move || {
+        while let Some(b) = from_host.blocking_recv() {
+            if stop.load(Ordering::Relaxed) || writer.write_all(&b).is_err() {
+                return;
+            }
+        }
+    });
+    Ok(())
+}
+
+/// The robot program in this process, over the link (`firmware::hil::robot::run`), with as
+/// many receivers as `base` has sectors.
+async fn in_process(
+    to_host: UnboundedSender<Vec<u8>>,
+    from_host: UnboundedReceiver<Vec<u8>>,
+    clock: EmuClock,
+    base: Config,
+) {
+    async fn with<const N: usize>(
+        to_host: UnboundedSender<Vec<u8>>,
+        from_host: UnboundedReceiver<Vec<u8>>,
+        clock: EmuClock,
+        base: Config,
+    ) {
+        let link = Link::<_, N>::new(ChanWriter(to_host));
+        let reader = ChanReader {
+            rx: from_host,
+            buf: Vec::new(),
+            pos: 0,
+        };
+        let _ = firmware::hil::robot::run(&link, reader, &clock, base, |seed| {
+            Pcg32::seed_from_u64(u64::from(seed))
+        })
+        .await;
+    }
+    match base.params.sectors {
+        2 => with::<2>(to_host, from_host, clock, base).await,
+        3 => with::<3>(to_host, from_host, clock, base).await,
+        4 => with::<4>(to_host, from_host, clock, base).await,
+        5 => with::<5>(to_host, from_host, clock, base).await,
+        6 => with::<6>(to_host, from_host, clock, base).await,
+        7 => with::<7>(to_host, from_host, clock, base).await,
+        _ => with::<8>(to_host, from_host, clock, base).await,
+    }
+}
+
+/// A channel's sending end as an [`embedded_io_async::Write`].
+struct ChanWriter(UnboundedSender<Vec<u8>>);
+
+impl ErrorType for ChanWriter {
+    type Error = ErrorKind;
+}
+
+impl Write for ChanWriter {
+    async fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
+        self.0
+            .send(buf.to_vec())
+            .map_err(|_| ErrorKind::BrokenPipe)?;
+        Ok(buf.len())
+    }
+
+    async fn flush(&mut self) -> Result<(), ErrorKind> {
+        Ok(())
+    }
+}
+
+/// A channel's receiving end as an [`embedded_io_async::Read`].
+struct ChanReader {
+    rx: UnboundedReceiver<Vec<u8>>,
+    buf: Vec<u8>,
+    pos: usize,
+}
+
+impl ErrorType for ChanReader {
+    type Error = ErrorKind;
+}
+
+impl Read for ChanReader {
+    async fn read(&mut self, out: &mut [u8]) -> Result<usize, ErrorKind> {
+        if out.is_empty() {
+            return Ok(0);
+        }
+        while self.pos >= self.buf.len() {
+            match self.rx.recv().await {
+                Some(b) => {
+                    self.buf = b;
+                    self.pos = 0;
+                }
+                None => return Ok(0),
+            }
+        }
+        let n = out.len().min(self.buf.len() - self.pos);
+        out[..n].copy_from_slice(&self.buf[self.pos..n + self.pos]);
+        self.pos += n;
+        Ok(n)
+    }
+}
+
+/// What the bridge of one robot needs from the run.
+pub(crate) struct Bridge {
+    pub(crate) robot: usize,
+    pub(crate) transport: Transport,
+    pub(crate) clock: EmuClock,
+    pub(crate) transmitter: Option<EmuTransmitter>,
+    pub(crate) receivers: Vec<EmuReceiver>,
+    pub(crate) sensor: EmuSensor,
+    pub(crate) leds: EmuLeds,
+    pub(crate) config: Config,
+    pub(crate) setup: Setup,
+    pub(crate) timeouts: HilTimeouts,
+}
+
+/// Why a bridge failed: the message names the transport; the arena adds the robot.
+type Failure = String;
+
+/// Sends one message on the link.
+fn send(
+    to: &UnboundedSender<Vec<u8>>,
+    msg: &LinkMsg,
+    report: &mut HilReport,
+) -> Result<(), Failure> {
+    let mut buf = [0u8; LINK_FRAME_MAX];
+    let f = firmware::hil::encode(msg, &mut buf).map_err(|e| format!("encoding {msg:?}: {e:?}"))?;
+    to.send(f.to_vec())
+        .map_err(|_| "its link closed".to_string())?;
+    report.frames_sent += 1;
+    Ok(())
+}
+
+/// What one of the bridge's sources gave.
+enum Input {
+    Bytes(Option<Vec<u8>>),
+    Heard(usize, Vec<u8>),
+    Tick,
+    Stop,
+}
+
+impl Bridge {
+    /// Runs the robot's link until `stop` fires (`Ok`, with its report) or the robot fails.
+    pub(crate) async fn run(
+        mut self,
+        stop: tokio::sync::oneshot::Receiver<()>,
+    ) -> Result<HilReport, Failure> {
+        let mut report = HilReport {
+            robot: self.robot,
+            transport: self.transport.to_string(),
+            ..HilReport::default()
+        };
+        let t0 = self.clock.now();
+        let ends = open(&self.transport, self.clock, self.config).await;
+        let mut ends = ends.map_err(|e| format!("its link did not open: {e}"))?;
+        let out = self.serve(&mut ends, &mut report, t0, stop).await;
+        ends.close().await;
+        out.map(|()| report)
+    }
+
+    async fn serve(
+        &mut self,
+        ends: &mut LinkEnds,
+        report: &mut HilReport,
+        t0: Instant,
+        mut stop: tokio::sync::oneshot::Receiver<()>,
+    ) -> Result<(), Failure> {
+        let mut decoder = LinkDecoder::new();
+        let to = ends.to_robot.clone();
+        let transport = self.transport.to_string();
+        // 1. Hello.
+        let deadline = t0 + self.timeouts.hello;
+        let hello = loop {
+            let got = tokio::select! {
+                b = ends.from_robot.recv() => b,
+                () = self.clock.sleep_until(deadline) => {
+                    return Err(format!(
+                        "never said hello over {transport} within {} s",
+                        self.timeouts.hello.as_millis() / 1000
+                    ));
+                }
+            };
+            let Some(bytes) = got else {
+                return Err(format!("its {transport} link ended before it said hello"));
+            };
+            let mut found = None;
+            for b in bytes {
+                match decoder.push(b) {
+                    Some(Ok(LinkMsg::Hello { id, sectors, .. })) => found = Some((id, sectors)),
+                    Some(Err(LinkError::UnknownVersion(v))) => {
+                        return Err(format!(
+                            "speaks link version {v} over {transport}; this host speaks {LINK_VERSION}"
+                        ));
+                    }
+                    _ => {}
+                }
+            }
+            if let Some(h) = found {
+                break h;
+            }
+        };
+        let (id, sectors) = hello;
+        report.hello_id = id;
+        report.hello_ms = self.clock.now().saturating_since(t0).as_millis();
+        if sectors != self.config.params.sectors {
+            return Err(format!(
+                "has {sectors} receivers (said hello over {transport}); the arena's robots have {}",
+                self.config.params.sectors
+            ));
+        }
+        // 2. Its sensor's first readings, then the run's setup.
+        self.readings(&to, report).await?;
+        send(&to, &LinkMsg::Setup(self.setup), report)?;
+
+        // 3. The run.
+        let (heard_tx, mut heard) = unbounded_channel::<(usize, Vec<u8>)>();
+        let mut listeners = Vec::new();
+        for (sector, mut rx) in std::mem::take(&mut self.receivers).into_iter().enumerate() {
+            let tx = heard_tx.clone();
+            listeners.push(tokio::task::spawn_local(async move {
+                let mut buf = [0u8; CHUNK_MAX];
+                while let Ok(n @ 1..) = rx.read(&mut buf).await {
+                    if tx.send((sector, buf[..n].to_vec())).is_err() {
+                        return;
+                    }
+                }
+            }));
+        }
+        let (air_tx, mut air_rx) = unbounded_channel::<Vec<u8>>();
+        if let Some(mut transmitter) = self.transmitter.take() {
+            listeners.push(tokio::task::spawn_local(async move {
+                // One frame on air at a time, as from the robot's own transmitter.
+                while let Some(f) = air_rx.recv().await {
+                    let _ = transmitter.write(&f).await;
+                }
+            }));
+        }
+        let _abort = AbortAll(listeners);
+
+        let mut last_heard = self.clock.now();
+        let mut next_beat = last_heard + firmware::hil::robot::BEAT;
+        let mut next_sample = last_heard + self.config.sample_period;
+        let mut beat: u32 = 0;
+        let mut beating = false;
+        loop {
+            let wake = next_beat.min(next_sample);
+            let input = tokio::select! {
+                b = ends.from_robot.recv() => Input::Bytes(b),
+                Some((s, b)) = heard.recv() => Input::Heard(s, b),
+                () = self.clock.sleep_until(wake) => Input::Tick,
+                _ = &mut stop => Input::Stop,
+            };
+            let now = self.clock.now();
+            match input {
+                Input::Stop => return Ok(()),
+                Input::Bytes(None) => {
+                    return Err(format!("its {transport} link ended (disconnected)"));
+                }
+                Input::Bytes(Some(bytes)) => {
+                    for b in bytes {
+                        let Some(r) = decoder.push(b) else { continue };
+                        let Ok(msg) = r else {
+                            report.link_errors += 1;
+                            continue;
+                        };
+                        report.frames_received += 1;
+                        last_heard = now;
+                        match msg {
+                            LinkMsg::Tx(chunk) => {
+                                report.tx += 1;
+                                let _ = air_tx.send(chunk.to_vec());
+                            }
+                            LinkMsg::Led(code) => {
+                                let color = LedColor::for_decision_of(
+                                    led_decision(code),
+                                    self.config.params.sectors,
+                                );
+                                let _ = self.leds.show(color).await;
+                            }
+                            LinkMsg::Heartbeat(_) => beating = true,
+                            // Hellos still in flight when it got the setup are fine; a
+                            // Hello after it started beating means it rebooted.
+                            LinkMsg::Hello { .. } if beating => {
+                                return Err(format!(
+                                    "said hello again over {transport}: it rebooted during the run"
+                                ));
+                            }
+                            _ => {}
+                        }
+                    }
+                }
+                Input::Heard(sector, bytes) => {
+                    report.rx_bytes += bytes.len() as u64;
+                    let Ok(sector) = u8::try_from(sector) else {
+                        continue;
+                    };
+                    for c in bytes.chunks(CHUNK_MAX) {
+                        let bytes = heapless::Vec::from_slice(c).unwrap_or_default();
+                        send(&to, &LinkMsg::Rx { sector, bytes }, report)?;
+                    }
+                }
+                Input::Tick => {}
+            }
+            if now >= next_sample {
+                self.readings(&to, report).await?;
+                next_sample = now + self.config.sample_period;
+            }
+            if now >= next_beat {
+                send(&to, &LinkMsg::Heartbeat(beat), report)?;
+                beat = beat.wrapping_add(1);
+                next_beat = now + firmware::hil::robot::BEAT;
+            }
+            if now.saturating_since(last_heard) > self.timeouts.silence {
+                return Err(format!(
+                    "stopped its heartbeat over {transport}: nothing for {} ms",
+                    now.saturating_since(last_heard).as_millis()
+                ));
+            }
+        }
+    }
+
+    /// Sends what its sensor reads now, both quantities (a failed read sends nothing).
+    async fn readings(
+        &mut self,
+        to: &UnboundedSender<Vec<u8>>,
+        report: &mut HilReport,
+    ) -> Result<(), Failure> {
+        for (q, quantity) in [(0u8, Quantity::AmbientLight), (1, Quantity::Oxygen)] {
+            if let Ok(level) = self.sensor.read(quantity).await {
+                send(
+                    to,
+                    &LinkMsg::Reading {
+                        quantity: q,
+                        level: level.0,
+                    },
+                    report,
+                )?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Aborts its tasks when dropped.
+struct AbortAll(Vec<JoinHandle<()>>);
+
+impl Drop for AbortAll {
+    fn drop(&mut self) {
+        for t in &self.0 {
+            t.abort();
+        }
+    }
+}
+
+/// The seed of a robot's `Setup` from its 64-bit one.
+pub(crate) fn setup_seed(seed: u64) -> u32 {
+    (seed ^ (seed >> 32)) as u32
+}
+
+/// A robot's `Setup` from its configuration (id included) and seed.
+pub(crate) fn setup_of(config: &Config, seed: u32) -> Setup {
+    let ms = |d: Duration| u32::try_from(d.as_millis()).unwrap_or(u32::MAX);
+    let w = &config.params.wave;
+    Setup {
+        id: config.id,
+        seed,
+        cycle_ms: ms(w.cycle),
+        spread_ms: ms(w.cycle_spread),
+        relay_ms: ms(w.relay_delay),
+        refractory_ms: ms(w.refractory),
+        negotiation: config.params.negotiation_cycles,
+        adaptive: config.params.decide == protocol::params::DecisionRule::Adaptive,
+        sample_ms: ms(config.sample_period),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn specs_parse_and_refuse_with_a_reason() {
+        assert_eq!("qemu:4".parse(), Ok(HilSpec::Qemu(4)));
+        assert_eq!("loopback:2".parse(), Ok(HilSpec::Loopback(2)));
+        assert_eq!(
+            "serial:/dev/ttyACM0".parse(),
+            Ok(HilSpec::Serial("/dev/ttyACM0".into(), DEFAULT_BAUD))
+        );
+        assert_eq!(
+            "serial:/dev/ttyACM0@9600".parse(),
+            Ok(HilSpec::Serial("/dev/ttyACM0".into(), 9600))
+        );
+        assert_eq!(
+            "tcp:127.0.0.1:4000".parse(),
+            Ok(HilSpec::Tcp("127.0.0.1:4000".into()))
+        );
+        for (bad, why) in [
+            ("qemu:0", "N from 1 to 64"),
+            ("qemu:x", "N from 1 to 64"),
+            ("serial:", "needs a path"),
+            ("serial:/dev/x@fast", "no baud rate"),
+            ("tcp:4000", "no host and port"),
+            ("udp:1", "qemu:N, serial:PATH"),
+        ] {
+            let e = bad.parse::<HilSpec>().unwrap_err();
+            assert!(e.contains(why), "{bad}: {e}");
+        }
+    }
+
+    #[test]
+    fn a_setup_carries_the_configuration_back() {
+        let mut c = Config::robots();
+        c.id = 3;
+        c.params.wave.cycle = Duration::from_millis(2000);
+        c.params.decide = protocol::params::DecisionRule::Adaptive;
+        let s = setup_of(&c, 99);
+        let back = firmware::hil::robot::configure(Config::robots(), &s);
+        assert_eq!(back, c);
+    }
+}

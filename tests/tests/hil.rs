@@ -98,3 +98,110 @@ fn places_the_link_cannot_take_are_refused() {
     c.robot.key = Some(protocol::SwarmKey::new(*b"sixteen byte key"));
     bad(c, "no swarm key");
 }
+
+/// A robot on a TCP socket that follows `script` (what it writes after accepting, then
+/// whether it keeps the socket open), and the run's error with it in place 0 of a lab line.
+fn scripted(script: Vec<Vec<u8>>, keep_open: bool) -> String {
+    use std::io::Write;
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let robot = std::thread::spawn(move || {
+        let (mut s, _) = listener.accept().unwrap();
+        for b in script {
+            s.write_all(&b).unwrap();
+        }
+        if keep_open {
+            // Hold the socket until the host closes it.
+            let mut sink = [0u8; 256];
+            while std::io::Read::read(&mut s, &mut sink).is_ok_and(|n| n > 0) {}
+        }
+    });
+    let mut cfg = lab("1100", 1, &[]);
+    cfg.hil = vec![HilRobot {
+        robot: 0,
+        transport: Transport::Tcp(format!("127.0.0.1:{port}")),
+    }];
+    cfg.hil_timeouts.hello = Duration::from_millis(1500);
+    cfg.hil_timeouts.silence = Duration::from_millis(1500);
+    assert!(cfg.real_time());
+    let wall = std::time::Instant::now();
+    let e = hal_emu::run(&cfg).expect_err("the robot fails the run");
+    // The run ends at the failure, not at its end (2100 s).
+    assert!(wall.elapsed() < std::time::Duration::from_secs(20));
+    robot.join().unwrap();
+    let ArenaError::Robot(f) = e else {
+        panic!("not a robot failure: {e}");
+    };
+    assert_eq!((f.robot, f.seed, f.panicked), (0, 1, false));
+    f.what()
+}
+
+fn frame(msg: &firmware::hil::LinkMsg) -> Vec<u8> {
+    let mut buf = [0u8; firmware::hil::LINK_FRAME_MAX];
+    firmware::hil::encode(msg, &mut buf).unwrap().to_vec()
+}
+
+fn hello(version: u8, sectors: u8) -> Vec<u8> {
+    frame(&firmware::hil::LinkMsg::Hello {
+        version,
+        id: 0,
+        sectors,
+    })
+}
+
+#[test]
+fn a_robot_that_never_says_hello_fails_the_run_by_name() {
+    // Garbage, but no hello.
+    let e = scripted(vec![b"\x00garbage\x00".to_vec()], true);
+    assert!(
+        e.starts_with("robot 0 failed: never said hello over tcp:127.0.0.1:"),
+        "{e}"
+    );
+}
+
+#[test]
+fn another_link_version_or_other_sectors_are_refused_by_name() {
+    let e = scripted(vec![hello(2, 2)], true);
+    assert!(e.contains("speaks link version 2"), "{e}");
+    assert!(e.contains("this host speaks 1"), "{e}");
+    let e = scripted(vec![hello(1, 3)], true);
+    assert!(e.contains("has 3 receivers"), "{e}");
+}
+
+#[test]
+fn a_robot_that_disconnects_or_goes_silent_fails_the_run() {
+    let e = scripted(vec![hello(1, 2)], false);
+    assert!(e.contains("link ended (disconnected)"), "{e}");
+    let e = scripted(
+        vec![hello(1, 2), frame(&firmware::hil::LinkMsg::Heartbeat(0))],
+        true,
+    );
+    assert!(e.contains("stopped its heartbeat"), "{e}");
+}
+
+#[test]
+fn a_robot_that_reboots_during_the_run_fails_it() {
+    let e = scripted(
+        vec![
+            hello(1, 2),
+            frame(&firmware::hil::LinkMsg::Heartbeat(0)),
+            hello(1, 2),
+        ],
+        true,
+    );
+    assert!(e.contains("rebooted during the run"), "{e}");
+}
+
+#[test]
+fn a_transport_that_cannot_open_fails_the_run_by_name() {
+    let mut cfg = lab("1100", 1, &[]);
+    cfg.hil = vec![HilRobot {
+        robot: 1,
+        transport: Transport::Qemu("/nonexistent/hil".into()),
+    }];
+    let e = hal_emu::run(&cfg).unwrap_err();
+    assert!(
+        e.to_string().contains("robot 1 failed") && e.to_string().contains("no HIL image"),
+        "{e}"
+    );
+}

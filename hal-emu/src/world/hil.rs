@@ -581,6 +581,7 @@ impl Bridge {
         let to = ends.to_robot.clone();
         let transport = self.transport.to_string();
         // 1. Hello.
+        let mut pending = Vec::new();
         let deadline = t0 + self.timeouts.hello;
         let hello = loop {
             let got = tokio::select! {
@@ -596,9 +597,14 @@ impl Bridge {
                 return Err(format!("its {transport} link ended before it said hello"));
             };
             let mut found = None;
-            for b in bytes {
+            for (i, &b) in bytes.iter().enumerate() {
                 match decoder.push(b) {
-                    Some(Ok(LinkMsg::Hello { id, sectors, .. })) => found = Some((id, sectors)),
+                    Some(Ok(LinkMsg::Hello { id, sectors, .. })) => {
+                        // What follows the hello is the run's.
+                        pending = bytes[i + 1..].to_vec();
+                        found = Some((id, sectors));
+                        break;
+                    }
                     Some(Err(LinkError::UnknownVersion(v))) => {
                         return Err(format!(
                             "speaks link version {v} over {transport}; this host speaks {LINK_VERSION}"
@@ -656,11 +662,15 @@ impl Bridge {
         let mut beating = false;
         loop {
             let wake = next_beat.min(next_sample);
-            let input = tokio::select! {
+            let input = if !pending.is_empty() {
+                Input::Bytes(Some(std::mem::take(&mut pending)))
+            } else {
+                tokio::select! {
                 b = ends.from_robot.recv() => Input::Bytes(b),
                 Some((s, b)) = heard.recv() => Input::Heard(s, b),
                 () = self.clock.sleep_until(wake) => Input::Tick,
                 _ = &mut stop => Input::Stop,
+                }
             };
             let now = self.clock.now();
             match input {

@@ -30,14 +30,10 @@
 #![no_main]
 #![deny(unsafe_code)]
 
-use core::future::Future;
-use core::pin::pin;
-use core::sync::atomic::{AtomicBool, Ordering};
-use core::task::{Context, Poll, RawWaker, RawWakerVTable, Waker};
-
 use boot::Stage;
 use cortex_m_rt::entry;
 use cortex_m_semihosting::{debug, hprintln};
+use exec::block_on;
 use firmware::hal::EmbassyClock;
 use firmware::protocol::lab::LabPattern;
 use firmware::protocol::{Duration, Event, Instant, Level, Sector};
@@ -46,6 +42,7 @@ use firmware::{Clock, Config, LedColor, Observer, Robot};
 use rand_pcg::Pcg32;
 
 mod boot;
+mod exec;
 mod systick;
 mod watchdog;
 
@@ -61,48 +58,6 @@ const fn paper(lights: &str) -> LabPattern {
     match LabPattern::find(lights) {
         Some(p) => p,
         None => panic!("not one of the paper's lab patterns"),
-    }
-}
-
-// ---------------------------------------------------------------------------------------------
-// A tiny executor: polls one future when it was woken, sleeps in WFI otherwise (which lets QEMU's
-// `-icount sleep=off` jump straight to the next interrupt).
-
-static WOKEN: AtomicBool = AtomicBool::new(true);
-
-fn wake(_: *const ()) {
-    WOKEN.store(true, Ordering::Release);
-}
-
-fn clone(data: *const ()) -> RawWaker {
-    RawWaker::new(data, &VTABLE)
-}
-
-fn drop(_: *const ()) {}
-
-static VTABLE: RawWakerVTable = RawWakerVTable::new(clone, wake, wake, drop);
-
-fn block_on<F: Future>(future: F) -> F::Output {
-    let mut future = pin!(future);
-    #[allow(unsafe_code)]
-    // SAFETY: the vtable's functions ignore the (null) data pointer and only touch an atomic,
-    // so the RawWaker contract (thread-safe, clone gives an equivalent waker) holds.
-    let waker = unsafe { Waker::from_raw(RawWaker::new(core::ptr::null(), &VTABLE)) };
-    let mut cx = Context::from_waker(&waker);
-    loop {
-        if WOKEN.swap(false, Ordering::AcqRel) {
-            if let Poll::Ready(out) = future.as_mut().poll(&mut cx) {
-                return out;
-            }
-        } else {
-            // Interrupts masked between the check and WFI, so a wake-up cannot slip in between;
-            // WFI still returns on a pending interrupt, which runs once they are unmasked.
-            cortex_m::interrupt::free(|_| {
-                if !WOKEN.load(Ordering::Acquire) {
-                    cortex_m::asm::wfi();
-                }
-            });
-        }
     }
 }
 

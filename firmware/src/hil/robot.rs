@@ -43,6 +43,10 @@ use crate::robot::{Config, Hardware, Robot};
 /// Bytes of buffer per receiver: four full light frames.
 pub const RX_PIPE: usize = 128;
 
+/// The stream of the robot's random draws (`rand_pcg::Pcg32::new(seed, RNG_STREAM)`): every
+/// image and the host's in-process robot draw alike from a `Setup`'s seed.
+pub const RNG_STREAM: u64 = 0xa02b_dbf7_bb3c_0a7;
+
 /// How often the robot says `Hello` (before its first `Setup`) or `Heartbeat` (after).
 pub const BEAT: Duration = Duration::from_millis(500);
 

@@ -33,7 +33,6 @@ use firmware::hil::{
 };
 use firmware::{Clock, Config, LedColor, Leds, Quantity, Sensor};
 use protocol::{Duration, Instant};
-use rand_core::SeedableRng;
 use rand_pcg::Pcg32;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
@@ -192,7 +191,7 @@ impl Default for HilTimeouts {
 }
 
 /// What a run reports about one robot in the loop.
-#[derive(Clone, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct HilReport {
     /// Its place.
     pub robot: usize,
@@ -225,6 +224,7 @@ pub struct LinkEnds {
     child: Option<tokio::process::Child>,
     tasks: Vec<JoinHandle<()>>,
     stop: Arc<AtomicBool>,
+    log: Log,
 }
 
 impl LinkEnds {
@@ -235,6 +235,18 @@ impl LinkEnds {
             child: None,
             tasks: Vec::new(),
             stop: Arc::new(AtomicBool::new(false)),
+            log: Log::default(),
+        }
+    }
+
+    /// `; its output ends: ...` with the last lines its process printed, or nothing.
+    pub fn last_words(&self) -> String {
+        let l = self.log.borrow();
+        if l.is_empty() {
+            String::new()
+        } else {
+            let lines: Vec<&str> = l.iter().map(String::as_str).collect();
+            format!("; its output ends: {}", lines.join(" | "))
         }
     }
 
@@ -302,22 +314,50 @@ pub async fn open(
                     image.display()
                 ));
             }
+            // QEMU connects UART0 to a socket of ours; its stdout and stderr (the image's
+            // semihosting log, QEMU's complaints) are kept for the failure message.
+            let listener = tokio::net::TcpListener::bind("127.0.0.1:0")
+                .await
+                .map_err(|e| format!("qemu: no local socket: {e}"))?;
+            let port = listener
+                .local_addr()
+                .map_err(|e| format!("qemu: no local socket: {e}"))?
+                .port();
             let mut child = tokio::process::Command::new("qemu-system-arm")
-                .args(qemu_args(image))
-                .stdin(Stdio::piped())
+                .args(qemu_args(image, port))
+                .stdin(Stdio::null())
                 .stdout(Stdio::piped())
-                .stderr(Stdio::null())
+                .stderr(Stdio::piped())
                 .kill_on_drop(true)
                 .spawn()
                 .map_err(|e| format!("qemu-system-arm: {e} (is QEMU installed?)"))?;
-            let (Some(out), Some(inp)) = (child.stdout.take(), child.stdin.take()) else {
-                return Err("qemu-system-arm: no pipes".into());
-            };
-            ends.tasks
-                .push(tokio::task::spawn_local(pump_in(out, to_host)));
-            ends.tasks
-                .push(tokio::task::spawn_local(pump_out(inp, from_host)));
+            let outs: [Option<Box<dyn tokio::io::AsyncRead + Unpin>>; 2] = [
+                child.stdout.take().map(|o| Box::new(o) as _),
+                child.stderr.take().map(|o| Box::new(o) as _),
+            ];
+            for out in outs.into_iter().flatten() {
+                ends.tasks
+                    .push(tokio::task::spawn_local(keep_log(out, ends.log.clone())));
+            }
             ends.child = Some(child);
+            let accepted =
+                tokio::time::timeout(std::time::Duration::from_secs(10), listener.accept());
+            let (s, _) = match accepted.await {
+                Ok(Ok(s)) => s,
+                Ok(Err(e)) => return Err(format!("qemu: {e}")),
+                Err(_) => {
+                    return Err(format!(
+                        "qemu did not connect its UART within 10 s{}",
+                        ends.last_words()
+                    ));
+                }
+            };
+            let _ = s.set_nodelay(true);
+            let (r, w) = s.into_split();
+            ends.tasks
+                .push(tokio::task::spawn_local(pump_in(r, to_host)));
+            ends.tasks
+                .push(tokio::task::spawn_local(pump_out(w, from_host)));
         }
         Transport::Serial(path, baud) => {
             serial(path, *baud, to_host, from_host, ends.stop.clone())?;
@@ -329,8 +369,11 @@ pub async fn open(
 }
 
 /// The QEMU command line of a robot in the loop: mps2-an386 in real time (no `-icount`), its
-/// UART0 on stdio, semihosting (the image's log and exit) to nowhere.
-pub fn qemu_args(image: &std::path::Path) -> Vec<std::ffi::OsString> {
+/// UART0 a TCP client of the host's `port` on 127.0.0.1, semihosting (the image's log) on
+/// stdout. (Semihosting writes to QEMU's stdout whatever `-semihosting-config` says, so the
+/// link cannot share it.)
+pub fn qemu_args(image: &std::path::Path, port: u16) -> Vec<std::ffi::OsString> {
+    let serial = format!("tcp:127.0.0.1:{port}");
     let mut a: Vec<std::ffi::OsString> = [
         "-machine",
         "mps2-an386",
@@ -341,11 +384,9 @@ pub fn qemu_args(image: &std::path::Path) -> Vec<std::ffi::OsString> {
         "-monitor",
         "none",
         "-serial",
-        "stdio",
-        "-chardev",
-        "null,id=log",
+        serial.as_str(),
         "-semihosting-config",
-        "enable=on,target=native,chardev=log",
+        "enable=on,target=native",
         "-kernel",
     ]
     .iter()
@@ -354,6 +395,25 @@ pub fn qemu_args(image: &std::path::Path) -> Vec<std::ffi::OsString> {
     a.push(image.as_os_str().to_owned());
     a
 }
+
+/// Keeps the last [`LOG_LINES`] lines a child process printed.
+async fn keep_log(out: Box<dyn tokio::io::AsyncRead + Unpin>, log: Log) {
+    use tokio::io::AsyncBufReadExt;
+    let mut lines = tokio::io::BufReader::new(out).lines();
+    while let Ok(Some(line)) = lines.next_line().await {
+        let mut l = log.borrow_mut();
+        if l.len() == LOG_LINES {
+            l.pop_front();
+        }
+        l.push_back(line);
+    }
+}
+
+/// Lines of a child's output kept for a failure's message.
+const LOG_LINES: usize = 3;
+
+/// The last lines a child printed.
+type Log = std::rc::Rc<std::cell::RefCell<std::collections::VecDeque<String>>>;
 
 /// Copies a byte stream into a channel until either ends.
 async fn pump_in<R: tokio::io::AsyncRead + Unpin>(mut r: R, to: UnboundedSender<Vec<u8>>) {
@@ -445,7 +505,7 @@ async fn in_process(
             pos: 0,
         };
         let _ = firmware::hil::robot::run(&link, reader, &clock, base, |seed| {
-            Pcg32::seed_from_u64(u64::from(seed))
+            Pcg32::new(u64::from(seed), firmware::hil::robot::RNG_STREAM)
         })
         .await;
     }
@@ -565,7 +625,10 @@ impl Bridge {
         let t0 = self.clock.now();
         let ends = open(&self.transport, self.clock, self.config).await;
         let mut ends = ends.map_err(|e| format!("its link did not open: {e}"))?;
-        let out = self.serve(&mut ends, &mut report, t0, stop).await;
+        let out = self
+            .serve(&mut ends, &mut report, t0, stop)
+            .await
+            .map_err(|e| e + &ends.last_words());
         ends.close().await;
         out.map(|()| report)
     }

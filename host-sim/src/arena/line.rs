@@ -13,8 +13,10 @@ use crate::arena::campaign::{ArenaCommand, Decide};
 use crate::arena::plane::{Placement, PlaneSpec};
 use crate::progress::Progress;
 use clap::Args;
+use firmware::Config;
 use firmware::LedColor;
 use hal_emu::arena::RobotFailure;
+use hal_emu::hil::{HilReport, HilRobot, HilSpec, Transport};
 use hal_emu::lab::{
     LabExperiment, LabRun, judge, leds_str, paper_suite, parse_pattern, pattern_str,
 };
@@ -140,6 +142,21 @@ pub struct ArenaArgs {
     /// those without a valid MAC (docs/protocol.md, "Authenticated frames").
     #[arg(long, value_name = "HEX")]
     pub key: Option<SwarmKey>,
+    /// Robots in the loop (docs/hil.md): `qemu:N` (N QEMU processes, each booting the
+    /// one-robot HIL image), `serial:PATH[@BAUD]` (a board, 115200 Bd by default),
+    /// `tcp:HOST:PORT` (anything speaking the link on a socket) or `loopback:N` (the robot
+    /// program in this process, over the link). Repeatable. They take the first places of the
+    /// line or plane (--hil-at picks others); the others stay virtual. The run goes in real
+    /// time: shrink it with --cycle.
+    #[arg(long, value_name = "SPEC")]
+    pub hil: Vec<HilSpec>,
+    /// The places of the robots in the loop, in the order of --hil: I,J,... (from 0).
+    #[arg(long, value_name = "I,J,...", value_delimiter = ',', requires = "hil")]
+    pub hil_at: Vec<usize>,
+    /// The image --hil qemu:N boots (default: the HIL image `cargo hil-image` builds,
+    /// firmware/qemu/target/thumbv7em-none-eabihf/release/hil, or hil6 for 6 sectors).
+    #[arg(long, value_name = "ELF", requires = "hil")]
+    pub hil_image: Option<PathBuf>,
     /// `campaign`: the fault-injection campaign (`crate::campaign`).
     #[command(subcommand)]
     pub command: Option<Box<ArenaCommand>>,
@@ -169,6 +186,75 @@ fn parse_at(s: &str) -> Result<(usize, u64), String> {
         .parse()
         .map_err(|_| format!("{s:?}: {t:?} is not a whole number of seconds"))?;
     Ok((r, t))
+}
+
+/// `--cycle` over the paper's 55 s (1 without `--cycle`).
+fn time_scale(args: &ArenaArgs) -> Result<f64, String> {
+    let Some(c) = args.cycle else { return Ok(1.0) };
+    secs(c, "cycle")?;
+    Ok(c / Params::robots().wave.cycle.as_secs_f64())
+}
+
+/// `d` times `scale`, to the millisecond, at least 1 ms.
+fn scaled(d: Duration, scale: f64) -> Duration {
+    Duration::from_millis(((d.as_millis() as f64 * scale).round() as u64).max(1))
+}
+
+/// The robots in the loop the options ask for, in a swarm of `robots` with `sectors` each:
+/// their places (`--hil-at`, else the first ones) and transports.
+fn hil_robots(args: &ArenaArgs, robots: usize, sectors: u8) -> Result<Vec<HilRobot>, String> {
+    if args.hil.is_empty() {
+        return Ok(Vec::new());
+    }
+    let image = args.hil_image.clone().unwrap_or_else(|| {
+        let name = if sectors == 2 { "hil" } else { "hil6" };
+        PathBuf::from("firmware/qemu/target/thumbv7em-none-eabihf/release").join(name)
+    });
+    let transports: Vec<Transport> = args.hil.iter().flat_map(|h| h.transports(&image)).collect();
+    if transports.iter().any(|t| matches!(t, Transport::Qemu(_))) {
+        if !image.is_file() {
+            return Err(format!(
+                "--hil qemu: no image at {} (build it with `cargo hil-image`; docs/hil.md)",
+                image.display()
+            ));
+        }
+        if sectors != 2 && sectors != 6 {
+            return Err(format!(
+                "--hil qemu: the HIL images have 2 (hil) or 6 (hil6) receivers, not {sectors}"
+            ));
+        }
+    }
+    let places: Vec<usize> = if args.hil_at.is_empty() {
+        (0..transports.len()).collect()
+    } else if args.hil_at.len() == transports.len() {
+        args.hil_at.clone()
+    } else {
+        return Err(format!(
+            "--hil-at names {} places for {} robots in the loop",
+            args.hil_at.len(),
+            transports.len()
+        ));
+    };
+    if transports.len() > robots {
+        return Err(format!(
+            "{} robots in the loop, but only {robots} places",
+            transports.len()
+        ));
+    }
+    if let Some(p) = places.iter().find(|&&p| p >= robots) {
+        return Err(format!(
+            "--hil-at {p}: there is no place {p} (robots are 0..{})",
+            robots - 1
+        ));
+    }
+    if args.key.is_some() {
+        return Err("--key with --hil: link version 1 carries no swarm key".into());
+    }
+    Ok(places
+        .into_iter()
+        .zip(transports)
+        .map(|(robot, transport)| HilRobot { robot, transport })
+        .collect())
 }
 
 fn secs(s: f64, what: &str) -> Result<Duration, String> {
@@ -205,7 +291,15 @@ struct Experiment {
 fn robot_params(args: &ArenaArgs) -> Result<Params, String> {
     let mut params = Params::robots();
     if let Some(c) = args.cycle {
-        params.wave.cycle = secs(c, "cycle")?;
+        // The timing the options leave out keeps the paper's proportions to the cycle
+        // (15 s spread, 1 s relay delay and 4 s refractory to 55 s), so that `--cycle 2`
+        // alone shrinks a whole run (robots in the loop run in real time).
+        let scale = time_scale(args)?;
+        let w = &mut params.wave;
+        w.cycle = secs(c, "cycle")?;
+        w.cycle_spread = scaled(w.cycle_spread, scale);
+        w.relay_delay = scaled(w.relay_delay, scale);
+        w.refractory = scaled(w.refractory, scale);
     }
     if let Some(c) = args.cycle_spread {
         params.wave.cycle_spread = secs(c, "cycle-spread")?;
@@ -277,6 +371,8 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
         }
     };
     let then = args.then.as_deref().map(parse_pattern).transpose()?;
+    let hil = hil_robots(args, robots, 2)?;
+    let sample = scaled(Config::robots().sample_period, time_scale(args)?);
     for &(r, _) in args.kill.iter().chain(&args.restart) {
         if r >= robots {
             return Err(format!(
@@ -302,6 +398,8 @@ fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
             .map(|&(r, t)| (Instant::from_secs(t), r))
             .collect();
         c.env.readings = args.readings();
+        c.robot.sample_period = sample;
+        c.hil = hil.clone();
         c
     };
     let seeds = || (0..args.runs).map(|k| args.seed.wrapping_add(k));
@@ -378,6 +476,9 @@ struct JsonRun {
     /// Why the run has no result (a robot panicked); absent for a judged run.
     #[serde(skip_serializing_if = "Option::is_none")]
     error: Option<String>,
+    /// Each robot in the loop's link (`--hil`): transport, frames each way, link errors.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    hil: Vec<HilReport>,
 }
 
 /// The `--json` summary.
@@ -417,6 +518,10 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
     let first = experiments.first().and_then(|e| e.configs.first()).cloned();
     let ((runs, crashed), wall_s) = match run_all(&experiments) {
         Ok(r) => r,
+        Err(ArenaError::Interrupted) => {
+            eprintln!("cimax arena: interrupted; robots in the loop stopped");
+            return ExitCode::from(130);
+        }
         Err(e) => {
             eprintln!("cimax arena: {e}");
             return ExitCode::from(2);
@@ -456,6 +561,7 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
         }
     } else {
         print_table(args, &experiments, &runs, &crashed);
+        print_hil(&runs);
         println!(
             "{} runs, {} successful; {:.0} s of robot time in {:.3} s wall ({:.0}x real time)",
             total,
@@ -491,14 +597,18 @@ fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaError> {
     };
     let wall = std::time::Instant::now();
     // Each run is independent and seeded: the results do not depend on the thread count.
-    let results: Vec<Result<LabRun, ArenaError>> = jobs
-        .par_iter()
-        .map(|(_, c)| {
-            let r = judge(c);
-            bar.inc();
-            r
-        })
-        .collect();
+    let one = |c: &ArenaConfig| {
+        let r = judge(c);
+        bar.inc();
+        r
+    };
+    // Runs with robots in the loop go in real time, one at a time (the robots are one board,
+    // or QEMU processes that need the cores); the others in parallel.
+    let results: Vec<Result<LabRun, ArenaError>> = if jobs.iter().any(|(_, c)| c.real_time()) {
+        jobs.iter().map(|(_, c)| one(c)).collect()
+    } else {
+        jobs.par_iter().map(|(_, c)| one(c)).collect()
+    };
     bar.finish();
     let wall_s = wall.elapsed().as_secs_f64();
     let (mut runs, mut crashed): Runs = (Vec::new(), Vec::new());
@@ -532,6 +642,7 @@ fn print_json(
                 emulated_s: r.report.emulated.as_secs_f64(),
                 wall_s: r.report.wall.as_secs_f64(),
                 error: None,
+                hil: r.report.hil.clone(),
             })
             .chain(crashed.iter().map(|(_, c)| c.json()))
             .collect(),
@@ -541,9 +652,44 @@ fn print_json(
     Ok(())
 }
 
+/// One line per robot in the loop: its link over all runs.
+fn print_hil(runs: &[(usize, LabRun)]) {
+    let mut places: std::collections::BTreeMap<usize, (String, HilReport, usize)> =
+        std::collections::BTreeMap::new();
+    for (_, r) in runs {
+        for h in &r.report.hil {
+            let e = places
+                .entry(h.robot)
+                .or_insert_with(|| (h.transport.clone(), HilReport::default(), 0));
+            e.1.frames_sent += h.frames_sent;
+            e.1.frames_received += h.frames_received;
+            e.1.link_errors += h.link_errors;
+            e.1.tx += h.tx;
+            e.1.hello_ms = e.1.hello_ms.max(h.hello_ms);
+            e.2 += 1;
+        }
+    }
+    for (robot, (transport, h, n)) in places {
+        println!(
+            "robot {robot} in the loop over {transport}: {n} runs, {} link frames sent to it, {} received ({} light frames), {} link errors, hello within {} ms",
+            h.frames_sent, h.frames_received, h.tx, h.link_errors, h.hello_ms
+        );
+    }
+}
+
 /// The options of `args` a replay repeats (after `--runs 1`).
 fn replay_extra(args: &ArenaArgs) -> String {
     let mut extra = String::new();
+    for h in &args.hil {
+        extra += &format!(" --hil {}", hil_spec_str(h));
+    }
+    if !args.hil_at.is_empty() {
+        let at: Vec<String> = args.hil_at.iter().map(usize::to_string).collect();
+        extra += &format!(" --hil-at {}", at.join(","));
+    }
+    if let Some(c) = args.cycle {
+        extra += &format!(" --cycle {c}");
+    }
     if let Some(d) = args.duration {
         extra += &format!(" --duration {d}");
     }
@@ -559,6 +705,16 @@ fn replay_extra(args: &ArenaArgs) -> String {
         r => extra += &format!(" --readings {r}"),
     }
     extra
+}
+
+/// `--hil`'s spec as typed.
+fn hil_spec_str(h: &HilSpec) -> String {
+    match h {
+        HilSpec::Qemu(n) => format!("qemu:{n}"),
+        HilSpec::Loopback(n) => format!("loopback:{n}"),
+        HilSpec::Serial(p, b) => format!("serial:{}@{b}", p.display()),
+        HilSpec::Tcp(a) => format!("tcp:{a}"),
+    }
 }
 
 /// One line on stderr per failed or crashed run (each failed run with the `--lights` options
@@ -639,6 +795,7 @@ impl Crashed {
             emulated_s: 0.0,
             wall_s: 0.0,
             error: Some(self.failure.what()),
+            hil: Vec::new(),
         }
     }
 }

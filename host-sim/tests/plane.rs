@@ -19,6 +19,8 @@ fn spec(robots: usize, x_init: f64, moves: u32) -> PlaneSpec {
         params: Params::robots(),
         file_positions: Vec::new(),
         readings: hal_emu::Readings::Levels,
+        hil: Vec::new(),
+        sample_period: None,
     }
 }
 

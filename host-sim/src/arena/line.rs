@@ -1074,10 +1074,18 @@ fn plane_main(args: &ArenaArgs) -> ExitCode {
     };
     let wall = std::time::Instant::now();
     let seeds: Vec<u64> = (0..args.runs).map(|k| args.seed.wrapping_add(k)).collect();
-    let results: Result<Vec<_>, _> = seeds
-        .par_iter()
-        .map(|&s| crate::arena::plane::run(&spec, s))
-        .collect();
+    // With robots in the loop, in real time and one run at a time.
+    let results: Result<Vec<_>, _> = if spec.hil.is_empty() {
+        seeds
+            .par_iter()
+            .map(|&s| crate::arena::plane::run(&spec, s))
+            .collect()
+    } else {
+        seeds
+            .iter()
+            .map(|&s| crate::arena::plane::run(&spec, s))
+            .collect()
+    };
     let runs = match results {
         Ok(r) => r,
         Err(e) => {
@@ -1107,9 +1115,8 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
             "--field runs over a field: --lights, --then, --kill and --restart do not apply".into(),
         );
     }
-    let mut params = Params::robots();
-    params.negotiation_cycles = args.negotiation.unwrap_or(params.negotiation_cycles);
-    params.decide = args.decide.into();
+    // The timing options as on a line (`--cycle` scales what the others leave out).
+    let mut params = robot_params(args)?;
     let medium = medium(args)?;
     params.sectors = args.sectors;
     params
@@ -1141,6 +1148,11 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
         medium,
         params,
         readings: args.readings(),
+        hil: hil_robots(args, robots, args.sectors)?,
+        sample_period: args
+            .cycle
+            .map(|_| time_scale(args).map(|s| scaled(Config::robots().sample_period, s)))
+            .transpose()?,
     })
 }
 

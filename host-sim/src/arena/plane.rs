@@ -62,6 +62,11 @@ pub struct PlaneSpec {
     pub file_positions: Vec<Vector2<f64>>,
     /// What the light sensors report (`--readings`).
     pub readings: hal_emu::Readings,
+    /// Robots in the loop (`--hil`): places taken by robots running the real image elsewhere.
+    pub hil: Vec<hal_emu::hil::HilRobot>,
+    /// How often the robots read their sensors, if not the robot program's default (`--cycle`
+    /// scales it).
+    pub sample_period: Option<protocol::Duration>,
 }
 
 /// Reads robot positions, in R: one robot per line, `x y` or `x,y`; empty lines and lines
@@ -123,6 +128,9 @@ pub struct PlaneRun {
     pub emulated_s: f64,
     /// Wall seconds.
     pub wall_s: f64,
+    /// Each robot in the loop's link (`--hil`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub hil: Vec<hal_emu::hil::HilReport>,
 }
 
 /// Why a plane experiment could not be set up.
@@ -242,6 +250,10 @@ pub fn config(spec: &PlaneSpec, seed: u64) -> Result<ArenaConfig, PlaneError> {
         period,
         step: spec.scenario.run.step,
     });
+    c.hil = spec.hil.clone();
+    if let Some(p) = spec.sample_period {
+        c.robot.sample_period = p;
+    }
     Ok(c)
 }
 
@@ -303,6 +315,7 @@ pub fn run(spec: &PlaneSpec, seed: u64) -> Result<PlaneRun, PlaneError> {
         final_position: [end.x, end.y],
         emulated_s: report.emulated.as_secs_f64(),
         wall_s: report.wall.as_secs_f64(),
+        hil: report.hil,
     })
 }
 
@@ -450,6 +463,12 @@ pub fn print_runs(
             r.final_position[1],
             mean(r.consensus.iter().copied()).unwrap_or(0.0)
         );
+        for h in &r.hil {
+            println!(
+                "  robot {} in the loop over {}: {} link frames sent to it, {} received ({} light frames), {} link errors",
+                h.robot, h.transport, h.frames_sent, h.frames_received, h.tx, h.link_errors
+            );
+        }
     }
     println!(
         "{} runs, {} successful ({}); mean moves to success {}; {:.0} robot-s in {:.1} s wall",
@@ -605,6 +624,8 @@ fn arena_points(
         params: Params::robots(),
         file_positions: Vec::new(),
         readings: a.readings,
+        hil: Vec::new(),
+        sample_period: None,
     };
     let jobs: Vec<(usize, u64)> = (0..xs.len())
         .flat_map(|p| (0..a.runs).map(move |k| (p, a.seed.wrapping_add(k))))
@@ -769,6 +790,8 @@ pub fn bench_main(a: &BenchArgs) -> std::process::ExitCode {
             params: Params::robots(),
             file_positions: Vec::new(),
             readings: hal_emu::Readings::Levels,
+            hil: Vec::new(),
+            sample_period: None,
         };
         match run(&spec, a.seed) {
             Ok(r) => {

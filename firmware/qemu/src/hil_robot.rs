@@ -76,7 +76,12 @@ pub fn main<const N: usize>() -> ! {
         id: ID,
         ..Config::robots()
     };
-    match exec::block_on(run(&link, rx, &EmbassyClock, base, |seed| {
-        Pcg32::new(u64::from(seed), RNG_STREAM)
-    })) {}
+    match exec::block_on(run(
+        &link,
+        rx,
+        &EmbassyClock,
+        base,
+        |seed| Pcg32::new(u64::from(seed), RNG_STREAM),
+        &mut (),
+    )) {}
 }

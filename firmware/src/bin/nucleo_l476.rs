@@ -29,12 +29,21 @@
 //! and robots sharing a tag drop each other's messages. The boot log says which. A malformed
 //! id fails the build.
 //!
+//! **In the loop.** Built with the `hil` feature (`cargo firmware --features hil`), the robot
+//! has no light, sensor or LEDs of its own: the robot program runs over the link of
+//! `docs/hil.md` on USART2 (PA2 TX, PA3 RX, [`HIL_BAUD`] Bd), which the Nucleo's ST-LINK brings
+//! to the host as its virtual COM port (`/dev/ttyACM0` on Linux), and joins the emulated arena:
+//! `cimax arena --hil serial:/dev/ttyACM0 --cycle 2 ...` (docs/firmware.md). Its id, seed and
+//! timing come from the host's `Setup`; the watchdog and the reset on panic stay.
+//!
 //! `cargo firmware` builds the release image; `cargo run -p firmware --release --target
 //! thumbv7em-none-eabihf --features board-nucleo-l476 --bin nucleo_l476` flashes it with
 //! probe-rs and prints the logs (see `docs/firmware.md`).
 
 #![no_std]
 #![no_main]
+// The `hil` build leaves the board's own light, sensors and LEDs unused.
+#![cfg_attr(feature = "hil", allow(unused_imports, dead_code))]
 
 use core::convert::Infallible;
 
@@ -125,6 +134,20 @@ const fn parse_id(text: &str) -> Option<u16> {
     }
     Some(value as u16)
 }
+
+/// Baud rate of the HIL link on USART2 (the ST-LINK's virtual COM port), `hil` builds.
+#[cfg(feature = "hil")]
+const HIL_BAUD: u32 = 115_200;
+/// DMA ring buffer of the HIL link's receiver: a few link frames.
+#[cfg(feature = "hil")]
+const HIL_RING: usize = 256;
+
+#[cfg(feature = "hil")]
+bind_interrupts!(struct HilIrqs {
+    USART2 => usart::InterruptHandler<peripherals::USART2>;
+    DMA1_CHANNEL6 => dma::InterruptHandler<peripherals::DMA1_CH6>;
+    DMA1_CHANNEL7 => dma::InterruptHandler<peripherals::DMA1_CH7>;
+});
 
 bind_interrupts!(struct Irqs {
     USART3 => usart::InterruptHandler<peripherals::USART3>;
@@ -272,80 +295,117 @@ async fn main(_spawner: Spawner) {
         defmt::warn!("hardware RNG failed: seeding from the unique ID alone");
     }
 
-    let mut link = usart::Config::default();
-    link.baudrate = LIGHT_BAUD;
+    #[cfg(feature = "hil")]
+    {
+        // The robot in the loop: the robot program over the HIL link on USART2.
+        use firmware::hil::robot::{Link, RNG_STREAM, run};
+        let mut link_config = usart::Config::default();
+        link_config.baudrate = HIL_BAUD;
+        let uart = match usart::Uart::new(
+            p.USART2,
+            p.PA3,
+            p.PA2,
+            p.DMA1_CH7,
+            p.DMA1_CH6,
+            HilIrqs,
+            link_config,
+        ) {
+            Ok(u) => u,
+            Err(e) => defmt::panic!("HIL link: {}", e),
+        };
+        let (tx, rx) = uart.split();
+        let mut ring = [0u8; HIL_RING];
+        let rx = rx.into_ring_buffered(&mut ring);
+        let link = Link::<_, 2>::new(tx);
+        let uid = embassy_stm32::uid::uid();
+        let base = Config {
+            id: ROBOT_ID.unwrap_or_else(|| id_from_uid(&uid)),
+            ..Config::robots()
+        };
+        defmt::info!("in the loop: the HIL link on USART2 at {} Bd", HIL_BAUD);
+        let mut dog = Watchdog(watchdog);
+        let rng = |seed: u32| Pcg32::new(u64::from(seed), RNG_STREAM);
+        match run(&link, rx, &EmbassyClock, base, rng, &mut dog).await {}
+    }
 
-    let tx = match UartTx::new(p.USART1, p.PA9, p.DMA1_CH4, Irqs, link) {
-        Ok(tx) => tx,
-        Err(e) => defmt::panic!("transmitter: {}", e),
-    };
-    irda(pac::USART1);
-    let left = match UartRx::new(p.USART3, p.PC11, p.DMA1_CH3, Irqs, link) {
-        Ok(rx) => rx,
-        Err(e) => defmt::panic!("left receiver: {}", e),
-    };
-    irda(pac::USART3);
-    let right = match UartRx::new(p.UART5, p.PD2, p.DMA2_CH2, Irqs, link) {
-        Ok(rx) => rx,
-        Err(e) => defmt::panic!("right receiver: {}", e),
-    };
-    irda(pac::UART5);
-    let mut left_ring = [0u8; RX_RING];
-    let mut right_ring = [0u8; RX_RING];
+    // The robot with its own light, sensors and LEDs.
+    #[cfg(not(feature = "hil"))]
+    {
+        let mut link = usart::Config::default();
+        link.baudrate = LIGHT_BAUD;
 
-    let adc_config = AdcConfig {
-        resolution: Some(Resolution::BITS8),
-        ..AdcConfig::default()
-    };
-    let sensor = AdcSensor {
-        adc: Adc::new_with_config(p.ADC1, adc_config),
-        light: p.PA0.degrade_adc(),
-        oxygen: p.PA1.degrade_adc(),
-    };
-    let leds = TopCap {
-        green: Output::new(p.PA5, PinLevel::Low, Speed::Low),
-        blue: Output::new(p.PC7, PinLevel::Low, Speed::Low),
-    };
+        let tx = match UartTx::new(p.USART1, p.PA9, p.DMA1_CH4, Irqs, link) {
+            Ok(tx) => tx,
+            Err(e) => defmt::panic!("transmitter: {}", e),
+        };
+        irda(pac::USART1);
+        let left = match UartRx::new(p.USART3, p.PC11, p.DMA1_CH3, Irqs, link) {
+            Ok(rx) => rx,
+            Err(e) => defmt::panic!("left receiver: {}", e),
+        };
+        irda(pac::USART3);
+        let right = match UartRx::new(p.UART5, p.PD2, p.DMA2_CH2, Irqs, link) {
+            Ok(rx) => rx,
+            Err(e) => defmt::panic!("right receiver: {}", e),
+        };
+        irda(pac::UART5);
+        let mut left_ring = [0u8; RX_RING];
+        let mut right_ring = [0u8; RX_RING];
 
-    let mut hw = Hardware::line(
-        tx,
-        left.into_ring_buffered(&mut left_ring),
-        right.into_ring_buffered(&mut right_ring),
-        sensor,
-        leds,
-        EmbassyClock,
-    );
+        let adc_config = AdcConfig {
+            resolution: Some(Resolution::BITS8),
+            ..AdcConfig::default()
+        };
+        let sensor = AdcSensor {
+            adc: Adc::new_with_config(p.ADC1, adc_config),
+            light: p.PA0.degrade_adc(),
+            oxygen: p.PA1.degrade_adc(),
+        };
+        let leds = TopCap {
+            green: Output::new(p.PA5, PinLevel::Low, Speed::Low),
+            blue: Output::new(p.PC7, PinLevel::Low, Speed::Low),
+        };
 
-    let uid = embassy_stm32::uid::uid();
-    let (state, stream) = rng_seed(&uid, hardware.then_some(draw));
-    let rng = Pcg32::new(state, stream);
-    let id = match ROBOT_ID {
-        Some(id) => id,
-        None => {
-            defmt::warn!(
-                "CIMAX_ROBOT_ID not set at build time: id hashed from the chip's unique ID, its \
-                 tag may collide with a neighbour's"
-            );
-            id_from_uid(&uid)
-        }
-    };
-    // The adaptive decision rule: the LEDs show the swarm's direction after about two cycles
-    // instead of ten, with every bar of the emulated campaign met (docs/protocol.md §5.4,
-    // docs/reliability.md); `cimax arena` keeps the paper's fixed period by default.
-    let config = Config {
-        id,
-        key: SWARM_KEY,
-        params: Params {
-            decide: DecisionRule::Adaptive,
-            ..Params::robots()
-        },
-        ..Config::robots()
-    };
-    let mut robot = match Robot::new(config, hw.clock.now(), rng) {
-        Ok(robot) => robot,
-        Err(e) => defmt::panic!("setup: {}", e),
-    };
-    match robot.run_observed(&mut hw, &mut Watchdog(watchdog)).await {}
+        let mut hw = Hardware::line(
+            tx,
+            left.into_ring_buffered(&mut left_ring),
+            right.into_ring_buffered(&mut right_ring),
+            sensor,
+            leds,
+            EmbassyClock,
+        );
+
+        let uid = embassy_stm32::uid::uid();
+        let (state, stream) = rng_seed(&uid, hardware.then_some(draw));
+        let rng = Pcg32::new(state, stream);
+        let id = match ROBOT_ID {
+            Some(id) => id,
+            None => {
+                defmt::warn!(
+                    "CIMAX_ROBOT_ID not set at build time: id hashed from the chip's unique ID, its \
+                     tag may collide with a neighbour's"
+                );
+                id_from_uid(&uid)
+            }
+        };
+        // The adaptive decision rule: the LEDs show the swarm's direction after about two cycles
+        // instead of ten, with every bar of the emulated campaign met (docs/protocol.md §5.4,
+        // docs/reliability.md); `cimax arena` keeps the paper's fixed period by default.
+        let config = Config {
+            id,
+            key: SWARM_KEY,
+            params: Params {
+                decide: DecisionRule::Adaptive,
+                ..Params::robots()
+            },
+            ..Config::robots()
+        };
+        let mut robot = match Robot::new(config, hw.clock.now(), rng) {
+            Ok(robot) => robot,
+            Err(e) => defmt::panic!("setup: {}", e),
+        };
+        match robot.run_observed(&mut hw, &mut Watchdog(watchdog)).await {}
+    }
 }
 
 /// Release builds: a deployed robot must come back by itself, so a panic resets the chip; the

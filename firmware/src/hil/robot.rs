@@ -38,14 +38,14 @@ use rand_core::RngCore;
 
 use super::{CHUNK_MAX, LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkMsg, LinkStats, Setup};
 use crate::hal::{self, Clock, ErrorType, LedColor, Leds, Quantity, Sensor};
-use crate::robot::{Config, Hardware, Robot};
+use crate::robot::{Config, Hardware, Observer, Robot};
 
 /// Bytes of buffer per receiver: four full light frames.
 pub const RX_PIPE: usize = 128;
 
 /// The stream of the robot's random draws (`rand_pcg::Pcg32::new(seed, RNG_STREAM)`): every
 /// image and the host's in-process robot draw alike from a `Setup`'s seed.
-pub const RNG_STREAM: u64 = 0xa02b_dbf7_bb3c_0a7;
+pub const RNG_STREAM: u64 = 0x0a02_bdbf_7bb3_c0a7;
 
 /// How often the robot says `Hello` (before its first `Setup`) or `Heartbeat` (after).
 pub const BEAT: Duration = Duration::from_millis(500);
@@ -263,21 +263,24 @@ pub fn configure(base: Config, setup: &Setup) -> Config {
 }
 
 /// Runs a robot in the loop for ever: the pump over `reader`, the beat, and the robot program
-/// with `base` as [`configure`]d by each `Setup`, its random draws from `rng(setup.seed)`. The
+/// with `base` as [`configure`]d by each `Setup`, its random draws from `rng(setup.seed)`,
+/// telling `observer` what it tells a robot's (the Nucleo image feeds its watchdog there). The
 /// robot program starts afresh (new state, empty receivers) at every `Setup`; a `Setup` the
 /// program refuses (bad timing) is logged and the robot waits for the next.
-pub async fn run<W, R, C, G, const N: usize>(
+pub async fn run<W, R, C, G, O, const N: usize>(
     link: &Link<W, N>,
     reader: R,
     clock: &C,
     base: Config,
     mut rng: impl FnMut(u32) -> G,
+    observer: &mut O,
 ) -> Infallible
 where
     W: Write,
     R: Read,
     C: Clock,
     G: RngCore,
+    O: Observer,
 {
     let robot = async {
         let mut setup = link.setup.wait().await;
@@ -290,7 +293,7 @@ where
                 Ok(mut robot) => {
                     info!("hil: robot {} starts", config.id);
                     let mut hw = link.hardware(clock);
-                    match select(robot.run(&mut hw), link.setup.wait()).await {
+                    match select(robot.run_observed(&mut hw, observer), link.setup.wait()).await {
                         Either::First(never) => match never {},
                         Either::Second(next) => setup = next,
                     }

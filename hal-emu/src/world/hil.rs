@@ -504,9 +504,14 @@ async fn in_process(
             buf: Vec::new(),
             pos: 0,
         };
-        let _ = firmware::hil::robot::run(&link, reader, &clock, base, |seed| {
-            Pcg32::new(u64::from(seed), firmware::hil::robot::RNG_STREAM)
-        })
+        let _ = firmware::hil::robot::run(
+            &link,
+            reader,
+            &clock,
+            base,
+            |seed| Pcg32::new(u64::from(seed), firmware::hil::robot::RNG_STREAM),
+            &mut (),
+        )
         .await;
     }
     match base.params.sectors {

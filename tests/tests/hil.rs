@@ -50,6 +50,10 @@ fn four_robots_in_the_loop_light_the_expected_leds() {
                 assert!(h.tx >= 25, "{h:?}");
                 assert!(h.rx_bytes > 100, "{h:?}");
                 assert!(h.frames_received > h.tx, "{h:?}");
+                // It answered the host's heartbeats (two a second), at once in virtual time.
+                assert!(h.round_trips > 4000, "{h:?}");
+                assert_eq!(h.rtt_max_us, 0, "{h:?}");
+                assert!(h.bytes_sent > h.frames_sent && h.bytes_received > h.frames_received);
             }
             // The medium put their frames on air like any robot's.
             assert!(r.report.medium.delivered > 50, "{:?}", r.report.medium);

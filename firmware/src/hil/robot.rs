@@ -7,14 +7,15 @@
 //!                                         ──Setup──────▶ (re)start the robot program
 //!  transmitter (Write) ──Tx──┐
 //!  LEDs ─────────────────Led─┼──▶ writer (one at a time) ──▶ UART tx
-//!  beat ──Hello…, Heartbeat──┘
+//!  beat ──Hello…, Heartbeat──┘        (answers the host's heartbeats)
 //! ```
 //!
 //! [`Link`] holds what the pieces share: the UART's writing half behind an async mutex (one
 //! frame at a time), a pipe per receiver, the last sensor levels, the pending [`Setup`] and
 //! the counters. [`run`] joins three futures and never returns: the pump (reads the UART,
-//! decodes, dispatches), the beat (a `Hello` every period until the first `Setup`, then a
-//! `Heartbeat`), and the robot program itself, restarted with fresh state at every `Setup`.
+//! decodes, dispatches), the beat (a `Hello` every period until the first `Setup`, then the
+//! answer to each of the host's heartbeats), and the robot program itself, restarted with
+//! fresh state at every `Setup`.
 //!
 //! Nothing here allocates, panics on input or waits for ever on the host: a corrupt link frame
 //! is counted ([`LinkStats`]) and skipped, bytes a full pipe cannot take are counted in
@@ -47,7 +48,7 @@ pub const RX_PIPE: usize = 128;
 /// image and the host's in-process robot draw alike from a `Setup`'s seed.
 pub const RNG_STREAM: u64 = 0x0a02_bdbf_7bb3_c0a7;
 
-/// How often the robot says `Hello` (before its first `Setup`) or `Heartbeat` (after).
+/// How often the robot says `Hello` before its first `Setup`, and the host its `Heartbeat`.
 pub const BEAT: Duration = Duration::from_millis(500);
 
 /// Counters of the robot's end of the link. They wrap after 2³² events.
@@ -77,6 +78,7 @@ pub struct Link<W, const N: usize> {
     oxygen: Cell<Option<Level>>,
     setup: Signal<NoopRawMutex, Setup>,
     set_up: Cell<bool>,
+    echo: Signal<NoopRawMutex, u32>,
     stats: Cell<HilStats>,
 }
 
@@ -98,6 +100,7 @@ impl<W: Write, const N: usize> Link<W, N> {
             oxygen: Cell::new(None),
             setup: Signal::new(),
             set_up: Cell::new(false),
+            echo: Signal::new(),
             stats: Cell::new(HilStats::default()),
         }
     }
@@ -190,34 +193,34 @@ impl<W: Write, const N: usize> Link<W, N> {
                 self.set_up.set(true);
                 self.setup.signal(setup);
             }
-            // The host's heartbeat only proves it is there; nothing to do.
-            LinkMsg::Heartbeat(_) => {}
+            // Answered by the beat, at once.
+            LinkMsg::Heartbeat(seq) => self.echo.signal(seq),
             LinkMsg::Hello { .. } | LinkMsg::Tx(_) | LinkMsg::Led(_) => {
                 self.count(|s| s.unexpected = s.unexpected.wrapping_add(1));
             }
         }
     }
 
-    /// Says `Hello` every [`BEAT`] until the first `Setup`, then `Heartbeat` every [`BEAT`],
-    /// for ever.
+    /// Says `Hello` every [`BEAT`] until the first `Setup`; from then on answers each of the
+    /// host's heartbeats at once with its number (the host measures the link's round trip,
+    /// and a robot that stops answering is one that stopped), for ever.
     pub async fn beat<C: Clock>(&self, clock: &C, id: u16) -> Infallible {
-        let mut seq: u32 = 0;
         let mut next = clock.now();
         loop {
-            let msg = if self.set_up.get() {
-                seq = seq.wrapping_add(1);
-                LinkMsg::Heartbeat(seq - 1)
+            // A failed write is counted; the next beat tries again.
+            if self.set_up.get() {
+                let seq = self.echo.wait().await;
+                let _ = self.send(&LinkMsg::Heartbeat(seq)).await;
             } else {
-                LinkMsg::Hello {
+                let hello = LinkMsg::Hello {
                     version: LINK_VERSION,
                     id,
                     sectors: N as u8,
-                }
-            };
-            // A failed write is counted; the next beat tries again.
-            let _ = self.send(&msg).await;
-            next += BEAT;
-            clock.sleep_until(next).await;
+                };
+                let _ = self.send(&hello).await;
+                next += BEAT;
+                clock.sleep_until(next).await;
+            }
         }
     }
 

@@ -211,6 +211,17 @@ pub struct HilReport {
     pub rx_bytes: u64,
     /// Milliseconds from connecting to its `Hello`.
     pub hello_ms: u64,
+    /// Bytes the host sent it, frames and delimiters included.
+    pub bytes_sent: u64,
+    /// Bytes the host received from it.
+    pub bytes_received: u64,
+    /// Heartbeats it answered: round trips measured.
+    pub round_trips: u64,
+    /// The mean round trip of a heartbeat (host → robot → host), microseconds of the run's
+    /// clock (zero in virtual time).
+    pub rtt_mean_us: u64,
+    /// The longest round trip, microseconds.
+    pub rtt_max_us: u64,
 }
 
 /// The two directions of one link, as channels of byte chunks, and whatever keeps the other
@@ -605,6 +616,7 @@ fn send(
     to.send(f.to_vec())
         .map_err(|_| "its link closed".to_string())?;
     report.frames_sent += 1;
+    report.bytes_sent += f.len() as u64;
     Ok(())
 }
 
@@ -728,6 +740,9 @@ impl Bridge {
         let mut next_sample = last_heard + self.config.sample_period;
         let mut beat: u32 = 0;
         let mut beating = false;
+        // The heartbeat under way and when it left; the sum of the round trips so far.
+        let mut ping: Option<(u32, tokio::time::Instant)> = None;
+        let mut rtt_sum: u64 = 0;
         loop {
             let wake = next_beat.min(next_sample);
             let input = if !pending.is_empty() {
@@ -747,6 +762,7 @@ impl Bridge {
                     return Err(format!("its {transport} link ended (disconnected)"));
                 }
                 Input::Bytes(Some(bytes)) => {
+                    report.bytes_received += bytes.len() as u64;
                     for b in bytes {
                         let Some(r) = decoder.push(b) else { continue };
                         let Ok(msg) = r else {
@@ -767,7 +783,20 @@ impl Bridge {
                                 );
                                 let _ = self.leds.show(color).await;
                             }
-                            LinkMsg::Heartbeat(_) => beating = true,
+                            LinkMsg::Heartbeat(seq) => {
+                                beating = true;
+                                if let Some((sent_seq, at)) = ping
+                                    && sent_seq == seq
+                                {
+                                    let us =
+                                        u64::try_from(at.elapsed().as_micros()).unwrap_or(u64::MAX);
+                                    rtt_sum += us;
+                                    report.round_trips += 1;
+                                    report.rtt_max_us = report.rtt_max_us.max(us);
+                                    report.rtt_mean_us = rtt_sum / report.round_trips;
+                                    ping = None;
+                                }
+                            }
                             // Hellos still in flight when it got the setup are fine; a
                             // Hello after it started beating means it rebooted.
                             LinkMsg::Hello { .. } if beating => {
@@ -797,6 +826,7 @@ impl Bridge {
             }
             if now >= next_beat {
                 send(&to, &LinkMsg::Heartbeat(beat), report)?;
+                ping = Some((beat, tokio::time::Instant::now()));
                 beat = beat.wrapping_add(1);
                 next_beat = now + firmware::hil::robot::BEAT;
             }

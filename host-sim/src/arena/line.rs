@@ -666,13 +666,31 @@ fn print_hil(runs: &[(usize, LabRun)]) {
             e.1.link_errors += h.link_errors;
             e.1.tx += h.tx;
             e.1.hello_ms = e.1.hello_ms.max(h.hello_ms);
+            e.1.bytes_sent += h.bytes_sent;
+            e.1.bytes_received += h.bytes_received;
+            // The mean over runs, weighted by round trips.
+            let trips = e.1.round_trips + h.round_trips;
+            if trips > 0 {
+                e.1.rtt_mean_us =
+                    (e.1.rtt_mean_us * e.1.round_trips + h.rtt_mean_us * h.round_trips) / trips;
+            }
+            e.1.round_trips = trips;
+            e.1.rtt_max_us = e.1.rtt_max_us.max(h.rtt_max_us);
             e.2 += 1;
         }
     }
     for (robot, (transport, h, n)) in places {
         println!(
-            "robot {robot} in the loop over {transport}: {n} runs, {} link frames sent to it, {} received ({} light frames), {} link errors, hello within {} ms",
-            h.frames_sent, h.frames_received, h.tx, h.link_errors, h.hello_ms
+            "robot {robot} in the loop over {transport}: {n} runs, {} link frames ({} B) sent to it, {} ({} B) received with {} light frames, {} link errors; hello within {} ms, heartbeat round trip {:.2} ms mean, {:.2} ms max",
+            h.frames_sent,
+            h.bytes_sent,
+            h.frames_received,
+            h.bytes_received,
+            h.tx,
+            h.link_errors,
+            h.hello_ms,
+            h.rtt_mean_us as f64 / 1000.0,
+            h.rtt_max_us as f64 / 1000.0
         );
     }
 }

@@ -562,6 +562,31 @@ fn check_robot(config: Config) -> Result<(), SetupError> {
     }
 }
 
+/// Waits for Ctrl-C (SIGINT), SIGTERM or SIGHUP: a run in real time then ends at once and
+/// kills and reaps its QEMU processes (nothing can for SIGKILL). Waits for ever if no signal
+/// can be listened for.
+async fn stop_signal() {
+    #[cfg(unix)]
+    {
+        use tokio::signal::unix::{SignalKind, signal};
+        let (Ok(mut term), Ok(mut hup)) = (
+            signal(SignalKind::terminate()),
+            signal(SignalKind::hangup()),
+        ) else {
+            return std::future::pending().await;
+        };
+        tokio::select! {
+            r = tokio::signal::ctrl_c() => if r.is_err() { std::future::pending::<()>().await },
+            _ = term.recv() => {}
+            _ = hup.recv() => {}
+        }
+    }
+    #[cfg(not(unix))]
+    if tokio::signal::ctrl_c().await.is_err() {
+        std::future::pending::<()>().await;
+    }
+}
+
 /// Checks the robots in the loop: places that exist, each taken once, no kills or restarts of
 /// them, no swarm key (link version 1 carries none).
 fn check_hil(cfg: &ArenaConfig) -> Result<(), ArenaError> {
@@ -823,9 +848,7 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
         let failed = shared.failed.clone();
         let interrupt = async {
             if real_time {
-                if tokio::signal::ctrl_c().await.is_err() {
-                    std::future::pending::<()>().await;
-                }
+                stop_signal().await;
             } else {
                 std::future::pending::<()>().await;
             }

@@ -13,38 +13,13 @@ use cortex_m_rt::exception;
 use cortex_m_semihosting::hprintln;
 use firmware::hal::EmbassyClock;
 use firmware::hil::robot::{Link, RNG_STREAM, run};
-use firmware::{Clock, Config};
+use firmware::Config;
 use rand_pcg::Pcg32;
 
-use crate::{exec, tick, uart};
+use crate::{exec, semilog, tick, uart};
 
 /// The robot's id before the host gives it one (its `Hello` says it).
 const ID: u16 = 0;
-
-struct SemihostingLogger;
-
-impl log::Log for SemihostingLogger {
-    fn enabled(&self, metadata: &log::Metadata) -> bool {
-        metadata.level() <= log::Level::Info
-    }
-
-    fn log(&self, record: &log::Record) {
-        if self.enabled(record.metadata()) {
-            let t = EmbassyClock.now().as_millis();
-            hprintln!(
-                "[{:>5}.{:03}] {:<5} {}",
-                t / 1000,
-                t % 1000,
-                record.level(),
-                record.args()
-            );
-        }
-    }
-
-    fn flush(&self) {}
-}
-
-static LOGGER: SemihostingLogger = SemihostingLogger;
 
 #[allow(unsafe_code)] // cortex-m-rt requires the default handler to be an `unsafe fn`.
 #[exception]
@@ -65,7 +40,7 @@ pub fn main<const N: usize>() -> ! {
         panic!("peripherals taken twice")
     };
     tick::init(cp.SYST);
-    let _ = log::set_logger(&LOGGER).map(|()| log::set_max_level(log::LevelFilter::Info));
+    semilog::init();
     let (tx, rx) = uart::init();
     hprintln!(
         "cimax hil: one robot with {} receivers on UART0, waiting for the host's setup",

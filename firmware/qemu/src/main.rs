@@ -43,6 +43,7 @@ use rand_pcg::Pcg32;
 
 mod boot;
 mod exec;
+mod semilog;
 mod systick;
 mod watchdog;
 
@@ -60,34 +61,6 @@ const fn paper(lights: &str) -> LabPattern {
         None => panic!("not one of the paper's lab patterns"),
     }
 }
-
-// ---------------------------------------------------------------------------------------------
-// Logging over semihosting, stamped with virtual time.
-
-struct SemihostingLogger;
-
-impl log::Log for SemihostingLogger {
-    fn enabled(&self, metadata: &log::Metadata) -> bool {
-        metadata.level() <= log::Level::Info
-    }
-
-    fn log(&self, record: &log::Record) {
-        if self.enabled(record.metadata()) {
-            let t = EmbassyClock.now().as_millis();
-            hprintln!(
-                "[{:>5}.{:03}] {:<5} {}",
-                t / 1000,
-                t % 1000,
-                record.level(),
-                record.args()
-            );
-        }
-    }
-
-    fn flush(&self) {}
-}
-
-static LOGGER: SemihostingLogger = SemihostingLogger;
 
 /// Ends the QEMU run with status 0 (`ok`) or 1.
 fn exit(ok: bool) -> ! {
@@ -280,8 +253,7 @@ fn main() -> ! {
         exit(false)
     };
     systick::init(cp.SYST);
-    // Only fails if a logger is already set, and nothing else sets one.
-    let _ = log::set_logger(&LOGGER).map(|()| log::set_max_level(log::LevelFilter::Info));
+    semilog::init();
 
     let seed = seed();
     let (stage, ok_before) = boot::load();

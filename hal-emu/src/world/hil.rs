@@ -512,11 +512,8 @@ async fn in_process(
         base: Config,
     ) {
         let link = Link::<_, N>::new(ChanWriter(to_host));
-        let reader = ChanReader {
-            rx: from_host,
-            buf: Vec::new(),
-            pos: 0,
-        };
+        // A channel of byte chunks read as a stream: what a light receiver is.
+        let reader = EmuReceiver::new(from_host);
         let _ = firmware::hil::robot::run(
             &link,
             reader,
@@ -555,38 +552,6 @@ impl Write for ChanWriter {
 
     async fn flush(&mut self) -> Result<(), ErrorKind> {
         Ok(())
-    }
-}
-
-/// A channel's receiving end as an [`embedded_io_async::Read`].
-struct ChanReader {
-    rx: UnboundedReceiver<Vec<u8>>,
-    buf: Vec<u8>,
-    pos: usize,
-}
-
-impl ErrorType for ChanReader {
-    type Error = ErrorKind;
-}
-
-impl Read for ChanReader {
-    async fn read(&mut self, out: &mut [u8]) -> Result<usize, ErrorKind> {
-        if out.is_empty() {
-            return Ok(0);
-        }
-        while self.pos >= self.buf.len() {
-            match self.rx.recv().await {
-                Some(b) => {
-                    self.buf = b;
-                    self.pos = 0;
-                }
-                None => return Ok(0),
-            }
-        }
-        let n = out.len().min(self.buf.len() - self.pos);
-        out[..n].copy_from_slice(&self.buf[self.pos..n + self.pos]);
-        self.pos += n;
-        Ok(n)
     }
 }
 

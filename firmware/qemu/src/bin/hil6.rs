@@ -11,6 +11,8 @@
 mod exec;
 #[path = "../hil_robot.rs"]
 mod hil_robot;
+#[path = "../semilog.rs"]
+mod semilog;
 #[path = "../tick.rs"]
 mod tick;
 #[path = "../uart.rs"]

@@ -241,3 +241,59 @@ async fn a_second_setup_restarts_the_robot_program_afresh() {
     let last = tags.last().copied();
     assert_eq!(last, Some(Tag::from_id(4)));
 }
+
+#[tokio::test(flavor = "current_thread", start_paused = true)]
+async fn an_image_with_six_receivers_runs_whatever_its_configuration_says() {
+    // The image's base configuration is the lab's (two sectors); its link has six receivers,
+    // as QEMU's hil6 image: the robot program runs with six (it once refused the setup and the
+    // robot sat silent in the plane).
+    let to_robot = Wire::new();
+    let from_robot = Wire::new();
+    let clock = TokioClock::new();
+    let link = Link::<_, 6>::new(&from_robot);
+    let mut observer = ();
+    let robot = run(
+        &link,
+        &to_robot,
+        &clock,
+        Config::robots(),
+        |seed| Pcg32::new(u64::from(seed), RNG_STREAM),
+        &mut observer,
+    );
+    let host = async {
+        to_robot
+            .write_all(&frame(&LinkMsg::Reading {
+                quantity: 0,
+                level: 90,
+            }))
+            .await;
+        to_robot.write_all(&frame(&LinkMsg::Setup(setup(5)))).await;
+        clock.sleep_until(Instant::from_secs(7)).await;
+    };
+    if let Either::First(never) = select(robot, host).await {
+        match never {}
+    }
+    let msgs = said(&from_robot, &mut LinkDecoder::new());
+    assert!(
+        msgs.iter()
+            .any(|m| matches!(m, LinkMsg::Hello { sectors: 6, .. })),
+        "{msgs:?}"
+    );
+    let tx = msgs.iter().filter(|m| matches!(m, LinkMsg::Tx(_))).count();
+    assert!(tx >= 2, "{msgs:?}");
+    assert!(!msgs.iter().any(|m| matches!(m, LinkMsg::Refused(_))));
+}
+
+#[tokio::test(flavor = "current_thread", start_paused = true)]
+async fn a_setup_the_robot_program_refuses_is_answered_with_why() {
+    let t = Instant::from_millis;
+    let bad = Setup {
+        spread_ms: 5_000,
+        ..setup(1)
+    };
+    let script = vec![(t(0), frame(&LinkMsg::Setup(bad)))];
+    let (msgs, stats) = session(script, t(3_000)).await;
+    assert_eq!(stats.setups, 1);
+    assert!(msgs.contains(&LinkMsg::Refused(1)), "{msgs:?}");
+    assert!(!msgs.iter().any(|m| matches!(m, LinkMsg::Tx(_))));
+}

@@ -209,3 +209,60 @@ fn a_transport_that_cannot_open_fails_the_run_by_name() {
         "{e}"
     );
 }
+
+/// A robot on a TCP socket that says hello, answers every heartbeat, and otherwise does what
+/// `on_setup` says (bytes to send once it gets its setup); the run's error with it in place 0
+/// of a lab line of 2 s cycles, 8 s long.
+fn responder(on_setup: Vec<u8>) -> String {
+    use firmware::hil::{LinkDecoder, LinkMsg};
+    use std::io::{Read, Write};
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let port = listener.local_addr().unwrap().port();
+    let robot = std::thread::spawn(move || {
+        let (mut s, _) = listener.accept().unwrap();
+        s.write_all(&hello(1, 2)).unwrap();
+        let mut d = LinkDecoder::new();
+        let mut buf = [0u8; 256];
+        while let Ok(n @ 1..) = s.read(&mut buf) {
+            for m in buf[..n].iter().filter_map(|&b| d.push(b)).flatten() {
+                let reply = match m {
+                    LinkMsg::Heartbeat(seq) => frame(&LinkMsg::Heartbeat(seq)),
+                    LinkMsg::Setup(_) => on_setup.clone(),
+                    _ => continue,
+                };
+                if s.write_all(&reply).is_err() {
+                    return;
+                }
+            }
+        }
+    });
+    let mut cfg = lab("1100", 1, &[]);
+    let w = &mut cfg.robot.params.wave;
+    w.cycle = Duration::from_millis(2_000);
+    w.cycle_spread = Duration::from_millis(500);
+    w.relay_delay = Duration::from_millis(40);
+    w.refractory = Duration::from_millis(150);
+    cfg.duration = Duration::from_secs(8);
+    cfg.hil = vec![HilRobot {
+        robot: 0,
+        transport: Transport::Tcp(format!("127.0.0.1:{port}")),
+    }];
+    let e = hal_emu::run(&cfg).expect_err("the robot fails the run");
+    robot.join().unwrap();
+    e.to_string()
+}
+
+#[test]
+fn a_robot_that_refuses_its_setup_or_never_transmits_fails_the_run() {
+    let e = responder(frame(&firmware::hil::LinkMsg::Refused(2)));
+    assert!(
+        e.contains("refused the run's setup") && e.contains("receivers and the sectors differ"),
+        "{e}"
+    );
+    // It answers its heartbeats but its robot program never sends light.
+    let e = responder(Vec::new());
+    assert!(
+        e.contains("sent no light") && e.contains("not running"),
+        "{e}"
+    );
+}

@@ -82,6 +82,10 @@ pub enum LinkMsg {
     /// robot program with fresh state, this id and seed and this timing. The robot runs
     /// nothing before its first `Setup`.
     Setup(Setup),
+    /// 7, robot → host: it cannot run the last `Setup` (its robot program refused it), and
+    /// waits for another. The code says why: 1 bad protocol parameters, 2 receivers and
+    /// sectors differ, 3 a zero duration, 4 a swarm key without keyed framing, 0 anything else.
+    Refused(u8),
 }
 
 /// What [`LinkMsg::Setup`] tells a robot: who it is in this run, its seed, and the protocol's
@@ -322,7 +326,7 @@ mod tests {
         sample_ms: u32::MAX,
     };
 
-    fn every_kind() -> [LinkMsg; 8] {
+    fn every_kind() -> [LinkMsg; 9] {
         [
             LinkMsg::Hello {
                 version: LINK_VERSION,
@@ -345,6 +349,7 @@ mod tests {
             LinkMsg::Led(2),
             LinkMsg::Heartbeat(u32::MAX),
             LinkMsg::Setup(LONGEST_SETUP),
+            LinkMsg::Refused(1),
         ]
     }
 
@@ -459,7 +464,7 @@ mod tests {
     #[test]
     fn bad_payloads_with_a_good_check_are_undecodable() {
         for payload in [
-            &[0x07][..],               // variant 7 does not exist
+            &[0x08][..],               // variant 8 does not exist
             &[0x01, 33],               // a chunk of 33 bytes claimed
             &[0x04, 0x01, 0x00],       // a byte left over
             &[0x02, 0x01, 0x02, 0xAA], // Rx cut short

@@ -39,7 +39,7 @@ use rand_core::RngCore;
 
 use super::{CHUNK_MAX, LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkMsg, LinkStats, Setup};
 use crate::hal::{self, Clock, ErrorType, LedColor, Leds, Quantity, Sensor};
-use crate::robot::{Config, Hardware, Observer, Robot};
+use crate::robot::{Config, Hardware, Observer, Robot, SetupError};
 
 /// Bytes of buffer per receiver: four full light frames.
 pub const RX_PIPE: usize = 128;
@@ -195,7 +195,7 @@ impl<W: Write, const N: usize> Link<W, N> {
             }
             // Answered by the beat, at once.
             LinkMsg::Heartbeat(seq) => self.echo.signal(seq),
-            LinkMsg::Hello { .. } | LinkMsg::Tx(_) | LinkMsg::Led(_) => {
+            LinkMsg::Hello { .. } | LinkMsg::Tx(_) | LinkMsg::Led(_) | LinkMsg::Refused(_) => {
                 self.count(|s| s.unexpected = s.unexpected.wrapping_add(1));
             }
         }
@@ -291,7 +291,9 @@ where
             for p in &link.pipes {
                 p.clear();
             }
-            let config = configure(base, &setup);
+            let mut config = configure(base, &setup);
+            // The image's receivers are what it has, whatever its configuration says.
+            config.params.sectors = N as u8;
             match Robot::<G, N>::new(config, clock.now(), rng(setup.seed)) {
                 Ok(mut robot) => {
                     info!("hil: robot {} starts", config.id);
@@ -301,8 +303,9 @@ where
                         Either::Second(next) => setup = next,
                     }
                 }
-                Err(_e) => {
-                    warn!("hil: setup refused: {:?}", _e);
+                Err(e) => {
+                    warn!("hil: setup refused: {:?}", e);
+                    let _ = link.send(&LinkMsg::Refused(refusal_code(e))).await;
                     setup = link.setup.wait().await;
                 }
             }
@@ -315,6 +318,16 @@ where
     };
     let (never, _, _) = join3(robot, pump, link.beat(clock, base.id)).await;
     never
+}
+
+/// [`LinkMsg::Refused`]'s code for why the robot program refused a setup.
+pub fn refusal_code(e: SetupError) -> u8 {
+    match e {
+        SetupError::Params(_) => 1,
+        SetupError::Receivers { .. } => 2,
+        SetupError::ZeroDuration => 3,
+        SetupError::KeyedFramingNotBuilt => 4,
+    }
 }
 
 /// The light transmitter over the link: each write goes to the host as `Tx` messages of at most

@@ -724,7 +724,21 @@ impl Bridge {
             };
             let now = self.clock.now();
             match input {
-                Input::Stop => return Ok(()),
+                Input::Stop => {
+                    // A robot program that runs initiates a wave every cycle: one that sent no
+                    // light in three cycles' time is not running (a safety net beside
+                    // `Refused`, for images that cannot say so).
+                    let ran = now.saturating_since(t0);
+                    let w = &self.config.params.wave;
+                    let cycles = (w.cycle + w.cycle_spread).saturating_mul(3);
+                    if report.tx == 0 && ran > cycles {
+                        return Err(format!(
+                            "sent no light over {transport} in {} s: its robot program is not running",
+                            ran.as_millis() / 1000
+                        ));
+                    }
+                    return Ok(());
+                }
                 Input::Bytes(None) => {
                     return Err(format!("its {transport} link ended (disconnected)"));
                 }
@@ -749,6 +763,18 @@ impl Bridge {
                                     self.config.params.sectors,
                                 );
                                 let _ = self.leds.show(color).await;
+                            }
+                            LinkMsg::Refused(code) => {
+                                let why = match code {
+                                    1 => "bad protocol parameters",
+                                    2 => "its receivers and the sectors differ",
+                                    3 => "a zero duration",
+                                    4 => "a swarm key without keyed framing",
+                                    _ => "another reason",
+                                };
+                                return Err(format!(
+                                    "refused the run's setup over {transport}: {why} (code {code})"
+                                ));
                             }
                             LinkMsg::Heartbeat(seq) => {
                                 beating = true;

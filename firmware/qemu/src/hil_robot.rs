@@ -11,9 +11,9 @@
 
 use cortex_m_rt::exception;
 use cortex_m_semihosting::hprintln;
+use firmware::Config;
 use firmware::hal::EmbassyClock;
 use firmware::hil::robot::{Link, RNG_STREAM, run};
-use firmware::Config;
 use rand_pcg::Pcg32;
 
 use crate::{exec, semilog, tick, uart};

@@ -626,178 +626,53 @@ impl Bridge {
     ) -> Result<(), Failure> {
         let mut decoder = LinkDecoder::new();
         let to = ends.to_robot.clone();
-        let transport = self.transport.to_string();
-        // 1. Hello.
-        let mut pending = Vec::new();
-        let deadline = t0 + self.timeouts.hello;
-        let hello = loop {
-            let got = tokio::select! {
-                b = ends.from_robot.recv() => b,
-                () = self.clock.sleep_until(deadline) => {
-                    return Err(format!(
-                        "never said hello over {transport} within {} s",
-                        self.timeouts.hello.as_millis() / 1000
-                    ));
-                }
-            };
-            let Some(bytes) = got else {
-                return Err(format!("its {transport} link ended before it said hello"));
-            };
-            let mut found = None;
-            for (i, &b) in bytes.iter().enumerate() {
-                match decoder.push(b) {
-                    Some(Ok(LinkMsg::Hello { id, sectors, .. })) => {
-                        // What follows the hello is the run's.
-                        pending = bytes[i + 1..].to_vec();
-                        found = Some((id, sectors));
-                        break;
-                    }
-                    Some(Err(LinkError::UnknownVersion(v))) => {
-                        return Err(format!(
-                            "speaks link version {v} over {transport}; this host speaks {LINK_VERSION}"
-                        ));
-                    }
-                    _ => {}
-                }
-            }
-            if let Some(h) = found {
-                break h;
-            }
-        };
-        let (id, sectors) = hello;
+        // 1. Hello, checked; what came after it is the run's.
+        let (id, sectors, mut pending) = self
+            .await_hello(&mut ends.from_robot, &mut decoder, t0)
+            .await?;
         report.hello_id = id;
         report.hello_ms = self.clock.now().saturating_since(t0).as_millis();
         if sectors != self.config.params.sectors {
             return Err(format!(
-                "has {sectors} receivers (said hello over {transport}); the arena's robots have {}",
-                self.config.params.sectors
+                "has {sectors} receivers (said hello over {}); the arena's robots have {}",
+                self.transport, self.config.params.sectors
             ));
         }
         // 2. Its sensor's first readings, then the run's setup.
         self.readings(&to, report).await?;
         send(&to, &LinkMsg::Setup(self.setup), report)?;
 
-        // 3. The run.
-        let (heard_tx, mut heard) = unbounded_channel::<(usize, Vec<u8>)>();
-        let mut listeners = Vec::new();
-        for (sector, mut rx) in std::mem::take(&mut self.receivers).into_iter().enumerate() {
-            let tx = heard_tx.clone();
-            listeners.push(tokio::task::spawn_local(async move {
-                let mut buf = [0u8; CHUNK_MAX];
-                while let Ok(n @ 1..) = rx.read(&mut buf).await {
-                    if tx.send((sector, buf[..n].to_vec())).is_err() {
-                        return;
-                    }
-                }
-            }));
-        }
-        let (air_tx, mut air_rx) = unbounded_channel::<Vec<u8>>();
-        if let Some(mut transmitter) = self.transmitter.take() {
-            listeners.push(tokio::task::spawn_local(async move {
-                // One frame on air at a time, as from the robot's own transmitter.
-                while let Some(f) = air_rx.recv().await {
-                    let _ = transmitter.write(&f).await;
-                }
-            }));
-        }
-        let _abort = AbortAll(listeners);
-
-        let mut last_heard = self.clock.now();
-        let mut next_beat = last_heard + firmware::hil::robot::BEAT;
-        let mut next_sample = last_heard + self.config.sample_period;
-        let mut beat: u32 = 0;
-        let mut beating = false;
-        // The heartbeat under way and when it left; the sum of the round trips so far.
-        let mut ping: Option<(u32, tokio::time::Instant)> = None;
-        let mut rtt_sum: u64 = 0;
+        // 3. The run: its light, its messages, readings and heartbeats.
+        let (mut heard, air, _light) = self.start_light();
+        let mut live = Live::new(self.clock.now(), self.config.sample_period);
         loop {
-            let wake = next_beat.min(next_sample);
-            let input = if !pending.is_empty() {
-                Input::Bytes(Some(std::mem::take(&mut pending)))
-            } else {
+            let input = if pending.is_empty() {
                 tokio::select! {
-                b = ends.from_robot.recv() => Input::Bytes(b),
-                Some((s, b)) = heard.recv() => Input::Heard(s, b),
-                () = self.clock.sleep_until(wake) => Input::Tick,
-                _ = &mut stop => Input::Stop,
+                    b = ends.from_robot.recv() => Input::Bytes(b),
+                    Some((s, b)) = heard.recv() => Input::Heard(s, b),
+                    () = self.clock.sleep_until(live.wake()) => Input::Tick,
+                    _ = &mut stop => Input::Stop,
                 }
+            } else {
+                Input::Bytes(Some(std::mem::take(&mut pending)))
             };
             let now = self.clock.now();
             match input {
-                Input::Stop => {
-                    // A robot program that runs initiates a wave every cycle: one that sent no
-                    // light in three cycles' time is not running (a safety net beside
-                    // `Refused`, for images that cannot say so).
-                    let ran = now.saturating_since(t0);
-                    let w = &self.config.params.wave;
-                    let cycles = (w.cycle + w.cycle_spread).saturating_mul(3);
-                    if report.tx == 0 && ran > cycles {
-                        return Err(format!(
-                            "sent no light over {transport} in {} s: its robot program is not running",
-                            ran.as_millis() / 1000
-                        ));
-                    }
-                    return Ok(());
-                }
+                Input::Stop => return self.check_at_end(now.saturating_since(t0), report),
                 Input::Bytes(None) => {
-                    return Err(format!("its {transport} link ended (disconnected)"));
+                    return Err(format!("its {} link ended (disconnected)", self.transport));
                 }
                 Input::Bytes(Some(bytes)) => {
                     report.bytes_received += bytes.len() as u64;
                     for b in bytes {
-                        let Some(r) = decoder.push(b) else { continue };
-                        let Ok(msg) = r else {
-                            report.link_errors += 1;
-                            continue;
-                        };
-                        report.frames_received += 1;
-                        last_heard = now;
-                        match msg {
-                            LinkMsg::Tx(chunk) => {
-                                report.tx += 1;
-                                let _ = air_tx.send(chunk.to_vec());
+                        match decoder.push(b) {
+                            None => {}
+                            Some(Err(_)) => report.link_errors += 1,
+                            Some(Ok(msg)) => {
+                                report.frames_received += 1;
+                                live.last_heard = now;
+                                self.on_message(msg, &mut live, report, &air).await?;
                             }
-                            LinkMsg::Led(code) => {
-                                let color = LedColor::for_decision_of(
-                                    led_decision(code),
-                                    self.config.params.sectors,
-                                );
-                                let _ = self.leds.show(color).await;
-                            }
-                            LinkMsg::Refused(code) => {
-                                let why = match code {
-                                    1 => "bad protocol parameters",
-                                    2 => "its receivers and the sectors differ",
-                                    3 => "a zero duration",
-                                    4 => "a swarm key without keyed framing",
-                                    _ => "another reason",
-                                };
-                                return Err(format!(
-                                    "refused the run's setup over {transport}: {why} (code {code})"
-                                ));
-                            }
-                            LinkMsg::Heartbeat(seq) => {
-                                beating = true;
-                                if let Some((sent_seq, at)) = ping
-                                    && sent_seq == seq
-                                {
-                                    let us =
-                                        u64::try_from(at.elapsed().as_micros()).unwrap_or(u64::MAX);
-                                    rtt_sum += us;
-                                    report.round_trips += 1;
-                                    report.rtt_max_us = report.rtt_max_us.max(us);
-                                    report.rtt_mean_us = rtt_sum / report.round_trips;
-                                    ping = None;
-                                }
-                            }
-                            // Hellos still in flight when it got the setup are fine; a
-                            // Hello after it started beating means it rebooted.
-                            LinkMsg::Hello { .. } if beating => {
-                                return Err(format!(
-                                    "said hello again over {transport}: it rebooted during the run"
-                                ));
-                            }
-                            _ => {}
                         }
                     }
                 }
@@ -813,23 +688,169 @@ impl Bridge {
                 }
                 Input::Tick => {}
             }
-            if now >= next_sample {
+            if now >= live.next_sample {
                 self.readings(&to, report).await?;
-                next_sample = now + self.config.sample_period;
+                live.next_sample = now + self.config.sample_period;
             }
-            if now >= next_beat {
-                send(&to, &LinkMsg::Heartbeat(beat), report)?;
-                ping = Some((beat, tokio::time::Instant::now()));
-                beat = beat.wrapping_add(1);
-                next_beat = now + firmware::hil::robot::BEAT;
+            if now >= live.next_beat {
+                send(&to, &LinkMsg::Heartbeat(live.beat), report)?;
+                live.ping = Some((live.beat, tokio::time::Instant::now()));
+                live.beat = live.beat.wrapping_add(1);
+                live.next_beat = now + firmware::hil::robot::BEAT;
             }
-            if now.saturating_since(last_heard) > self.timeouts.silence {
+            let silent = now.saturating_since(live.last_heard);
+            if silent > self.timeouts.silence {
                 return Err(format!(
-                    "stopped its heartbeat over {transport}: nothing for {} ms",
-                    now.saturating_since(last_heard).as_millis()
+                    "stopped its heartbeat over {}: nothing for {} ms",
+                    self.transport,
+                    silent.as_millis()
                 ));
             }
         }
+    }
+
+    /// Waits for the robot's `Hello` (at most [`HilTimeouts::hello`] from `t0`): its id and
+    /// sectors, and the bytes that came after it in the same read.
+    async fn await_hello(
+        &self,
+        from: &mut UnboundedReceiver<Vec<u8>>,
+        decoder: &mut LinkDecoder,
+        t0: Instant,
+    ) -> Result<(u16, u8, Vec<u8>), Failure> {
+        let deadline = t0 + self.timeouts.hello;
+        loop {
+            let got = tokio::select! {
+                b = from.recv() => b,
+                () = self.clock.sleep_until(deadline) => {
+                    return Err(format!(
+                        "never said hello over {} within {} s",
+                        self.transport,
+                        self.timeouts.hello.as_millis() / 1000
+                    ));
+                }
+            };
+            let Some(bytes) = got else {
+                return Err(format!(
+                    "its {} link ended before it said hello",
+                    self.transport
+                ));
+            };
+            for (i, &b) in bytes.iter().enumerate() {
+                match decoder.push(b) {
+                    Some(Ok(LinkMsg::Hello { id, sectors, .. })) => {
+                        return Ok((id, sectors, bytes[i + 1..].to_vec()));
+                    }
+                    Some(Err(LinkError::UnknownVersion(v))) => {
+                        return Err(format!(
+                            "speaks link version {v} over {}; this host speaks {LINK_VERSION}",
+                            self.transport
+                        ));
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+
+    /// Starts the robot's light: a task per receiver handing what reaches it to the returned
+    /// channel, and one putting the frames sent into the returned one on air, one at a time
+    /// as from the robot's own transmitter. The tasks end when the guard is dropped.
+    fn start_light(&mut self) -> (Heard, UnboundedSender<Vec<u8>>, AbortAll) {
+        let (heard_tx, heard) = unbounded_channel::<(usize, Vec<u8>)>();
+        let mut tasks = Vec::new();
+        for (sector, mut rx) in std::mem::take(&mut self.receivers).into_iter().enumerate() {
+            let tx = heard_tx.clone();
+            tasks.push(tokio::task::spawn_local(async move {
+                let mut buf = [0u8; CHUNK_MAX];
+                while let Ok(n @ 1..) = rx.read(&mut buf).await {
+                    if tx.send((sector, buf[..n].to_vec())).is_err() {
+                        return;
+                    }
+                }
+            }));
+        }
+        let (air, mut air_rx) = unbounded_channel::<Vec<u8>>();
+        if let Some(mut transmitter) = self.transmitter.take() {
+            tasks.push(tokio::task::spawn_local(async move {
+                while let Some(f) = air_rx.recv().await {
+                    let _ = transmitter.write(&f).await;
+                }
+            }));
+        }
+        (heard, air, AbortAll(tasks))
+    }
+
+    /// One message from the robot during the run.
+    async fn on_message(
+        &mut self,
+        msg: LinkMsg,
+        live: &mut Live,
+        report: &mut HilReport,
+        air: &UnboundedSender<Vec<u8>>,
+    ) -> Result<(), Failure> {
+        match msg {
+            LinkMsg::Tx(chunk) => {
+                report.tx += 1;
+                let _ = air.send(chunk.to_vec());
+            }
+            LinkMsg::Led(code) => {
+                let sectors = self.config.params.sectors;
+                let color = LedColor::for_decision_of(led_decision(code), sectors);
+                let _ = self.leds.show(color).await;
+            }
+            LinkMsg::Refused(code) => {
+                let why = match code {
+                    1 => "bad protocol parameters",
+                    2 => "its receivers and the sectors differ",
+                    3 => "a zero duration",
+                    4 => "a swarm key without keyed framing",
+                    _ => "another reason",
+                };
+                return Err(format!(
+                    "refused the run's setup over {}: {why} (code {code})",
+                    self.transport
+                ));
+            }
+            LinkMsg::Heartbeat(seq) => {
+                live.beating = true;
+                if let Some((sent, at)) = live.ping
+                    && sent == seq
+                {
+                    let us = u64::try_from(at.elapsed().as_micros()).unwrap_or(u64::MAX);
+                    live.rtt_sum += us;
+                    report.round_trips += 1;
+                    report.rtt_max_us = report.rtt_max_us.max(us);
+                    report.rtt_mean_us = live.rtt_sum / report.round_trips;
+                    live.ping = None;
+                }
+            }
+            // Hellos still in flight when it got the setup are fine; a Hello after it started
+            // answering heartbeats means it rebooted.
+            LinkMsg::Hello { .. } if live.beating => {
+                return Err(format!(
+                    "said hello again over {}: it rebooted during the run",
+                    self.transport
+                ));
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// At the end of a run that lasted `ran`: a robot program that runs initiates a wave every
+    /// cycle, so one that sent no light in three cycles' time is not running (a safety net
+    /// beside `Refused`, for images that cannot say so).
+    fn check_at_end(&self, ran: Duration, report: &HilReport) -> Result<(), Failure> {
+        let w = &self.config.params.wave;
+        let cycles = (w.cycle + w.cycle_spread).saturating_mul(3);
+        if report.tx == 0 && ran > cycles {
+            return Err(format!(
+                "sent no light over {} in {} s: its robot program is not running",
+                self.transport,
+                ran.as_millis() / 1000
+            ));
+        }
+        Ok(())
     }
 
     /// Sends what its sensor reads now, both quantities (a failed read sends nothing).
@@ -851,6 +872,44 @@ impl Bridge {
             }
         }
         Ok(())
+    }
+}
+
+/// What the robot's receivers heard: `(sector, bytes)`.
+type Heard = UnboundedReceiver<(usize, Vec<u8>)>;
+
+/// The bridge's state during a run.
+struct Live {
+    /// When the robot last sent a good frame.
+    last_heard: Instant,
+    next_beat: Instant,
+    next_sample: Instant,
+    /// The next heartbeat's number.
+    beat: u32,
+    /// True once it answered a heartbeat (a `Hello` after that is a reboot).
+    beating: bool,
+    /// The heartbeat under way and when it left.
+    ping: Option<(u32, tokio::time::Instant)>,
+    /// The sum of the round trips so far, microseconds.
+    rtt_sum: u64,
+}
+
+impl Live {
+    fn new(now: Instant, sample_period: Duration) -> Self {
+        Live {
+            last_heard: now,
+            next_beat: now + firmware::hil::robot::BEAT,
+            next_sample: now + sample_period,
+            beat: 0,
+            beating: false,
+            ping: None,
+            rtt_sum: 0,
+        }
+    }
+
+    /// The next time something is due.
+    fn wake(&self) -> Instant {
+        self.next_beat.min(self.next_sample)
     }
 }
 

@@ -670,9 +670,10 @@ fn print_hil(runs: &[(usize, LabRun)]) {
             e.1.bytes_received += h.bytes_received;
             // The mean over runs, weighted by round trips.
             let trips = e.1.round_trips + h.round_trips;
-            if trips > 0 {
-                e.1.rtt_mean_us =
-                    (e.1.rtt_mean_us * e.1.round_trips + h.rtt_mean_us * h.round_trips) / trips;
+            if let Some(mean) = (e.1.rtt_mean_us * e.1.round_trips + h.rtt_mean_us * h.round_trips)
+                .checked_div(trips)
+            {
+                e.1.rtt_mean_us = mean;
             }
             e.1.round_trips = trips;
             e.1.rtt_max_us = e.1.rtt_max_us.max(h.rtt_max_us);

@@ -198,7 +198,8 @@ pub enum ArenaError {
     /// A robot in the loop cannot be: its place does not exist or is taken twice, or the run
     /// asks what the link cannot carry (kills and restarts of it, a swarm key).
     Hil(String),
-    /// The run was interrupted (Ctrl-C) before its end; robots in the loop were stopped.
+    /// A run in real time was interrupted (Ctrl-C, SIGTERM or SIGHUP) before its end; robots
+    /// in the loop were stopped, QEMU processes killed and reaped.
     Interrupted,
     /// A robot stopped before the end of the run: its task panicked (a bug in the robot
     /// program or the emulator) or it could not boot. The run then has no valid result (its
@@ -316,7 +317,7 @@ pub struct RunReport {
     pub wall: std::time::Duration,
     /// The swarm's moves, with [`ArenaConfig::motion`].
     pub moves: Vec<Move>,
-    /// Each robot in the loop's link ([`ArenaConfig::hil`], in that order).
+    /// Each robot in the loop's link ([`ArenaConfig::hil`]), by place.
     pub hil: Vec<HilReport>,
 }
 

@@ -297,3 +297,52 @@ async fn a_setup_the_robot_program_refuses_is_answered_with_why() {
     assert!(msgs.contains(&LinkMsg::Refused(1)), "{msgs:?}");
     assert!(!msgs.iter().any(|m| matches!(m, LinkMsg::Tx(_))));
 }
+
+#[tokio::test(flavor = "current_thread", start_paused = true)]
+async fn a_running_robot_says_hello_when_asked_and_restarts_at_the_next_setup() {
+    // A board that ran already meets a new host (the next run over a serial port): the host
+    // asks who it is, the robot says hello, and the new setup restarts it.
+    let t = Instant::from_millis;
+    let ask = frame(&LinkMsg::Hello {
+        version: 1,
+        id: 0,
+        sectors: 0,
+    });
+    let script = vec![
+        (
+            t(0),
+            frame(&LinkMsg::Reading {
+                quantity: 0,
+                level: 100,
+            }),
+        ),
+        (t(0), frame(&LinkMsg::Setup(setup(1)))),
+        (t(0), frame(&LinkMsg::Heartbeat(0))),
+        (t(4_000), ask),
+        (t(4_100), frame(&LinkMsg::Setup(setup(6)))),
+        (t(4_100), frame(&LinkMsg::Heartbeat(0))),
+    ];
+    let (msgs, stats) = session(script, t(8_000)).await;
+    assert_eq!(stats.setups, 2);
+    // One hello at boot, one when asked; each heartbeat answered.
+    let hellos = msgs
+        .iter()
+        .filter(|m| matches!(m, LinkMsg::Hello { .. }))
+        .count();
+    assert_eq!(hellos, 2, "{msgs:?}");
+    let beats = msgs
+        .iter()
+        .filter(|m| matches!(m, LinkMsg::Heartbeat(0)))
+        .count();
+    assert_eq!(beats, 2, "{msgs:?}");
+    let mut light = firmware::protocol::Deframer::new();
+    let last = msgs
+        .iter()
+        .filter_map(|m| match m {
+            LinkMsg::Tx(b) => light.frames(b).next().and_then(Result::ok),
+            _ => None,
+        })
+        .last()
+        .map(|m| m.hops()[0].tag);
+    assert_eq!(last, Some(Tag::from_id(6)));
+}

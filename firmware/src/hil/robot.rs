@@ -78,7 +78,8 @@ pub struct Link<W, const N: usize> {
     oxygen: Cell<Option<Level>>,
     setup: Signal<NoopRawMutex, Setup>,
     set_up: Cell<bool>,
-    echo: Signal<NoopRawMutex, u32>,
+    /// What the beat owes the host: the answer to a heartbeat, or a hello it asked for.
+    echo: Signal<NoopRawMutex, Answer>,
     stats: Cell<HilStats>,
 }
 
@@ -194,8 +195,10 @@ impl<W: Write, const N: usize> Link<W, N> {
                 self.setup.signal(setup);
             }
             // Answered by the beat, at once.
-            LinkMsg::Heartbeat(seq) => self.echo.signal(seq),
-            LinkMsg::Hello { .. } | LinkMsg::Tx(_) | LinkMsg::Led(_) | LinkMsg::Refused(_) => {
+            LinkMsg::Heartbeat(seq) => self.echo.signal(Answer::Beat(seq)),
+            // The host asks who this is (it connected to a robot that may be running already).
+            LinkMsg::Hello { .. } => self.echo.signal(Answer::Hello),
+            LinkMsg::Tx(_) | LinkMsg::Led(_) | LinkMsg::Refused(_) => {
                 self.count(|s| s.unexpected = s.unexpected.wrapping_add(1));
             }
         }
@@ -203,23 +206,43 @@ impl<W: Write, const N: usize> Link<W, N> {
 
     /// Says `Hello` every [`BEAT`] until the first `Setup`; from then on answers each of the
     /// host's heartbeats at once with its number (the host measures the link's round trip,
-    /// and a robot that stops answering is one that stopped), for ever.
+    /// and a robot that stops answering is one that stopped), and each `Hello` of the host's
+    /// with its own, for ever.
     pub async fn beat<C: Clock>(&self, clock: &C, id: u16) -> Infallible {
+        let hello = LinkMsg::Hello {
+            version: LINK_VERSION,
+            id,
+            sectors: N as u8,
+        };
         let mut next = clock.now();
+        // A heartbeat that came while it waited for its setup, answered once set up.
+        let mut owed = None;
         loop {
             // A failed write is counted; the next beat tries again.
             if self.set_up.get() {
-                let seq = self.echo.wait().await;
-                let _ = self.send(&LinkMsg::Heartbeat(seq)).await;
-            } else {
-                let hello = LinkMsg::Hello {
-                    version: LINK_VERSION,
-                    id,
-                    sectors: N as u8,
+                let answer = match owed.take() {
+                    Some(a) => a,
+                    None => self.echo.wait().await,
                 };
-                let _ = self.send(&hello).await;
-                next += BEAT;
-                clock.sleep_until(next).await;
+                let answer = match answer {
+                    Answer::Beat(seq) => LinkMsg::Heartbeat(seq),
+                    Answer::Hello => hello.clone(),
+                };
+                let _ = self.send(&answer).await;
+            } else {
+                match select(clock.sleep_until(next), self.echo.wait()).await {
+                    // Unless the setup came meanwhile.
+                    Either::First(()) if !self.set_up.get() => {
+                        let _ = self.send(&hello).await;
+                        next += BEAT;
+                    }
+                    Either::First(()) => {}
+                    Either::Second(Answer::Hello) => {
+                        let _ = self.send(&hello).await;
+                    }
+                    // The setup's first heartbeat, which woke it: answered at once.
+                    Either::Second(beat) => owed = Some(beat),
+                }
             }
         }
     }
@@ -244,6 +267,15 @@ impl<W: Write, const N: usize> Link<W, N> {
             clock,
         }
     }
+}
+
+/// What the beat owes the host.
+#[derive(Clone, Copy, Debug)]
+enum Answer {
+    /// The answer to heartbeat `seq`.
+    Beat(u32),
+    /// A `Hello`, asked for.
+    Hello,
 }
 
 /// `base` with what `setup` sets: id, timing, decision rule, sample period.

@@ -222,6 +222,9 @@ pub struct HilReport {
     pub rtt_mean_us: u64,
     /// The longest round trip, microseconds.
     pub rtt_max_us: u64,
+    /// Light frames and LED changes it sent before it answered the first heartbeat after its
+    /// setup (a board that ran already, finishing its last run), ignored.
+    pub stale: u64,
 }
 
 /// The two directions of one link, as channels of byte chunks, and whatever keeps the other
@@ -236,6 +239,8 @@ pub struct LinkEnds {
     tasks: Vec<JoinHandle<()>>,
     stop: Arc<AtomicBool>,
     log: Log,
+    /// A serial port's reader and writer threads.
+    threads: Vec<std::thread::JoinHandle<()>>,
 }
 
 impl LinkEnds {
@@ -247,6 +252,7 @@ impl LinkEnds {
             tasks: Vec::new(),
             stop: Arc::new(AtomicBool::new(false)),
             log: Log::default(),
+            threads: Vec::new(),
         }
     }
 
@@ -270,6 +276,22 @@ impl LinkEnds {
         if let Some(mut c) = self.child.take() {
             let _ = c.start_kill();
             let _ = c.wait().await;
+        }
+        // A serial port's threads end within their 50 ms read timeout once the channel to the
+        // robot is closed; wait for them, so that the port is free for the next run (it is
+        // opened exclusively).
+        let (closed, _) = unbounded_channel();
+        drop(std::mem::replace(&mut self.to_robot, closed));
+        let threads = std::mem::take(&mut self.threads);
+        // Only serial ports have threads (waiting on the blocking pool would let a paused
+        // clock jump, and in-process robots run on one).
+        if !threads.is_empty() {
+            let _ = tokio::task::spawn_blocking(move || {
+                for t in threads {
+                    let _ = t.join();
+                }
+            })
+            .await;
         }
     }
 }
@@ -371,11 +393,21 @@ pub async fn open(
                 .push(tokio::task::spawn_local(pump_out(w, from_host)));
         }
         Transport::Serial(path, baud) => {
-            serial(path, *baud, to_host, from_host, ends.stop.clone())?;
+            ends.threads = serial(path, *baud, to_host, from_host, ends.stop.clone())?;
         }
     }
-    // Either end sends a 0x00 first, so that the other starts with an empty buffer.
+    // Either end sends a 0x00 first, so that the other starts with an empty buffer; then the
+    // host asks who the robot is (a board that runs already says hello only when asked).
     let _ = ends.to_robot.send(vec![0]);
+    let mut buf = [0u8; LINK_FRAME_MAX];
+    let ask = LinkMsg::Hello {
+        version: LINK_VERSION,
+        id: 0,
+        sectors: 0,
+    };
+    if let Ok(f) = firmware::hil::encode(&ask, &mut buf) {
+        let _ = ends.to_robot.send(f.to_vec());
+    }
     Ok(ends)
 }
 
@@ -462,7 +494,7 @@ fn serial(
     to_host: UnboundedSender<Vec<u8>>,
     mut from_host: UnboundedReceiver<Vec<u8>>,
     stop: Arc<AtomicBool>,
-) -> Result<(), String> {
+) -> Result<Vec<std::thread::JoinHandle<()>>, String> {
     let name = path.to_string_lossy().into_owned();
     let mut port = serialport::new(&name, baud)
         .timeout(std::time::Duration::from_millis(50))
@@ -472,7 +504,7 @@ fn serial(
         .try_clone()
         .map_err(|e| format!("serial:{name}: {e}"))?;
     let stop_r = stop.clone();
-    std::thread::spawn(move || {
+    let reader = std::thread::spawn(move || {
         let mut buf = [0u8; 256];
         while !stop_r.load(Ordering::Relaxed) {
             match port.read(&mut buf) {
@@ -487,14 +519,14 @@ fn serial(
             }
         }
     });
-    std::thread::spawn(move || {
+    let writer = std::thread::spawn(move || {
         while let Some(b) = from_host.blocking_recv() {
             if stop.load(Ordering::Relaxed) || writer.write_all(&b).is_err() {
                 return;
             }
         }
     });
-    Ok(())
+    Ok(vec![reader, writer])
 }
 
 /// The robot program in this process, over the link (`firmware::hil::robot::run`), with as
@@ -638,13 +670,16 @@ impl Bridge {
                 self.transport, self.config.params.sectors
             ));
         }
-        // 2. Its sensor's first readings, then the run's setup.
+        // 2. Its sensor's first readings, then the run's setup, and at once a heartbeat: its
+        // answer says the robot runs the setup (what it sent before is stale: a board that ran
+        // already may still be sending the last run's light and LEDs).
         self.readings(&to, report).await?;
         send(&to, &LinkMsg::Setup(self.setup), report)?;
 
         // 3. The run: its light, its messages, readings and heartbeats.
         let (mut heard, air, _light) = self.start_light();
         let mut live = Live::new(self.clock.now(), self.config.sample_period);
+        live.next_beat = self.clock.now();
         loop {
             let input = if pending.is_empty() {
                 tokio::select! {
@@ -789,6 +824,8 @@ impl Bridge {
         air: &UnboundedSender<Vec<u8>>,
     ) -> Result<(), Failure> {
         match msg {
+            // From before its setup: the last run's.
+            LinkMsg::Tx(_) | LinkMsg::Led(_) if !live.beating => report.stale += 1,
             LinkMsg::Tx(chunk) => {
                 report.tx += 1;
                 let _ = air.send(chunk.to_vec());

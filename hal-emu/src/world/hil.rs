@@ -256,6 +256,21 @@ impl LinkEnds {
         }
     }
 
+    /// Carries the link over socket `s`: its bytes into `to_host`, `from_host` into it.
+    fn attach(
+        &mut self,
+        s: tokio::net::TcpStream,
+        to_host: UnboundedSender<Vec<u8>>,
+        from_host: UnboundedReceiver<Vec<u8>>,
+    ) {
+        let _ = s.set_nodelay(true);
+        let (r, w) = s.into_split();
+        self.tasks
+            .push(tokio::task::spawn_local(pump_in(r, to_host)));
+        self.tasks
+            .push(tokio::task::spawn_local(pump_out(w, from_host)));
+    }
+
     /// `; its output ends: ...` with the last lines its process printed, or nothing.
     pub fn last_words(&self) -> String {
         let l = self.log.borrow();
@@ -333,12 +348,7 @@ pub async fn open(
             .await
             .map_err(|_| format!("tcp:{addr}: no connection within 10 s"))?
             .map_err(|e| format!("tcp:{addr}: {e}"))?;
-            let _ = s.set_nodelay(true);
-            let (r, w) = s.into_split();
-            ends.tasks
-                .push(tokio::task::spawn_local(pump_in(r, to_host)));
-            ends.tasks
-                .push(tokio::task::spawn_local(pump_out(w, from_host)));
+            ends.attach(s, to_host, from_host);
         }
         Transport::Qemu(image) => {
             if !image.is_file() {
@@ -385,12 +395,7 @@ pub async fn open(
                     ));
                 }
             };
-            let _ = s.set_nodelay(true);
-            let (r, w) = s.into_split();
-            ends.tasks
-                .push(tokio::task::spawn_local(pump_in(r, to_host)));
-            ends.tasks
-                .push(tokio::task::spawn_local(pump_out(w, from_host)));
+            ends.attach(s, to_host, from_host);
         }
         Transport::Serial(path, baud) => {
             ends.threads = serial(path, *baud, to_host, from_host, ends.stop.clone())?;

@@ -453,6 +453,14 @@ pub trait Observer {
     /// `event` happened at `now`.
     fn event(&mut self, now: Instant, event: &Event);
 
+    /// `event` happened at `now` in `node`, whose state (reading, diversity per sector) an
+    /// observer may read: a trace records the scores behind a decision. The default passes
+    /// the event to [`event`](Self::event).
+    fn event_at(&mut self, now: Instant, event: &Event, node: &FusedNode) {
+        let _ = node;
+        self.event(now, event);
+    }
+
     /// The main loop finished one round at `now`: it sampled the sensor if due, ran the
     /// protocol's timers, sent what was queued and updated the LEDs, each step bounded by
     /// [`Config::io_timeout`]. It comes round at least every [`Config::sample_period`] plus
@@ -613,7 +621,7 @@ impl<G: RngCore, O: Observer> Main<'_, G, O> {
             }
         }
         while let Some(event) = self.node.poll_event() {
-            self.observer.event(clock.now(), &event);
+            self.observer.event_at(clock.now(), &event, self.node);
             let Event::Decided {
                 period,
                 decision,

@@ -31,6 +31,7 @@ pub mod report;
 pub mod seeds;
 pub mod stats;
 pub mod swarm;
+pub mod viewer;
 
 // The module paths from before the folders (`host_sim::campaign`, `host_sim::scenario`, ...).
 pub use arena::{campaign, plane, stress};

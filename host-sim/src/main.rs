@@ -4,6 +4,8 @@
 //!   [`host_sim::arena::line`].
 //! - `cimax swarm run|sweep|field|reproduce|bench` are the paper's 2D simulations (section 3),
 //!   over the [`host_sim`] library, see [`cli::swarm`].
+//! - `cimax view TRACE -o PAGE.html` makes the replay viewer's page of a saved trace
+//!   ([`host_sim::viewer`]).
 //!
 //! This file only parses the command line and dispatches: `cimax swarm` runs in `cli/swarm.rs`,
 //! `cimax arena` in the library's `arena` module.
@@ -46,6 +48,30 @@ enum Command {
         #[command(subcommand)]
         command: SwarmCommand,
     },
+    /// The replay viewer's page of a saved `cimax arena --trace` (docs/viewer.md): one HTML
+    /// file that opens offline.
+    View {
+        /// The trace (JSON lines, as `cimax arena --trace` writes them).
+        trace: std::path::PathBuf,
+        /// The page to write.
+        #[arg(short, long, value_name = "FILE.html")]
+        output: std::path::PathBuf,
+    },
+}
+
+/// `cimax view`: the page of a saved trace.
+fn view(trace: &std::path::Path, output: &std::path::Path) -> ExitCode {
+    let made = std::fs::read_to_string(trace)
+        .map_err(|e| format!("{}: {e}", trace.display()))
+        .and_then(|text| host_sim::viewer::read_trace(&text, &trace.display().to_string()))
+        .and_then(|(header, events)| host_sim::viewer::write_page(output, header, &events));
+    match made {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("cimax view: {e}");
+            ExitCode::from(2)
+        }
+    }
 }
 
 fn report_error(e: &(dyn std::error::Error + Send + Sync)) -> ExitCode {
@@ -66,6 +92,7 @@ fn main() -> ExitCode {
     let res = match cli.command {
         Command::Arena(args) => return arena::main(&args),
         Command::Swarm { command } => cli::swarm::run(command),
+        Command::View { trace, output } => return view(&trace, &output),
     };
     match res {
         Ok(()) => ExitCode::SUCCESS,

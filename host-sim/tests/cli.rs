@@ -115,6 +115,7 @@ fn arena_json_trace_and_svg() {
     std::fs::create_dir_all(&dir).unwrap();
     let trace = dir.join("t.jsonl");
     let svg = dir.join("t.svg");
+    let html = dir.join("t.html");
     let out = cimax(&[
         "arena",
         "--lights",
@@ -128,6 +129,8 @@ fn arena_json_trace_and_svg() {
         trace.to_str().unwrap(),
         "--svg",
         svg.to_str().unwrap(),
+        "--html",
+        html.to_str().unwrap(),
     ]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}");
@@ -138,12 +141,37 @@ fn arena_json_trace_and_svg() {
     assert_eq!(v["runs"][1]["seed"], 2);
     let lines = std::fs::read_to_string(&trace).unwrap();
     assert!(lines.lines().count() > 100);
-    for l in lines.lines() {
+    // The first line is the run's set-up (the viewer's header), then one event per line.
+    let header: serde_json::Value =
+        serde_json::from_str(lines.lines().next().unwrap()).unwrap();
+    assert_eq!(header["header"]["lights"][0]["expected"], "RRLL");
+    assert_eq!(header["header"]["verdict"]["leds"], "RRLL");
+    for l in lines.lines().skip(1) {
         let e: serde_json::Value = serde_json::from_str(l).unwrap();
         assert!(e["event"].is_string() && e["t_ms"].is_u64(), "{l}");
     }
     assert!(lines.contains(r#""reason":"loss""#));
+    assert!(lines.contains(r#""event":"decided""#));
     assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+    // The page, and the same page again from the saved trace.
+    let page = std::fs::read_to_string(&html).unwrap();
+    assert!(page.starts_with("<!DOCTYPE html>") && page.contains("window.cimax"));
+    assert!(!page.contains("http://") && !page.contains("https://"), "no network");
+    let again = dir.join("again.html");
+    let out = cimax(&[
+        "view",
+        trace.to_str().unwrap(),
+        "-o",
+        again.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(std::fs::read_to_string(&again).unwrap(), page);
+    // A file that is no trace is named, and nothing is written.
+    let bad = dir.join("bad.html");
+    let out = cimax(&["view", svg.to_str().unwrap(), "-o", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("t.svg:1: not a trace header"));
+    assert!(!bad.exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -70,7 +70,8 @@ impl LedLog {
                         .get(usize::from(i))
                         .copied()
                         .unwrap_or("sector ?"),
-                },
+                }
+                .into(),
             });
         }
     }

@@ -16,7 +16,7 @@ use firmware::{Clock, Config, Hardware, LedColor, Observer, Robot, SetupError, S
 use nalgebra::{Point2, Vector2};
 use protocol::fused::NodeStats;
 use protocol::wave::WaveStats;
-use protocol::{Duration, Event, Instant, Sector, WaveState};
+use protocol::{Duration, Event, FusedNode, Instant, Sector, WaveState};
 use rand_pcg::Pcg32;
 use tokio::sync::oneshot;
 
@@ -379,6 +379,32 @@ struct Tracer {
 }
 
 impl Observer for Tracer {
+    fn event_at(&mut self, now: Instant, event: &Event, node: &FusedNode) {
+        if let Event::Decided {
+            period,
+            decision,
+            votes,
+            ..
+        } = event
+        {
+            let k = node.params().sectors;
+            let e = TraceEvent::Decided {
+                t_ms: now.as_millis(),
+                robot: self.robot,
+                period: *period,
+                decision: decision.map(Sector::index),
+                votes: votes.iter().take(usize::from(k)).copied().collect(),
+                scores: (0..k)
+                    .map(|s| Sector::new(s).and_then(|s| node.weight(s)))
+                    .collect(),
+                reading: node.reading().0,
+            };
+            self.shared.medium.borrow_mut().log(e);
+            return;
+        }
+        self.event(now, event);
+    }
+
     fn event(&mut self, now: Instant, event: &Event) {
         let t_ms = now.as_millis();
         let robot = self.robot;
@@ -390,7 +416,8 @@ impl Observer for Tracer {
                     WaveState::Inactive => "inactive",
                     WaveState::Active => "active",
                     WaveState::Refractory => "refractory",
-                },
+                }
+                .into(),
             },
             Event::Preference(p) => TraceEvent::Preference {
                 t_ms,
@@ -639,10 +666,18 @@ async fn mover(shared: Rc<Shared>, motion: Motion, moves: Rc<RefCell<Vec<Move>>>
         let leds = shared.leds.now(n);
         let (heading, consensus) = swarm_heading(&leds, sectors);
         let offset = shared.offset.get();
+        let centre = plane.centre(offset);
         moves.borrow_mut().push(Move {
             t,
-            centre: plane.centre(offset),
+            centre,
             heading,
+            consensus,
+        });
+        shared.medium.borrow_mut().log(TraceEvent::Moved {
+            t_ms: t.as_millis(),
+            centre: [centre.x, centre.y],
+            heading,
+            step: if heading.is_some() { motion.step } else { 0.0 },
             consensus,
         });
         if let Some(h) = heading {

@@ -28,6 +28,7 @@
 //! This is the world's side of the light. A robot's side, its transmitter and receivers, is
 //! the board's ([`crate::board::light`]); [`Medium::attach`] hands them out.
 
+use std::borrow::Cow;
 use std::cell::RefCell;
 use std::rc::Rc;
 
@@ -36,7 +37,7 @@ use nalgebra::Point2;
 use protocol::{Duration, Instant, Sector};
 use rand::Rng;
 use rand_pcg::Pcg32;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
 use crate::board::light::{EmuReceiver, EmuTransmitter};
@@ -112,7 +113,7 @@ impl MediumParams {
 }
 
 /// Why a frame did not reach a receiver.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum DropReason {
     /// Lost on the way (the `loss` probability).
@@ -123,8 +124,9 @@ pub enum DropReason {
     ReceiverDead,
 }
 
-/// One line of the trace.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// One line of the trace (`cimax arena --trace` writes them as JSON lines, `cimax view` reads
+/// them back).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "event", rename_all = "snake_case")]
 pub enum TraceEvent {
     /// A robot started sending a frame.
@@ -171,7 +173,7 @@ pub enum TraceEvent {
         /// Robot.
         robot: usize,
         /// `green` (left), `blue` (right), `off`, or `sector N` (robots with more than two sectors).
-        color: &'static str,
+        color: Cow<'static, str>,
     },
     /// A robot's wave state changed (from the robot program's protocol events).
     State {
@@ -180,7 +182,7 @@ pub enum TraceEvent {
         /// Robot.
         robot: usize,
         /// `inactive`, `active` or `refractory`.
-        state: &'static str,
+        state: Cow<'static, str>,
     },
     /// A robot's preferred direction changed.
     Preference {
@@ -190,6 +192,37 @@ pub enum TraceEvent {
         robot: usize,
         /// `left`, `right`, `none` or `sector N`.
         preference: String,
+    },
+    /// A robot decided (the robot program's `Event::Decided`): what its LEDs show next, and
+    /// what it was based on.
+    Decided {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// Robot.
+        robot: usize,
+        /// The negotiation period, counted from 1.
+        period: u32,
+        /// The sector decided, if any (with two: 0 right, 1 left).
+        decision: Option<u8>,
+        /// Votes counted per sector (K entries).
+        votes: Vec<u16>,
+        /// The average diversity heard per sector (K entries; `None`: nothing heard).
+        scores: Vec<Option<f32>>,
+        /// The robot's last sensor reading.
+        reading: u8,
+    },
+    /// The swarm moved (robots on a plane): by `step` R along `heading` from `centre`.
+    Moved {
+        /// Emulated time, ms.
+        t_ms: u64,
+        /// The centre of mass before the move, in R.
+        centre: [f64; 2],
+        /// The heading (radians), if any robot had decided.
+        heading: Option<f64>,
+        /// The length of the move, in R (0 without a heading).
+        step: f64,
+        /// Fraction of all robots whose LEDs show the sector nearest the heading.
+        consensus: f64,
     },
     /// A robot was killed.
     Killed {

@@ -5,7 +5,6 @@
 //! errors, and light patterns on their sensors. A run is judged by the LEDs, as a person
 //! watching the robots would.
 
-use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -138,6 +137,10 @@ pub struct ArenaArgs {
     /// Draw a timeline per robot of frames and LED colour as SVG (the first run only).
     #[arg(long)]
     pub svg: Option<PathBuf>,
+    /// Write the first run as one self-contained HTML page that replays it: waves, frames,
+    /// LEDs, moves, consensus (docs/viewer.md). A failing run opens where it went wrong.
+    #[arg(long, value_name = "FILE")]
+    pub html: Option<PathBuf>,
     /// Swarm key, 32 hex digits (128 bits): every robot authenticates its frames and drops
     /// those without a valid MAC (docs/protocol.md, "Authenticated frames").
     #[arg(long, value_name = "HEX")]
@@ -902,30 +905,63 @@ fn print_table(
     }
 }
 
-/// `--trace` and `--svg` for the first run (run again with tracing on).
+/// `--trace`, `--html` and `--svg` for the first run (run again with tracing on).
 fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
-    if args.trace.is_none() && args.svg.is_none() {
+    if args.trace.is_none() && args.svg.is_none() && args.html.is_none() {
         return Ok(());
     }
     let mut cfg = cfg.clone();
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
-    if let Some(path) = &args.trace {
-        let mut out = std::io::BufWriter::new(
-            std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?,
-        );
-        for e in &run.report.trace {
-            let line = serde_json::to_string(e).map_err(|e| e.to_string())?;
-            writeln!(out, "{line}").map_err(|e| format!("{}: {e}", path.display()))?;
+    if args.trace.is_some() || args.html.is_some() {
+        let header = lab_header(&cfg, &run, args);
+        if let Some(path) = &args.trace {
+            crate::viewer::write_trace(path, header.clone(), &run.report.trace)?;
         }
-        out.flush()
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        if let Some(path) = &args.html {
+            crate::viewer::write_page(path, header, &run.report.trace)?;
+        }
     }
     if let Some(path) = &args.svg {
         std::fs::write(path, timeline_svg(&cfg, &run))
             .map_err(|e| format!("{}: {e}", path.display()))?;
     }
     Ok(())
+}
+
+/// The viewer's header of a lab run: the set-up, a title and the verdict.
+fn lab_header(cfg: &ArenaConfig, run: &LabRun, args: &ArenaArgs) -> crate::viewer::Header {
+    let mut h = crate::viewer::header_of(cfg, &run.report.trace);
+    h.title = format!(
+        "cimax arena: {} robots, lights {}, seed {}, {:?} rule",
+        cfg.positions.len(),
+        replay_lights(cfg).trim_start_matches("--lights "),
+        cfg.seed,
+        args.decide
+    );
+    let leds = leds_str(&run.leds);
+    let expected = run.expected.as_deref().map(leds_str);
+    let text = match (&expected, run.success) {
+        (None, _) => format!("no verdict for this pattern; LEDs at the end {leds}"),
+        (Some(x), true) => format!(
+            "passed: LEDs {leds} as expected ({x}){}",
+            run.consensus_s
+                .map_or(String::new(), |s| format!(", settled after {s:.0} s"))
+        ),
+        (Some(x), false) => match run.flicker {
+            Some((t, r)) => format!(
+                "FAILED: robot {r} changed its LEDs at {t:.0} s after the swarm agreed; at the end {leds}, expected {x}"
+            ),
+            None => format!("FAILED: LEDs at the end {leds}, expected {x}"),
+        },
+    };
+    h.verdict = Some(crate::viewer::Verdict {
+        success: run.success,
+        leds,
+        expected,
+        text,
+    });
+    h
 }
 
 /// A timeline per robot: LED colour as a band, frames sent as ticks above it, frames received
@@ -1112,7 +1148,29 @@ fn plane_main(args: &ArenaArgs) -> ExitCode {
             return ExitCode::from(2);
         }
     };
+    if let Err(e) = plane_artifacts(args, &spec) {
+        eprintln!("cimax arena: {e}");
+        return ExitCode::from(2);
+    }
     crate::arena::plane::print_runs(&spec, &runs, wall.elapsed().as_secs_f64(), args.json)
+}
+
+/// `--trace` and `--html` of a plane's first run (run again with tracing on; `--svg` draws
+/// lines only).
+fn plane_artifacts(args: &ArenaArgs, spec: &PlaneSpec) -> Result<(), String> {
+    if args.trace.is_none() && args.html.is_none() {
+        return Ok(());
+    }
+    let (run, cfg, trace) =
+        crate::arena::plane::run_traced(spec, args.seed, true).map_err(|e| e.to_string())?;
+    let header = crate::arena::plane::viewer_header(spec, &cfg, &run, &trace);
+    if let Some(path) = &args.trace {
+        crate::viewer::write_trace(path, header.clone(), &trace)?;
+    }
+    if let Some(path) = &args.html {
+        crate::viewer::write_page(path, header, &trace)?;
+    }
+    Ok(())
 }
 
 /// The plane experiment the options describe.
@@ -1129,9 +1187,12 @@ fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
         || args.then.is_some()
         || !args.kill.is_empty()
         || !args.restart.is_empty()
+        || args.svg.is_some()
     {
         return Err(
-            "--field runs over a field: --lights, --then, --kill and --restart do not apply".into(),
+            "--field runs over a field: --lights, --then, --kill, --restart and --svg (a line's \
+             timeline; see --html) do not apply"
+                .into(),
         );
     }
     // The timing options as on a line (`--cycle` scales what the others leave out).

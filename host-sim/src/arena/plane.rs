@@ -124,6 +124,9 @@ pub struct PlaneRun {
     pub consensus: Vec<f64>,
     /// The centre of mass at the end, in R.
     pub final_position: [f64; 2],
+    /// The LEDs at the end: `R` (sector 0, +x) and `L` with two sectors, else the sector's
+    /// digit; `-` off.
+    pub leds: String,
     /// Emulated seconds.
     pub emulated_s: f64,
     /// Wall seconds.
@@ -301,22 +304,93 @@ fn judge(moves: &[Move], step: f64, success: &Success) -> (Option<u32>, Point2<f
 /// # Errors
 /// A [`PlaneError`] if it cannot be set up.
 pub fn run(spec: &PlaneSpec, seed: u64) -> Result<PlaneRun, PlaneError> {
-    let cfg = config(spec, seed)?;
-    let report = hal_emu::run(&cfg).map_err(|e| PlaneError::Arena(e.to_string()))?;
+    Ok(run_traced(spec, seed, false)?.0)
+}
+
+/// Runs one experiment with `seed`, with its configuration and, if `trace`, its trace.
+///
+/// # Errors
+/// A [`PlaneError`] if it cannot be set up.
+pub fn run_traced(
+    spec: &PlaneSpec,
+    seed: u64,
+    trace: bool,
+) -> Result<(PlaneRun, ArenaConfig, Vec<hal_emu::TraceEvent>), PlaneError> {
+    let mut cfg = config(spec, seed)?;
+    cfg.trace = trace;
+    let mut report = hal_emu::run(&cfg).map_err(|e| PlaneError::Arena(e.to_string()))?;
+    let events = std::mem::take(&mut report.trace);
     // A field without a criterion (the cloud) is reported, never a success.
     let never = Success::BeyondX { x: f64::INFINITY };
     let success = spec.scenario.success.unwrap_or(never);
     let (first, end) = judge(&report.moves, spec.scenario.run.step, &success);
-    Ok(PlaneRun {
+    let leds = hal_emu::lab::leds_str(&report.leds_at(protocol::Instant::MAX));
+    let run = PlaneRun {
         seed,
         success: first.is_some(),
         moves_to_success: first,
         consensus: report.moves.iter().map(|m| m.consensus).collect(),
         final_position: [end.x, end.y],
+        leds,
         emulated_s: report.emulated.as_secs_f64(),
         wall_s: report.wall.as_secs_f64(),
         hil: report.hil,
-    })
+    };
+    Ok((run, cfg, events))
+}
+
+/// The viewer's header of a plane run: the set-up, the goal and the verdict.
+pub fn viewer_header(
+    spec: &PlaneSpec,
+    cfg: &ArenaConfig,
+    run: &PlaneRun,
+    trace: &[hal_emu::TraceEvent],
+) -> crate::viewer::Header {
+    let mut h = crate::viewer::header_of(cfg, trace);
+    h.title = format!(
+        "cimax arena: {} robots ({:?}, K = {}) on field {} from x = {}, {} moves, seed {}",
+        spec.robots,
+        spec.placement,
+        spec.sectors,
+        spec.scenario.name,
+        spec.x_init,
+        spec.moves,
+        run.seed
+    );
+    if let Some(f) = h.field.as_mut() {
+        f.label = format!("field {} (X)", spec.scenario.name);
+    }
+    h.goal = spec.scenario.success.map(|s| match s {
+        Success::NearX { x, within } => crate::viewer::Goal {
+            x,
+            within: Some(within),
+            text: s.to_string(),
+        },
+        Success::BeyondX { x } => crate::viewer::Goal {
+            x,
+            within: None,
+            text: s.to_string(),
+        },
+    });
+    let [x, y] = run.final_position;
+    let text = match (run.moves_to_success, &h.goal) {
+        (Some(m), Some(g)) => format!(
+            "passed: {} after {m} moves; at the end ({x:.2}, {y:.2})",
+            g.text
+        ),
+        (None, Some(g)) => format!(
+            "FAILED: not {} within {} moves; at the end ({x:.2}, {y:.2})",
+            g.text, spec.moves
+        ),
+        (_, None) => format!("no criterion for this field; at the end ({x:.2}, {y:.2})"),
+    };
+    h.verdict = Some(crate::viewer::Verdict {
+        success: run.success,
+        leds: run.leds.clone(),
+        expected: None,
+        text,
+    });
+    h
 }
 
 #[cfg(test)]

@@ -142,8 +142,7 @@ fn arena_json_trace_and_svg() {
     let lines = std::fs::read_to_string(&trace).unwrap();
     assert!(lines.lines().count() > 100);
     // The first line is the run's set-up (the viewer's header), then one event per line.
-    let header: serde_json::Value =
-        serde_json::from_str(lines.lines().next().unwrap()).unwrap();
+    let header: serde_json::Value = serde_json::from_str(lines.lines().next().unwrap()).unwrap();
     assert_eq!(header["header"]["lights"][0]["expected"], "RRLL");
     assert_eq!(header["header"]["verdict"]["leds"], "RRLL");
     for l in lines.lines().skip(1) {
@@ -156,7 +155,10 @@ fn arena_json_trace_and_svg() {
     // The page, and the same page again from the saved trace.
     let page = std::fs::read_to_string(&html).unwrap();
     assert!(page.starts_with("<!DOCTYPE html>") && page.contains("window.cimax"));
-    assert!(!page.contains("http://") && !page.contains("https://"), "no network");
+    assert!(
+        !page.contains("http://") && !page.contains("https://"),
+        "no network"
+    );
     let again = dir.join("again.html");
     let out = cimax(&[
         "view",
@@ -164,7 +166,11 @@ fn arena_json_trace_and_svg() {
         "-o",
         again.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(std::fs::read_to_string(&again).unwrap(), page);
     // A file that is no trace is named, and nothing is written.
     let bad = dir.join("bad.html");

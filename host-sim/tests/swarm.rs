@@ -230,3 +230,29 @@ fn a_second_quantity_alone_leads_the_swarm_to_its_border() {
     let e = rate(&entropy);
     assert!(e >= 0.8, "{e}");
 }
+
+#[test]
+fn recording_a_run_for_the_viewer_changes_nothing_in_it() {
+    let scn = scenario("sharp");
+    let start = Point2::new(-2.5, 0.0);
+    let plain = experiment::run(&scn, scn.run, start, 6, 3, false).expect("run");
+    let (traced, trace) = experiment::run_traced(&scn, scn.run, start, 6, 3).expect("run");
+    assert_eq!(plain.periods, traced.periods);
+    assert_eq!(plain.success_at, traced.success_at);
+    // One move per period, decisions with the scores they were based on, frames on air.
+    let moves = trace
+        .iter()
+        .filter(|e| matches!(e, hal_emu::TraceEvent::Moved { .. }))
+        .count();
+    assert_eq!(moves, 6);
+    assert!(trace.iter().any(|e| matches!(
+        e,
+        hal_emu::TraceEvent::Decided { scores, .. } if scores.iter().any(Option::is_some)
+    )));
+    let replay = host_sim::viewer::swarm::replay(&scn, &traced, 3, &trace);
+    assert_eq!(replay.moves.len(), 6);
+    assert_eq!(replay.header.positions.len(), scn.agents);
+    let last = traced.periods.last().unwrap().to;
+    let to = replay.moves.last().unwrap().to;
+    assert!((to[0] - last.x).abs() < 1e-12 && (to[1] - last.y).abs() < 1e-12);
+}

@@ -5,8 +5,9 @@
 // For each page: loads it from file:// (no server, no network), fails on any console error or
 // uncaught exception, plays it to the end through the page's own API (window.cimax), checks
 // that the LEDs drawn on the canvas (pixels at the robots' centres) equal the LEDs of the
-// run's `--json` report, and saves a screenshot. Exit code 1 on any failure, 2 on bad usage
-// or a missing browser.
+// run's `--json` report, and saves a screenshot. RUN.json `-` (`cimax swarm run`, which has
+// no --json) compares with the verdict the page was written with instead. Exit code 1 on any
+// failure, 2 on bad usage or a missing browser.
 import { chromium } from "playwright-core";
 import { existsSync, readFileSync } from "node:fs";
 import { resolve } from "node:path";
@@ -36,8 +37,6 @@ let failed = 0;
 try {
   for (let k = 0; k < args.length; k += 3) {
     const [html, json, shot] = args.slice(k, k + 3);
-    const report = JSON.parse(readFileSync(json, "utf8"));
-    const expected = report.runs[0].leds;
     const page = await browser.newPage({ viewport: { width: 1400, height: 900 } });
     const errors = [];
     page.on("console", (m) => { if (m.type() === "error") errors.push(m.text()); });
@@ -51,6 +50,9 @@ try {
     });
     await page.goto(pathToFileURL(resolve(html)).href);
     await page.waitForFunction(() => window.cimax !== undefined, null, { timeout: 30000 });
+    const expected = json === "-"
+      ? await page.evaluate(() => JSON.parse(document.getElementById("replay").textContent).header.verdict.leds)
+      : JSON.parse(readFileSync(json, "utf8")).runs[0].leds;
     const t0 = Date.now();
     await page.evaluate(() => window.cimax.playToEnd(10000));
     const wall = (Date.now() - t0) / 1000;

@@ -397,7 +397,7 @@ impl Observer for Tracer {
                 scores: (0..k)
                     .map(|s| Sector::new(s).and_then(|s| node.weight(s)))
                     .collect(),
-                reading: node.reading().0,
+                reading: f32::from(node.reading().0),
             };
             self.shared.medium.borrow_mut().log(e);
             return;

@@ -208,8 +208,9 @@ pub enum TraceEvent {
         votes: Vec<u16>,
         /// The average diversity heard per sector (K entries; `None`: nothing heard).
         scores: Vec<Option<f32>>,
-        /// The robot's last sensor reading.
-        reading: u8,
+        /// The robot's last sensor reading (a level, 0 to 255; in the 2D simulator the
+        /// field's X where the agent is).
+        reading: f32,
     },
     /// The swarm moved (robots on a plane): by `step` R along `heading` from `centre`.
     Moved {

@@ -360,36 +360,15 @@ pub fn viewer_header(
     if let Some(f) = h.field.as_mut() {
         f.label = format!("field {} (X)", spec.scenario.name);
     }
-    h.goal = spec.scenario.success.map(|s| match s {
-        Success::NearX { x, within } => crate::viewer::Goal {
-            x,
-            within: Some(within),
-            text: s.to_string(),
-        },
-        Success::BeyondX { x } => crate::viewer::Goal {
-            x,
-            within: None,
-            text: s.to_string(),
-        },
-    });
-    let [x, y] = run.final_position;
-    let text = match (run.moves_to_success, &h.goal) {
-        (Some(m), Some(g)) => format!(
-            "passed: {} after {m} moves; at the end ({x:.2}, {y:.2})",
-            g.text
-        ),
-        (None, Some(g)) => format!(
-            "FAILED: not {} within {} moves; at the end ({x:.2}, {y:.2})",
-            g.text, spec.moves
-        ),
-        (_, None) => format!("no criterion for this field; at the end ({x:.2}, {y:.2})"),
-    };
-    h.verdict = Some(crate::viewer::Verdict {
-        success: run.success,
-        leds: run.leds.clone(),
-        expected: None,
-        text,
-    });
+    h.goal = crate::viewer::goal_of(spec.scenario.success);
+    h.verdict = Some(crate::viewer::move_verdict(
+        h.goal.as_ref(),
+        run.moves_to_success,
+        spec.moves,
+        "moves",
+        run.final_position,
+        run.leds.clone(),
+    ));
     h
 }
 

@@ -67,6 +67,10 @@ pub enum SwarmCommand {
         /// Negotiation periods, 1 to 100,000 (default: the scenario's).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_PERIODS)))]
         periods: Option<u32>,
+        /// Also write the run as one self-contained HTML page that replays it (waves,
+        /// messages, decisions, the swarm's path; docs/viewer.md).
+        #[arg(long, value_name = "FILE")]
+        html: Option<PathBuf>,
     },
     /// Success rate and mean success time against the initial position (Figs. 5, 8).
     Sweep {
@@ -180,12 +184,30 @@ fn wrote(csv: &Path, svg: &Path) {
     println!("wrote {} and {}", csv.display(), svg.display());
 }
 
-fn swarm_run(c: &Common, x: Option<f64>, y: Option<f64>, periods: Option<u32>) -> Res {
+fn swarm_run(
+    c: &Common,
+    x: Option<f64>,
+    y: Option<f64>,
+    periods: Option<u32>,
+    html: Option<&Path>,
+) -> Res {
     let scn = c.scenario()?;
     let start = Point2::new(x.unwrap_or(scn.start.x), y.unwrap_or(scn.start.y));
     let periods = periods.unwrap_or(scn.periods);
     let t = Clock::now();
-    let out = experiment::run(&scn, scn.run, start, periods, c.seed, false)?;
+    let out = match html {
+        None => experiment::run(&scn, scn.run, start, periods, c.seed, false)?,
+        Some(path) => {
+            // The same run (recording draws nothing), with its events.
+            let (out, trace) = experiment::run_traced(&scn, scn.run, start, periods, c.seed)?;
+            let replay = host_sim::viewer::swarm::replay(&scn, &out, c.seed, &trace);
+            ensure_parent(path)?;
+            std::fs::write(path, host_sim::viewer::page(&replay)?)
+                .map_err(|e| format!("{}: {e}", path.display()))?;
+            println!("wrote {}", path.display());
+            out
+        }
+    };
     let (csv, svg) = c.outputs(&scn, "run");
     ensure_parent(&csv)?;
     ensure_parent(&svg)?;
@@ -398,7 +420,8 @@ pub fn run(command: SwarmCommand) -> Res {
             x,
             y,
             periods,
-        } => swarm_run(&common, x, y, periods),
+            html,
+        } => swarm_run(&common, x, y, periods, html.as_deref()),
         SwarmCommand::Sweep {
             common,
             from,

@@ -51,6 +51,34 @@ pub fn run(
     seed: u64,
     stop_on_success: bool,
 ) -> Result<RunOutput, Error> {
+    Ok(run_inner(scn, cfg, start, periods, seed, stop_on_success, false)?.0)
+}
+
+/// [`run`] (to the last period) with its events recorded for the replay viewer
+/// ([`Sim::record`]).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_traced(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    periods: u32,
+    seed: u64,
+) -> Result<(RunOutput, Vec<hal_emu::TraceEvent>), Error> {
+    run_inner(scn, cfg, start, periods, seed, false, true)
+}
+
+/// [`run`], recording its events if `trace`.
+fn run_inner(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    periods: u32,
+    seed: u64,
+    stop_on_success: bool,
+    trace: bool,
+) -> Result<(RunOutput, Vec<hal_emu::TraceEvent>), Error> {
     let swarm = place(scn, scn.agents, seed)?;
     let mut out = RunOutput {
         swarm,
@@ -62,12 +90,16 @@ pub fn run(
     if met(start) {
         out.success_at = Some(0);
         if stop_on_success {
-            return Ok(out);
+            return Ok((out, Vec::new()));
         }
     }
     let mut periods_out = Vec::with_capacity(periods as usize);
+    let events;
     {
         let mut sim = AnySim::new(&out.swarm, scn, cfg, start, seed)?;
+        if trace {
+            sim.record();
+        }
         for _ in 0..periods {
             let p = sim.run_period()?;
             periods_out.push(p);
@@ -78,9 +110,10 @@ pub fn run(
                 }
             }
         }
+        events = sim.take_trace();
     }
     out.periods = periods_out;
-    Ok(out)
+    Ok((out, events))
 }
 
 /// The simulation of a scenario: one quantity (the paper), or two when it has a `[[field2]]`.
@@ -113,6 +146,20 @@ impl<'a> AnySim<'a> {
         match self {
             AnySim::One(s) => s.run_period(),
             AnySim::Two(s) => s.run_period(),
+        }
+    }
+
+    fn record(&mut self) {
+        match self {
+            AnySim::One(s) => s.record(),
+            AnySim::Two(s) => s.record(),
+        }
+    }
+
+    fn take_trace(&mut self) -> Vec<hal_emu::TraceEvent> {
+        match self {
+            AnySim::One(s) => s.take_trace(),
+            AnySim::Two(s) => s.take_trace(),
         }
     }
 

@@ -28,10 +28,11 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 use std::fmt;
 
+use hal_emu::TraceEvent;
 use nalgebra::{Point2, Vector2};
-use protocol::three_phase::{SimMessage, ThreePhaseAgent};
+use protocol::three_phase::{SimEvent, SimMessage, ThreePhaseAgent};
 use protocol::{Diversity, PerQuantity};
-use protocol::{Instant, ParamError, Params, WaveState};
+use protocol::{Instant, ParamError, Params, Sector, WaveState};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
@@ -259,7 +260,21 @@ pub struct Sim<'a, R: Reading = f32> {
     /// positions change only when the swarm moves, so the fields are evaluated once per agent
     /// and period, not once per reading.
     means: Vec<f64>,
+    /// The run's events for the replay viewer, if asked for ([`Sim::record`]).
+    trace: Option<Recorder>,
 }
+
+/// What [`Sim::record`] keeps: the events, and each agent's scores per sector before its
+/// last timeout and at its last evaluation (they go with its decision at the period's end).
+#[derive(Default)]
+struct Recorder {
+    events: Vec<TraceEvent>,
+    heard: Vec<Vec<Option<f32>>>,
+    scores: Vec<Vec<Option<f32>>>,
+}
+
+/// The sectors a bearing is binned into for the viewer (its LED colours).
+pub const TRACE_SECTORS: u8 = 8;
 
 /// The agents' due seconds: a wheel of one-second buckets covering `[now, now + WHEEL)` and a
 /// heap for anything later. Every entry in the wheel lies in that window, so a bucket holds
@@ -413,6 +428,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             tx: Vec::new(),
             calls: 0,
             means: Vec::with_capacity(n * R::QUANTITIES),
+            trace: None,
         };
         sim.place_means();
         for i in 0..n {
@@ -444,6 +460,92 @@ impl<'a, R: Reading> Sim<'a, R> {
     /// The run's configuration.
     pub fn config(&self) -> &RunConfig {
         &self.cfg
+    }
+
+    /// Records the run's events from now on for the replay viewer ([`take_trace`](Self::take_trace)):
+    /// wave states, transmissions (each of length 1: a hop takes a second), each
+    /// agent's preferred and decided bearing binned into [`TRACE_SECTORS`] sectors, and the
+    /// moves. Costs memory; a run without it records nothing.
+    pub fn record(&mut self) {
+        let n = self.agents.len();
+        self.trace.get_or_insert_with(|| Recorder {
+            events: Vec::new(),
+            heard: vec![Vec::new(); n],
+            scores: vec![Vec::new(); n],
+        });
+    }
+
+    /// The events recorded so far.
+    pub fn take_trace(&mut self) -> Vec<TraceEvent> {
+        self.trace
+            .as_mut()
+            .map(|r| std::mem::take(&mut r.events))
+            .unwrap_or_default()
+    }
+
+    /// Keeps what agent `i` heard so far, per sector the best direction's score, if recording:
+    /// an evaluation at its next timeout clears the agent's own table before it is seen.
+    fn note_scores(&mut self, i: usize) {
+        let Some(rec) = self.trace.as_mut() else {
+            return;
+        };
+        let mut scores = vec![None::<f32>; usize::from(TRACE_SECTORS)];
+        for (b, w, _) in self.agents[i].weights() {
+            let s = &mut scores[usize::from(Sector::from_bearing(b, TRACE_SECTORS).index())];
+            *s = Some(s.map_or(w, |x| x.max(w)));
+        }
+        rec.heard[i] = scores;
+    }
+
+    /// Takes agent `i`'s events at second `t`, recording them if asked.
+    fn drain_events(&mut self, i: usize, t: u64) {
+        while let Some(e) = self.agents[i].poll_event() {
+            let Some(rec) = self.trace.as_mut() else {
+                continue;
+            };
+            let trace = &mut rec.events;
+            let t_ms = t * 1000;
+            let sector = |b: Option<f32>| b.map(|b| Sector::from_bearing(b, TRACE_SECTORS).index());
+            match e {
+                SimEvent::State(s) => trace.push(TraceEvent::State {
+                    t_ms,
+                    robot: i,
+                    state: match s {
+                        WaveState::Inactive => "inactive",
+                        WaveState::Active => "active",
+                        WaveState::Refractory => "refractory",
+                    }
+                    .into(),
+                }),
+                SimEvent::Evaluated { preferred, .. } => {
+                    // The scores it evaluated ([`Self::note_scores`] kept them).
+                    rec.scores[i] = std::mem::take(&mut rec.heard[i]);
+                    trace.push(TraceEvent::Preference {
+                        t_ms,
+                        robot: i,
+                        preference: sector(preferred)
+                            .map_or("none".into(), |s| format!("sector {s}")),
+                    });
+                }
+                SimEvent::Decided { period, bearing } => {
+                    trace.push(TraceEvent::Decided {
+                        t_ms,
+                        robot: i,
+                        period,
+                        decision: sector(bearing),
+                        votes: Vec::new(),
+                        scores: rec.scores[i].clone(),
+                        reading: self.means[i * R::QUANTITIES] as f32,
+                    });
+                    trace.push(TraceEvent::Led {
+                        t_ms,
+                        robot: i,
+                        color: sector(bearing)
+                            .map_or("off".into(), |s| format!("sector {s}").into()),
+                    });
+                }
+            }
+        }
     }
 
     fn reschedule(&mut self, i: usize) {
@@ -506,12 +608,21 @@ impl<'a, R: Reading> Sim<'a, R> {
             if self.agents[i].state() != WaveState::Active {
                 self.sample(i);
             }
+            self.note_scores(i);
             self.agents[i].handle_timeout(now, &mut self.proto_rng);
             self.calls += 1;
             while let Some(m) = self.agents[i].poll_transmit() {
+                if let Some(rec) = self.trace.as_mut() {
+                    rec.events.push(TraceEvent::Sent {
+                        t_ms: t * 1000,
+                        robot: i,
+                        // One unit: the viewer shows a message for its one-second hop.
+                        len: 1,
+                    });
+                }
                 self.tx.push((i as u32, m));
             }
-            while self.agents[i].poll_event().is_some() {}
+            self.drain_events(i, t);
             self.reschedule(i);
         }
         due.clear();
@@ -546,7 +657,7 @@ impl<'a, R: Reading> Sim<'a, R> {
                     debug_assert_eq!(secs(self.agents[r].poll_timeout()), self.scheduled[r]);
                     continue;
                 }
-                while self.agents[r].poll_event().is_some() {}
+                self.drain_events(r, t);
                 self.reschedule(r);
             }
         }
@@ -584,6 +695,24 @@ impl<'a, R: Reading> Sim<'a, R> {
         let from = self.centre;
         let norm = sum.norm();
         let direction = (decided > 0 && norm > 1e-12).then(|| sum.y.atan2(sum.x));
+        let consensus = if decided > 0 {
+            norm / f64::from(decided)
+        } else {
+            0.0
+        };
+        if let Some(rec) = self.trace.as_mut() {
+            rec.events.push(TraceEvent::Moved {
+                t_ms: end * 1000,
+                centre: [from.x, from.y],
+                heading: direction,
+                step: if direction.is_some() {
+                    self.cfg.step
+                } else {
+                    0.0
+                },
+                consensus,
+            });
+        }
         if let Some(d) = direction {
             self.centre += self.cfg.step * Vector2::new(d.cos(), d.sin());
             self.place_means();
@@ -594,11 +723,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             from,
             to: self.centre,
             direction,
-            consensus: if decided > 0 {
-                norm / f64::from(decided)
-            } else {
-                0.0
-            },
+            consensus,
             decided,
             diversity: diversity / n,
         })

@@ -237,3 +237,50 @@ fn mean(p: &[[f64; 2]]) -> [f64; 2] {
     let s = p.iter().fold([0.0, 0.0], |s, q| [s[0] + q[0], s[1] + q[1]]);
     [s[0] / n, s[1] / n]
 }
+
+/// The goal of a scenario's success criterion.
+pub fn goal_of(success: Option<crate::swarm::scenario::Success>) -> Option<Goal> {
+    use crate::swarm::scenario::Success;
+    success.map(|s| match s {
+        Success::NearX { x, within } => Goal {
+            x,
+            within: Some(within),
+            text: s.to_string(),
+        },
+        Success::BeyondX { x } => Goal {
+            x,
+            within: None,
+            text: s.to_string(),
+        },
+    })
+}
+
+/// The verdict of a run that moves toward `goal`: met after `after` of at most `limit` moves
+/// (or periods, `unit`), ending at `end`, with `leds` at the end.
+pub fn move_verdict(
+    goal: Option<&Goal>,
+    after: Option<u32>,
+    limit: u32,
+    unit: &str,
+    end: [f64; 2],
+    leds: String,
+) -> Verdict {
+    let [x, y] = end;
+    let text = match (after, goal) {
+        (Some(m), Some(g)) => format!(
+            "passed: {} after {m} {unit}; at the end ({x:.2}, {y:.2})",
+            g.text
+        ),
+        (None, Some(g)) => format!(
+            "FAILED: not {} within {limit} {unit}; at the end ({x:.2}, {y:.2})",
+            g.text
+        ),
+        (_, None) => format!("no criterion for this field; at the end ({x:.2}, {y:.2})"),
+    };
+    Verdict {
+        success: after.is_some(),
+        leds,
+        expected: None,
+        text,
+    }
+}

@@ -12,10 +12,13 @@
 
 mod header;
 mod replay;
+pub mod swarm;
 
 use std::path::Path;
 
-pub use header::{Goal, Header, Heatmap, Kind, PatternAt, Verdict, header_of, heatmap};
+pub use header::{
+    Goal, Header, Heatmap, Kind, PatternAt, Verdict, goal_of, header_of, heatmap, move_verdict,
+};
 pub use replay::{REPLAY_VERSION, Replay};
 
 use hal_emu::TraceEvent;

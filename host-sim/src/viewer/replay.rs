@@ -136,10 +136,22 @@ impl Packer {
 }
 
 impl Replay {
-    /// Packs `trace` (events in time order) under `header`.
+    /// Packs `trace` (events in time order) under `header`; each robot's frames reach the
+    /// robots that ever heard it (its `Received` and `Dropped` events).
     pub fn from_trace(header: Header, trace: &[TraceEvent]) -> Replay {
         let n = header.positions.len();
         let neighbours = neighbours(n, trace);
+        Replay::with_neighbours(header, trace, neighbours)
+    }
+
+    /// [`from_trace`](Self::from_trace) with the robots each robot's frames reach given (the
+    /// 2D simulator's neighbour lists: its trace has no receptions).
+    pub fn with_neighbours(
+        header: Header,
+        trace: &[TraceEvent],
+        neighbours: Vec<BTreeSet<usize>>,
+    ) -> Replay {
+        let n = header.positions.len();
         // Frames first: each reception or drop belongs to its sender's last frame.
         let mut exceptions: Vec<Vec<(u32, Outcome)>> = Vec::new();
         let mut frame_of: Vec<Option<usize>> = vec![None; n];
@@ -238,7 +250,7 @@ impl Replay {
                         robot: *robot,
                         period: *period,
                         decision: decision.map_or(-1, i16::from),
-                        reading: f32::from(*reading),
+                        reading: *reading,
                         votes: votes.clone(),
                         scores: scores.iter().map(|s| s.map(round4)).collect(),
                     });

@@ -362,7 +362,7 @@
     const rows = [];
     for (let s = 0; s < K; s++) {
       const sc = d && d.scores[s] != null ? number(d.scores[s]) : "–";
-      rows.push(`<tr><th>${sectorName(s)}</th><td>${sc}</td><td>${d ? d.votes[s] : "–"}</td></tr>`);
+      rows.push(`<tr><th>${sectorName(s)}</th><td>${sc}</td><td>${d && d.votes.length ? d.votes[s] : "–"}</td></tr>`);
     }
     const p = H.positions[i], c = centreAt();
     panel.innerHTML =

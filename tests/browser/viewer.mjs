@@ -50,26 +50,50 @@ try {
     });
     await page.goto(pathToFileURL(resolve(html)).href);
     await page.waitForFunction(() => window.cimax !== undefined, null, { timeout: 30000 });
+    // A failing run opens where it went wrong (the replay's open_at_ms), a passing one at 0.
+    const opened = await page.evaluate(() => ({
+      at: window.cimax.time(),
+      want: JSON.parse(document.getElementById("replay").textContent).open_at_ms,
+    }));
+    // A failing run's page as it opens, beside the screenshot at the end.
+    if (opened.want > 0) await page.screenshot({ path: shot.replace(/\.png$/, "-open.png"), fullPage: true });
     const expected = json === "-"
       ? await page.evaluate(() => JSON.parse(document.getElementById("replay").textContent).header.verdict.leds)
       : JSON.parse(readFileSync(json, "utf8")).runs[0].leds;
+    const loaded = await page.evaluate(() => performance.now());
     const t0 = Date.now();
     await page.evaluate(() => window.cimax.playToEnd(10000));
     const wall = (Date.now() - t0) / 1000;
     const end = await page.evaluate(() => ({
       time: window.cimax.time(), duration: window.cimax.duration,
       drawn: window.cimax.ledsDrawn(), state: window.cimax.leds(),
+      stats: window.cimax.drawStats(),
     }));
+    // Smoothness, reported (not judged: timings depend on the machine): two seconds of play
+    // at 1000x from the start.
+    const smooth = await page.evaluate(async () => {
+      const c = window.cimax, before = c.drawStats();
+      c.seek(0); c.play(1000);
+      await new Promise((r) => setTimeout(r, 2000));
+      c.pause();
+      const after = c.drawStats(), frames = after.frames - before.frames;
+      const ms = (after.mean_ms * after.frames - before.mean_ms * before.frames) / Math.max(frames, 1);
+      c.seek(c.duration);
+      return { fps: frames / 2, ms };
+    });
     // Click the first robot: its panel must fill in.
     await page.evaluate(() => window.cimax.select(0));
     const panel = await page.textContent("#robot");
     await page.screenshot({ path: shot, fullPage: true });
     const problems = [...errors];
+    if (opened.at !== opened.want) problems.push(`opened at ${opened.at} ms, not at ${opened.want} ms`);
     if (end.time < end.duration) problems.push(`stopped at ${end.time} of ${end.duration} ms`);
     if (end.drawn !== expected) problems.push(`LEDs drawn ${end.drawn}, the run's JSON says ${expected}`);
     if (end.state !== expected) problems.push(`LED state ${end.state}, the run's JSON says ${expected}`);
     if (!/robot 0: id \d+, tag \d+/.test(panel)) problems.push(`robot panel: ${panel}`);
-    const name = `${html} (${end.duration / 1000} s played in ${wall.toFixed(1)} s wall)`;
+    const s = end.stats;
+    const name = `${html} (opened at ${(opened.at / 1000).toFixed(1)} s; loaded in ${(loaded / 1000).toFixed(1)} s; ${end.duration / 1000} s played in ` +
+      `${wall.toFixed(1)} s wall; at 1000x ${smooth.fps.toFixed(0)} frames/s, ${smooth.ms.toFixed(1)} ms to draw one)`;
     if (problems.length) {
       failed++;
       console.log(`FAIL ${name}\n  ${problems.join("\n  ")}`);

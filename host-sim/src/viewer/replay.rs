@@ -118,6 +118,8 @@ pub struct Replay {
     pub series: Series,
     /// Where the page opens, ms: the moment a failing run first went wrong (0 otherwise).
     pub open_at_ms: u64,
+    /// The robot that went wrong then, if one did (the page shows it).
+    pub open_robot: Option<usize>,
 }
 
 /// The stream being built, and the time of its last event.
@@ -297,7 +299,7 @@ impl Replay {
                 _ => {}
             }
         }
-        let open_at_ms = open_at(&header, trace, &moves);
+        let (open_at_ms, open_robot) = open_at(&header, trace, &moves);
         Replay {
             neighbours: neighbours
                 .into_iter()
@@ -309,6 +311,7 @@ impl Replay {
             moves,
             series,
             open_at_ms,
+            open_robot,
         }
     }
 }
@@ -434,21 +437,23 @@ fn round4(x: f32) -> f32 {
     (x * scale).round() / scale
 }
 
-/// Where a failing run should open: on a line, the first LED change to a colour other than
-/// the expected one under the lamps of the time; on a plane, the first move away from the
-/// goal. The end if nothing went wrong before it, 0 for a run that passed.
-fn open_at(header: &Header, trace: &[TraceEvent], moves: &[MoveAt]) -> u64 {
+/// Where a failing run should open, and the robot that went wrong: on a line, the first LED
+/// change to a colour other than the expected one under the lamps of the time; on a plane,
+/// the first move away from the goal. The end if nothing went wrong before it, 0 for a run
+/// that passed.
+fn open_at(header: &Header, trace: &[TraceEvent], moves: &[MoveAt]) -> (u64, Option<usize>) {
     if header.verdict.as_ref().is_none_or(|v| v.success) {
-        return 0;
+        return (0, None);
     }
     if let Some(goal) = &header.goal {
-        return moves
+        let t = moves
             .iter()
             .find(|m| {
                 m.heading
                     .is_some_and(|a| a.cos() * (goal.x - m.from[0]).signum() < 0.0)
             })
             .map_or(header.duration_ms, |m| m.t_ms);
+        return (t, None);
     }
     for e in trace {
         let TraceEvent::Led { t_ms, robot, color } = e else {
@@ -470,10 +475,10 @@ fn open_at(header: &Header, trace: &[TraceEvent], moves: &[MoveAt]) -> u64 {
             && shown != '-'
             && shown != x
         {
-            return *t_ms;
+            return (*t_ms, Some(*robot));
         }
     }
-    header.duration_ms
+    (header.duration_ms, None)
 }
 
 #[cfg(test)]
@@ -548,9 +553,11 @@ mod tests {
             led(200, 1, "blue"),
             led(300, 1, "green"),
         ];
-        assert_eq!(Replay::from_trace(h.clone(), &t).open_at_ms, 200);
+        let r = Replay::from_trace(h.clone(), &t);
+        assert_eq!((r.open_at_ms, r.open_robot), (200, Some(1)));
         h.verdict.as_mut().unwrap().success = true;
-        assert_eq!(Replay::from_trace(h, &t).open_at_ms, 0);
+        let r = Replay::from_trace(h, &t);
+        assert_eq!((r.open_at_ms, r.open_robot), (0, None));
     }
 
     #[test]

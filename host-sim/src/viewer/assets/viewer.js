@@ -304,7 +304,10 @@
     }
   }
 
+  // How long drawing takes (a frame at 60 fps has 16.7 ms).
+  const drawn = { frames: 0, total: 0, max: 0 };
   function draw() {
+    const t0 = performance.now();
     ctx.clearRect(0, 0, arena.width, arena.height);
     drawField();
     drawGoal();
@@ -316,6 +319,8 @@
     showRobot();
     slider.value = String(Math.round((1000 * now) / Math.max(END, 1)));
     clock.textContent = `${(now / 1000).toFixed(1)} s / ${(END / 1000).toFixed(0)} s`;
+    const dt = performance.now() - t0;
+    drawn.frames++; drawn.total += dt; drawn.max = Math.max(drawn.max, dt);
   }
 
   // ---- The chart: consensus and diversity against time, with the cursor. ----
@@ -486,6 +491,7 @@
     verdict.className = v.success ? "pass" : "fail";
   }
   seek(R.open_at_ms || 0);
+  if (R.open_robot != null) select(R.open_robot);
   window.cimax = {
     duration: END,
     robots: N,
@@ -498,5 +504,7 @@
     leds: () => Array.from(S.led, ledLetter).join(""),
     ledsDrawn,
     frames: F.ev.length,
+    // Drawing cost so far: frames drawn, mean and worst ms per frame.
+    drawStats: () => ({ frames: drawn.frames, mean_ms: drawn.total / Math.max(drawn.frames, 1), max_ms: drawn.max }),
   };
 })();

@@ -69,6 +69,16 @@ pub struct PlaneSpec {
     pub sample_period: Option<protocol::Duration>,
 }
 
+impl PlaneSpec {
+    /// The experiment in a few words: robots, placement, sectors, field, start and moves.
+    pub fn summary(&self) -> String {
+        format!(
+            "{} robots ({:?}, K = {}) on field {} from x = {}, {} moves",
+            self.robots, self.placement, self.sectors, self.scenario.name, self.x_init, self.moves
+        )
+    }
+}
+
 /// Reads robot positions, in R: one robot per line, `x y` or `x,y`; empty lines and lines
 /// starting with `#` are skipped. The positions are recentred on their centre of mass.
 ///
@@ -347,16 +357,7 @@ pub fn viewer_header(
     trace: &[hal_emu::TraceEvent],
 ) -> crate::viewer::Header {
     let mut h = crate::viewer::header_of(cfg, trace);
-    h.title = format!(
-        "cimax arena: {} robots ({:?}, K = {}) on field {} from x = {}, {} moves, seed {}",
-        spec.robots,
-        spec.placement,
-        spec.sectors,
-        spec.scenario.name,
-        spec.x_init,
-        spec.moves,
-        run.seed
-    );
+    h.title = format!("cimax arena: {}, seed {}", spec.summary(), run.seed);
     if let Some(f) = h.field.as_mut() {
         f.label = format!("field {} (X)", spec.scenario.name);
     }
@@ -496,13 +497,8 @@ pub fn print_runs(
         return std::process::ExitCode::SUCCESS;
     }
     println!(
-        "CIMAX arena on a plane: {} robots ({:?}, K = {}) running the robot program, field {} from x = {}, {} moves of {} R",
-        spec.robots,
-        spec.placement,
-        spec.sectors,
-        spec.scenario.name,
-        spec.x_init,
-        spec.moves,
+        "CIMAX arena on a plane, the robot program on {} of {} R",
+        spec.summary(),
         spec.scenario.run.step
     );
     println!("seed      success  moves  final x  final y  mean consensus");

@@ -767,7 +767,7 @@ fn sweep_svg(
     // its 25 % at −4), for the built-in scenarios.
     let paper = crate::swarm::reproduce::marks::sweep_for(&scenario.name);
     let svg = a.out.join(format!("arena-{}-sweep.svg", scenario.name));
-    crate::report::plot::sweep_figure_marked(
+    crate::report::plot::sweep_figure(
         &svg,
         &format!(
             "{}: {} robots ({:?}), success within {} moves, {} runs per point",

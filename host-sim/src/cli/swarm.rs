@@ -283,7 +283,7 @@ fn swarm_sweep(
     report::write_sweep_csv(&csv, &pts)?;
     let crit = scn.success.map(|s| s.to_string()).unwrap_or_default();
     // A built-in scenario's sweep carries the paper's marks, as on docs/reproduction.md.
-    plot::sweep_figure_marked(
+    plot::sweep_figure(
         &svg,
         &format!("{}: success ({crit}), {n} runs per point", scn.description),
         &[("this simulator", &pts)],
@@ -327,7 +327,7 @@ fn swarm_field(c: &Common) -> Res {
     ensure_parent(&csv)?;
     ensure_parent(&svg)?;
     report::write_field_csv(&csv, &arrows)?;
-    plot::direction_figure_marked(&svg, &scn, &grid, &arrows, &reproduce::marks::map_for(&scn))?;
+    plot::direction_figure(&svg, &scn, &grid, &arrows, &reproduce::marks::map_for(&scn))?;
     println!(
         "{}: {} grid points in {:.1} s",
         scn.description,

@@ -392,27 +392,6 @@ fn draw_legend(
     Ok(())
 }
 
-/// The paper's success rate as dashed segments over `x0..x1` (401 samples; a gap where it
-/// gives none).
-fn paper_segments(paper: &dyn Fn(f64) -> Option<f64>, x0: f64, x1: f64) -> Vec<Vec<(f64, f64)>> {
-    let xs: Vec<f64> = (0..=400)
-        .map(|k| x0 + (x1 - x0) * f64::from(k) / 400.0)
-        .collect();
-    let mut segment: Vec<(f64, f64)> = Vec::new();
-    let mut segments = Vec::new();
-    for x in xs {
-        match paper(x) {
-            Some(v) => segment.push((x, v)),
-            None if !segment.is_empty() => segments.push(std::mem::take(&mut segment)),
-            None => {}
-        }
-    }
-    if !segment.is_empty() {
-        segments.push(segment);
-    }
-    segments
-}
-
 /// The lower panel of [`sweep_figure`]: mean success time against the initial position.
 fn times_panel(
     bottom: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
@@ -512,41 +491,13 @@ fn sweep_axis(series: &[(&str, &[SweepPoint])]) -> ((f64, f64), f64) {
 }
 
 /// Figs. 5 and 8: success rate and mean success time against the initial position, one bar
-/// per series (label, points) at each initial position, and the paper's reported rate as
-/// dashed lines (`paper`, sampled; label "paper"). [`sweep_figure_marked`] takes the paper's
-/// values as [`SweepMark`]s instead.
+/// per series (label, points) at each initial position, and the paper's values as marks. The
+/// legend (series, then each distinct mark label once) is a strip between the title and the
+/// plots, where it covers no bar.
 ///
 /// # Errors
 /// If the file cannot be written.
 pub fn sweep_figure(
-    path: &Path,
-    title: &str,
-    series: &[(&str, &[SweepPoint])],
-    paper: Option<&dyn Fn(f64) -> Option<f64>>,
-) -> Result<(), PlotError> {
-    let ((x0, x1), _) = sweep_axis(series);
-    let marks: Vec<SweepMark> = paper
-        .map(|paper| paper_segments(paper, x0, x1))
-        .unwrap_or_default()
-        .into_iter()
-        .filter_map(|s| {
-            let (first, last) = (s.first()?, s.last()?);
-            Some(SweepMark::Level {
-                x: (first.0, last.0),
-                y: first.1,
-                label: "paper".into(),
-            })
-        })
-        .collect();
-    sweep_figure_marked(path, title, series, &marks)
-}
-
-/// [`sweep_figure`] with the paper's values as marks. The legend (series, then each distinct
-/// mark label once) is a strip between the title and the plots, where it covers no bar.
-///
-/// # Errors
-/// If the file cannot be written.
-pub fn sweep_figure_marked(
     path: &Path,
     title: &str,
     series: &[(&str, &[SweepPoint])],
@@ -684,26 +635,13 @@ pub struct MapMarks {
 }
 
 /// Figs. 6, 9 and 10: the preferred direction of a swarm centred at each grid point, over the
-/// field. Arrow length grows with the agreement among the agents (mean resultant length).
-/// [`direction_figure_marked`] adds marks.
+/// field, with `marks` and their colouring. Arrow length grows with the agreement among the
+/// agents (mean resultant length). A legend strip under the title says what an arrow's length,
+/// a dot and the colours mean, and names each mark.
 ///
 /// # Errors
 /// If the file cannot be written.
 pub fn direction_figure(
-    path: &Path,
-    scn: &Scenario,
-    grid: &GridSpec,
-    arrows: &[Arrow],
-) -> Result<(), PlotError> {
-    direction_figure_marked(path, scn, grid, arrows, &MapMarks::default())
-}
-
-/// [`direction_figure`] with `marks` and their colouring. A legend strip under the title says
-/// what an arrow's length, a dot and the colours mean, and names each mark.
-///
-/// # Errors
-/// If the file cannot be written.
-pub fn direction_figure_marked(
     path: &Path,
     scn: &Scenario,
     grid: &GridSpec,

@@ -383,7 +383,7 @@ fn sweep_figures(
     .into_iter()
     .enumerate()
     {
-        plot::sweep_figure_marked(
+        plot::sweep_figure(
             &figs.join(format!("{}-sweep.svg", scn.name)),
             &format!(
                 "{}: success ({crit} within {} periods), runs per point: {main} {}, {} {}",
@@ -419,7 +419,7 @@ fn direction_maps(st: &mut Stage<'_>, scns: [&Scenario; 3]) -> Result<Vec<Vec<Ar
         st.done(&p);
         let figs = &st.figs;
         write_field_csv(&figs.join(format!("{}-field.csv", scn.name)), &arrows)?;
-        plot::direction_figure_marked(
+        plot::direction_figure(
             &figs.join(format!("{}-field.svg", scn.name)),
             scn,
             grid,

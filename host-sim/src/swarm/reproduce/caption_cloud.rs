@@ -47,7 +47,7 @@ pub(super) fn run(st: &mut Stage<'_>, main: Placement) -> Result<CaptionCloud, E
     let arrows = direction_map(&scn, grid, st.seed(MAP_STAGE), &p)?;
     st.done(&p);
     write_field_csv(&st.figs.join("cloud-caption-field.csv"), &arrows)?;
-    plot::direction_figure_marked(
+    plot::direction_figure(
         &st.figs.join("cloud-caption-field.svg"),
         &scn,
         grid,

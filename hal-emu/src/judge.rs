@@ -107,14 +107,6 @@ pub fn expected_without(p: &[bool], absent: &[usize]) -> Option<Vec<LedColor>> {
     Some(out)
 }
 
-/// How long a lab run lasts unless told otherwise (`cimax arena` and its campaign): three
-/// negotiation periods of the longest cycle, plus 1 s, so that every robot decides at least
-/// twice.
-pub fn default_duration(p: &protocol::Params) -> Duration {
-    let longest = p.wave.cycle + p.wave.cycle_spread;
-    longest.saturating_mul(3 * u64::from(p.negotiation_cycles)) + Duration::from_secs(1)
-}
-
 /// One experiment of the paper's lab suite: a light pattern, and for an alternating experiment
 /// the pattern it changes to once a run's duration has passed (paper section 4: "after
 /// reaching consensus, the light configurations were changed").
@@ -385,7 +377,7 @@ mod tests {
     /// Runs `e` with seeds 1 to 5 (readings as `readings`) and returns, per run, the LEDs just
     /// before the change and at the end; panics with the seed if a run fails.
     fn alternate(e: &LabExperiment, readings: crate::Readings) -> Vec<(String, String)> {
-        let run = default_duration(&protocol::Params::robots());
+        let run = protocol::Params::robots().lab_run();
         (1..=5)
             .map(|seed| {
                 let mut cfg = e.config(1.0, run, seed);

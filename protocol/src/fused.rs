@@ -696,7 +696,7 @@ impl<D: Diversity> FusedNode<D> {
 
     /// The longest cycle a robot can draw: within it every neighbour sends at least once.
     fn longest_cycle(&self) -> crate::time::Duration {
-        self.params.wave.cycle + self.params.wave.cycle_spread
+        self.params.longest_cycle()
     }
 
     /// Takes `ray`, heard at `now` from `from` in a message last relayed by `sender`, as this

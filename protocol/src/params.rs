@@ -82,6 +82,29 @@ pub struct Params {
 }
 
 impl Params {
+    /// The longest cycle a robot can draw (cycle + spread): within it every neighbour in range
+    /// initiates at least once.
+    pub fn longest_cycle(&self) -> Duration {
+        self.wave.cycle + self.wave.cycle_spread
+    }
+
+    /// A negotiation period of mean cycles (fused variant): on a plane, the time between two
+    /// moves of the swarm.
+    pub fn nominal_period(&self) -> Duration {
+        self.wave
+            .cycle
+            .saturating_mul(u64::from(self.negotiation_cycles))
+    }
+
+    /// How long a lab run lasts unless told otherwise (`cimax arena` and its campaign): three
+    /// negotiation periods of the longest cycle, plus 1 s, so that every robot decides at
+    /// least twice.
+    pub fn lab_run(&self) -> Duration {
+        self.longest_cycle()
+            .saturating_mul(3 * u64::from(self.negotiation_cycles))
+            + Duration::from_secs(1)
+    }
+
     /// The aMussel lab experiment: from the paper's Table 1 a cycle of 55 ± 15 s (initiated at
     /// its end), refractory 4 s and a negotiation period of 10 cycles; from section 2.1 the
     /// relay delay `t_delay` = 1 s; K = 2 sectors for robots in a line.

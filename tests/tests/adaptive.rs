@@ -4,19 +4,14 @@
 //! majority in a long line.
 
 use hal_emu::ArenaConfig;
-use hal_emu::lab::{PAPER_PATTERNS, default_duration, judge, leds_str, parse_pattern};
+use hal_emu::lab::{PAPER_PATTERNS, judge, leds_str, parse_pattern};
 use protocol::Params;
 use protocol::params::DecisionRule;
 
 fn config(pattern: &str, seed: u64, decide: DecisionRule) -> ArenaConfig {
     let mut params = Params::robots();
     params.decide = decide;
-    let mut cfg = ArenaConfig::line(
-        parse_pattern(pattern).unwrap(),
-        1.0,
-        default_duration(&params),
-        seed,
-    );
+    let mut cfg = ArenaConfig::line(parse_pattern(pattern).unwrap(), 1.0, params.lab_run(), seed);
     cfg.robot.params = params;
     cfg
 }

@@ -3,13 +3,13 @@
 //! prefers the direction of the one border), far beyond a message's hop horizon.
 
 use hal_emu::ArenaConfig;
-use hal_emu::lab::{default_duration, judge, leds_str};
+use hal_emu::lab::{judge, leds_str};
 use protocol::Params;
 
 /// `lit` robots lit at the left end of a line of `n`, run with `seed` and frame loss `loss`.
 fn line(n: usize, lit: usize, seed: u64, loss: f64) -> ArenaConfig {
     let pattern = (0..n).map(|i| i < lit).collect();
-    let mut cfg = ArenaConfig::line(pattern, 1.0, default_duration(&Params::robots()), seed);
+    let mut cfg = ArenaConfig::line(pattern, 1.0, Params::robots().lab_run(), seed);
     cfg.medium.loss = loss;
     cfg
 }

@@ -883,8 +883,7 @@ impl Bridge {
     /// cycle, so one that sent no light in three cycles' time is not running (a safety net
     /// beside `Refused`, for images that cannot say so).
     fn check_at_end(&self, ran: Duration, report: &HilReport) -> Result<(), Failure> {
-        let w = &self.config.params.wave;
-        let cycles = (w.cycle + w.cycle_spread).saturating_mul(3);
+        let cycles = self.config.params.longest_cycle().saturating_mul(3);
         if report.tx == 0 && ran > cycles {
             return Err(format!(
                 "sent no light over {} in {} s: its robot program is not running",

@@ -325,11 +325,6 @@ pub fn pattern_for(seed: u64) -> &'static str {
     PAPER_PATTERNS[(seed % PAPER_PATTERNS.len() as u64) as usize]
 }
 
-/// A negotiation period of nominal cycles (10 × 55 s = 550 s).
-fn nominal_period(p: &Params) -> Duration {
-    p.wave.cycle.saturating_mul(u64::from(p.negotiation_cycles))
-}
-
 /// The run of `scenario` for `seed`, and the reboot time if it has one.
 ///
 /// # Errors
@@ -342,12 +337,7 @@ pub fn config(
     let pattern = parse_pattern(pattern_for(seed))?;
     let n = pattern.len();
     let params = Params::robots();
-    let mut cfg = ArenaConfig::line(
-        pattern.clone(),
-        1.0,
-        hal_emu::lab::default_duration(&params),
-        seed,
-    );
+    let mut cfg = ArenaConfig::line(pattern.clone(), 1.0, params.lab_run(), seed);
     // Scenario-specific draws (which robot, when) from their own seed, so they do not disturb
     // the run's other random numbers.
     let draw = |what: u64| seeds::derive(seed, &[what]);
@@ -362,7 +352,7 @@ pub fn config(
         Fault::CycleSpread { cycle, spread } => {
             cfg.robot.params.wave.cycle = Duration::from_secs(cycle);
             cfg.robot.params.wave.cycle_spread = Duration::from_secs(spread);
-            cfg.duration = hal_emu::lab::default_duration(&cfg.robot.params);
+            cfg.duration = cfg.robot.params.lab_run();
         }
         Fault::DeadEnd => {
             // The end drawn for this seed, or the other one if without it the three others
@@ -388,8 +378,7 @@ pub fn config(
             let robot = (draw(3) % n as u64) as usize;
             cfg.kills.push((t, robot));
             cfg.restarts.push((t + REBOOT_DOWN, robot));
-            cfg.duration =
-                t.saturating_since(Instant::ZERO) + hal_emu::lab::default_duration(&params);
+            cfg.duration = t.saturating_since(Instant::ZERO) + params.lab_run();
             reboot = Some(t);
         }
         Fault::Rogue => cfg.adversaries.push(Adversary::rogue(at)),
@@ -446,7 +435,7 @@ fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<Outcome, String
     let mut restore_s = None;
     if let (Some(t), Some(e)) = (reboot, &expected) {
         let before = run.report.leds_at(t - Duration::from_millis(1));
-        let limit = nominal_period(&cfg.robot.params).saturating_mul(2);
+        let limit = cfg.robot.params.nominal_period().saturating_mul(2);
         restore_s = run
             .consensus_s
             .map(|c| c - t.saturating_since(Instant::ZERO).as_secs_f64());
@@ -702,7 +691,7 @@ pub fn lab_suite(
 ) -> Result<Vec<SuiteResult>, String> {
     let mut params = Params::robots();
     params.decide = decide.into();
-    let run = hal_emu::lab::default_duration(&params);
+    let run = params.lab_run();
     hal_emu::lab::paper_suite()
         .iter()
         .map(|e| {
@@ -1186,11 +1175,11 @@ pub fn campaign_section(report: &Report, figure: Option<&str>) -> CampaignSectio
         seeds: plan.seeds,
         first_seed: plan.seed,
         last_seed: plan.seed.wrapping_add(plan.seeds - 1),
-        run_s: hal_emu::lab::default_duration(&p).as_millis() / 1000,
+        run_s: p.lab_run().as_millis() / 1000,
         setup: baseline_setup(plan.seed),
         patterns: &PAPER_PATTERNS,
         reboot_down_s: REBOOT_DOWN.as_millis() / 1000,
-        restore_limit_s: nominal_period(&p).saturating_mul(2).as_millis() / 1000,
+        restore_limit_s: p.nominal_period().saturating_mul(2).as_millis() / 1000,
         adversary_x: ADVERSARY_AT.0.to_string(),
         adversary_y: ADVERSARY_AT.1.to_string(),
         scenarios: report.results.iter().map(scenario_row).collect(),

@@ -329,9 +329,7 @@ fn run_length(args: &ArenaArgs, params: &Params) -> Result<Duration, String> {
             args.spacing
         ));
     }
-    let run = args
-        .duration
-        .map_or(hal_emu::lab::default_duration(params), Duration::from_secs);
+    let run = args.duration.map_or(params.lab_run(), Duration::from_secs);
     if run > Duration::from_secs(MAX_RUN_SECS) {
         return Err(format!(
             "a run of three negotiation periods of the longest cycle (--cycle, --cycle-spread, \

@@ -12,7 +12,7 @@
 use hal_emu::arena::{Motion, Move};
 use hal_emu::{ArenaConfig, Environment, MediumParams, Point2};
 use nalgebra::Vector2;
-use protocol::{Duration, MAX_TAGS, Params};
+use protocol::{MAX_TAGS, Params};
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
@@ -236,7 +236,7 @@ pub fn config(spec: &PlaneSpec, seed: u64) -> Result<ArenaConfig, PlaneError> {
     let metres = rel.iter().map(|v| Point2::from(v * range)).collect();
     let mut params = spec.params;
     params.sectors = spec.sectors;
-    let period = nominal_period(&params);
+    let period = params.nominal_period();
     let mut c = ArenaConfig::line(
         Vec::new(),
         1.0,
@@ -285,11 +285,6 @@ pub fn sensor_scale(scenario: &Scenario) -> (f64, f64, u8) {
     };
     let noise = (gain * scenario.run.noise / 2.0).round().clamp(0.0, 255.0) as u8;
     (30.0 - gain * lo, gain, noise)
-}
-
-/// A negotiation period of mean cycles: the time between two moves.
-pub fn nominal_period(p: &Params) -> Duration {
-    p.wave.cycle.saturating_mul(u64::from(p.negotiation_cycles))
 }
 
 /// The centre after each move, and the first move after which `success` held.

@@ -6,16 +6,17 @@
 //! every negotiation period.
 //!
 //! ## Where to start reading
-//! - [`swarm`]: the 2D simulator. [`sim`] is the engine (message delivery, readings, the move)
-//!   over [`geometry`] (placement and neighbour lists) and [`field`] (the environment);
-//!   [`scenario`]: the built-in scenarios and the TOML scenario files; [`experiment`]: runs,
-//!   sweeps, preferred-direction grids, spread over all cores; [`swarm::reproduce`]:
-//!   `docs/reproduction.md`.
+//! - [`swarm`]: the 2D simulator. [`swarm::sim`] is the engine (message delivery, readings,
+//!   the move) over [`swarm::geometry`] (placement and neighbour lists) and [`swarm::field`]
+//!   (the environment); [`swarm::scenario`]: the built-in scenarios and the TOML scenario
+//!   files; [`swarm::experiment`]: runs, sweeps, preferred-direction grids, spread over all
+//!   cores; [`swarm::reproduce`]: `docs/reproduction.md`.
 //! - [`arena`]: the emulated lab over `hal-emu`: `cimax arena` itself ([`arena::line`]: robots
-//!   in a line under light patterns), robots on a plane ([`plane`]), the fault campaign
-//!   ([`campaign`], `docs/reliability.md`) and its stress sections ([`stress`]).
-//! - [`report`]: what results become: CSV files, SVG figures ([`plot`]) and the pages,
-//!   rendered from the templates in `host-sim/templates/` ([`report::page`]).
+//!   in a line under light patterns), robots on a plane ([`arena::plane`]), the fault campaign
+//!   ([`arena::campaign`], `docs/reliability.md`) and its stress sections ([`arena::stress`]).
+//! - [`report`]: what results become: CSV files, SVG figures ([`report::plot`]) and the
+//!   pages, rendered from the templates in `host-sim/templates/` ([`report::page`]).
+//! - [`viewer`]: the replay viewer's page of a run (`--html`, `cimax view`).
 //! - [`seeds`] and [`progress`]: the seed derivation and the progress bar both sides share.
 //!
 //! Data flow: scenario → experiment → result structs → JSON | CSV | template → page | plot.
@@ -32,8 +33,3 @@ pub mod seeds;
 pub mod stats;
 pub mod swarm;
 pub mod viewer;
-
-// The module paths from before the folders (`host_sim::campaign`, `host_sim::scenario`, ...).
-pub use arena::{campaign, plane, stress};
-pub use report::plot;
-pub use swarm::{experiment, field, geometry, scenario, sim};

@@ -4,8 +4,8 @@
 
 use std::process::Command;
 
-use host_sim::campaign::{self, Decide, Plan, SCENARIOS};
-use host_sim::experiment::Progress;
+use host_sim::arena::campaign::{self, Decide, Plan, SCENARIOS};
+use host_sim::swarm::experiment::Progress;
 
 fn cimax(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_cimax"))

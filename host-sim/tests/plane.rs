@@ -1,10 +1,10 @@
 //! The robot program on a plane: robots with six receivers on the hexagonal lattice, over the
 //! swarm simulator's sharp field, moving as their LEDs decide.
 
-use hal_emu::arena::swarm_heading;
 use hal_emu::run;
-use host_sim::plane::{Placement, PlaneSpec, config};
-use host_sim::scenario::Scenario;
+use hal_emu::world::arena::swarm_heading;
+use host_sim::arena::plane::{Placement, PlaneSpec, config};
+use host_sim::swarm::scenario::Scenario;
 use protocol::Params;
 
 fn spec(robots: usize, x_init: f64, moves: u32) -> PlaneSpec {

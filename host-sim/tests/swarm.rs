@@ -1,10 +1,10 @@
 //! End-to-end checks of the 2D simulator: the scenarios behave as the paper describes, the
 //! success criteria are applied, and results do not depend on the number of threads.
 
-use host_sim::experiment::{self, Progress, direction_map, radial_profile, sweep};
-use host_sim::geometry::Shape;
 use host_sim::report;
-use host_sim::scenario::{GridSpec, LATTICE_SPACING, Scenario};
+use host_sim::swarm::experiment::{self, Progress, direction_map, radial_profile, sweep};
+use host_sim::swarm::geometry::Shape;
+use host_sim::swarm::scenario::{GridSpec, LATTICE_SPACING, Scenario};
 use nalgebra::Point2;
 
 fn scenario(name: &str) -> Scenario {
@@ -160,7 +160,7 @@ fn a_scenario_file_with_every_option_runs() {
     assert_eq!(scn.agents, 80);
     assert_eq!(
         scn.shape,
-        host_sim::geometry::Shape::Rectangle {
+        host_sim::swarm::geometry::Shape::Rectangle {
             width: 9.0,
             height: 4.0
         }
@@ -193,7 +193,7 @@ fn a_scenario_with_the_entropy_as_diversity_runs_and_measures_in_bits() {
     assert!((2.0..6.0).contains(&d), "{d}");
     let variance = experiment::run(
         &scn,
-        host_sim::sim::RunConfig {
+        host_sim::swarm::sim::RunConfig {
             diversity: host_sim::swarm::measure::Measure::Variance,
             ..scn.run
         },

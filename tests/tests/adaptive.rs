@@ -4,7 +4,7 @@
 //! majority in a long line.
 
 use hal_emu::ArenaConfig;
-use hal_emu::lab::{PAPER_PATTERNS, judge, leds_str, parse_pattern};
+use hal_emu::judge::{PAPER_PATTERNS, judge, leds_str, parse_pattern};
 use protocol::Params;
 use protocol::params::DecisionRule;
 

@@ -2,7 +2,7 @@
 //! hardware (`hal-emu`) in the emulated light medium, judged by the LEDs.
 
 use firmware::LedColor;
-use hal_emu::lab::{PAPER_PATTERNS, expected, judge, leds_str, mirrored, parse_pattern};
+use hal_emu::judge::{PAPER_PATTERNS, expected, judge, leds_str, mirrored, parse_pattern};
 use hal_emu::{ArenaConfig, MediumParams};
 use protocol::{Duration, Instant};
 

@@ -6,7 +6,7 @@
 //!   and counted as bad MACs, and its light does not reach their decisions.
 
 use firmware::{Config, LedColor, Stats};
-use hal_emu::lab::{PAPER_PATTERNS, expected, judge, leds_str, parse_pattern};
+use hal_emu::judge::{PAPER_PATTERNS, expected, judge, leds_str, parse_pattern};
 use hal_emu::{ArenaConfig, TraceEvent, run};
 use protocol::frame::FRAME_MAX;
 use protocol::{Duration, SwarmKey};

@@ -3,7 +3,7 @@
 //! LEDs. The full campaign over hundreds of seeds is `cimax arena campaign`.
 
 use firmware::LedColor;
-use hal_emu::lab::{expected_without, judge, leds_str, parse_pattern};
+use hal_emu::judge::{expected_without, judge, leds_str, parse_pattern};
 use hal_emu::{Adversary, ArenaConfig, Point2, TraceEvent};
 use protocol::{Duration, Instant};
 

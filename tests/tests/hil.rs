@@ -1,10 +1,10 @@
-//! Robots in the loop without QEMU: the host's end of the link (`hal_emu::hil`) against the
+//! Robots in the loop without QEMU: the host's end of the link (`hal_emu::world::hil`) against the
 //! unchanged robot program behind the robot's end (`firmware::hil::robot::run`), in this
 //! process over a channel (`loopback`), on the run's virtual clock. The same bridge serves QEMU
 //! robots and boards (`cimax arena --hil`, `.ci/run`).
 
-use hal_emu::hil::{HilRobot, Transport};
-use hal_emu::lab::{PAPER_PATTERNS, judge, leds_str, parse_pattern};
+use hal_emu::judge::{PAPER_PATTERNS, judge, leds_str, parse_pattern};
+use hal_emu::world::hil::{HilRobot, Transport};
 use hal_emu::{ArenaConfig, ArenaError};
 use protocol::Duration;
 

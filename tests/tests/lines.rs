@@ -3,7 +3,7 @@
 //! prefers the direction of the one border), far beyond a message's hop horizon.
 
 use hal_emu::ArenaConfig;
-use hal_emu::lab::{judge, leds_str};
+use hal_emu::judge::{judge, leds_str};
 use protocol::Params;
 
 /// `lit` robots lit at the left end of a line of `n`, run with `seed` and frame loss `loss`.

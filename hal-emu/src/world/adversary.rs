@@ -8,7 +8,7 @@
 //!   again once, after a random delay, from its own position: the robots then see an old
 //!   message coming from the replayer's direction.
 //!
-//! Both are nodes of the [`medium`](crate::medium) like the robots, numbered after them, so
+//! Both are nodes of the [`medium`](crate::world::medium) like the robots, numbered after them, so
 //! range, receiver sector (bearing), airtime, half duplex, loss, byte errors and collisions
 //! apply to them unchanged; what they send and capture is traced
 //! ([`TraceEvent::RogueSent`](crate::TraceEvent::RogueSent),

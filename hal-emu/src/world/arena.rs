@@ -58,7 +58,7 @@ pub struct ArenaConfig {
     /// `(time, robot)`: the robot boots again with fresh state.
     pub restarts: Vec<(Instant, usize)>,
     /// Robots dead from the start (boot them with a restart). One that is never restarted is
-    /// absent: [`lab::judge`](crate::lab::judge) judges the others as a line of their own.
+    /// absent: [`lab::judge`](crate::judge::judge) judges the others as a line of their own.
     pub dead_at_start: Vec<usize>,
     /// Rogue transmitters and replayers sharing the robots' light (node numbers after the
     /// robots', in this order).
@@ -69,7 +69,7 @@ pub struct ArenaConfig {
     pub seed: u64,
     /// Keep a full trace of frames, LEDs and events.
     pub trace: bool,
-    /// Robots in the loop ([`crate::hil`]): these places are taken by robots running the real
+    /// Robots in the loop ([`crate::world::hil`]): these places are taken by robots running the real
     /// image elsewhere (QEMU, a board, a socket), reached over the link of `docs/hil.md`. With
     /// any that is not in this process the run goes in real time.
     pub hil: Vec<HilRobot>,
@@ -133,7 +133,7 @@ fn config_of(shared: Config, configs: &[Option<Config>], robot: usize) -> Config
     configs.get(robot).copied().flatten().unwrap_or(shared)
 }
 
-/// The swarm's motion over a [`PlaneField`](crate::env::PlaneField), as in the paper's 2D
+/// The swarm's motion over a [`PlaneField`](crate::world::env::PlaneField), as in the paper's 2D
 /// simulations: every `period` (a negotiation period) the swarm moves rigidly by `step` R along
 /// its decision, the circular mean of the sectors the robots' LEDs show ([`swarm_heading`]).
 /// Relative positions do not change, so neither does what the robots hear: only what they
@@ -968,7 +968,7 @@ mod tests {
             "robot 2 panicked: injected fault: robot 2's LED driver"
         );
         // The lab's verdict does not turn it into a run with LEDs.
-        let e = with_faulty_leds(2, || crate::lab::judge(&cfg)).expect_err("judged");
+        let e = with_faulty_leds(2, || crate::judge::judge(&cfg)).expect_err("judged");
         assert!(matches!(
             e,
             ArenaError::Robot(RobotFailure { robot: 2, .. })

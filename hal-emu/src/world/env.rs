@@ -149,18 +149,18 @@ impl core::str::FromStr for Readings {
 }
 
 /// A scalar field over the plane as the robots' sensors read it (the swarm simulator's fields,
-/// [`crate::field`]).
+/// [`crate::world::field`]).
 ///
 /// Robot `i` at `positions[i]` (in R, the light's range) reads the field's mean at
 /// `positions[i] + offset`, where `offset` is the swarm's displacement (`start` at first, then
-/// moved by the arena as the swarm decides, [`crate::arena::Motion`]), mapped to a sensor level by `level = base + gain × X`, rounded and
+/// moved by the arena as the swarm decides, [`crate::world::arena::Motion`]), mapped to a sensor level by `level = base + gain × X`, rounded and
 /// saturated to `0..=255`, plus the environment's noise. With the defaults (base 30, gain 34)
 /// the sharp border's 0 and 5 read as 30 and 200, the lab's dark and lit, and the paper's
 /// noise of width 1 is about ±17 levels.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PlaneField {
     /// The field.
-    pub field: crate::field::Field,
+    pub field: crate::world::field::Field,
     /// Each robot's position relative to the swarm, in R.
     pub positions: Vec<Point2<f64>>,
     /// The swarm's displacement at the start, in R.
@@ -175,7 +175,7 @@ impl PlaneField {
     /// `field` read by robots at `positions` (in R), the swarm displaced by `start`; base 30,
     /// gain 34.
     pub fn new(
-        field: crate::field::Field,
+        field: crate::world::field::Field,
         positions: Vec<Point2<f64>>,
         start: Vector2<f64>,
     ) -> Self {
@@ -233,7 +233,7 @@ impl Environment {
     /// `field` over the plane, read by robots at `positions` (in R) with the swarm displaced by
     /// `start`, noise ±17 levels (the paper's noise of width 1 at the default gain).
     pub fn plane(
-        field: crate::field::Field,
+        field: crate::world::field::Field,
         positions: Vec<Point2<f64>>,
         start: Vector2<f64>,
     ) -> Self {

@@ -15,7 +15,7 @@
 //!   each byte that arrives is corrupted (XOR with a random non-zero byte) with probability
 //!   `byte_error_rate`.
 //!
-//! - **Adversaries.** Nodes that are not robots ([`crate::adversary`]) use the same model: a
+//! - **Adversaries.** Nodes that are not robots ([`crate::world::adversary`]) use the same model: a
 //!   rogue transmitter's bursts and a replayer's frames take airtime, reach the receiver facing
 //!   them within range, collide and are lost like any frame; a replayer hears (captures) frames
 //!   like a robot's receiver would. Node numbers: robots first (`0..robots`), then the

@@ -2,7 +2,7 @@
 //!
 //! Every [`SCENARIOS`] entry is run once per seed (200 by default) in the emulated arena
 //! (`hal-emu`), each run judged exactly as `cimax arena` judges one
-//! ([`hal_emu::lab::judge`]: the top-cap LEDs at the end against the expected verdict). Seed
+//! ([`hal_emu::judge::judge`]: the top-cap LEDs at the end against the expected verdict). Seed
 //! `s` uses the paper's pattern `PAPER_PATTERNS[s mod 6]`, so every six consecutive seeds
 //! cover the six patterns, and the run's seed is `s` itself: one seed replays one run
 //! (`cimax arena campaign --scenario NAME --seed S --seeds 1`). Runs are spread over threads
@@ -20,8 +20,8 @@ use std::process::ExitCode;
 
 use clap::builder::PossibleValuesParser;
 use clap::{Args, Subcommand};
-use hal_emu::arena::RobotFailure;
-use hal_emu::lab::{PAPER_PATTERNS, judge, leds_str, parse_pattern, pattern_str};
+use hal_emu::judge::{PAPER_PATTERNS, judge, leds_str, parse_pattern, pattern_str};
+use hal_emu::world::arena::RobotFailure;
 use hal_emu::{Adversary, ArenaConfig, ArenaError, MediumStats, Point2, Readings};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -365,7 +365,7 @@ pub fn config(
             let rest = |e: usize| {
                 let mut p = pattern.clone();
                 p.remove(e);
-                hal_emu::lab::expected(&p)
+                hal_emu::judge::expected(&p)
             };
             if rest(end).is_none() {
                 end = other;
@@ -398,7 +398,7 @@ fn crashed(cfg: &ArenaConfig, failure: &RobotFailure) -> Outcome {
         .pattern_at(end)
         .map(<[bool]>::to_vec)
         .unwrap_or_default();
-    let expected = hal_emu::lab::expected_without(&lights, &hal_emu::lab::absent(cfg));
+    let expected = hal_emu::judge::expected_without(&lights, &hal_emu::judge::absent(cfg));
     Outcome {
         seed: cfg.seed,
         pattern: pattern_str(&lights),
@@ -676,7 +676,7 @@ pub const SUITE_BAR: f64 = 0.99;
 /// binary readings (Fig. 5(d), g ∈ {0, 1}).
 pub const SUITE_READINGS: [Readings; 2] = [Readings::Levels, Readings::Binary];
 
-/// The lab suite under `decide` ([`hal_emu::lab::paper_suite`]): the paper's six patterns and
+/// The lab suite under `decide` ([`hal_emu::judge::paper_suite`]): the paper's six patterns and
 /// the alternating experiment from each (mirrored once the run's duration has passed), seeds
 /// `seed..seed + seeds`, no fault, the sensors reporting `readings`, as
 /// `cimax arena --runs SEEDS --decide RULE --readings KIND` runs it.
@@ -692,7 +692,7 @@ pub fn lab_suite(
     let mut params = Params::robots();
     params.decide = decide.into();
     let run = params.lab_run();
-    hal_emu::lab::paper_suite()
+    hal_emu::judge::paper_suite()
         .iter()
         .map(|e| {
             let runs = (0..seeds)
@@ -1566,10 +1566,10 @@ mod tests {
                 panic!("one dead robot")
             };
             assert!(end == 0 || end == 3);
-            let r = hal_emu::lab::absent(&cfg);
+            let r = hal_emu::judge::absent(&cfg);
             let p = parse_pattern(pattern_for(seed)).unwrap();
             assert!(
-                hal_emu::lab::expected_without(&p, &r).is_some(),
+                hal_emu::judge::expected_without(&p, &r).is_some(),
                 "seed {seed}"
             );
         }

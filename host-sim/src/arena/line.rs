@@ -14,11 +14,11 @@ use crate::progress::Progress;
 use clap::Args;
 use firmware::Config;
 use firmware::LedColor;
-use hal_emu::arena::RobotFailure;
-use hal_emu::hil::{HilReport, HilRobot, HilSpec, Transport};
-use hal_emu::lab::{
+use hal_emu::judge::{
     LabExperiment, LabRun, judge, leds_str, paper_suite, parse_pattern, pattern_str,
 };
+use hal_emu::world::arena::RobotFailure;
+use hal_emu::world::hil::{HilReport, HilRobot, HilSpec, Transport};
 use hal_emu::{ArenaConfig, ArenaError, MediumParams, Readings, TraceEvent};
 use plotters::prelude::*;
 use protocol::{Duration, Instant, Params, SwarmKey};
@@ -160,7 +160,7 @@ pub struct ArenaArgs {
     /// firmware/qemu/target/thumbv7em-none-eabihf/release/hil, or hil6 for 6 sectors).
     #[arg(long, value_name = "ELF", requires = "hil")]
     pub hil_image: Option<PathBuf>,
-    /// `campaign`: the fault-injection campaign (`crate::campaign`).
+    /// `campaign`: the fault-injection campaign (`crate::arena::campaign`).
     #[command(subcommand)]
     pub command: Option<Box<ArenaCommand>>,
 }
@@ -783,7 +783,7 @@ impl Crashed {
             .pattern_at(end)
             .map(<[bool]>::to_vec)
             .unwrap_or_default();
-        let expected = hal_emu::lab::expected_without(&lights, &hal_emu::lab::absent(cfg));
+        let expected = hal_emu::judge::expected_without(&lights, &hal_emu::judge::absent(cfg));
         Crashed {
             lights,
             expected,
@@ -823,12 +823,12 @@ impl Crashed {
 /// What the LEDs of a run of `cfg` should show: the verdict of its pattern, or of each pattern
 /// in turn where the pattern changes (`LLLL>RRRR`); `(none)` for a pattern without a verdict.
 fn expected_str(cfg: &ArenaConfig) -> String {
-    let absent = hal_emu::lab::absent(cfg);
+    let absent = hal_emu::judge::absent(cfg);
     cfg.env
         .schedule
         .iter()
         .map(|(_, p)| {
-            hal_emu::lab::expected_without(p, &absent).map_or("(none)".into(), |e| leds_str(&e))
+            hal_emu::judge::expected_without(p, &absent).map_or("(none)".into(), |e| leds_str(&e))
         })
         .collect::<Vec<_>>()
         .join(">")

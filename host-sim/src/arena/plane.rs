@@ -5,11 +5,11 @@
 //! (`hal-emu`). What they sense is one of the 2D simulator's fields ([`crate::swarm::field`], the
 //! scenarios of `cimax swarm`), read where each robot is; every negotiation period the swarm
 //! moves rigidly by the scenario's step (0.33 R) along the circular mean of the sectors its
-//! LEDs show ([`hal_emu::arena::swarm_heading`]). A run succeeds by the scenario's criterion
+//! LEDs show ([`hal_emu::world::arena::swarm_heading`]). A run succeeds by the scenario's criterion
 //! (sharp: the centre of mass within 0.33 R of the border; gradient: at x >= 2.33) within the
 //! given number of moves, as in the paper's Figs. 5 and 8.
 
-use hal_emu::arena::{Motion, Move};
+use hal_emu::world::arena::{Motion, Move};
 use hal_emu::{ArenaConfig, Environment, MediumParams, Point2};
 use nalgebra::Vector2;
 use protocol::{MAX_TAGS, Params};
@@ -63,7 +63,7 @@ pub struct PlaneSpec {
     /// What the light sensors report (`--readings`).
     pub readings: hal_emu::Readings,
     /// Robots in the loop (`--hil`): places taken by robots running the real image elsewhere.
-    pub hil: Vec<hal_emu::hil::HilRobot>,
+    pub hil: Vec<hal_emu::world::hil::HilRobot>,
     /// How often the robots read their sensors, if not the robot program's default (`--cycle`
     /// scales it).
     pub sample_period: Option<protocol::Duration>,
@@ -143,7 +143,7 @@ pub struct PlaneRun {
     pub wall_s: f64,
     /// Each robot in the loop's link (`--hil`).
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub hil: Vec<hal_emu::hil::HilReport>,
+    pub hil: Vec<hal_emu::world::hil::HilReport>,
 }
 
 /// Why a plane experiment could not be set up.
@@ -329,7 +329,7 @@ pub fn run_traced(
     let never = Success::BeyondX { x: f64::INFINITY };
     let success = spec.scenario.success.unwrap_or(never);
     let (first, end) = judge(&report.moves, spec.scenario.run.step, &success);
-    let leds = hal_emu::lab::leds_str(&report.leds_at(protocol::Instant::MAX));
+    let leds = hal_emu::judge::leds_str(&report.leds_at(protocol::Instant::MAX));
     let run = PlaneRun {
         seed,
         success: first.is_some(),

@@ -429,7 +429,7 @@ fn times_panel(
     Ok(())
 }
 
-/// One of the paper's values on a sweep figure, drawn over the bars in [`PAPER`] red.
+/// One of the paper's values on a sweep figure, drawn over the bars in the paper's red.
 #[derive(Clone, Debug, PartialEq)]
 pub enum SweepMark {
     /// One success rate `y` over `x.0 ≤ x_init < x.1`: a dashed line with ticks at its ends.

@@ -5,7 +5,7 @@
 
 pub mod experiment;
 /// The environment's fields, shared with the emulated arena (they live in `hal-emu`).
-pub use hal_emu::field;
+pub use hal_emu::world::field;
 pub mod geometry;
 pub mod measure;
 pub mod reproduce;

@@ -1,7 +1,7 @@
 //! A replay's set-up: what the page draws beneath the events.
 
-use hal_emu::field::Field;
-use hal_emu::lab::{expected_without, leds_str, pattern_str};
+use hal_emu::judge::{expected_without, leds_str, pattern_str};
+use hal_emu::world::field::Field;
 use hal_emu::{ArenaConfig, Point2, TraceEvent};
 use serde::{Deserialize, Serialize};
 
@@ -182,7 +182,7 @@ pub fn header_of(cfg: &ArenaConfig, trace: &[TraceEvent]) -> Header {
             .fold(0.0, f64::max);
         h.field = Some(heatmap(&plane.field, &centres, reach + 1.0, "X"));
     } else {
-        let absent = hal_emu::lab::absent(cfg);
+        let absent = hal_emu::judge::absent(cfg);
         h.lights = cfg
             .env
             .schedule

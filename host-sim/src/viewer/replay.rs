@@ -122,18 +122,140 @@ pub struct Replay {
     pub open_robot: Option<usize>,
 }
 
-/// The stream being built, and the time of its last event.
-struct Packer {
+/// The stream being built: the time of its last event, what `ev` refers to, and the
+/// LEDs and scores behind the chart.
+struct Packer<'h> {
+    header: &'h Header,
     ev: Vec<i64>,
     last_t: u64,
+    /// Per frame, in order: the neighbours it did not reach intact.
+    frames: std::vec::IntoIter<Vec<(u32, Outcome)>>,
+    decisions: Vec<Decision>,
+    moves: Vec<MoveAt>,
+    tracker: Tracker,
+    series: Series,
+    /// The lamps in force (index into `header.lights`).
+    pattern: usize,
 }
 
-impl Packer {
+impl Packer<'_> {
     fn op(&mut self, t_ms: u64, op: i64, args: &[i64]) {
         self.ev.push(t_ms.saturating_sub(self.last_t) as i64);
         self.last_t = self.last_t.max(t_ms);
         self.ev.push(op);
         self.ev.extend_from_slice(args);
+    }
+
+    /// A point of the chart at `t_ms`.
+    fn chart(&mut self, t_ms: u64) {
+        let (c, d) = self.tracker.point();
+        self.series.push(t_ms, c, d);
+    }
+
+    /// Packs one event (robots beyond the header's are adversaries: not shown).
+    fn event(&mut self, e: &TraceEvent) {
+        let n = self.header.positions.len();
+        match e {
+            TraceEvent::State { t_ms, robot, state } if *robot < n => {
+                let op = match state.as_ref() {
+                    "active" => 1,
+                    "refractory" => 2,
+                    _ => 0,
+                };
+                self.op(*t_ms, op, &[*robot as i64]);
+            }
+            TraceEvent::Sent { t_ms, robot, len } if *robot < n => {
+                let exc = self.frames.next().unwrap_or_default();
+                let mut args = vec![*robot as i64, *len as i64, exc.len() as i64];
+                for (j, o) in exc {
+                    args.extend([i64::from(j), o as i64]);
+                }
+                self.op(*t_ms, 3, &args);
+            }
+            TraceEvent::Led { t_ms, robot, color } if *robot < n => {
+                let c = color_code(color);
+                self.op(*t_ms, 4, &[*robot as i64, c]);
+                self.tracker.leds[*robot] = c;
+                self.chart(*t_ms);
+            }
+            TraceEvent::Preference {
+                t_ms,
+                robot,
+                preference,
+            } if *robot < n => {
+                self.op(*t_ms, 5, &[*robot as i64, sector_code(preference)]);
+            }
+            TraceEvent::Decided { t_ms, robot, .. } if *robot < n => self.decided(e, *t_ms, *robot),
+            TraceEvent::Moved { t_ms, .. } => self.moved(e, *t_ms),
+            TraceEvent::Killed { t_ms, robot } if *robot < n => {
+                self.op(*t_ms, 8, &[*robot as i64]);
+            }
+            TraceEvent::Restarted { t_ms, robot } if *robot < n => {
+                self.op(*t_ms, 9, &[*robot as i64]);
+            }
+            TraceEvent::Pattern { t_ms, .. } => self.pattern(*t_ms),
+            _ => {}
+        }
+    }
+
+    fn decided(&mut self, e: &TraceEvent, t_ms: u64, robot: usize) {
+        let TraceEvent::Decided {
+            period,
+            decision,
+            votes,
+            scores,
+            reading,
+            ..
+        } = e
+        else {
+            return;
+        };
+        self.op(t_ms, 6, &[self.decisions.len() as i64]);
+        self.tracker.best[robot] = scores.iter().flatten().copied().reduce(f32::max);
+        self.decisions.push(Decision {
+            robot,
+            period: *period,
+            decision: decision.map_or(-1, i16::from),
+            reading: *reading,
+            votes: votes.clone(),
+            scores: scores.iter().map(|s| s.map(round4)).collect(),
+        });
+        self.chart(t_ms);
+    }
+
+    fn moved(&mut self, e: &TraceEvent, t_ms: u64) {
+        let TraceEvent::Moved {
+            centre,
+            heading,
+            step,
+            consensus,
+            ..
+        } = e
+        else {
+            return;
+        };
+        self.op(t_ms, 7, &[self.moves.len() as i64]);
+        let to = heading.map_or(*centre, |a| {
+            [centre[0] + step * a.cos(), centre[1] + step * a.sin()]
+        });
+        self.moves.push(MoveAt {
+            t_ms,
+            from: *centre,
+            to,
+            heading: *heading,
+            consensus: *consensus,
+        });
+    }
+
+    /// The lamps changed: the schedule's next pattern (the first is in force from the start).
+    fn pattern(&mut self, t_ms: u64) {
+        let lights = &self.header.lights;
+        if let Some(i) = (self.pattern + 1..lights.len()).find(|&i| lights[i].t_ms <= t_ms) {
+            self.pattern = i;
+            self.op(t_ms, 10, &[i as i64]);
+            self.tracker.expect(lights.get(i));
+            self.chart(t_ms);
+        }
     }
 }
 
@@ -154,151 +276,22 @@ impl Replay {
         neighbours: Vec<BTreeSet<usize>>,
     ) -> Replay {
         let n = header.positions.len();
-        // Frames first: each reception or drop belongs to its sender's last frame.
-        let mut exceptions: Vec<Vec<(u32, Outcome)>> = Vec::new();
-        let mut frame_of: Vec<Option<usize>> = vec![None; n];
-        for e in trace {
-            match e {
-                TraceEvent::Sent { robot, .. } if *robot < n => {
-                    frame_of[*robot] = Some(exceptions.len());
-                    exceptions.push(Vec::new());
-                }
-                TraceEvent::Received {
-                    robot,
-                    from,
-                    garbled,
-                    corrupted,
-                    ..
-                } if *from < n && (*garbled || *corrupted > 0) => {
-                    let o = if *garbled {
-                        Outcome::Garbled
-                    } else {
-                        Outcome::Corrupted
-                    };
-                    note(&mut exceptions, &frame_of, &neighbours, *from, *robot, o);
-                }
-                TraceEvent::Dropped {
-                    robot,
-                    from,
-                    reason,
-                    ..
-                } if *from < n => {
-                    let o = match reason {
-                        DropReason::Loss => Outcome::Lost,
-                        DropReason::ReceiverTransmitting => Outcome::ReceiverTransmitting,
-                        DropReason::ReceiverDead => Outcome::ReceiverDead,
-                    };
-                    note(&mut exceptions, &frame_of, &neighbours, *from, *robot, o);
-                }
-                _ => {}
-            }
-        }
         let mut p = Packer {
+            header: &header,
             ev: Vec::new(),
             last_t: 0,
+            frames: frame_exceptions(n, trace, &neighbours).into_iter(),
+            decisions: Vec::new(),
+            moves: Vec::new(),
+            tracker: Tracker::new(n),
+            series: Series::default(),
+            pattern: 0,
         };
-        let mut frames = exceptions.into_iter();
-        let mut decisions = Vec::new();
-        let mut moves = Vec::new();
-        let mut tracker = Tracker::new(n);
-        tracker.expect(header.lights.first());
-        let mut series = Series::default();
-        let mut pattern = 0usize;
+        p.tracker.expect(header.lights.first());
         for e in trace {
-            match e {
-                TraceEvent::State { t_ms, robot, state } if *robot < n => {
-                    let op = match state.as_ref() {
-                        "active" => 1,
-                        "refractory" => 2,
-                        _ => 0,
-                    };
-                    p.op(*t_ms, op, &[*robot as i64]);
-                }
-                TraceEvent::Sent { t_ms, robot, len } if *robot < n => {
-                    let exc = frames.next().unwrap_or_default();
-                    let mut args = vec![*robot as i64, *len as i64, exc.len() as i64];
-                    for (j, o) in exc {
-                        args.push(i64::from(j));
-                        args.push(o as i64);
-                    }
-                    p.op(*t_ms, 3, &args);
-                }
-                TraceEvent::Led { t_ms, robot, color } if *robot < n => {
-                    let c = color_code(color);
-                    p.op(*t_ms, 4, &[*robot as i64, c]);
-                    tracker.leds[*robot] = c;
-                    let (c, d) = tracker.point();
-                    series.push(*t_ms, c, d);
-                }
-                TraceEvent::Preference {
-                    t_ms,
-                    robot,
-                    preference,
-                } if *robot < n => {
-                    p.op(*t_ms, 5, &[*robot as i64, sector_code(preference)]);
-                }
-                TraceEvent::Decided {
-                    t_ms,
-                    robot,
-                    period,
-                    decision,
-                    votes,
-                    scores,
-                    reading,
-                } if *robot < n => {
-                    p.op(*t_ms, 6, &[decisions.len() as i64]);
-                    tracker.best[*robot] = scores.iter().flatten().copied().reduce(f32::max);
-                    decisions.push(Decision {
-                        robot: *robot,
-                        period: *period,
-                        decision: decision.map_or(-1, i16::from),
-                        reading: *reading,
-                        votes: votes.clone(),
-                        scores: scores.iter().map(|s| s.map(round4)).collect(),
-                    });
-                    let (c, d) = tracker.point();
-                    series.push(*t_ms, c, d);
-                }
-                TraceEvent::Moved {
-                    t_ms,
-                    centre,
-                    heading,
-                    step,
-                    consensus,
-                } => {
-                    p.op(*t_ms, 7, &[moves.len() as i64]);
-                    let to = heading.map_or(*centre, |a| {
-                        [centre[0] + step * a.cos(), centre[1] + step * a.sin()]
-                    });
-                    moves.push(MoveAt {
-                        t_ms: *t_ms,
-                        from: *centre,
-                        to,
-                        heading: *heading,
-                        consensus: *consensus,
-                    });
-                }
-                TraceEvent::Killed { t_ms, robot } if *robot < n => {
-                    p.op(*t_ms, 8, &[*robot as i64]);
-                }
-                TraceEvent::Restarted { t_ms, robot } if *robot < n => {
-                    p.op(*t_ms, 9, &[*robot as i64]);
-                }
-                TraceEvent::Pattern { t_ms, .. } => {
-                    // The schedule's next pattern (the first is in force from the start).
-                    if let Some(i) =
-                        (pattern + 1..header.lights.len()).find(|&i| header.lights[i].t_ms <= *t_ms)
-                    {
-                        pattern = i;
-                        p.op(*t_ms, 10, &[i as i64]);
-                        tracker.expect(header.lights.get(i));
-                        let (c, d) = tracker.point();
-                        series.push(*t_ms, c, d);
-                    }
-                }
-                _ => {}
-            }
+            p.event(e);
         }
+        let (ev, decisions, moves, series) = (p.ev, p.decisions, p.moves, p.series);
         let (open_at_ms, open_robot) = open_at(&header, trace, &moves);
         Replay {
             neighbours: neighbours
@@ -306,7 +299,7 @@ impl Replay {
                 .map(|s| s.into_iter().map(|r| r as u32).collect())
                 .collect(),
             header,
-            ev: p.ev,
+            ev,
             decisions,
             moves,
             series,
@@ -314,6 +307,58 @@ impl Replay {
             open_robot,
         }
     }
+}
+
+/// Per frame sent by a robot, in order, the neighbours it did not reach intact: each reception
+/// or drop belongs to its sender's last frame.
+fn frame_exceptions(
+    n: usize,
+    trace: &[TraceEvent],
+    neighbours: &[BTreeSet<usize>],
+) -> Vec<Vec<(u32, Outcome)>> {
+    let mut exceptions: Vec<Vec<(u32, Outcome)>> = Vec::new();
+    let mut frame_of: Vec<Option<usize>> = vec![None; n];
+    for e in trace {
+        let (from, to, o) = match e {
+            TraceEvent::Sent { robot, .. } if *robot < n => {
+                frame_of[*robot] = Some(exceptions.len());
+                exceptions.push(Vec::new());
+                continue;
+            }
+            TraceEvent::Received {
+                robot,
+                from,
+                garbled,
+                corrupted,
+                ..
+            } if *garbled || *corrupted > 0 => {
+                let o = if *garbled {
+                    Outcome::Garbled
+                } else {
+                    Outcome::Corrupted
+                };
+                (*from, *robot, o)
+            }
+            TraceEvent::Dropped {
+                robot,
+                from,
+                reason,
+                ..
+            } => {
+                let o = match reason {
+                    DropReason::Loss => Outcome::Lost,
+                    DropReason::ReceiverTransmitting => Outcome::ReceiverTransmitting,
+                    DropReason::ReceiverDead => Outcome::ReceiverDead,
+                };
+                (*from, *robot, o)
+            }
+            _ => continue,
+        };
+        if from < n {
+            note(&mut exceptions, &frame_of, neighbours, from, to, o);
+        }
+    }
+    exceptions
 }
 
 /// Per sender, the robots its frames reached or failed to reach.

@@ -617,8 +617,10 @@ fn send(
 ) -> Result<(), Failure> {
     let mut buf = [0u8; LINK_FRAME_MAX];
     let f = firmware::hil::encode(msg, &mut buf).map_err(|e| format!("encoding {msg:?}: {e:?}"))?;
+    // The writer stops when the robot's end closes: the same failure as reading the end of
+    // its stream, whichever of the two the bridge sees first.
     to.send(f.to_vec())
-        .map_err(|_| "its link closed".to_string())?;
+        .map_err(|_| "its link ended (disconnected) while the host was sending".to_string())?;
     report.frames_sent += 1;
     report.bytes_sent += f.len() as u64;
     Ok(())

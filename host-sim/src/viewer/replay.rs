@@ -449,15 +449,16 @@ impl Tracker {
     }
 }
 
-/// The page's colour code of a traced LED colour.
+/// The page's colour code of a traced LED colour (anything else, such as a sector beyond
+/// what a trace file can mean, reads as off).
 fn color_code(c: &str) -> i64 {
     match c {
         "green" => 1,
         "blue" => 2,
         _ => c
             .strip_prefix("sector ")
-            .and_then(|s| s.parse::<i64>().ok())
-            .map_or(0, |s| 10 + s),
+            .and_then(|s| s.parse::<u8>().ok())
+            .map_or(0, |s| 10 + i64::from(s)),
     }
 }
 
@@ -468,8 +469,8 @@ fn sector_code(p: &str) -> i64 {
         "left" => 1,
         _ => p
             .strip_prefix("sector ")
-            .and_then(|s| s.parse().ok())
-            .unwrap_or(-1),
+            .and_then(|s| s.parse::<u8>().ok())
+            .map_or(-1, i64::from),
     }
 }
 
@@ -603,6 +604,14 @@ mod tests {
         h.verdict.as_mut().unwrap().success = true;
         let r = Replay::from_trace(h, &t);
         assert_eq!((r.open_at_ms, r.open_robot), (0, None));
+    }
+
+    #[test]
+    fn colours_and_sectors_from_a_hostile_trace_cannot_overflow() {
+        assert_eq!(color_code("sector 9223372036854775807"), 0);
+        assert_eq!(color_code("sector 3"), 13);
+        assert_eq!(sector_code("sector -5"), -1);
+        assert_eq!(sector_code("left"), 1);
     }
 
     #[test]

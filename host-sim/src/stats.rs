@@ -32,6 +32,54 @@ pub fn quantile(xs: &[f64], p: f64) -> Option<f64> {
     Some(v[rank - 1])
 }
 
+/// A least-squares line through points, with what a trend claim needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LineFit {
+    /// Slope.
+    pub slope: f64,
+    /// Intercept at x = 0.
+    pub intercept: f64,
+    /// Half-width of the slope's two-sided 95 % interval (Student's t with n − 2 degrees of
+    /// freedom times the slope's standard error).
+    pub slope_ci: f64,
+    /// The share of the variance of y the line explains (R²; 1 for points on a line).
+    pub r2: f64,
+}
+
+/// The least-squares line through `(x, y)` points; `None` for fewer than three points or when
+/// every x is the same.
+pub fn line_fit(points: &[(f64, f64)]) -> Option<LineFit> {
+    use statrs::distribution::{ContinuousCDF, StudentsT};
+    let n = points.len();
+    if n < 3 {
+        return None;
+    }
+    let xs: Vec<f64> = points.iter().map(|p| p.0).collect();
+    let ys: Vec<f64> = points.iter().map(|p| p.1).collect();
+    let (mx, my) = (mean(&xs)?, mean(&ys)?);
+    let sxx: f64 = xs.iter().map(|x| (x - mx) * (x - mx)).sum();
+    if sxx <= 0.0 {
+        return None;
+    }
+    let sxy: f64 = points.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let syy: f64 = ys.iter().map(|y| (y - my) * (y - my)).sum();
+    let slope = sxy / sxx;
+    let intercept = my - slope * mx;
+    let sse: f64 = points
+        .iter()
+        .map(|(x, y)| (y - intercept - slope * x).powi(2))
+        .sum();
+    let df = (n - 2) as f64;
+    let se = (sse / df / sxx).sqrt();
+    let t = StudentsT::new(0.0, 1.0, df).ok()?.inverse_cdf(0.975);
+    Some(LineFit {
+        slope,
+        intercept,
+        slope_ci: t * se,
+        r2: if syy > 0.0 { 1.0 - sse / syy } else { 1.0 },
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -48,5 +96,19 @@ mod tests {
         assert_eq!(quantile(&xs, 0.95), Some(95.0));
         assert_eq!(quantile(&[3.0, f64::NAN], 0.95), Some(3.0));
         assert_eq!(quantile(&[], 0.5), None);
+    }
+
+    #[test]
+    fn a_line_fit_finds_the_slope_and_its_interval() {
+        let exact = line_fit(&[(0.0, 1.0), (1.0, 3.0), (2.0, 5.0)]).unwrap();
+        assert!((exact.slope - 2.0).abs() < 1e-12 && (exact.intercept - 1.0).abs() < 1e-12);
+        assert!(exact.slope_ci.abs() < 1e-9 && (exact.r2 - 1.0).abs() < 1e-12);
+        // Around y = x at x = 0..4: slope 1.00, s.e. 0.031, t(3) = 3.182, interval ± 0.097.
+        let noisy = line_fit(&[(0.0, 0.0), (1.0, 1.1), (2.0, 1.9), (3.0, 3.1), (4.0, 4.0)]).unwrap();
+        assert!((noisy.slope - 1.0).abs() < 0.05, "{noisy:?}");
+        assert!(noisy.slope_ci > 0.05 && noisy.slope_ci < 0.3, "{noisy:?}");
+        assert!(noisy.r2 > 0.99 && noisy.r2 < 1.0);
+        assert_eq!(line_fit(&[(0.0, 1.0), (1.0, 2.0)]), None);
+        assert_eq!(line_fit(&[(1.0, 1.0), (1.0, 2.0), (1.0, 3.0)]), None);
     }
 }

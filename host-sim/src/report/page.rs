@@ -10,7 +10,7 @@
 
 use std::sync::OnceLock;
 
-use minijinja::{AutoEscape, Environment};
+use minijinja::{AutoEscape, Environment, UndefinedBehavior};
 use serde::Serialize;
 
 /// Every template by name (its path under `templates/`).
@@ -114,6 +114,9 @@ fn environment() -> &'static Environment<'static> {
         env.set_lstrip_blocks(true);
         env.set_keep_trailing_newline(true);
         env.set_auto_escape_callback(|_| AutoEscape::None);
+        // A field the page does not have (renamed, misspelt, or never set) is an error, not a
+        // blank in the page.
+        env.set_undefined_behavior(UndefinedBehavior::Strict);
         for (name, source) in TEMPLATES {
             // The templates are part of the binary; one that does not parse is a bug that the
             // tests below catch.
@@ -161,5 +164,11 @@ mod tests {
             .render(minijinja::context! { xs => ["1", "2"] })
             .unwrap();
         assert_eq!(out, "a\n- 1\n- 2\nb\n");
+    }
+
+    #[test]
+    fn a_field_the_context_lacks_is_an_error_not_a_blank() {
+        let err = render("reproduction.md.j2", minijinja::context! { seed => 1 }).unwrap_err();
+        assert!(err.contains("undefined"), "{err}");
     }
 }

@@ -27,6 +27,7 @@
 //!   independent, and results are collected in run order.
 
 pub mod arena;
+pub mod pages;
 pub mod progress;
 pub mod report;
 pub mod seeds;

@@ -80,6 +80,29 @@ pub fn line_fit(points: &[(f64, f64)]) -> Option<LineFit> {
     })
 }
 
+/// Where a profile `(d, value, standard error)` (by increasing d) crosses `level`, by linear
+/// interpolation between the two points either side: the first crossing upward (`up`) or the
+/// last crossing downward (`!up`). With its standard error: the two points' mean standard error
+/// over the local slope. `None` if it never crosses that way.
+pub fn crossing(profile: &[(f64, f64, f64)], level: f64, up: bool) -> Option<(f64, f64)> {
+    let pairs = profile.windows(2).map(|w| (w[0], w[1]));
+    let hit = |(a, b): &((f64, f64, f64), (f64, f64, f64))| {
+        if up {
+            a.1 < level && b.1 >= level
+        } else {
+            a.1 >= level && b.1 < level
+        }
+    };
+    let (a, b) = if up {
+        pairs.clone().find(hit)?
+    } else {
+        pairs.clone().rfind(hit)?
+    };
+    let slope = (b.1 - a.1) / (b.0 - a.0);
+    let d = a.0 + (level - a.1) / slope;
+    Some((d, 0.5 * (a.2 + b.2) / slope.abs()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -104,11 +127,28 @@ mod tests {
         assert!((exact.slope - 2.0).abs() < 1e-12 && (exact.intercept - 1.0).abs() < 1e-12);
         assert!(exact.slope_ci.abs() < 1e-9 && (exact.r2 - 1.0).abs() < 1e-12);
         // Around y = x at x = 0..4: slope 1.00, s.e. 0.031, t(3) = 3.182, interval ± 0.097.
-        let noisy = line_fit(&[(0.0, 0.0), (1.0, 1.1), (2.0, 1.9), (3.0, 3.1), (4.0, 4.0)]).unwrap();
+        let noisy =
+            line_fit(&[(0.0, 0.0), (1.0, 1.1), (2.0, 1.9), (3.0, 3.1), (4.0, 4.0)]).unwrap();
         assert!((noisy.slope - 1.0).abs() < 0.05, "{noisy:?}");
         assert!(noisy.slope_ci > 0.05 && noisy.slope_ci < 0.3, "{noisy:?}");
         assert!(noisy.r2 > 0.99 && noisy.r2 < 1.0);
         assert_eq!(line_fit(&[(0.0, 1.0), (1.0, 2.0)]), None);
         assert_eq!(line_fit(&[(1.0, 1.0), (1.0, 2.0), (1.0, 3.0)]), None);
+    }
+
+    #[test]
+    fn crossings_interpolate_between_the_points_either_side() {
+        let p = [
+            (0.0, -0.5, 0.1),
+            (1.0, -0.2, 0.1),
+            (2.0, 0.8, 0.1),
+            (3.0, 0.9, 0.1),
+            (4.0, 0.1, 0.1),
+        ];
+        let (d, se) = crossing(&p, 0.0, true).unwrap();
+        assert!((d - 1.2).abs() < 1e-12 && (se - 0.1).abs() < 1e-12);
+        let (d, _) = crossing(&p, 0.5, false).unwrap();
+        assert!((d - 3.5).abs() < 1e-12);
+        assert_eq!(crossing(&p, 2.0, true), None);
     }
 }

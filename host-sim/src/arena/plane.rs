@@ -760,7 +760,7 @@ fn sweep_svg(
     }
     // The same paper marks as docs/reproduction.md's sweeps (the gradient's 85–100 % band and
     // its 25 % at −4), for the built-in scenarios.
-    let paper = crate::swarm::reproduce::marks::sweep_for(&scenario.name);
+    let paper = crate::pages::marks::sweep_for(&scenario.name);
     let svg = a.out.join(format!("arena-{}-sweep.svg", scenario.name));
     crate::report::plot::sweep_figure(
         &svg,

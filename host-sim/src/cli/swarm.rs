@@ -288,7 +288,7 @@ fn swarm_sweep(
         &svg,
         &format!("{}: success ({crit}), {n} runs per point", scn.description),
         &[("this simulator", &pts)],
-        &reproduce::marks::sweep_for(&scn.name),
+        &host_sim::pages::marks::sweep_for(&scn.name),
     )?;
     println!(
         "{}: success {crit} within {} periods, {n} runs per point, {:.1} s",
@@ -328,7 +328,13 @@ fn swarm_field(c: &Common) -> Res {
     ensure_parent(&csv)?;
     ensure_parent(&svg)?;
     report::write_field_csv(&csv, &arrows)?;
-    plot::direction_figure(&svg, &scn, &grid, &arrows, &reproduce::marks::map_for(&scn))?;
+    plot::direction_figure(
+        &svg,
+        &scn,
+        &grid,
+        &arrows,
+        &host_sim::pages::marks::map_for(&scn),
+    )?;
     println!(
         "{}: {} grid points in {:.1} s",
         scn.description,

@@ -910,8 +910,9 @@ pub fn radial_figure(
     path: &Path,
     title: &str,
     points: &[RadialPoint],
-    markers: &[(f64, &str)],
+    markers: &[(f64, String)],
 ) -> Result<(), PlotError> {
+    let markers: Vec<(f64, &str)> = markers.iter().map(|(d, l)| (*d, l.as_str())).collect();
     let line = Line {
         label: "mean cos(direction − direction to the centre)".into(),
         points: points
@@ -926,7 +927,7 @@ pub fn radial_figure(
         "inward alignment",
         &[line],
         (-1.05, 1.05),
-        markers,
+        &markers,
         false,
     )
 }

@@ -11,13 +11,14 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
 
+use crate::pages::marks;
 use crate::report::csv_files::write_course_csv;
 use crate::report::csv_files::{
     CycleRow, fixed, opt, write_cycle_csv, write_field_csv, write_radial_csv, write_run_csv,
     write_sweep_csv,
 };
 use crate::report::plot::{self, Line};
-use crate::report::timecourse_plot::{PaperMark, time_course_figure};
+use crate::report::timecourse_plot::time_course_figure;
 use crate::seeds::derive;
 use crate::swarm::experiment::{
     self, Arrow, Error, Progress, RadialPoint, RunOutput, SweepPoint, direction_map,
@@ -25,14 +26,11 @@ use crate::swarm::experiment::{
 };
 use crate::swarm::geometry::{Swarm, lattice};
 use crate::swarm::scenario::{DEFAULT_PLACEMENT, LATTICE_SPACING, Placement, Scenario};
-use crate::swarm::sensitivity::{
-    Knob, diversity_at, heading_against_x, perception_edge, success_against,
-};
+use crate::swarm::sensitivity::{Knob, diversity_at, heading_against_x, success_against};
 use crate::swarm::timecourse::{TimeCourse, time_course};
 
 mod beyond;
 mod caption_cloud;
-pub mod marks;
 mod verdicts;
 
 /// What `swarm reproduce` needs.
@@ -152,22 +150,49 @@ fn toward_plus_x(arrows: &[Arrow], keep: impl Fn(f64) -> bool) -> (usize, usize)
     (ok, sel.len())
 }
 
-/// Distance beyond which a swarm no longer heads for the cloud: the smallest profile distance
-/// from which on every point's mean inward alignment stays below `threshold`.
-fn perception_limit(profile: &[RadialPoint], threshold: f64) -> Option<f64> {
-    let last_seen = profile.iter().rposition(|p| p.inward >= threshold)?;
-    profile.get(last_seen + 1).map(|p| p.distance)
-}
-
-/// The distances at which the swarm heads out of the cloud (mean inward alignment below
-/// `-threshold`): the largest such distance.
-fn outward_limit(profile: &[RadialPoint], threshold: f64) -> Option<f64> {
+/// A cloud's radial profile as `(d, inward, s.e.)` points.
+fn inward_points(profile: &[RadialPoint]) -> Vec<(f64, f64, f64)> {
     profile
         .iter()
-        .filter(|p| p.inward <= -threshold)
-        .map(|p| p.distance)
-        .fold(None, |m: Option<f64>, d| Some(m.map_or(d, |m| m.max(d))))
+        .map(|p| (p.distance, p.inward, p.inward_se))
+        .collect()
 }
+
+/// Distance beyond which a swarm no longer heads for the cloud: where the mean inward
+/// alignment last falls through `threshold`, interpolated, with its standard error.
+fn perception_limit(profile: &[RadialPoint], threshold: f64) -> Option<(f64, f64)> {
+    crate::stats::crossing(&inward_points(profile), threshold, false)
+}
+
+/// Distance up to which a swarm inside the cloud heads out toward its border: where the mean
+/// inward alignment first turns from negative to positive going out, interpolated, with its
+/// standard error.
+fn outward_limit(profile: &[RadialPoint]) -> Option<(f64, f64)> {
+    crate::stats::crossing(&inward_points(profile), 0.0, true)
+}
+
+/// `grid` with the points `refined` added where they are new, by increasing value: a grid
+/// refined where the paper claims an edge. The grid's own points keep their indices first, so
+/// their seeds do not change.
+fn refined(grid: Vec<f64>, refined: &[f64]) -> Vec<f64> {
+    let mut all = grid;
+    for &r in refined {
+        if all.iter().all(|g| (g - r).abs() > 1e-9) {
+            all.push(r);
+        }
+    }
+    all
+}
+
+/// `profile` by increasing distance.
+fn by_distance(mut profile: Vec<RadialPoint>) -> Vec<RadialPoint> {
+    profile.sort_by(|a, b| a.distance.total_cmp(&b.distance));
+    profile
+}
+
+/// Where the cloud profiles are refined to 0.25 R: around the claimed edges d = 4 (heading
+/// out inside) and d = 7, 7.5 (random beyond).
+const CLOUD_REFINED: [f64; 9] = [3.25, 3.75, 4.25, 4.75, 6.25, 6.75, 7.25, 7.75, 8.25];
 
 /// Swarm sizes of the speed figures.
 const BENCH_AGENTS: [usize; 3] = [61, 1000, 10_000];
@@ -377,8 +402,8 @@ fn sweep_figures(
 ) -> Result<(), Error> {
     let [sharp, gradient] = scns;
     for (k, (scn, crit, paper)) in [
-        (sharp, "|x| < 0.33 R", marks::sharp_sweep()),
-        (gradient, "x ≥ 2.33", marks::gradient_sweep()),
+        (sharp, "|x| < 0.33 R", marks::sweep_for("sharp")),
+        (gradient, "x ≥ 2.33", marks::sweep_for("gradient")),
     ]
     .into_iter()
     .enumerate()
@@ -433,7 +458,10 @@ fn direction_maps(st: &mut Stage<'_>, scns: [&Scenario; 3]) -> Result<Vec<Vec<Ar
 
 /// Cloud: how far the swarm perceives it, with its CSV file and figure.
 fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint>, Error> {
-    let distances: Vec<f64> = (0..=24).map(|k| 0.5 * f64::from(k)).collect();
+    let distances = refined(
+        (0..=24).map(|k| 0.5 * f64::from(k)).collect(),
+        &CLOUD_REFINED,
+    );
     let profile_runs = PROFILE_RUNS;
     let p = st.start(
         "cloud radial profile",
@@ -448,6 +476,7 @@ fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint
         st.seed(30),
         &p,
     )?;
+    let profile = by_distance(profile);
     st.done(&p);
     write_radial_csv(&st.figs.join("cloud-profile.csv"), &profile)?;
     plot::radial_figure(
@@ -456,7 +485,7 @@ fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint
             "cloud: heading of a swarm against its distance from the cloud's centre, {profile_runs} runs per point"
         ),
         &profile,
-        &marks::CLOUD_PROFILE,
+        &marks::profile_lines(cloud),
     )?;
     Ok(profile)
 }
@@ -494,19 +523,6 @@ fn time_courses(
         let (main_name, other_name) = (main.to_string(), main.other().to_string());
         let named = [(main_name.as_str(), &m), (other_name.as_str(), &o)];
         write_course_csv(&st.figs.join(format!("{}-course.csv", scn.name)), &named)?;
-        let paper = &PAPER_COURSE[k];
-        let mut marks = vec![PaperMark {
-            value: paper.start,
-            label: format!("paper: start ≈ {}", paper.start),
-            at_start: true,
-        }];
-        for (v, what) in paper.plateaus {
-            marks.push(PaperMark {
-                value: *v,
-                label: format!("paper: plateau ≈ {v} ({what})"),
-                at_start: false,
-            });
-        }
         time_course_figure(
             &st.figs.join(format!("{}-course.svg", scn.name)),
             &format!(
@@ -514,7 +530,7 @@ fn time_courses(
                 scn.name, COURSE_RUNS, scn.start.x
             ),
             &named,
-            &marks,
+            &marks::course(&scn.name),
         )?;
         courses.push([m, o]);
     }
@@ -545,8 +561,27 @@ struct ExtentRow {
     field: String,
     diameter: String,
     agents: usize,
+    /// The edge, R, two decimals.
     edge: Option<String>,
+    /// The edge and its standard error ([`extent_edge`]).
+    #[serde(skip)]
+    edge_se: Option<(f64, f64)>,
+    /// The verdict against the paper's edge on this field.
+    verdict: &'static str,
 }
+
+/// Where the first move's heading toward the border (`(x, mean cos, s.e.)`, x < 0) last falls
+/// through 0.5 going away from the border, interpolated: the farthest start from which the swarm
+/// heads for the border, as a distance, with its standard error.
+fn extent_edge(profile: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
+    let mut by_distance: Vec<(f64, f64, f64)> =
+        profile.iter().map(|&(x, m, se)| (x.abs(), m, se)).collect();
+    by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
+    crate::stats::crossing(&by_distance, 0.5, false)
+}
+
+/// Where the extent's starts are refined to 0.25 R: around the claimed edges 2.5 and 2.2.
+const EXTENT_REFINED: [f64; 4] = [-3.25, -2.75, -2.25, -1.75];
 
 /// The sensitivity section.
 #[derive(Serialize)]
@@ -738,7 +773,10 @@ fn sensitivity(
     )?;
 
     // The swarm's extent: 3 R against 2.5 R, the heading of the first move against x.
-    let xs: Vec<f64> = (1..=9).map(|k| -0.5 * f64::from(k)).rev().collect();
+    let xs = refined(
+        (1..=9).map(|k| -0.5 * f64::from(k)).rev().collect(),
+        &EXTENT_REFINED,
+    );
     let mut extent = Vec::new();
     let mut lines = Vec::new();
     let p = st.start(
@@ -755,11 +793,23 @@ fn sensitivity(
                 st.seed(570 + 2 * k as u64 + j as u64),
                 &p,
             )?;
+            let mut prof = prof;
+            prof.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let edge = extent_edge(&prof);
             extent.push(ExtentRow {
                 field: scn.name.clone(),
                 diameter: d.to_string(),
                 agents: s.agents,
-                edge: perception_edge(&prof, 0.5).map(|e| e.to_string()),
+                edge: edge.map(|e| format!("{} ± {}", fixed(e.0, 2), fixed(e.1, 2))),
+                edge_se: edge,
+                verdict: verdicts::edge_verdict(
+                    edge,
+                    [
+                        crate::pages::claims::Id::SharpEdge,
+                        crate::pages::claims::Id::GradientEdge,
+                    ][k],
+                )
+                .words(),
             });
             lines.push(Line {
                 label: format!("{}, diameter {d} R ({} agents)", scn.name, s.agents),
@@ -777,17 +827,15 @@ fn sensitivity(
         "mean cos(direction)",
         &lines,
         (-0.3, 1.05),
-        &[(-2.5, " paper: 2.5 R"), (-2.2, " paper: 2.2 R")],
+        &marks::extent(),
         false,
     )?;
-    let edge = |k: usize| {
-        extent[k]
-            .edge
-            .as_ref()
-            .and_then(|e| e.parse::<f64>().ok())
-            .unwrap_or(0.0)
+    let edge = |k: usize| extent[k].edge_se.map_or(0.0, |e| e.0);
+    let extent_big_matches = {
+        use crate::pages::{claims::Id, verdict::Verdict};
+        verdicts::edge_verdict(extent[0].edge_se, Id::SharpEdge) == Verdict::Reproduced
+            && verdicts::edge_verdict(extent[2].edge_se, Id::GradientEdge) == Verdict::Reproduced
     };
-    let extent_big_matches = (edge(0) - 2.5).abs() <= 0.5 && (edge(2) - 2.2).abs() <= 0.5;
     let extent_small_shorter = edge(1) < edge(0) && edge(3) < edge(2);
     Ok(SensitivitySection {
         extent_big_matches,
@@ -804,20 +852,21 @@ fn sensitivity(
 /// The paper's Figs. 4b and 7b: the diversity at the start and the plateau(s).
 struct PaperCourse {
     start: f64,
-    plateaus: &'static [(f64, &'static str)],
+    plateaus: Vec<(f64, &'static str)>,
 }
 
-/// Sharp border, then gradient.
-const PAPER_COURSE: [PaperCourse; 2] = [
+/// The paper's course of the sharp border (k = 0) or the gradient, from the claims.
+fn paper_course(k: usize) -> PaperCourse {
+    use crate::pages::claims::{Id, claim};
+    let (start, plateau) = [
+        (Id::SharpStart, Id::SharpPlateau),
+        (Id::GradientStart, Id::GradientPlateau),
+    ][k];
     PaperCourse {
-        start: 0.2,
-        plateaus: &[(4.5, "Fig. 4b")],
-    },
-    PaperCourse {
-        start: 0.3,
-        plateaus: &[(8.0, "caption of Fig. 7"), (20.0, "text")],
-    },
-];
+        start: claim(start).values().first().map_or(f64::NAN, |v| v.0),
+        plateaus: claim(plateau).values(),
+    }
+}
 
 /// The cycle length: success and waves heard per cycle length, with the CSV file and figure.
 fn cycle_effect(st: &mut Stage<'_>, sharp: &Scenario) -> Result<Vec<CycleRow>, Error> {
@@ -1023,6 +1072,8 @@ fn pair<T>(
 /// The set-up section.
 #[derive(Serialize)]
 struct Setup {
+    /// The radius of the main placement's swarm, R.
+    radius: String,
     /// Runs per point of the other placement's sweeps.
     other_runs: u32,
     agents: usize,
@@ -1048,7 +1099,7 @@ struct RunNote {
 /// The table of the paper's numbers beside ours, and the notes below it.
 #[derive(Serialize)]
 struct Comparison {
-    verdicts: Vec<verdicts::Verdict>,
+    verdicts: Vec<verdicts::Row>,
     /// "N reproduced, M partly, …".
     verdict_counts: String,
     sharp_near: Pair<String>,
@@ -1087,6 +1138,10 @@ struct SharpSection {
 /// The gradient's section.
 #[derive(Serialize)]
 struct GradientSection {
+    /// The field's slope on its ramp, per R.
+    slope: String,
+    /// The x of the success line.
+    line_x: String,
     rows: Vec<[String; 7]>,
     mid: Pair<[String; 2]>,
     m4: Pair<String>,
@@ -1097,6 +1152,15 @@ struct GradientSection {
 struct CloudSection {
     runs: u32,
     rows: Vec<[String; 3]>,
+    /// The ramp's outer edge, the swarm's radius and their sum (R).
+    reach: [String; 3],
+}
+
+/// The outer edge of `scn`'s cloud, its swarm's radius and their sum, formatted.
+fn reach(scn: &Scenario) -> [String; 3] {
+    marks::cloud_reach(scn).map_or(["–".into(), "–".into(), "–".into()], |(e, r)| {
+        [e.to_string(), fixed(r, 1), fixed(e + r, 1)]
+    })
 }
 
 /// The cycle length's section.
@@ -1197,6 +1261,7 @@ fn of((ok, n): (usize, usize)) -> String {
 fn setup(r: &Report<'_>) -> Setup {
     let p = &r.sharp.run.params;
     Setup {
+        radius: fixed(marks::swarm_radius(r.sharp), 1),
         other_runs: r
             .other_sweeps
             .first()
@@ -1221,15 +1286,7 @@ fn comparison(r: &Report<'_>) -> Comparison {
     let sharp_25 = |pts: &[SweepPoint]| rate_span(rate_range(pts, |x| x.abs() < 2.5));
     let plateau = |k: usize| format!("{:.1} ± {:.1}", r.plateaus[k].0, r.plateaus[k].1);
     let verdicts = verdicts::verdicts(r);
-    let count = |v: &str| verdicts.iter().filter(|x| x.verdict() == v).count();
-    let verdict_counts = format!(
-        "Of {} rows: {} reproduced, {} partly, {} not reproduced, {} by construction",
-        verdicts.len(),
-        count("reproduced"),
-        count("partly"),
-        count("not reproduced"),
-        count("by construction")
-    );
+    let verdict_counts = verdicts::counts(&verdicts);
     Comparison {
         verdicts,
         verdict_counts,
@@ -1253,8 +1310,8 @@ fn comparison(r: &Report<'_>) -> Comparison {
             (-2.0 - 1e-9..=1.5 + 1e-9).contains(&x)
         })),
         gradient_far_arrows: of(toward_plus_x(&r.maps[1], |x| x >= 2.5 - 1e-9)),
-        cloud_limit: perception_limit(r.profile, 0.5).map(|d| fixed(d, 1)),
-        cloud_outward: outward_limit(r.profile, 0.5).map(|d| fixed(d, 1)),
+        cloud_limit: perception_limit(r.profile, 0.5).map(|d| fixed(d.0, 1)),
+        cloud_outward: outward_limit(r.profile).map(|d| fixed(d.0, 1)),
         sharp_plateau_runs: r.plateaus[0].2,
         gradient_plateau_runs: r.plateaus[1].2,
         plateau_runs: r.plateau_runs,
@@ -1286,7 +1343,14 @@ fn sharp_section(r: &Report<'_>) -> SharpSection {
 }
 
 fn gradient_section(r: &Report<'_>) -> GradientSection {
+    let g = r.gradient;
     GradientSection {
+        slope: (g.field.mean(Point2::new(1.0, 0.0)) - g.field.mean(Point2::new(0.0, 0.0)))
+            .to_string(),
+        line_x: match &g.success {
+            Some(crate::swarm::scenario::Success::BeyondX { x }) => x.to_string(),
+            _ => "–".into(),
+        },
         rows: sweep_rows(&r.sweeps[1], &r.other_sweeps[1]),
         mid: pair(r, &r.sweeps[1], &r.other_sweeps[1], gradient_mid),
         m4: pair(r, &r.sweeps[1], &r.other_sweeps[1], at_m4),
@@ -1295,6 +1359,7 @@ fn gradient_section(r: &Report<'_>) -> GradientSection {
 
 fn cloud_section(r: &Report<'_>) -> CloudSection {
     CloudSection {
+        reach: reach(r.cloud),
         runs: r.profile_runs,
         rows: r
             .profile
@@ -1429,7 +1494,7 @@ fn course_section(r: &Report<'_>) -> CourseSection {
     let scenarios = [r.sharp, r.gradient]
         .iter()
         .zip(r.courses)
-        .zip(&PAPER_COURSE)
+        .zip([paper_course(0), paper_course(1)])
         .enumerate()
         .map(|(k, ((scn, pair), paper))| {
             let noise = scn.run.noise;
@@ -1508,8 +1573,8 @@ fn course_section(r: &Report<'_>) -> CourseSection {
 }
 
 /// The page's data, every number formatted.
-fn page<'a>(r: &Report<'a>) -> Page<'a> {
-    Page {
+fn page<'a>(r: &Report<'a>) -> Result<Page<'a>, Error> {
+    Ok(Page {
         seed: r.seed,
         wall_s: fixed(r.wall_s, 0),
         threads: r.threads,
@@ -1518,7 +1583,7 @@ fn page<'a>(r: &Report<'a>) -> Page<'a> {
         sharp: sharp_section(r),
         gradient: gradient_section(r),
         cloud: cloud_section(r),
-        caption_cloud: caption_cloud::section(r.caption_cloud, r.profile),
+        caption_cloud: caption_cloud::section(r.caption_cloud, r.profile)?,
         cycle: cycle_section(r),
         course: course_section(r),
         sensitivity: r.sensitivity,
@@ -1528,10 +1593,10 @@ fn page<'a>(r: &Report<'a>) -> Page<'a> {
         waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),
         placement: placement_note(r),
-    }
+    })
 }
 
 /// `docs/reproduction.md`, rendered from `templates/reproduction.md.j2`.
 fn markdown(r: &Report<'_>) -> Result<String, Error> {
-    Ok(crate::report::page::render("reproduction.md.j2", page(r))?)
+    Ok(crate::report::page::render("reproduction.md.j2", page(r)?)?)
 }

@@ -171,17 +171,6 @@ pub fn heading_against_x(
         .collect())
 }
 
-/// The perception edge of a heading profile: the largest distance `|x|` from which the mean
-/// heading toward the border is still at least `threshold`, scanning inward from the farthest
-/// point (`None` if no point reaches it).
-pub fn perception_edge(profile: &[(f64, f64, f64)], threshold: f64) -> Option<f64> {
-    profile
-        .iter()
-        .filter(|p| p.1 >= threshold)
-        .map(|p| p.0.abs())
-        .fold(None, |a: Option<f64>, d| Some(a.map_or(d, |a| a.max(d))))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -218,18 +207,5 @@ mod tests {
         let small = Knob::Extent(5.0).apply(&r).unwrap();
         assert_eq!(small.agents, 42);
         assert_eq!(small.shape, Shape::Disk { diameter: 5.0 });
-    }
-
-    #[test]
-    fn the_perception_edge_is_the_farthest_point_above_the_threshold() {
-        let p = [
-            (-4.0, 0.1, 0.0),
-            (-3.0, 0.6, 0.0),
-            (-2.0, 0.9, 0.0),
-            (-1.0, 1.0, 0.0),
-        ];
-        assert_eq!(perception_edge(&p, 0.5), Some(3.0));
-        assert_eq!(perception_edge(&p, 0.95), Some(1.0));
-        assert_eq!(perception_edge(&p, 1.5), None);
     }
 }

@@ -24,6 +24,8 @@ pub struct Spread {
     pub q10: f64,
     /// 90 % quantile over runs.
     pub q90: f64,
+    /// Standard error of the mean.
+    pub se: f64,
 }
 
 impl Spread {
@@ -32,6 +34,7 @@ impl Spread {
             mean: stats::mean(xs).unwrap_or(f64::NAN),
             q10: stats::quantile(xs, 0.1).unwrap_or(f64::NAN),
             q90: stats::quantile(xs, 0.9).unwrap_or(f64::NAN),
+            se: stats::standard_error(xs).unwrap_or(f64::NAN),
         }
     }
 }

@@ -5,7 +5,11 @@
 use nalgebra::Point2;
 use serde::Serialize;
 
-use super::{PROFILE_RUNS, Stage, builtin_placed, marks, outward_limit, perception_limit};
+use super::{
+    CLOUD_REFINED, PROFILE_RUNS, Stage, builtin_placed, by_distance, outward_limit,
+    perception_limit, refined,
+};
+use crate::pages::marks;
 use crate::report::csv_files::{fixed, write_field_csv, write_radial_csv};
 use crate::report::plot;
 use crate::swarm::experiment::{Arrow, Error, RadialPoint, direction_map, radial_profile};
@@ -19,9 +23,13 @@ const PROFILE_STAGE: u64 = 91;
 /// the text's cloud.
 const THRESHOLD: f64 = 0.5;
 
-/// The distances of the radial profile, as for the text's cloud: 0 to 12 R in steps of 0.5.
+/// The distances of the radial profile, as for the text's cloud: 0 to 12 R in steps of 0.5,
+/// refined to 0.25 around the claimed edges.
 fn distances() -> Vec<f64> {
-    (0..=24).map(|k| 0.5 * f64::from(k)).collect()
+    refined(
+        (0..=24).map(|k| 0.5 * f64::from(k)).collect(),
+        &CLOUD_REFINED,
+    )
 }
 
 /// The caption's cloud's results.
@@ -30,6 +38,8 @@ pub(super) struct CaptionCloud {
     pub(super) arrows: Vec<Arrow>,
     /// Inward alignment against distance.
     pub(super) profile: Vec<RadialPoint>,
+    /// The placement its swarm had.
+    pub(super) placement: Placement,
 }
 
 /// Runs the caption's cloud's direction map and radial profile with the `main` placement and
@@ -69,6 +79,7 @@ pub(super) fn run(st: &mut Stage<'_>, main: Placement) -> Result<CaptionCloud, E
         st.seed(PROFILE_STAGE),
         &p,
     )?;
+    let profile = by_distance(profile);
     st.done(&p);
     write_radial_csv(&st.figs.join("cloud-caption-profile.csv"), &profile)?;
     plot::radial_figure(
@@ -77,9 +88,13 @@ pub(super) fn run(st: &mut Stage<'_>, main: Placement) -> Result<CaptionCloud, E
             "caption's cloud: heading of a swarm against its distance from the centre, {PROFILE_RUNS} runs per point"
         ),
         &profile,
-        &marks::CAPTION_PROFILE,
+        &marks::profile_lines(&scn),
     )?;
-    Ok(CaptionCloud { arrows, profile })
+    Ok(CaptionCloud {
+        arrows,
+        profile,
+        placement: main,
+    })
 }
 
 /// The caption's cloud on the page (`reproduction/cloud_caption.md.j2`), every number
@@ -88,9 +103,9 @@ pub(super) fn run(st: &mut Stage<'_>, main: Placement) -> Result<CaptionCloud, E
 pub(super) struct CaptionSection {
     /// Runs per distance of the profile.
     runs: u32,
-    /// Distance beyond which the mean inward alignment stays below 0.5 ([`perception_limit`]).
+    /// Where the mean inward alignment last falls through 0.5 ([`perception_limit`]).
     limit: Option<String>,
-    /// The largest distance with mean inward alignment ≤ −0.5 ([`outward_limit`]).
+    /// Where the mean inward alignment first turns positive going out ([`outward_limit`]).
     outward: Option<String>,
     /// The nearest and farthest distance with mean inward alignment ≥ 0.5.
     inward: Option<[String; 2]>,
@@ -99,6 +114,8 @@ pub(super) struct CaptionSection {
     /// The text's cloud's [`perception_limit`] and [`outward_limit`], for the comparison.
     text_limit: Option<String>,
     text_outward: Option<String>,
+    /// The caption cloud's edge, the swarm's radius and their sum ([`super::reach`]).
+    reach: [String; 3],
     /// Arrows of the map with a component toward the centre, among those with 5 < d ≤ 7.
     map_inward: String,
     /// Arrows of the map with a component away from the centre, among those with 0 < d ≤ 4.
@@ -122,7 +139,10 @@ fn radial_arrows(arrows: &[Arrow], keep: impl Fn(f64) -> bool, toward: bool) -> 
 }
 
 /// The page's numbers for the caption's cloud `c`, beside the text's cloud's `text_profile`.
-pub(super) fn section(c: &CaptionCloud, text_profile: &[RadialPoint]) -> CaptionSection {
+pub(super) fn section(
+    c: &CaptionCloud,
+    text_profile: &[RadialPoint],
+) -> Result<CaptionSection, Error> {
     let inward: Vec<f64> = c
         .profile
         .iter()
@@ -136,20 +156,21 @@ pub(super) fn section(c: &CaptionCloud, text_profile: &[RadialPoint]) -> Caption
         .map_or([String::from("–"), String::from("–")], |p| {
             [fixed(p.inward, 2), fixed(p.distance, 1)]
         });
-    CaptionSection {
+    Ok(CaptionSection {
+        reach: super::reach(&builtin_placed("cloud-caption", c.placement)?),
         runs: PROFILE_RUNS,
-        limit: perception_limit(&c.profile, THRESHOLD).map(|d| fixed(d, 1)),
-        outward: outward_limit(&c.profile, THRESHOLD).map(|d| fixed(d, 1)),
+        limit: perception_limit(&c.profile, THRESHOLD).map(|d| fixed(d.0, 1)),
+        outward: outward_limit(&c.profile).map(|d| fixed(d.0, 1)),
         inward: inward
             .first()
             .zip(inward.last())
             .map(|(a, b)| [fixed(*a, 1), fixed(*b, 1)]),
         most_outward,
-        text_limit: perception_limit(text_profile, THRESHOLD).map(|d| fixed(d, 1)),
-        text_outward: outward_limit(text_profile, THRESHOLD).map(|d| fixed(d, 1)),
+        text_limit: perception_limit(text_profile, THRESHOLD).map(|d| fixed(d.0, 1)),
+        text_outward: outward_limit(text_profile).map(|d| fixed(d.0, 1)),
         map_inward: radial_arrows(&c.arrows, |d| d > 5.0 && d <= 7.0 + 1e-9, true),
         map_outward: radial_arrows(&c.arrows, |d| d > 1e-9 && d <= 4.0 + 1e-9, false),
-    }
+    })
 }
 
 #[cfg(test)]
@@ -171,7 +192,7 @@ mod tests {
             (0.0, 0.0),
             (1.0, -0.8),
             (2.0, -0.6),
-            (3.0, 0.2),
+            (3.0, 0.4),
             (5.0, 0.9),
             (7.0, 0.6),
             (7.5, 0.1),
@@ -194,9 +215,18 @@ mod tests {
                 decided: 61,
             },
         ];
-        let s = section(&CaptionCloud { arrows, profile }, &[point(0.0, 1.0)]);
-        assert_eq!(s.limit.as_deref(), Some("7.5"));
-        assert_eq!(s.outward.as_deref(), Some("2.0"));
+        let s = section(
+            &CaptionCloud {
+                arrows,
+                profile,
+                placement: Placement::Lattice,
+            },
+            &[point(0.0, 1.0)],
+        )
+        .unwrap();
+        // Falls through 0.5 between 7 (0.6) and 7.5 (0.1); turns positive between 2 and 3.
+        assert_eq!(s.limit.as_deref(), Some("7.1"));
+        assert_eq!(s.outward.as_deref(), Some("2.6"));
         assert_eq!(s.inward, Some(["5.0".into(), "7.0".into()]));
         assert_eq!(s.most_outward, ["-0.80".to_string(), "1.0".to_string()]);
         assert_eq!(s.text_limit, None);

@@ -1,0 +1,436 @@
+//! The paper's claims about its 2D simulations (section 3), each typed once: where in the paper
+//! it is, the quantity, the value or range, the tolerance and kind by which ours is judged
+//! ([`super::verdict`]), and the figures it is drawn on ([`super::marks`]). The summary table
+//! of `docs/reproduction.md`, the verdicts and the paper's marks on the figures all read
+//! [`CLAIMS`].
+
+/// Which claim a row is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Id {
+    /// Sharp border: success 1.0 within 2.5 R.
+    SharpNear,
+    /// Sharp border: success falls beyond 2.5 R.
+    SharpFar,
+    /// Sharp border: mean success time falls linearly toward the border.
+    SharpTime,
+    /// Sharp border: the average diversity at t = 0.
+    SharpStart,
+    /// Gradient: the average diversity at t = 0.
+    GradientStart,
+    /// Sharp border: periods until the swarm arrives (one run).
+    SharpArrival,
+    /// Gradient: periods until the swarm's diversity saturates (one run).
+    GradientArrival,
+    /// Sharp border: the diversity plateau.
+    SharpPlateau,
+    /// Gradient: the diversity plateau.
+    GradientPlateau,
+    /// Sharp map: every arrow within 2.5 R points at the border.
+    SharpMapNear,
+    /// Sharp map: random beyond 2.5 R.
+    SharpMapFar,
+    /// Gradient: success 85–100 % for −2 ≤ x < 2.33.
+    GradientMid,
+    /// Gradient: success 25 % at x = −4.
+    GradientFar,
+    /// Gradient map: every arrow between −2.2 and 2.2 points to +x.
+    GradientMapNear,
+    /// Gradient map: random beyond 2.2.
+    GradientMapFar,
+    /// Sharp border: the farthest start from which the first move heads for the border.
+    SharpEdge,
+    /// Gradient: the same.
+    GradientEdge,
+    /// The text's cloud: the distance beyond which the swarm no longer heads for it.
+    CloudLimit,
+    /// The text's cloud: inside, the swarm heads out toward its border.
+    CloudOutward,
+    /// The caption's cloud: the distance beyond which the swarm no longer heads for it.
+    CaptionLimit,
+}
+
+/// How a claim is judged.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Kind {
+    /// A success rate: the value or range widened by two binomial standard errors.
+    Rate,
+    /// A level (a mean over runs) within a relative tolerance.
+    Level {
+        /// 0.1: within 10 %.
+        rel: f64,
+    },
+    /// A distance within an absolute tolerance (R), found on a grid finer than it.
+    Distance {
+        /// ± R.
+        tol: f64,
+    },
+    /// A trend along x: the slope's 95 % interval on the claimed side of zero, and a second
+    /// condition (linearity, or a fall against the level elsewhere).
+    Trend,
+    /// Directions: the share of arrows inside a ±45° cone around the target.
+    Direction {
+        /// True: every arrow points at the target (at least 95 % in the cone); false: random
+        /// (a quarter in the cone, as uniform directions give).
+        toward: bool,
+    },
+    /// A value we tuned a free parameter of our set-up to.
+    Tuned,
+    /// A rule the paper does not give decides it: both choices are shown.
+    OpenRule,
+}
+
+/// The paper's value.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    /// One number.
+    At(f64),
+    /// A range.
+    Range(f64, f64),
+    /// Different numbers in different places of the paper (text, caption), with where.
+    Either(&'static [(f64, &'static str)]),
+    /// No number: a shape or a trend, in words.
+    Words,
+}
+
+/// A figure of the reproduction a claim is drawn on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Figure {
+    /// The success sweep of a built-in scenario (Figs. 5, 8).
+    Sweep(&'static str),
+    /// The direction map of a built-in scenario (Figs. 6, 9, 10).
+    Map(&'static str),
+    /// The averaged time course (Figs. 4b, 7b).
+    Course(&'static str),
+    /// A cloud's radial heading profile.
+    Profile(&'static str),
+    /// The heading of the first move against the start, both fields.
+    Extent,
+}
+
+/// One claim of the paper.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Claim {
+    /// Which claim.
+    pub id: Id,
+    /// Where in the paper: section, figure, caption or text.
+    pub source: &'static str,
+    /// What is measured (the table's first column).
+    pub quantity: &'static str,
+    /// The paper's value as the table shows it.
+    pub paper: &'static str,
+    /// The paper's value as a number, where it has one.
+    pub value: Value,
+    /// The x or distance range (R) the claim covers, if it covers one.
+    pub over: Option<(f64, f64)>,
+    /// How ours is judged.
+    pub kind: Kind,
+    /// Where it is drawn, and the mark's legend.
+    pub drawn: &'static [(Figure, &'static str)],
+}
+
+/// Every claim the reproduction tests, in the order of the summary table.
+pub const CLAIMS: &[Claim] = &[
+    Claim {
+        id: Id::SharpNear,
+        source: "§3.1, Fig. 5",
+        quantity: "Sharp border (Fig. 5): success for \\|x_init\\| < 2.5 R",
+        paper: "1.0",
+        value: Value::At(1.0),
+        over: Some((-2.5, 2.5)),
+        kind: Kind::Rate,
+        drawn: &[(Figure::Sweep("sharp"), "paper: 1.0 for |x_init| < 2.5 R")],
+    },
+    Claim {
+        id: Id::SharpFar,
+        source: "§3.1, Fig. 5",
+        quantity: "Sharp border: success beyond 2.5 R",
+        paper: "falls (random walk until the swarm perceives the border)",
+        value: Value::Words,
+        over: Some((-5.0, -2.5)),
+        kind: Kind::Trend,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::SharpTime,
+        source: "§3.1, Fig. 5",
+        quantity: "Sharp border: mean success time from −2.5 … −0.5",
+        paper: "decreases linearly toward the border",
+        value: Value::Words,
+        over: Some((-2.5, -0.5)),
+        kind: Kind::Trend,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::SharpStart,
+        source: "§3.1, Fig. 4b",
+        quantity: "Sharp border (Fig. 4b): average diversity at t = 0, from x = −2.5",
+        paper: "≈ 0.2",
+        value: Value::At(0.2),
+        over: None,
+        kind: Kind::Level { rel: 0.1 },
+        drawn: &[(Figure::Course("sharp"), "paper: start ≈ 0.2")],
+    },
+    Claim {
+        id: Id::GradientStart,
+        source: "§3.2, Fig. 7b",
+        quantity: "Gradient (Fig. 7b): average diversity at t = 0, from x = −2.5",
+        paper: "≈ 0.3",
+        value: Value::At(0.3),
+        over: None,
+        kind: Kind::Level { rel: 0.1 },
+        drawn: &[(Figure::Course("gradient"), "paper: start ≈ 0.3")],
+    },
+    Claim {
+        id: Id::SharpArrival,
+        source: "§3.1, Fig. 4",
+        quantity: "Sharp border (Fig. 4): periods from x = −2.5 until the swarm arrives",
+        paper: "≈ 8 (one run)",
+        value: Value::At(8.0),
+        over: None,
+        kind: Kind::Level { rel: 0.1 },
+        drawn: &[],
+    },
+    Claim {
+        id: Id::GradientArrival,
+        source: "§3.2, Fig. 7",
+        quantity: "Gradient (Fig. 7): periods from x = −2.5 until the swarm arrives",
+        paper: "≈ 15 (one run)",
+        value: Value::At(15.0),
+        over: None,
+        kind: Kind::Level { rel: 0.1 },
+        drawn: &[],
+    },
+    Claim {
+        id: Id::SharpPlateau,
+        source: "§3.1, Fig. 4b",
+        quantity: "Sharp border (Fig. 4b): diversity plateau at the border",
+        paper: "≈ 4.5",
+        value: Value::At(4.5),
+        over: None,
+        kind: Kind::Level { rel: 0.1 },
+        drawn: &[(Figure::Course("sharp"), "paper: plateau ≈ 4.5 (Fig. 4b)")],
+    },
+    Claim {
+        id: Id::GradientPlateau,
+        source: "§3.2, Fig. 7b and its caption",
+        quantity: "Gradient (Fig. 7b): diversity plateau",
+        paper: "≈ 8 (caption), ≈ 20 (text)",
+        value: Value::Either(&[(8.0, "caption of Fig. 7"), (20.0, "text")]),
+        over: None,
+        kind: Kind::Tuned,
+        drawn: &[
+            (
+                Figure::Course("gradient"),
+                "paper: plateau ≈ 8 (caption of Fig. 7)",
+            ),
+            (Figure::Course("gradient"), "paper: plateau ≈ 20 (text)"),
+        ],
+    },
+    Claim {
+        id: Id::SharpMapNear,
+        source: "§3.1, Fig. 6",
+        quantity: "Sharp map (Fig. 6): arrows toward the border, 0 < \\|x\\| ≤ 2.5",
+        paper: "all",
+        value: Value::Words,
+        over: Some((-2.5, 2.5)),
+        kind: Kind::Direction { toward: true },
+        drawn: &[(
+            Figure::Map("sharp"),
+            "paper: |x| = 2.5 R, toward the border inside, random beyond",
+        )],
+    },
+    Claim {
+        id: Id::SharpMapFar,
+        source: "§3.1, Fig. 6",
+        quantity: "Sharp map: arrows toward the border, \\|x\\| > 2.5",
+        paper: "random",
+        value: Value::Words,
+        over: Some((-2.5, 2.5)),
+        kind: Kind::Direction { toward: false },
+        drawn: &[],
+    },
+    Claim {
+        id: Id::GradientMid,
+        source: "§3.2 and §4, Fig. 8",
+        quantity: "Gradient (Fig. 8): success for −2 ≤ x_init < 2.33",
+        paper: "85–100 %",
+        value: Value::Range(0.85, 1.0),
+        over: Some((-2.0, 2.33)),
+        kind: Kind::Rate,
+        drawn: &[(
+            Figure::Sweep("gradient"),
+            "paper: 85–100 % for −2 ≤ x_init < 2.33",
+        )],
+    },
+    Claim {
+        id: Id::GradientFar,
+        source: "§3.2, Fig. 8",
+        quantity: "Gradient: success at x_init = −4",
+        paper: "≈ 25 %",
+        value: Value::At(0.25),
+        over: Some((-4.0, -4.0)),
+        kind: Kind::Rate,
+        drawn: &[(Figure::Sweep("gradient"), "paper: 25 % at x_init = −4")],
+    },
+    Claim {
+        id: Id::GradientMapNear,
+        source: "§3.2, Fig. 9",
+        quantity: "Gradient map (Fig. 9): arrows toward +x, −2.2 ≤ x ≤ 2.2",
+        paper: "all",
+        value: Value::Words,
+        over: Some((-2.2, 2.2)),
+        kind: Kind::Direction { toward: true },
+        drawn: &[(
+            Figure::Map("gradient"),
+            "paper: x = −2.2 and 2.2, toward +x between, random beyond",
+        )],
+    },
+    Claim {
+        id: Id::GradientMapFar,
+        source: "§3.2, Fig. 9",
+        quantity: "Gradient map: arrows toward +x, x > 2.2",
+        paper: "random",
+        value: Value::Words,
+        over: Some((2.2, f64::INFINITY)),
+        kind: Kind::Direction { toward: false },
+        drawn: &[],
+    },
+    Claim {
+        id: Id::SharpEdge,
+        source: "§3.1, Fig. 6",
+        quantity: "Sharp border: farthest start from which the first move heads for the border",
+        paper: "≈ 2.5 R",
+        value: Value::At(2.5),
+        over: None,
+        kind: Kind::Distance { tol: 0.25 },
+        drawn: &[(Figure::Extent, " paper: 2.5 R")],
+    },
+    Claim {
+        id: Id::GradientEdge,
+        source: "§3.2, Fig. 9",
+        quantity: "Gradient: farthest start from which the first move heads for the border",
+        paper: "≈ 2.2 R",
+        value: Value::At(2.2),
+        over: None,
+        kind: Kind::Distance { tol: 0.25 },
+        drawn: &[(Figure::Extent, " paper: 2.2 R")],
+    },
+    Claim {
+        id: Id::CloudLimit,
+        source: "§3.3, text and caption of Fig. 10",
+        quantity: "Cloud (Fig. 10, the text's): distance beyond which the swarm no longer heads for it",
+        paper: "≈ 7 (text), ≈ 7.5 (caption)",
+        value: Value::Either(&[(7.0, "text"), (7.5, "caption")]),
+        over: None,
+        kind: Kind::Distance { tol: 0.25 },
+        drawn: &[
+            (Figure::Map("cloud"), "paper (text): d = 7, random beyond"),
+            (
+                Figure::Map("cloud"),
+                "paper (caption): d = 7.5, random beyond",
+            ),
+            (
+                Figure::Profile("cloud"),
+                "paper (text): d = 7, random beyond",
+            ),
+            (
+                Figure::Profile("cloud"),
+                "paper (caption): d = 7.5, random beyond",
+            ),
+        ],
+    },
+    Claim {
+        id: Id::CloudOutward,
+        source: "§3.3, text",
+        quantity: "Cloud (the text's): inside, the swarm heads out toward its border",
+        paper: "for d ≲ 4",
+        value: Value::At(4.0),
+        over: None,
+        kind: Kind::Distance { tol: 0.25 },
+        drawn: &[
+            (
+                Figure::Map("cloud"),
+                "paper (text): d = 4, heads out inside",
+            ),
+            (
+                Figure::Profile("cloud"),
+                "paper (text): d = 4, heads out inside",
+            ),
+        ],
+    },
+    Claim {
+        id: Id::CaptionLimit,
+        source: "§3.3, caption of Fig. 10",
+        quantity: "Cloud (the caption's, radius 5): distance beyond which the swarm no longer heads for it",
+        paper: "≈ 7.5 (caption)",
+        value: Value::At(7.5),
+        over: None,
+        kind: Kind::Distance { tol: 0.25 },
+        drawn: &[
+            (
+                Figure::Map("cloud-caption"),
+                "paper (caption): d = 7.5, random beyond",
+            ),
+            (
+                Figure::Profile("cloud-caption"),
+                "paper (caption): d = 7.5, random beyond",
+            ),
+        ],
+    },
+];
+
+/// The claim `id`.
+pub fn claim(id: Id) -> &'static Claim {
+    CLAIMS
+        .iter()
+        .find(|c| c.id == id)
+        .unwrap_or_else(|| unreachable!("every Id has a row in CLAIMS (test)"))
+}
+
+impl Claim {
+    /// The paper's numbers of this claim with where each is from (none for a claim in words).
+    pub fn values(&self) -> Vec<(f64, &'static str)> {
+        match self.value {
+            Value::At(v) => vec![(v, self.source)],
+            Value::Range(lo, hi) => vec![(lo, self.source), (hi, self.source)],
+            Value::Either(vs) => vs.to_vec(),
+            Value::Words => Vec::new(),
+        }
+    }
+
+    /// The paper's value as a band: one value, a range, or the span of its values.
+    pub fn band(&self) -> Option<(f64, f64)> {
+        let vs = self.values();
+        let lo = vs.iter().map(|v| v.0).reduce(f64::min)?;
+        let hi = vs.iter().map(|v| v.0).reduce(f64::max)?;
+        Some((lo, hi))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_claim_is_typed_once_and_found_by_its_id() {
+        for (k, c) in CLAIMS.iter().enumerate() {
+            assert_eq!(claim(c.id), c);
+            assert!(
+                CLAIMS[k + 1..].iter().all(|d| d.id != c.id),
+                "{:?} twice",
+                c.id
+            );
+            assert!(c.drawn.iter().all(|(_, label)| label.contains("paper")));
+            // A claim with a number states it in the table's paper column.
+            for (v, _) in c.values() {
+                let shown = if c.paper.contains('%') { v * 100.0 } else { v };
+                assert!(
+                    c.paper.contains(&format!("{shown}")),
+                    "{:?}: {} does not show {shown}",
+                    c.id,
+                    c.paper
+                );
+            }
+        }
+    }
+}

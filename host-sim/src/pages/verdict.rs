@@ -1,0 +1,251 @@
+//! How one of our numbers is judged against a claim of the paper: one small function per kind
+//! of claim ([`rate`], [`level`], [`distance`], [`trend`], [`direction`]), each returning a
+//! [`Verdict`].
+//!
+//! The rule is the same for every kind: a claim has a **reproduced band** (its value or range,
+//! widened by its tolerance); ours is **reproduced** inside the band, **partly** when it lies
+//! outside by at most two standard errors of our own estimate, and **not reproduced** beyond.
+
+use serde::Serialize;
+
+/// The verdict on one claim.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Verdict {
+    /// Ours is inside the claim's band.
+    Reproduced,
+    /// Ours is outside the band by at most two of our standard errors.
+    Partly,
+    /// Ours is farther from the band.
+    NotReproduced,
+    /// Ours was tuned to the paper's value (a free parameter of the set-up).
+    ByConstruction,
+    /// The outcome turns on a rule the paper does not give; the row shows both choices.
+    DependsOnUnspecifiedRule,
+}
+
+impl Verdict {
+    /// Every verdict, in the order the page counts them.
+    pub const ALL: [Verdict; 5] = [
+        Verdict::Reproduced,
+        Verdict::Partly,
+        Verdict::NotReproduced,
+        Verdict::ByConstruction,
+        Verdict::DependsOnUnspecifiedRule,
+    ];
+
+    /// The words the page shows.
+    pub fn words(self) -> &'static str {
+        match self {
+            Verdict::Reproduced => "reproduced",
+            Verdict::Partly => "partly",
+            Verdict::NotReproduced => "not reproduced",
+            Verdict::ByConstruction => "by construction",
+            Verdict::DependsOnUnspecifiedRule => "depends on an unspecified rule",
+        }
+    }
+
+    /// The better of the verdicts of the same claim under two placements: reproduced only if
+    /// both are, partly if either is reproduced or partly.
+    pub fn both(self, other: Verdict) -> Verdict {
+        use Verdict::*;
+        match (self, other) {
+            (Reproduced, Reproduced) => Reproduced,
+            (Reproduced | Partly, _) | (_, Reproduced | Partly) => Partly,
+            _ => NotReproduced,
+        }
+    }
+}
+
+impl std::fmt::Display for Verdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.words())
+    }
+}
+
+/// Ours against the band `[lo, hi]`: inside, at most two standard errors `se` outside, or
+/// farther.
+pub fn banded(ours: f64, (lo, hi): (f64, f64), se: f64) -> Verdict {
+    let off = (lo - ours).max(ours - hi).max(0.0);
+    if !ours.is_finite() {
+        Verdict::NotReproduced
+    } else if off <= 1e-9 {
+        Verdict::Reproduced
+    } else if off <= 2.0 * se + 1e-9 {
+        Verdict::Partly
+    } else {
+        Verdict::NotReproduced
+    }
+}
+
+/// The binomial standard error of a rate `p` over `runs` runs, at least one run's worth (at a
+/// rate of 0 or 1 it would vanish).
+pub fn rate_se(p: f64, runs: u32) -> f64 {
+    let n = f64::from(runs.max(1));
+    (p * (1.0 - p) / n).sqrt().max(1.0 / n)
+}
+
+/// A success rate of `successes` in `runs` against the paper's `[lo, hi]` (lo = hi for one
+/// value). The band is widened by two binomial standard errors at the paper's nearest value
+/// (the sampling of our runs), at least one run's worth.
+pub fn rate(successes: u32, runs: u32, (lo, hi): (f64, f64)) -> Verdict {
+    let ours = f64::from(successes) / f64::from(runs.max(1));
+    let near = ours.clamp(lo, hi);
+    let tol = 2.0 * rate_se(near, runs);
+    banded(ours, (lo - tol, hi + tol), rate_se(ours, runs))
+}
+
+/// A level (a mean over runs, with standard error `se`) against the paper's `paper`, within
+/// the relative tolerance `rel` (0.1: 10 %).
+pub fn level(ours: f64, se: f64, paper: f64, rel: f64) -> Verdict {
+    let tol = (paper * rel).abs();
+    banded(ours, (paper - tol, paper + tol), se)
+}
+
+/// A distance `(d, s.e.)` (interpolated on a grid finer than `tol`) against the paper's
+/// `[lo, hi]` (lo = hi for one value) within `tol`; none found is not reproduced.
+pub fn distance(ours: Option<(f64, f64)>, (lo, hi): (f64, f64), tol: f64) -> Verdict {
+    ours.map_or(Verdict::NotReproduced, |(d, se)| {
+        banded(d, (lo - tol, hi + tol), se)
+    })
+}
+
+/// What a trend claim says about the sign of the slope.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sign {
+    /// The quantity grows with x.
+    Rises,
+    /// The quantity shrinks with x.
+    Falls,
+}
+
+/// A trend: the fitted slope's 95 % interval (`slope ± ci`) lies wholly on the claimed side of
+/// zero, and the claim's second condition `also` holds (linearity, or a fall beyond the level
+/// measured elsewhere). Reproduced if both, partly if only the slope, not otherwise.
+pub fn trend(slope: f64, ci: f64, sign: Sign, also: bool) -> Verdict {
+    let signed = match sign {
+        Sign::Rises => slope - ci > 0.0,
+        Sign::Falls => slope + ci < 0.0,
+    };
+    match (signed, also) {
+        (true, true) => Verdict::Reproduced,
+        (true, false) => Verdict::Partly,
+        _ => Verdict::NotReproduced,
+    }
+}
+
+/// What a direction claim says the arrows do.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Heading {
+    /// Every arrow points at the target: at least `share` of them inside the cone.
+    Toward {
+        /// The least share inside the cone.
+        share: f64,
+    },
+    /// The arrows point anywhere: a share inside the cone of `cone / 180°`, as uniform
+    /// directions would give.
+    Random,
+}
+
+/// The half-angle of the cone around the target direction inside which an arrow counts as
+/// pointing at it, degrees.
+pub const CONE_DEG: f64 = 45.0;
+
+/// `inside` of `n` arrows inside the ±[`CONE_DEG`] cone, against the claim `heading`. Toward:
+/// the band is `[share, 1]`; random: the band is the uniform share (1/4) widened by two
+/// binomial standard errors.
+pub fn direction(inside: usize, n: usize, heading: Heading) -> Verdict {
+    let runs = u32::try_from(n).unwrap_or(u32::MAX);
+    let k = u32::try_from(inside).unwrap_or(u32::MAX);
+    let f = f64::from(k) / f64::from(runs.max(1));
+    match heading {
+        Heading::Toward { share } => banded(f, (share, 1.0), rate_se(f, runs)),
+        Heading::Random => rate(k, runs, (CONE_DEG / 180.0, CONE_DEG / 180.0)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Verdict::*;
+    use super::*;
+
+    #[test]
+    fn partly_is_at_most_two_of_our_standard_errors_beyond_the_band() {
+        assert_eq!(banded(1.0, (0.0, 1.0), 0.1), Reproduced);
+        assert_eq!(banded(1.2, (0.0, 1.0), 0.1), Partly);
+        assert_eq!(banded(1.21, (0.0, 1.0), 0.1), NotReproduced);
+        assert_eq!(banded(-0.15, (0.0, 1.0), 0.1), Partly);
+        assert_eq!(banded(f64::NAN, (0.0, 1.0), 0.1), NotReproduced);
+    }
+
+    #[test]
+    fn rates_allow_two_binomial_standard_errors_of_sampling() {
+        // 50 runs at a claimed 1.0: one run's worth is 0.02, so 48 of 50 is inside.
+        assert_eq!(rate(48, 50, (1.0, 1.0)), Reproduced);
+        // 47 of 50 (0.94): 0.02 outside the band, our s.e. 0.034.
+        assert_eq!(rate(47, 50, (1.0, 1.0)), Partly);
+        assert_eq!(rate(40, 50, (1.0, 1.0)), NotReproduced);
+        // 25 %, 50 runs: s.e. 0.061, band 0.128–0.372.
+        assert_eq!(rate(8, 50, (0.25, 0.25)), Reproduced);
+        assert_eq!(rate(1, 50, (0.25, 0.25)), NotReproduced);
+        // A range: inside, and a little below it.
+        assert_eq!(rate(45, 50, (0.85, 1.0)), Reproduced);
+        // 20 runs below 85–100 %: the band reaches 0.69 (s.e. 0.08 at 0.85); 0.55 is 0.14
+        // below it with our s.e. 0.11; 0.30 is far.
+        assert_eq!(rate(14, 20, (0.85, 1.0)), Reproduced);
+        assert_eq!(rate(11, 20, (0.85, 1.0)), Partly);
+        assert_eq!(rate(6, 20, (0.85, 1.0)), NotReproduced);
+    }
+
+    #[test]
+    fn levels_and_distances_have_their_tolerances() {
+        assert_eq!(level(4.6, 0.05, 4.5, 0.1), Reproduced);
+        // The sharp plateau: 5.1 with a small s.e. is far outside 4.05–4.95.
+        assert_eq!(level(5.1, 0.03, 4.5, 0.1), NotReproduced);
+        assert_eq!(level(5.1, 0.1, 4.5, 0.1), Partly);
+        assert_eq!(distance(Some((7.0, 0.1)), (7.0, 7.5), 0.25), Reproduced);
+        assert_eq!(distance(Some((3.6, 0.1)), (4.0, 4.0), 0.25), Partly);
+        assert_eq!(distance(Some((3.0, 0.1)), (4.0, 4.0), 0.25), NotReproduced);
+        assert_eq!(distance(None, (4.0, 4.0), 0.25), NotReproduced);
+    }
+
+    #[test]
+    fn trends_need_the_whole_interval_on_the_claimed_side() {
+        assert_eq!(trend(-3.2, 0.5, Sign::Falls, true), Reproduced);
+        assert_eq!(trend(-3.2, 0.5, Sign::Falls, false), Partly);
+        assert_eq!(trend(-0.2, 0.5, Sign::Falls, true), NotReproduced);
+        assert_eq!(trend(0.3, 0.1, Sign::Rises, true), Reproduced);
+    }
+
+    #[test]
+    fn directions_count_the_cone() {
+        assert_eq!(
+            direction(70, 70, Heading::Toward { share: 0.95 }),
+            Reproduced
+        );
+        // 60 of 63 = 0.952.
+        assert_eq!(
+            direction(60, 63, Heading::Toward { share: 0.95 }),
+            Reproduced
+        );
+        assert_eq!(
+            direction(48, 63, Heading::Toward { share: 0.95 }),
+            NotReproduced
+        );
+        // Uniform directions put a quarter in a ±45° cone.
+        assert_eq!(direction(10, 42, Heading::Random), Reproduced);
+        assert_eq!(direction(30, 42, Heading::Random), NotReproduced);
+    }
+
+    #[test]
+    fn both_placements_must_hold_for_reproduced() {
+        assert_eq!(Reproduced.both(Reproduced), Reproduced);
+        assert_eq!(Reproduced.both(NotReproduced), Partly);
+        assert_eq!(NotReproduced.both(Partly), Partly);
+        assert_eq!(NotReproduced.both(NotReproduced), NotReproduced);
+        assert_eq!(
+            DependsOnUnspecifiedRule.words(),
+            "depends on an unspecified rule"
+        );
+    }
+}

@@ -14,6 +14,9 @@
 //! - [`arena`]: the emulated lab over `hal-emu`: `cimax arena` itself ([`arena::line`]: robots
 //!   in a line under light patterns), robots on a plane ([`arena::plane`]), the fault campaign
 //!   ([`arena::campaign`], `docs/reliability.md`) and its stress sections ([`arena::stress`]).
+//! - [`pages`]: what the pages say about the paper: its claims typed once
+//!   ([`pages::claims`]), one verdict function per kind of claim ([`pages::verdict`]), and the
+//!   paper's marks on the figures ([`pages::marks`]).
 //! - [`report`]: what results become: CSV files, SVG figures ([`report::plot`]) and the
 //!   pages, rendered from the templates in `host-sim/templates/` ([`report::page`]).
 //! - [`viewer`]: the replay viewer's page of a run (`--html`, `cimax view`).

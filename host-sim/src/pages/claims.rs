@@ -75,8 +75,6 @@ pub enum Kind {
     },
     /// A value we tuned a free parameter of our set-up to.
     Tuned,
-    /// A rule the paper does not give decides it: both choices are shown.
-    OpenRule,
 }
 
 /// The paper's value.

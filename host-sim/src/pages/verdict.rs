@@ -20,18 +20,15 @@ pub enum Verdict {
     NotReproduced,
     /// Ours was tuned to the paper's value (a free parameter of the set-up).
     ByConstruction,
-    /// The outcome turns on a rule the paper does not give; the row shows both choices.
-    DependsOnUnspecifiedRule,
 }
 
 impl Verdict {
     /// Every verdict, in the order the page counts them.
-    pub const ALL: [Verdict; 5] = [
+    pub const ALL: [Verdict; 4] = [
         Verdict::Reproduced,
         Verdict::Partly,
         Verdict::NotReproduced,
         Verdict::ByConstruction,
-        Verdict::DependsOnUnspecifiedRule,
     ];
 
     /// The words the page shows.
@@ -41,7 +38,6 @@ impl Verdict {
             Verdict::Partly => "partly",
             Verdict::NotReproduced => "not reproduced",
             Verdict::ByConstruction => "by construction",
-            Verdict::DependsOnUnspecifiedRule => "depends on an unspecified rule",
         }
     }
 
@@ -243,9 +239,5 @@ mod tests {
         assert_eq!(Reproduced.both(NotReproduced), Partly);
         assert_eq!(NotReproduced.both(Partly), Partly);
         assert_eq!(NotReproduced.both(NotReproduced), NotReproduced);
-        assert_eq!(
-            DependsOnUnspecifiedRule.words(),
-            "depends on an unspecified rule"
-        );
     }
 }

@@ -71,18 +71,52 @@ pub fn wrap_signed(angle: f32) -> f32 {
     if a > PI { a - TAU } else { a }
 }
 
+/// What an agent does with an opinion exactly opposite its own, where the shorter arc is not
+/// defined. The paper does not say; the 2D simulations run both to show what hangs on it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Opposite {
+    /// Turn counter-clockwise ([`turn_toward`]; this crate's rule from the start).
+    #[default]
+    CounterClockwise,
+    /// Keep its own bearing: an exactly opposite opinion does not move it.
+    Keep,
+}
+
+/// [`turn_toward`] with the rule `opposite` for an opinion exactly opposite `from`.
+pub fn turn_toward_by(from: f32, to: f32, fraction: f32, opposite: Opposite) -> f32 {
+    let arc = wrap_signed(to - from);
+    if opposite == Opposite::Keep && arc == PI {
+        wrap_positive(from)
+    } else {
+        wrap_positive(from + fraction * arc)
+    }
+}
+
 /// Moves `from` toward `to` by `fraction` of the shorter arc between them, in `[0, 2π)`.
 ///
 /// This is the paper's opinion diffusion (Alg. 3): "adjust own preferred direction by 10 %
 /// towards the preferred direction contained by the incoming message". When the two are exactly
 /// opposite the arc is taken counter-clockwise.
 pub fn turn_toward(from: f32, to: f32, fraction: f32) -> f32 {
-    wrap_positive(from + fraction * wrap_signed(to - from))
+    turn_toward_by(from, to, fraction, Opposite::CounterClockwise)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_exactly_opposite_opinion_turns_counter_clockwise_or_is_kept() {
+        let ccw = turn_toward_by(0.0, PI, 0.1, Opposite::CounterClockwise);
+        assert!((ccw - 0.1 * PI).abs() < 1e-6);
+        assert_eq!(turn_toward_by(0.0, PI, 0.1, Opposite::Keep), 0.0);
+        assert_eq!(turn_toward_by(PI, 0.0, 0.1, Opposite::Keep), PI);
+        // Not exactly opposite: both rules turn the same way.
+        let near = turn_toward_by(0.0, PI - 0.01, 0.1, Opposite::Keep);
+        assert_eq!(near, turn_toward(0.0, PI - 0.01, 0.1));
+        assert!(near > 0.0);
+    }
 
     #[test]
     fn minus_zero_wraps_to_plus_zero() {

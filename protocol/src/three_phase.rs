@@ -18,7 +18,7 @@
 use heapless::{Deque, Vec};
 use rand_core::RngCore;
 
-use crate::direction::{turn_toward, wrap_positive};
+use crate::direction::{Opposite, turn_toward_by, wrap_positive};
 use crate::diversity::{Diversity, Pool, Variance};
 use crate::message::push_evicting;
 use crate::params::{ParamError, Params};
@@ -121,6 +121,7 @@ pub struct ThreePhaseAgent<
     outbox: Deque<SimMessage<N, R>, OUTBOX>,
     events: Deque<SimEvent, EVENT_QUEUE>,
     stats: AgentStats,
+    opposite: Opposite,
 }
 
 impl<const N: usize, const S: usize> ThreePhaseAgent<Variance, N, S> {
@@ -165,6 +166,7 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
             outbox: Deque::new(),
             events: Deque::new(),
             stats: AgentStats::default(),
+            opposite: Opposite::CounterClockwise,
         })
     }
 
@@ -204,6 +206,12 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
     /// The wave state.
     pub fn state(&self) -> WaveState {
         self.wave.state()
+    }
+
+    /// Sets what the agent does with an opinion exactly opposite its own during diffusion
+    /// ([`Opposite`]; counter-clockwise unless set).
+    pub fn set_opposite(&mut self, rule: Opposite) {
+        self.opposite = rule;
     }
 
     /// Counters.
@@ -256,7 +264,7 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
             SimMessage::Opinion(Some(o)) if o.is_finite() => {
                 self.preferred = Some(match self.preferred {
                     None => wrap_positive(*o),
-                    Some(p) => turn_toward(p, *o, self.params.diffusion),
+                    Some(p) => turn_toward_by(p, *o, self.params.diffusion, self.opposite),
                 });
             }
             SimMessage::Opinion(_) => {}

@@ -47,6 +47,10 @@ pub enum Id {
     CloudOutward,
     /// The caption's cloud: the distance beyond which the swarm no longer heads for it.
     CaptionLimit,
+    /// The discussion: on a random field a line's swarm moves along its axis.
+    ShapesLine,
+    /// The discussion: on a random field a cross's swarm moves along its four arms.
+    ShapesCross,
 }
 
 /// How a claim is judged.
@@ -75,6 +79,8 @@ pub enum Kind {
     },
     /// A value we tuned a free parameter of our set-up to.
     Tuned,
+    /// The outcome may turn on a rule the paper does not give: run with both choices.
+    OpenRule,
 }
 
 /// The paper's value.
@@ -88,6 +94,17 @@ pub enum Value {
     Either(&'static [(f64, &'static str)]),
     /// No number: a shape or a trend, in words.
     Words,
+}
+
+/// Which ends of a claim's range belong to it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ends {
+    /// Neither: `lo < x < hi`.
+    Open,
+    /// The low end: `lo ≤ x < hi`.
+    LowClosed,
+    /// Both: `lo ≤ x ≤ hi` (a single point when they are equal).
+    Closed,
 }
 
 /// A figure of the reproduction a claim is drawn on.
@@ -120,6 +137,8 @@ pub struct Claim {
     pub value: Value,
     /// The x or distance range (R) the claim covers, if it covers one.
     pub over: Option<(f64, f64)>,
+    /// Which ends of `over` belong to it.
+    pub ends: Ends,
     /// How ours is judged.
     pub kind: Kind,
     /// Where it is drawn, and the mark's legend.
@@ -135,6 +154,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "1.0",
         value: Value::At(1.0),
         over: Some((-2.5, 2.5)),
+        ends: Ends::Open,
         kind: Kind::Rate,
         drawn: &[(Figure::Sweep("sharp"), "paper: 1.0 for |x_init| < 2.5 R")],
     },
@@ -145,6 +165,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "falls (random walk until the swarm perceives the border)",
         value: Value::Words,
         over: Some((-5.0, -2.5)),
+        ends: Ends::Open,
         kind: Kind::Trend,
         drawn: &[],
     },
@@ -155,6 +176,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "decreases linearly toward the border",
         value: Value::Words,
         over: Some((-2.5, -0.5)),
+        ends: Ends::Closed,
         kind: Kind::Trend,
         drawn: &[],
     },
@@ -165,6 +187,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 0.2",
         value: Value::At(0.2),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Level { rel: 0.1 },
         drawn: &[(Figure::Course("sharp"), "paper: start ≈ 0.2")],
     },
@@ -175,6 +198,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 0.3",
         value: Value::At(0.3),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Level { rel: 0.1 },
         drawn: &[(Figure::Course("gradient"), "paper: start ≈ 0.3")],
     },
@@ -185,6 +209,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 8 (one run)",
         value: Value::At(8.0),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Level { rel: 0.1 },
         drawn: &[],
     },
@@ -195,6 +220,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 15 (one run)",
         value: Value::At(15.0),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Level { rel: 0.1 },
         drawn: &[],
     },
@@ -205,6 +231,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 4.5",
         value: Value::At(4.5),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Level { rel: 0.1 },
         drawn: &[(Figure::Course("sharp"), "paper: plateau ≈ 4.5 (Fig. 4b)")],
     },
@@ -215,6 +242,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 8 (caption), ≈ 20 (text)",
         value: Value::Either(&[(8.0, "caption of Fig. 7"), (20.0, "text")]),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Tuned,
         drawn: &[
             (
@@ -231,6 +259,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "all",
         value: Value::Words,
         over: Some((-2.5, 2.5)),
+        ends: Ends::Open,
         kind: Kind::Direction { toward: true },
         drawn: &[(
             Figure::Map("sharp"),
@@ -244,6 +273,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "random",
         value: Value::Words,
         over: Some((-2.5, 2.5)),
+        ends: Ends::Open,
         kind: Kind::Direction { toward: false },
         drawn: &[],
     },
@@ -254,6 +284,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "85–100 %",
         value: Value::Range(0.85, 1.0),
         over: Some((-2.0, 2.33)),
+        ends: Ends::LowClosed,
         kind: Kind::Rate,
         drawn: &[(
             Figure::Sweep("gradient"),
@@ -267,6 +298,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 25 %",
         value: Value::At(0.25),
         over: Some((-4.0, -4.0)),
+        ends: Ends::Closed,
         kind: Kind::Rate,
         drawn: &[(Figure::Sweep("gradient"), "paper: 25 % at x_init = −4")],
     },
@@ -277,6 +309,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "all",
         value: Value::Words,
         over: Some((-2.2, 2.2)),
+        ends: Ends::Closed,
         kind: Kind::Direction { toward: true },
         drawn: &[(
             Figure::Map("gradient"),
@@ -290,6 +323,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "random",
         value: Value::Words,
         over: Some((2.2, f64::INFINITY)),
+        ends: Ends::Open,
         kind: Kind::Direction { toward: false },
         drawn: &[],
     },
@@ -300,6 +334,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 2.5 R",
         value: Value::At(2.5),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Distance { tol: 0.25 },
         drawn: &[(Figure::Extent, " paper: 2.5 R")],
     },
@@ -310,6 +345,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 2.2 R",
         value: Value::At(2.2),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Distance { tol: 0.25 },
         drawn: &[(Figure::Extent, " paper: 2.2 R")],
     },
@@ -320,6 +356,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 7 (text), ≈ 7.5 (caption)",
         value: Value::Either(&[(7.0, "text"), (7.5, "caption")]),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Distance { tol: 0.25 },
         drawn: &[
             (Figure::Map("cloud"), "paper (text): d = 7, random beyond"),
@@ -344,6 +381,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "for d ≲ 4",
         value: Value::At(4.0),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Distance { tol: 0.25 },
         drawn: &[
             (
@@ -363,6 +401,7 @@ pub const CLAIMS: &[Claim] = &[
         paper: "≈ 7.5 (caption)",
         value: Value::At(7.5),
         over: None,
+        ends: Ends::Open,
         kind: Kind::Distance { tol: 0.25 },
         drawn: &[
             (
@@ -374,6 +413,28 @@ pub const CLAIMS: &[Claim] = &[
                 "paper (caption): d = 7.5, random beyond",
             ),
         ],
+    },
+    Claim {
+        id: Id::ShapesLine,
+        source: "§5 (discussion)",
+        quantity: "Random field: a line's swarm moves along its axis",
+        paper: "only along the line",
+        value: Value::Words,
+        over: None,
+        ends: Ends::Open,
+        kind: Kind::OpenRule,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::ShapesCross,
+        source: "§5 (discussion)",
+        quantity: "Random field: a cross's swarm moves along its four arms",
+        paper: "\"like the king on a chess board, solely up-down-left-right\"",
+        value: Value::Words,
+        over: None,
+        ends: Ends::Open,
+        kind: Kind::OpenRule,
+        drawn: &[],
     },
 ];
 
@@ -396,6 +457,19 @@ impl Claim {
         }
     }
 
+    /// Whether `x` lies in the claim's range (every `x` for a claim without one).
+    pub fn covers(&self, x: f64) -> bool {
+        const EPS: f64 = 1e-9;
+        let Some((lo, hi)) = self.over else {
+            return true;
+        };
+        match self.ends {
+            Ends::Open => x > lo + EPS && x < hi - EPS,
+            Ends::LowClosed => x > lo - EPS && x < hi - EPS,
+            Ends::Closed => x > lo - EPS && x < hi + EPS,
+        }
+    }
+
     /// The paper's value as a band: one value, a range, or the span of its values.
     pub fn band(&self) -> Option<(f64, f64)> {
         let vs = self.values();
@@ -408,6 +482,15 @@ impl Claim {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ranges_keep_the_ends_the_paper_states() {
+        let near = claim(Id::SharpNear);
+        assert!(near.covers(2.0) && !near.covers(-2.5) && !near.covers(2.5));
+        let mid = claim(Id::GradientMid);
+        assert!(mid.covers(-2.0) && !mid.covers(2.33) && mid.covers(2.0));
+        assert!(claim(Id::GradientFar).covers(-4.0) && !claim(Id::GradientFar).covers(-3.5));
+    }
 
     #[test]
     fn every_claim_is_typed_once_and_found_by_its_id() {

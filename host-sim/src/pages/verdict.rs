@@ -20,15 +20,18 @@ pub enum Verdict {
     NotReproduced,
     /// Ours was tuned to the paper's value (a free parameter of the set-up).
     ByConstruction,
+    /// The outcome turns on a rule the paper does not give; the row shows both choices.
+    DependsOnUnspecifiedRule,
 }
 
 impl Verdict {
     /// Every verdict, in the order the page counts them.
-    pub const ALL: [Verdict; 4] = [
+    pub const ALL: [Verdict; 5] = [
         Verdict::Reproduced,
         Verdict::Partly,
         Verdict::NotReproduced,
         Verdict::ByConstruction,
+        Verdict::DependsOnUnspecifiedRule,
     ];
 
     /// The words the page shows.
@@ -38,6 +41,7 @@ impl Verdict {
             Verdict::Partly => "partly",
             Verdict::NotReproduced => "not reproduced",
             Verdict::ByConstruction => "by construction",
+            Verdict::DependsOnUnspecifiedRule => "depends on an unspecified rule",
         }
     }
 
@@ -56,6 +60,16 @@ impl Verdict {
 impl std::fmt::Display for Verdict {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(self.words())
+    }
+}
+
+/// A claim run under both choices of a rule the paper leaves open: reproduced if it holds under
+/// both, not if under neither, and otherwise it depends on the rule.
+pub fn open_rule(holds: [bool; 2]) -> Verdict {
+    match holds {
+        [true, true] => Verdict::Reproduced,
+        [false, false] => Verdict::NotReproduced,
+        _ => Verdict::DependsOnUnspecifiedRule,
     }
 }
 
@@ -239,5 +253,12 @@ mod tests {
         assert_eq!(Reproduced.both(NotReproduced), Partly);
         assert_eq!(NotReproduced.both(Partly), Partly);
         assert_eq!(NotReproduced.both(NotReproduced), NotReproduced);
+        assert_eq!(open_rule([true, false]), DependsOnUnspecifiedRule);
+        assert_eq!(open_rule([false, false]), NotReproduced);
+        assert_eq!(open_rule([true, true]), Reproduced);
+        assert_eq!(
+            DependsOnUnspecifiedRule.words(),
+            "depends on an unspecified rule"
+        );
     }
 }

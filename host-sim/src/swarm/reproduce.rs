@@ -249,7 +249,8 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         .collect();
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
     let sensitivity = sensitivity(&mut st, main, &sharp, &gradient)?;
-    let runs_n = 4 * u64::from(crate::swarm::shapes::RUNS);
+    let runs_n = (4 + u64::from(crate::swarm::shapes::KEEP_FORMATIONS))
+        * u64::from(crate::swarm::shapes::RUNS);
     let p = st.start("shapes on a random field", runs_n);
     let shapes = crate::swarm::shapes::reproduce(&st.figs, sharp.run, st.seed(200), &p)?;
     st.done(&p);

@@ -81,6 +81,7 @@ use std::ops::Range;
 use std::path::Path;
 
 use nalgebra::Point2;
+use protocol::direction::Opposite;
 use protocol::{Duration, Params};
 use serde::Deserialize;
 use toml::Spanned;
@@ -803,6 +804,7 @@ fn period_fits(params: &Params) -> Result<(), String> {
         step: 0.33,
         noise: 1.0,
         diversity: Measure::Variance,
+        opposite: Opposite::default(),
     };
     match run.check() {
         Err(SimError::PeriodTooLong {
@@ -949,6 +951,7 @@ impl Scenario {
                 step,
                 noise,
                 diversity,
+                opposite: Opposite::default(),
             },
             periods,
             start,

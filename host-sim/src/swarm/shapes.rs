@@ -11,6 +11,7 @@
 //! ([`Agent::decision`](crate::swarm::sim::Agent)); [`Tally`] counts how many fall within a
 //! tolerance of the line's two or the cross's four axes.
 
+use protocol::direction::Opposite;
 use std::f64::consts::{PI, TAU};
 use std::path::Path;
 
@@ -424,6 +425,14 @@ pub struct ShapesSection {
     pub cross_swarm_preferred_holds: bool,
     /// The figure's file name.
     pub figure: &'static str,
+    /// The line and the cross again with the other rule for an exactly opposite opinion
+    /// ([`Opposite::Keep`]): their agents' decisions and their swarm's direction on their axes.
+    pub keep: Vec<ShapeRow>,
+    /// Whether the line's swarm moves along its axis in at least [`CLAIM`] of the runs, with
+    /// the counter-clockwise rule and with [`Opposite::Keep`].
+    pub line_holds_by_rule: [bool; 2],
+    /// The same for the cross and its four arms.
+    pub cross_holds_by_rule: [bool; 2],
     /// The CSV file's name.
     pub csv: &'static str,
 }
@@ -524,6 +533,7 @@ pub fn reproduce(
             agents_preferred: histogram(d.agents_preferred.iter().copied(), BINS),
         });
     }
+    let (keep, keep_holds) = with_keep(cfg, seed, tol, progress)?;
     let diffusion = format!("{:.0}", 100.0 * f64::from(cfg.params.diffusion));
     shapes_plot::write_shapes_csv(&figs.join(CSV), &hists)?;
     shapes_plot::shapes_figure(&figs.join(FIGURE), &hists, RUNS, &diffusion)?;
@@ -558,8 +568,57 @@ pub fn reproduce(
         cross_swarm_holds: h("cross", 3),
         figure: FIGURE,
         csv: CSV,
+        line_holds_by_rule: [h("line", 3), keep_holds.0],
+        cross_holds_by_rule: [h("cross", 3), keep_holds.1],
+        keep,
     })
 }
+
+/// The line and the cross (the formations whose agents hear exactly opposite bearings) run
+/// again, with the same seeds, with [`Opposite::Keep`]: their rows on their own axes, and
+/// whether each swarm (line, cross) moves along them in at least [`CLAIM`] of the runs.
+fn with_keep(
+    cfg: RunConfig,
+    seed: u64,
+    tol: f64,
+    progress: &Progress,
+) -> Result<(Vec<ShapeRow>, (bool, bool)), Error> {
+    let cfg = RunConfig {
+        opposite: Opposite::Keep,
+        ..cfg
+    };
+    let field = Field::default();
+    let mut rows = Vec::new();
+    let mut holds = (false, false);
+    for (k, f) in formations().iter().enumerate() {
+        let axes: fn(&Tally) -> usize = match f {
+            Formation::Cross { .. } => |t| t.on_cross,
+            Formation::Line { .. } => |t| t.on_line,
+            _ => continue,
+        };
+        let runs = decide(f, &field, cfg, RUNS, derive(seed, &[k as u64]), progress)?;
+        let d = Directions::of(&runs);
+        let t = [&d.agents_preferred, &d.agents, &d.swarm_preferred, &d.swarm]
+            .map(|v| Tally::of(v.iter().copied(), tol));
+        let h = t[3].frac(axes(&t[3])) >= CLAIM;
+        match f {
+            Formation::Cross { .. } => holds.1 = h,
+            _ => holds.0 = h,
+        }
+        let [a, b, c, e] = t.map(|t| pct(t.frac(axes(&t))));
+        rows.push(ShapeRow {
+            name: f.name(),
+            agents_preferred: a,
+            agents: b,
+            swarm_preferred: c,
+            swarm: e,
+        });
+    }
+    Ok((rows, holds))
+}
+
+/// Formations [`with_keep`] runs again (the line and the cross).
+pub const KEEP_FORMATIONS: u32 = 2;
 
 /// The figure's file name under `docs/figures/`.
 pub const FIGURE: &str = "shapes-directions.svg";

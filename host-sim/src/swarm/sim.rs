@@ -30,6 +30,7 @@ use std::fmt;
 
 use hal_emu::TraceEvent;
 use nalgebra::{Point2, Vector2};
+use protocol::direction::Opposite;
 use protocol::three_phase::{SimEvent, SimMessage, ThreePhaseAgent};
 use protocol::{Diversity, PerQuantity};
 use protocol::{Instant, ParamError, Params, Sector, WaveState};
@@ -109,6 +110,9 @@ pub struct RunConfig {
     pub noise: f64,
     /// The agents' diversity measure (the paper: the variance).
     pub diversity: Measure,
+    /// What an agent does with an opinion exactly opposite its own (the paper does not say;
+    /// counter-clockwise unless a run says otherwise).
+    pub opposite: Opposite,
 }
 
 /// The longest negotiation period a run accepts, in seconds (11.6 days; the paper's period is
@@ -405,12 +409,14 @@ impl<'a, R: Reading> Sim<'a, R> {
         let n = swarm.len();
         let mut agents = Vec::with_capacity(n);
         for _ in 0..n {
-            agents.push(AgentOf::<R>::with_diversity(
+            let mut agent = AgentOf::<R>::with_diversity(
                 cfg.params,
                 R::measure(cfg.diversity),
                 Instant::ZERO,
                 &mut proto_rng,
-            )?);
+            )?;
+            agent.set_opposite(cfg.opposite);
+            agents.push(agent);
         }
         let mut sim = Sim {
             swarm,
@@ -750,6 +756,7 @@ mod tests {
             step: 0.33,
             noise: 1.0,
             diversity: Measure::Variance,
+            opposite: Opposite::default(),
         }
     }
 

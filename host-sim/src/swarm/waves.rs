@@ -96,6 +96,7 @@ impl WaveSpec {
             step: 0.33,
             noise: 1.0,
             diversity: crate::swarm::measure::Measure::Variance,
+            opposite: protocol::direction::Opposite::default(),
         }
     }
 }

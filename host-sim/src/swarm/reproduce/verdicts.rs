@@ -52,18 +52,9 @@ fn span((lo, hi): (f64, f64)) -> String {
     }
 }
 
-/// The points of `pts` inside the claim's x range (ends excluded where the claim says "<").
+/// The points of `pts` inside the claim's x range ([`Claim::covers`]).
 fn within<'a>(pts: &'a [SweepPoint], c: &Claim) -> Vec<&'a SweepPoint> {
-    let (a, b) = c.over.unwrap_or((f64::NEG_INFINITY, f64::INFINITY));
-    pts.iter()
-        .filter(|p| {
-            if a == b {
-                (p.x_init - a).abs() < 1e-9
-            } else {
-                p.x_init > a - 1e-9 && p.x_init < b - 1e-9
-            }
-        })
-        .collect()
+    pts.iter().filter(|p| c.covers(p.x_init)).collect()
 }
 
 /// A rate claim on one placement's sweep: the worst point inside the claim's range is judged
@@ -101,6 +92,7 @@ fn judge(r: &Report<'_>, c: &'static Claim) -> Judged {
         }
         Id::SharpEdge | Id::GradientEdge => edge(r, c),
         Id::CloudLimit | Id::CloudOutward | Id::CaptionLimit => cloud(r, c),
+        Id::ShapesLine | Id::ShapesCross => shapes(r, c.id),
     }
 }
 
@@ -226,11 +218,10 @@ fn sharp_far(r: &Report<'_>) -> Judged {
 /// whole interval, and a line explains at least 90 % of its variance.
 fn sharp_time(r: &Report<'_>) -> Judged {
     let c = claim(Id::SharpTime);
-    let (a, b) = c.over.unwrap_or((-2.5, -0.5));
     let sharp = &r.sweeps[0];
     let times: Vec<(f64, f64)> = sharp
         .iter()
-        .filter(|p| p.x_init > a - 1e-9 && p.x_init < b + 1e-9)
+        .filter(|p| c.covers(p.x_init))
         .filter_map(|p| mean_time_at(sharp, p.x_init).map(|t| (p.x_init, t)))
         .collect();
     let fit = stats::line_fit(&times);
@@ -507,6 +498,31 @@ fn cloud(r: &Report<'_>, c: &'static Claim) -> Judged {
         }),
         verdict: v,
         why,
+    }
+}
+
+/// The discussion's line or cross, run with both rules for an exactly opposite opinion.
+fn shapes(r: &Report<'_>, id: Id) -> Judged {
+    let s = r.shapes;
+    let (name, main, holds) = match id {
+        Id::ShapesLine => ("line", &s.key.line, s.line_holds_by_rule),
+        _ => ("cross", &s.key.cross, s.cross_holds_by_rule),
+    };
+    let keep = s
+        .keep
+        .iter()
+        .find(|r| r.name == name)
+        .map_or("–".to_string(), |r| r.swarm.clone());
+    Judged {
+        ours: format!(
+            "swarm's direction on its axes: {} turning counter-clockwise (the protocol's rule), {keep} keeping its own bearing",
+            main.as_ref().map_or("–".to_string(), |r| r.swarm.clone()),
+        ),
+        verdict: verdict::open_rule(holds),
+        why: format!(
+            "an opinion exactly opposite an agent's own (0° against 180°) has no shorter arc, and the paper does not say which way diffusion turns; the claim holds if at least {} of the runs' directions lie within ± {}° of the axes (the shapes section below)",
+            s.claim, s.tolerance
+        ),
     }
 }
 

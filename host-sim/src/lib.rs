@@ -10,13 +10,14 @@
 //!   the move) over [`swarm::geometry`] (placement and neighbour lists) and [`swarm::field`]
 //!   (the environment); [`swarm::scenario`]: the built-in scenarios and the TOML scenario
 //!   files; [`swarm::experiment`]: runs, sweeps, preferred-direction grids, spread over all
-//!   cores; [`swarm::reproduce`]: `docs/reproduction.md`.
+//!   cores.
 //! - [`arena`]: the emulated lab over `hal-emu`: `cimax arena` itself ([`arena::line`]: robots
 //!   in a line under light patterns), robots on a plane ([`arena::plane`]), the fault campaign
 //!   ([`arena::campaign`], `docs/reliability.md`) and its stress sections ([`arena::stress`]).
 //! - [`pages`]: what the pages say about the paper: its claims typed once
-//!   ([`pages::claims`]), one verdict function per kind of claim ([`pages::verdict`]), and the
-//!   paper's marks on the figures ([`pages::marks`]).
+//!   ([`pages::claims`]), one verdict function per kind of claim ([`pages::verdict`]), the
+//!   paper's marks on the figures ([`pages::marks`]), and [`pages::reproduction`], which runs
+//!   every experiment for `docs/reproduction.md`.
 //! - [`report`]: what results become: CSV files, SVG figures ([`report::plot`]) and the
 //!   pages, rendered from the templates in `host-sim/templates/` ([`report::page`]).
 //! - [`viewer`]: the replay viewer's page of a run (`--html`, `cimax view`).

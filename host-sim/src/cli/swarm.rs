@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant as Clock;
 
 use clap::{Args, Subcommand};
+use host_sim::pages::reproduction as reproduce;
 use host_sim::report;
 use host_sim::report::plot;
 use host_sim::seeds;
 use host_sim::swarm::experiment::{self, Progress};
-use host_sim::swarm::reproduce;
 use host_sim::swarm::scenario::{
     DEFAULT_PLACEMENT, MAX_AGENTS, MAX_PERIOD_SECS, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement,
     Scenario, check_runs,

@@ -5,4 +5,5 @@
 
 pub mod claims;
 pub mod marks;
+pub mod reproduction;
 pub mod verdict;

@@ -157,7 +157,7 @@ pub(super) fn section(
             [fixed(p.inward, 2), fixed(p.distance, 1)]
         });
     Ok(CaptionSection {
-        reach: super::reach(&builtin_placed("cloud-caption", c.placement)?),
+        reach: super::page::reach(&builtin_placed("cloud-caption", c.placement)?),
         runs: PROFILE_RUNS,
         limit: perception_limit(&c.profile, THRESHOLD).map(|d| fixed(d.0, 1)),
         outward: outward_limit(&c.profile).map(|d| fixed(d.0, 1)),

@@ -6,7 +6,8 @@
 use nalgebra::Point2;
 use serde::Serialize;
 
-use super::{SENS_RUNS, SENS_X, Stage, cell};
+use super::Stage;
+use super::sensitivity::{SENS_RUNS, SENS_X, cell};
 use crate::report::csv_files::fixed;
 use crate::report::plot::{self, Line};
 use crate::swarm::experiment::{Error, SweepPoint, sweep};

@@ -1,0 +1,317 @@
+//! The sensitivity stage of `swarm reproduce`: the knobs the paper leaves open, one at a time
+//! (cycle, period, diffusion, noise), the gradient's diversity against its slope, and the
+//! swarm's extent against the perception edges.
+
+use super::*;
+
+/// Runs per point of the sensitivity figures.
+pub const SENS_RUNS: u32 = 20;
+/// Runs per point of the extent's heading profiles.
+pub const EXTENT_RUNS: u32 = 30;
+/// Where the sensitivity runs start (both fields).
+pub(super) const SENS_X: f64 = -2.0;
+
+/// One sensitivity table: a knob's values down, the cases across.
+#[derive(Serialize)]
+pub(super) struct SensTable {
+    pub(super) key: &'static str,
+    pub(super) what: &'static str,
+    pub(super) figure: String,
+    pub(super) cases: Vec<String>,
+    /// Per value: the value, then per case "success (mean time)".
+    pub(super) rows: Vec<Vec<String>>,
+}
+
+/// The swarm's extent: perception edges per field and extent.
+#[derive(Serialize)]
+pub(super) struct ExtentRow {
+    pub(super) field: String,
+    pub(super) diameter: String,
+    pub(super) agents: usize,
+    /// The edge, R, two decimals.
+    pub(super) edge: Option<String>,
+    /// The edge and its standard error ([`extent_edge`]).
+    #[serde(skip)]
+    pub(super) edge_se: Option<(f64, f64)>,
+    /// The verdict against the paper's edge on this field.
+    pub(super) verdict: &'static str,
+}
+
+/// Where the first move's heading toward the border (`(x, mean cos, s.e.)`, x < 0) last falls
+/// through 0.5 going away from the border, interpolated: the farthest start from which the swarm
+/// heads for the border, as a distance, with its standard error.
+pub(super) fn extent_edge(profile: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
+    let mut by_distance: Vec<(f64, f64, f64)> =
+        profile.iter().map(|&(x, m, se)| (x.abs(), m, se)).collect();
+    by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
+    crate::stats::crossing(&by_distance, 0.5, false)
+}
+
+/// Where the extent's starts are refined to 0.25 R: around the claimed edges 2.5 and 2.2.
+const EXTENT_REFINED: [f64; 4] = [-3.25, -2.75, -2.25, -1.75];
+
+/// The sensitivity section.
+#[derive(Serialize)]
+pub(super) struct SensitivitySection {
+    pub(super) runs: u32,
+    pub(super) x: String,
+    pub(super) tables: Vec<SensTable>,
+    /// Gradient: per slope, the diversity at the success line.
+    pub(super) slope_rows: Vec<[String; 4]>,
+    pub(super) extent_runs: u32,
+    pub(super) extent: Vec<ExtentRow>,
+    /// The 3 R swarm's edges are within 0.5 R (the sampling step) of the paper's 2.5 and 2.2.
+    pub(super) extent_big_matches: bool,
+    /// The 2.5 R swarm's edges are shorter than the 3 R swarm's on both fields.
+    pub(super) extent_small_shorter: bool,
+}
+
+/// One knob's sensitivity run: its key, what the axis shows, (value, knob) pairs, a
+/// logarithmic axis, and whether the other placement runs too.
+type SensSpec = (&'static str, &'static str, Vec<(f64, Knob)>, bool, bool);
+
+/// Success and mean time as a table cell.
+pub(super) fn cell(p: &SweepPoint) -> String {
+    format!(
+        "{} ({})",
+        fixed(p.success_rate(), 2),
+        opt(p.mean_success_periods, 1)
+    )
+}
+
+/// The knobs the paper leaves open, one at a time: success from [`SENS_X`] against each, the
+/// gradient's diversity against its slope, and the perception edge of a smaller swarm.
+pub(super) fn sensitivity(
+    st: &mut Stage<'_>,
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+) -> Result<SensitivitySection, Error> {
+    let sharp_o = builtin_placed(&sharp.name, main.other())?;
+    let gradient_o = builtin_placed(&gradient.name, main.other())?;
+    let name = |s: &Scenario, p: Placement| format!("{}, {p}", s.name);
+    let mut tables = Vec::new();
+    let specs: [SensSpec; 4] = [
+        (
+            "cycle",
+            "cycle length t_p^max / s",
+            [20u64, 50, 100, 200, 500, 1000, 2000]
+                .map(|c| (c as f64, Knob::Cycle(c)))
+                .to_vec(),
+            true,
+            true,
+        ),
+        (
+            "period",
+            "negotiation period / cycles (half gathering, half deciding)",
+            [2u16, 4, 10]
+                .map(|c| (f64::from(c), Knob::Period(c)))
+                .to_vec(),
+            false,
+            false,
+        ),
+        (
+            "diffusion",
+            "diffusion rate / %",
+            [0.05f32, 0.10, 0.20]
+                .map(|d| (f64::from(d * 100.0).round(), Knob::Diffusion(d)))
+                .to_vec(),
+            false,
+            false,
+        ),
+        (
+            "noise",
+            "noise width (ξ uniform in ±width/2)",
+            [0.5, 1.0, 2.0, 4.0].map(|w| (w, Knob::Noise(w))).to_vec(),
+            false,
+            false,
+        ),
+    ];
+    for (k, (key, what, values, log_x, both_placements)) in specs.into_iter().enumerate() {
+        let mut cases: Vec<(String, &Scenario)> =
+            vec![(name(sharp, main), sharp), (name(gradient, main), gradient)];
+        if both_placements {
+            cases.insert(1, (name(&sharp_o, main.other()), &sharp_o));
+            cases.push((name(&gradient_o, main.other()), &gradient_o));
+        }
+        let knobs: Vec<Knob> = values.iter().map(|v| v.1).collect();
+        let p = st.start(
+            &format!("sensitivity: {key}"),
+            (cases.len() * knobs.len()) as u64 * u64::from(SENS_RUNS),
+        );
+        let mut results = Vec::new();
+        for (j, (_, scn)) in cases.iter().enumerate() {
+            results.push(success_against(
+                scn,
+                &knobs,
+                SENS_X,
+                SENS_RUNS,
+                st.seed(500 + 10 * k as u64 + j as u64),
+                &p,
+            )?);
+        }
+        st.done(&p);
+        let lines: Vec<Line> = cases
+            .iter()
+            .zip(&results)
+            .map(|((label, _), pts)| Line {
+                label: label.clone(),
+                points: values
+                    .iter()
+                    .zip(pts)
+                    .map(|(v, p)| (v.0, p.success_rate(), 0.0))
+                    .collect(),
+            })
+            .collect();
+        let figure = format!("sensitivity-{key}.svg");
+        plot::xy_figure(
+            &st.figs.join(&figure),
+            &format!("success from x = {SENS_X} against the {key}, {SENS_RUNS} runs per point"),
+            what,
+            "success rate",
+            &lines,
+            (0.0, 1.05),
+            &[],
+            log_x,
+        )?;
+        tables.push(SensTable {
+            key,
+            what,
+            figure,
+            cases: cases.iter().map(|c| c.0.clone()).collect(),
+            rows: values
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    std::iter::once(v.0.to_string())
+                        .chain(results.iter().map(|pts| cell(&pts[i])))
+                        .collect()
+                })
+                .collect(),
+        });
+    }
+
+    // The gradient's slope: success from SENS_X and the diversity at the success line.
+    let slopes = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0];
+    let knobs: Vec<Knob> = slopes.iter().map(|&k| Knob::Slope(k)).collect();
+    let p = st.start(
+        "sensitivity: slope",
+        2 * slopes.len() as u64 * u64::from(SENS_RUNS),
+    );
+    let success = success_against(gradient, &knobs, SENS_X, SENS_RUNS, st.seed(550), &p)?;
+    let line_x = match &gradient.success {
+        Some(crate::swarm::scenario::Success::BeyondX { x }) => *x,
+        _ => 2.33,
+    };
+    let mut slope_rows = Vec::new();
+    let mut div_line = Vec::new();
+    for (k, knob) in knobs.iter().enumerate() {
+        let s = knob.apply(gradient)?;
+        let (m, se) = diversity_at(
+            &s,
+            Point2::new(line_x, 0.0),
+            SENS_RUNS,
+            st.seed(560 + k as u64),
+            &p,
+        )?;
+        div_line.push((slopes[k], m, se));
+        slope_rows.push([
+            slopes[k].to_string(),
+            format!("{} ± {}", fixed(m, 1), fixed(se, 1)),
+            fixed(success[k].success_rate(), 2),
+            opt(success[k].mean_success_periods, 1),
+        ]);
+    }
+    st.done(&p);
+    plot::xy_figure(
+        &st.figs.join("sensitivity-slope.svg"),
+        &format!(
+            "gradient: the agents' mean diversity with the swarm at x = {line_x}, {SENS_RUNS} runs per slope"
+        ),
+        "slope of the ramp / per R",
+        "mean V_k",
+        &[Line {
+            label: format!("{} placement", main),
+            points: div_line,
+        }],
+        (0.0, 30.0),
+        &[],
+        false,
+    )?;
+
+    // The swarm's extent: 3 R against 2.5 R, the heading of the first move against x.
+    let xs = refined(
+        (1..=9).map(|k| -0.5 * f64::from(k)).rev().collect(),
+        &EXTENT_REFINED,
+    );
+    let mut extent = Vec::new();
+    let mut lines = Vec::new();
+    let p = st.start(
+        "sensitivity: extent",
+        4 * xs.len() as u64 * u64::from(EXTENT_RUNS),
+    );
+    for (k, scn) in [sharp, gradient].into_iter().enumerate() {
+        for (j, d) in [6.0, 5.0].into_iter().enumerate() {
+            let s = Knob::Extent(d).apply(scn)?;
+            let prof = heading_against_x(
+                &s,
+                &xs,
+                EXTENT_RUNS,
+                st.seed(570 + 2 * k as u64 + j as u64),
+                &p,
+            )?;
+            let mut prof = prof;
+            prof.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let edge = extent_edge(&prof);
+            extent.push(ExtentRow {
+                field: scn.name.clone(),
+                diameter: d.to_string(),
+                agents: s.agents,
+                edge: edge.map(|e| format!("{} ± {}", fixed(e.0, 2), fixed(e.1, 2))),
+                edge_se: edge,
+                verdict: verdicts::edge_verdict(
+                    edge,
+                    [
+                        crate::pages::claims::Id::SharpEdge,
+                        crate::pages::claims::Id::GradientEdge,
+                    ][k],
+                )
+                .words(),
+            });
+            lines.push(Line {
+                label: format!("{}, diameter {d} R ({} agents)", scn.name, s.agents),
+                points: prof,
+            });
+        }
+    }
+    st.done(&p);
+    plot::xy_figure(
+        &st.figs.join("sensitivity-extent.svg"),
+        &format!(
+            "heading of the first move toward +x against the start, {EXTENT_RUNS} runs per point ({main})"
+        ),
+        "x_init / R",
+        "mean cos(direction)",
+        &lines,
+        (-0.3, 1.05),
+        &marks::extent(),
+        false,
+    )?;
+    let edge = |k: usize| extent[k].edge_se.map_or(0.0, |e| e.0);
+    let extent_big_matches = {
+        use crate::pages::{claims::Id, verdict::Verdict};
+        verdicts::edge_verdict(extent[0].edge_se, Id::SharpEdge) == Verdict::Reproduced
+            && verdicts::edge_verdict(extent[2].edge_se, Id::GradientEdge) == Verdict::Reproduced
+    };
+    let extent_small_shorter = edge(1) < edge(0) && edge(3) < edge(2);
+    Ok(SensitivitySection {
+        extent_big_matches,
+        extent_small_shorter,
+        runs: SENS_RUNS,
+        x: SENS_X.to_string(),
+        tables,
+        slope_rows,
+        extent_runs: EXTENT_RUNS,
+        extent,
+    })
+}

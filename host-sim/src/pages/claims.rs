@@ -457,6 +457,15 @@ impl Claim {
         }
     }
 
+    /// The tolerance of a level (relative: 0.1 is 10 %) or a distance (R); 0 for other kinds.
+    pub fn tolerance(&self) -> f64 {
+        match self.kind {
+            Kind::Level { rel } => rel,
+            Kind::Distance { tol } => tol,
+            _ => 0.0,
+        }
+    }
+
     /// Whether `x` lies in the claim's range (every `x` for a claim without one).
     pub fn covers(&self, x: f64) -> bool {
         const EPS: f64 = 1e-9;

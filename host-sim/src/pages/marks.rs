@@ -2,7 +2,7 @@
 //! comes from. Every legend text of a paper value starts with "paper". `cimax swarm field`
 //! draws the same marks on the maps of built-in scenarios ([`map_for`]).
 
-use super::claims::{CLAIMS, Claim, Figure, Id, Kind, Value, claim};
+use super::claims::{CLAIMS, Claim, Figure, Id, Value};
 use crate::report::plot::{MapMark, MapMarks, MapShape, SweepMark};
 use crate::report::timecourse_plot::PaperMark;
 use crate::swarm::scenario::Scenario;
@@ -161,14 +161,6 @@ pub fn profile_lines(scn: &Scenario) -> Vec<(f64, String)> {
     lines
 }
 
-/// The tolerance of a distance claim, R (0 for another kind).
-pub fn distance_tolerance(id: Id) -> f64 {
-    match claim(id).kind {
-        Kind::Distance { tol } => tol,
-        _ => 0.0,
-    }
-}
-
 /// The radius of `scn`'s swarm: the farthest agent from the centre of a lattice, half the
 /// diameter of a disk, half the diagonal of a rectangle.
 pub fn swarm_radius(scn: &Scenario) -> f64 {
@@ -307,7 +299,6 @@ mod tests {
         let d: Vec<f64> = profile("cloud").iter().map(|p| p.0).collect();
         assert_eq!(d, [7.0, 7.5, 4.0]);
         assert_eq!(extent(), [(-2.5, " paper: 2.5 R"), (-2.2, " paper: 2.2 R")]);
-        assert_eq!(distance_tolerance(Id::CloudLimit), 0.25);
     }
 
     #[test]

@@ -259,10 +259,7 @@ fn start(r: &Report<'_>, c: &'static Claim) -> Judged {
     let first = course.points.first();
     let (m, se) = first.map_or((f64::NAN, f64::NAN), |p| (p.diversity.mean, p.diversity.se));
     let paper = c.band().map_or(f64::NAN, |b| b.0);
-    let rel = match c.kind {
-        Kind::Level { rel } => rel,
-        _ => 0.1,
-    };
+    let rel = c.tolerance();
     let noise = [r.sharp, r.gradient][k].run.noise;
     let floor = noise * noise / 12.0;
     let across = fixed(100.0 * course.across_at_start, 0);
@@ -308,10 +305,7 @@ fn arrival(r: &Report<'_>, c: &'static Claim) -> Judged {
         stats::quantile(&at, 0.9).unwrap_or(f64::NAN),
     );
     let paper = c.band().map_or(f64::NAN, |b| b.0);
-    let rel = match c.kind {
-        Kind::Level { rel } => rel,
-        _ => 0.1,
-    };
+    let rel = c.tolerance();
     let in_spread = (q10..=q90).contains(&paper);
     Judged {
         ours: format!(
@@ -351,10 +345,7 @@ fn plateau(r: &Report<'_>, c: &'static Claim) -> Judged {
         },
         _ => {
             let paper = c.band().map_or(f64::NAN, |b| b.0);
-            let rel = match c.kind {
-                Kind::Level { rel } => rel,
-                _ => 0.1,
-            };
+            let rel = c.tolerance();
             Judged {
                 ours,
                 verdict: verdict::level(m, se, paper, rel),
@@ -458,11 +449,11 @@ fn edge(r: &Report<'_>, c: &'static Claim) -> Judged {
 /// The verdict on a perception edge `(d, s.e.)` against the claim `id`.
 pub(super) fn edge_verdict(edge: Option<(f64, f64)>, id: Id) -> Verdict {
     let c = claim(id);
-    let tol = match c.kind {
-        Kind::Distance { tol } => tol,
-        _ => 0.0,
-    };
-    verdict::distance(edge, c.band().unwrap_or((f64::NAN, f64::NAN)), tol)
+    verdict::distance(
+        edge,
+        c.band().unwrap_or((f64::NAN, f64::NAN)),
+        c.tolerance(),
+    )
 }
 
 /// The clouds' distances.

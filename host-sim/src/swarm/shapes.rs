@@ -337,6 +337,18 @@ struct Directions {
 }
 
 impl Directions {
+    /// The four sets counted on the axes: agents' preferences, agents' decisions, mean of the
+    /// preferences, swarm's direction.
+    fn tallies(&self, tol: f64) -> [Tally; 4] {
+        [
+            &self.agents_preferred,
+            &self.agents,
+            &self.swarm_preferred,
+            &self.swarm,
+        ]
+        .map(|v| Tally::of(v.iter().copied(), tol))
+    }
+
     fn of(runs: &[Decisions]) -> Directions {
         let all = |f: fn(&Decisions) -> &Vec<f32>| -> Vec<f64> {
             runs.iter()
@@ -365,6 +377,20 @@ pub struct ShapeRow {
     pub swarm_preferred: String,
     /// The swarm's decided direction.
     pub swarm: String,
+}
+
+impl ShapeRow {
+    /// The row of `name` from its [`Directions::tallies`], each the share `count` picks.
+    fn of(name: &'static str, t: &[Tally; 4], count: fn(&Tally) -> usize) -> ShapeRow {
+        let [a, b, c, e] = t.map(|t| pct(t.frac(count(&t))));
+        ShapeRow {
+            name,
+            agents_preferred: a,
+            agents: b,
+            swarm_preferred: c,
+            swarm: e,
+        }
+    }
 }
 
 /// One formation on the page.
@@ -479,18 +505,8 @@ pub fn reproduce(
         let s = derive(seed, &[k as u64]);
         let runs = decide(f, &field, cfg, RUNS, s, progress)?;
         let d = Directions::of(&runs);
-        let t = [&d.agents_preferred, &d.agents, &d.swarm_preferred, &d.swarm]
-            .map(|v| Tally::of(v.iter().copied(), tol));
-        let row = |count: fn(&Tally) -> usize| {
-            let [a, b, c, e] = t.map(|t| pct(t.frac(count(&t))));
-            ShapeRow {
-                name: f.name(),
-                agents_preferred: a,
-                agents: b,
-                swarm_preferred: c,
-                swarm: e,
-            }
-        };
+        let t = d.tallies(tol);
+        let row = |count: fn(&Tally) -> usize| ShapeRow::of(f.name(), &t, count);
         on_line.push(row(|t| t.on_line));
         on_cross.push(row(|t| t.on_cross));
         diagonal.push(row(|t| t.diagonal));
@@ -597,22 +613,13 @@ fn with_keep(
             _ => continue,
         };
         let runs = decide(f, &field, cfg, RUNS, derive(seed, &[k as u64]), progress)?;
-        let d = Directions::of(&runs);
-        let t = [&d.agents_preferred, &d.agents, &d.swarm_preferred, &d.swarm]
-            .map(|v| Tally::of(v.iter().copied(), tol));
+        let t = Directions::of(&runs).tallies(tol);
         let h = t[3].frac(axes(&t[3])) >= CLAIM;
         match f {
             Formation::Cross { .. } => holds.1 = h,
             _ => holds.0 = h,
         }
-        let [a, b, c, e] = t.map(|t| pct(t.frac(axes(&t))));
-        rows.push(ShapeRow {
-            name: f.name(),
-            agents_preferred: a,
-            agents: b,
-            swarm_preferred: c,
-            swarm: e,
-        });
+        rows.push(ShapeRow::of(f.name(), &t, axes));
     }
     Ok((rows, holds))
 }

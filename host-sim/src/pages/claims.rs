@@ -51,6 +51,16 @@ pub enum Id {
     ShapesLine,
     /// The discussion: on a random field a cross's swarm moves along its four arms.
     ShapesCross,
+    /// Sharp border: after arrival the swarm walks along the border (a 1D random walk).
+    SharpWalk,
+    /// Gradient: on the ramp the swarm diffuses in both dimensions.
+    GradientWalk,
+    /// The conclusion: the steeper the gradient, the better the swarm performs.
+    Steeper,
+    /// The caption's cloud: for d ≲ 7.5 the swarm moves toward the border.
+    CaptionToward,
+    /// The refractory state keeps a wave from flooding the swarm.
+    Refractory,
 }
 
 /// How a claim is judged.
@@ -81,6 +91,17 @@ pub enum Kind {
     Tuned,
     /// The outcome may turn on a rule the paper does not give: run with both choices.
     OpenRule,
+    /// The walk after arrival: the mean squared displacement grows along one axis only
+    /// (`dims` 1) or along both (`dims` 2).
+    Walk {
+        /// 1: along the border; 2: in both dimensions.
+        dims: u8,
+    },
+    /// A radial profile's mean alignment toward a target at least 0.5 at every distance of
+    /// the claim's range.
+    Profile,
+    /// A mechanism: without it the effect appears, with it it does not.
+    Mechanism,
 }
 
 /// The paper's value.
@@ -434,6 +455,61 @@ pub const CLAIMS: &[Claim] = &[
         over: None,
         ends: Ends::Open,
         kind: Kind::OpenRule,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::SharpWalk,
+        source: "§3.1, text of Fig. 4",
+        quantity: "Sharp border: after arriving, the swarm walks along the border",
+        paper: "\"a one-dimensional random walk\"",
+        value: Value::Words,
+        over: None,
+        ends: Ends::Open,
+        kind: Kind::Walk { dims: 1 },
+        drawn: &[],
+    },
+    Claim {
+        id: Id::GradientWalk,
+        source: "§3.2, text of Fig. 9",
+        quantity: "Gradient: on the ramp the swarm diffuses in both dimensions",
+        paper: "\"diffuses in both dimensions\"",
+        value: Value::Words,
+        over: None,
+        ends: Ends::Open,
+        kind: Kind::Walk { dims: 2 },
+        drawn: &[],
+    },
+    Claim {
+        id: Id::Steeper,
+        source: "§5 (discussion), from Figs. 5 and 8",
+        quantity: "The steeper the gradient, the better the swarm performs",
+        paper: "shorter times on the sharp border than on the gradient",
+        value: Value::Words,
+        over: None,
+        ends: Ends::Open,
+        kind: Kind::Trend,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::CaptionToward,
+        source: "§3.3, caption of Fig. 10",
+        quantity: "Cloud (the caption's, radius 5): the swarm moves toward the border",
+        paper: "for d ≲ 7.5",
+        value: Value::At(7.5),
+        over: Some((0.0, 7.5)),
+        ends: Ends::Open,
+        kind: Kind::Profile,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::Refractory,
+        source: "§2, text of Fig. 1",
+        quantity: "The refractory state keeps a wave from flooding the swarm",
+        paper: "signals neither flood the swarm nor come back",
+        value: Value::Words,
+        over: None,
+        ends: Ends::Open,
+        kind: Kind::Mechanism,
         drawn: &[],
     },
 ];

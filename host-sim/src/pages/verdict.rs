@@ -1,5 +1,6 @@
 //! How one of our numbers is judged against a claim of the paper: one small function per kind
-//! of claim ([`rate`], [`level`], [`distance`], [`trend`], [`direction`]), each returning a
+//! of claim ([`rate`], [`level`], [`distance`], [`trend`], [`direction`], [`walk`],
+//! [`profile`], [`mechanism`]), each returning a
 //! [`Verdict`].
 //!
 //! The rule is the same for every kind: a claim has a **reproduced band** (its value or range,
@@ -144,6 +145,44 @@ pub fn trend(slope: f64, ci: f64, sign: Sign, also: bool) -> Verdict {
     }
 }
 
+/// A walk after arrival from the growth per period of the mean squared displacement along the
+/// two axes (`(slope, 95 % half-width)`, least squares against the lag): along one axis
+/// (`dims` 1: the second axis's interval above zero and the first's growth below a tenth of
+/// it) or both (`dims` 2: both intervals above zero, each at least a tenth of the other's).
+/// Reproduced or not: there is no band to be near.
+pub fn walk(across: (f64, f64), along: (f64, f64), dims: u8) -> Verdict {
+    let grows = |s: (f64, f64)| s.0 - s.1 > 0.0;
+    let tenth = |a: f64, b: f64| a >= 0.1 * b;
+    let holds = match dims {
+        1 => grows(along) && !tenth(across.0, along.0),
+        _ => grows(across) && grows(along) && tenth(across.0, along.0) && tenth(along.0, across.0),
+    };
+    if holds {
+        Verdict::Reproduced
+    } else {
+        Verdict::NotReproduced
+    }
+}
+
+/// A profile's mean alignments `(value, s.e.)` toward the claimed target, every one of which
+/// should be at least `level`: the worst point decides ([`banded`] on `[level, 1]`).
+pub fn profile(points: &[(f64, f64)], level: f64) -> Verdict {
+    points
+        .iter()
+        .map(|&(m, se)| banded(m, (level, 1.0), se))
+        .max_by_key(|v| Verdict::ALL.iter().position(|w| w == v))
+        .unwrap_or(Verdict::NotReproduced)
+}
+
+/// A mechanism: reproduced if the effect shows without it and not with it.
+pub fn mechanism(without: bool, with: bool) -> Verdict {
+    if without && !with {
+        Verdict::Reproduced
+    } else {
+        Verdict::NotReproduced
+    }
+}
+
 /// What a direction claim says the arrows do.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Heading {
@@ -186,6 +225,26 @@ mod tests {
         assert_eq!(banded(1.21, (0.0, 1.0), 0.1), NotReproduced);
         assert_eq!(banded(-0.15, (0.0, 1.0), 0.1), Partly);
         assert_eq!(banded(f64::NAN, (0.0, 1.0), 0.1), NotReproduced);
+    }
+
+    #[test]
+    fn a_walk_along_one_axis_is_not_one_in_two() {
+        let flat = (0.0005, 0.0004);
+        let grows = (0.1, 0.003);
+        assert_eq!(walk(flat, grows, 1), Reproduced);
+        assert_eq!(walk(flat, grows, 2), NotReproduced);
+        assert_eq!(walk((0.02, 0.001), grows, 2), Reproduced);
+        assert_eq!(walk((0.02, 0.001), grows, 1), NotReproduced);
+        assert_eq!(walk(flat, (0.0, 0.01), 1), NotReproduced);
+    }
+
+    #[test]
+    fn a_profile_is_judged_by_its_worst_point() {
+        assert_eq!(profile(&[(0.9, 0.01), (0.6, 0.05)], 0.5), Reproduced);
+        assert_eq!(profile(&[(0.9, 0.01), (0.45, 0.05)], 0.5), Partly);
+        assert_eq!(profile(&[(0.9, 0.01), (-0.5, 0.05)], 0.5), NotReproduced);
+        assert_eq!(mechanism(true, false), Reproduced);
+        assert_eq!(mechanism(true, true), NotReproduced);
     }
 
     #[test]

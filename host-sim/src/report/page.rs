@@ -96,6 +96,10 @@ const TEMPLATES: &[(&str, &str)] = &[
         include_str!("../../templates/reproduction/shapes.md.j2"),
     ),
     (
+        "reproduction/settle.md.j2",
+        include_str!("../../templates/reproduction/settle.md.j2"),
+    ),
+    (
         "reproduction/beyond.md.j2",
         include_str!("../../templates/reproduction/beyond.md.j2"),
     ),

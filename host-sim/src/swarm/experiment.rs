@@ -13,7 +13,7 @@ pub use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::swarm::geometry::Swarm;
 use crate::swarm::scenario::{GridSpec, Scenario, Success};
-use crate::swarm::sim::{Period, RunConfig, Sim, SimError};
+use crate::swarm::sim::{Period, RunConfig, Sim, SimError, Tap};
 
 /// Any failure of an experiment (parameters that do not validate, a swarm that cannot be placed).
 pub type Error = Box<dyn std::error::Error + Send + Sync>;
@@ -51,7 +51,45 @@ pub fn run(
     seed: u64,
     stop_on_success: bool,
 ) -> Result<RunOutput, Error> {
-    Ok(run_inner(scn, cfg, start, periods, seed, stop_on_success, false)?.0)
+    Ok(run_inner(
+        scn,
+        cfg,
+        start,
+        periods,
+        seed,
+        stop_on_success,
+        Observe::default(),
+    )?
+    .0)
+}
+
+/// [`run`] (to the last period) with the observer's [`Tap`] of every period: the messages
+/// scored in that period's gathering phase. The run itself is the same as [`run`]'s.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_tapped(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    periods: u32,
+    seed: u64,
+) -> Result<(RunOutput, Vec<Tap>), Error> {
+    let observe = Observe {
+        trace: false,
+        tap: true,
+    };
+    let (out, _, taps) = run_inner(scn, cfg, start, periods, seed, false, observe)?;
+    Ok((out, taps))
+}
+
+/// What a run records besides its periods.
+#[derive(Clone, Copy, Debug, Default)]
+struct Observe {
+    /// The events, for the replay viewer ([`Sim::record`]).
+    trace: bool,
+    /// Each period's [`Tap`].
+    tap: bool,
 }
 
 /// [`run`] (to the last period) with its events recorded for the replay viewer
@@ -66,10 +104,19 @@ pub fn run_traced(
     periods: u32,
     seed: u64,
 ) -> Result<(RunOutput, Vec<hal_emu::TraceEvent>), Error> {
-    run_inner(scn, cfg, start, periods, seed, false, true)
+    let observe = Observe {
+        trace: true,
+        tap: false,
+    };
+    let (out, events, _) = run_inner(scn, cfg, start, periods, seed, false, observe)?;
+    Ok((out, events))
 }
 
-/// [`run`], recording its events if `trace`.
+/// A run's output, its events (if `observe.trace`) and its taps, one per period (if
+/// `observe.tap`).
+type Observed = (RunOutput, Vec<hal_emu::TraceEvent>, Vec<Tap>);
+
+/// [`run`], recording what `observe` asks for.
 fn run_inner(
     scn: &Scenario,
     cfg: RunConfig,
@@ -77,8 +124,8 @@ fn run_inner(
     periods: u32,
     seed: u64,
     stop_on_success: bool,
-    trace: bool,
-) -> Result<(RunOutput, Vec<hal_emu::TraceEvent>), Error> {
+    observe: Observe,
+) -> Result<Observed, Error> {
     let swarm = place(scn, scn.agents, seed)?;
     let mut out = RunOutput {
         swarm,
@@ -90,19 +137,26 @@ fn run_inner(
     if met(start) {
         out.success_at = Some(0);
         if stop_on_success {
-            return Ok((out, Vec::new()));
+            return Ok((out, Vec::new(), Vec::new()));
         }
     }
     let mut periods_out = Vec::with_capacity(periods as usize);
+    let mut taps = Vec::new();
     let events;
     {
         let mut sim = AnySim::new(&out.swarm, scn, cfg, start, seed)?;
-        if trace {
+        if observe.trace {
             sim.record();
+        }
+        if observe.tap {
+            sim.tap();
         }
         for _ in 0..periods {
             let p = sim.run_period()?;
             periods_out.push(p);
+            if observe.tap {
+                taps.push(sim.take_tap());
+            }
             if out.success_at.is_none() && met(p.to) {
                 out.success_at = Some(p.index);
                 if stop_on_success {
@@ -113,7 +167,7 @@ fn run_inner(
         events = sim.take_trace();
     }
     out.periods = periods_out;
-    Ok((out, events))
+    Ok((out, events, taps))
 }
 
 /// The simulation of a scenario: one quantity (the paper), or two when it has a `[[field2]]`.
@@ -153,6 +207,20 @@ impl<'a> AnySim<'a> {
         match self {
             AnySim::One(s) => s.record(),
             AnySim::Two(s) => s.record(),
+        }
+    }
+
+    fn tap(&mut self) {
+        match self {
+            AnySim::One(s) => s.tap(),
+            AnySim::Two(s) => s.tap(),
+        }
+    }
+
+    fn take_tap(&mut self) -> Tap {
+        match self {
+            AnySim::One(s) => s.take_tap(),
+            AnySim::Two(s) => s.take_tap(),
         }
     }
 

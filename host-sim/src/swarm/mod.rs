@@ -8,6 +8,7 @@ pub mod experiment;
 pub use hal_emu::world::field;
 pub mod geometry;
 pub mod measure;
+pub mod probe;
 pub mod scenario;
 pub mod sensitivity;
 pub mod shapes;

@@ -65,6 +65,8 @@ pub trait Reading: Copy + Default + fmt::Debug + PartialEq + Send + Sync + 'stat
     /// A noisy reading from the fields' means at the agent (`QUANTITIES` values): each
     /// quantity gets its own noise draw, in order.
     fn sample(means: &[f64], noise: f64, rng: &mut Pcg64Mcg) -> Self;
+    /// The first quantity, as the observer's [`Tap`] pools it.
+    fn first(&self) -> f64;
 }
 
 impl Reading for f32 {
@@ -79,6 +81,10 @@ impl Reading for f32 {
     fn sample(means: &[f64], noise: f64, rng: &mut Pcg64Mcg) -> f32 {
         let xi = noise * (rng.random::<f64>() - 0.5);
         (means[0] + xi) as f32
+    }
+
+    fn first(&self) -> f64 {
+        f64::from(*self)
     }
 }
 
@@ -96,6 +102,10 @@ impl Reading for [f32; 2] {
             f32::sample(&means[..1], noise, rng),
             f32::sample(&means[1..2], noise, rng),
         ]
+    }
+
+    fn first(&self) -> f64 {
+        f64::from(self[0])
     }
 }
 
@@ -266,6 +276,59 @@ pub struct Sim<'a, R: Reading = f32> {
     means: Vec<f64>,
     /// The run's events for the replay viewer, if asked for ([`Sim::record`]).
     trace: Option<Recorder>,
+    /// The observer's diversities of the accepted messages, if asked for ([`Sim::tap`]).
+    tap: Option<Tap>,
+}
+
+/// What an observer sees of the messages the agents scored (accepted in a gathering phase),
+/// first quantity only: the diversity per message and over all of them pooled. It changes
+/// nothing in a run ([`Sim::tap`]).
+///
+/// A message's readings count with the receiver's own appended, as the receiving agent scores
+/// and stores them; the variances are population variances (`1/n`, the paper's `V_k`) in `f64`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Tap {
+    /// Messages scored.
+    pub messages: u64,
+    /// Sum over them of the variance of each message's readings.
+    message_variance: f64,
+    /// Readings pooled (Welford): count, mean, sum of squared deviations.
+    n: u64,
+    mean: f64,
+    m2: f64,
+}
+
+impl Tap {
+    /// Adds one scored message's readings (the receiver's own included).
+    pub fn add(&mut self, readings: impl Iterator<Item = f64> + Clone) {
+        let (k, sum) = readings
+            .clone()
+            .fold((0u64, 0.0), |(k, s), x| (k + 1, s + x));
+        if k == 0 {
+            return;
+        }
+        let m = sum / k as f64;
+        let var = readings.clone().map(|x| (x - m) * (x - m)).sum::<f64>() / k as f64;
+        self.messages += 1;
+        self.message_variance += var;
+        for x in readings {
+            self.n += 1;
+            let d = x - self.mean;
+            self.mean += d / self.n as f64;
+            self.m2 += d * (x - self.mean);
+        }
+    }
+
+    /// The mean over the messages of each message's variance (`None` without messages).
+    pub fn per_message(&self) -> Option<f64> {
+        (self.messages > 0).then(|| self.message_variance / self.messages as f64)
+    }
+
+    /// The variance of every reading of every message, all agents together (`None` without
+    /// readings).
+    pub fn pooled(&self) -> Option<f64> {
+        (self.n > 0).then(|| self.m2 / self.n as f64)
+    }
 }
 
 /// What [`Sim::record`] keeps: the events, and each agent's scores per sector before its
@@ -435,6 +498,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             calls: 0,
             means: Vec::with_capacity(n * R::QUANTITIES),
             trace: None,
+            tap: None,
         };
         sim.place_means();
         for i in 0..n {
@@ -487,6 +551,17 @@ impl<'a, R: Reading> Sim<'a, R> {
             .as_mut()
             .map(|r| std::mem::take(&mut r.events))
             .unwrap_or_default()
+    }
+
+    /// Observes the messages the agents score from now on ([`Tap`]); changes nothing in the
+    /// run.
+    pub fn tap(&mut self) {
+        self.tap = Some(Tap::default());
+    }
+
+    /// What the tap saw since the last call (empty if [`Sim::tap`] was not called).
+    pub fn take_tap(&mut self) -> Tap {
+        self.tap.as_mut().map(std::mem::take).unwrap_or_default()
     }
 
     /// Keeps what agent `i` heard so far, per sector the best direction's score, if recording:
@@ -575,8 +650,8 @@ impl<'a, R: Reading> Sim<'a, R> {
         }
     }
 
-    /// A fresh reading for agent `i` at the current position.
-    fn sample(&mut self, i: usize) {
+    /// A fresh reading for agent `i` at the current position; it is also returned.
+    fn sample(&mut self, i: usize) -> R {
         let q = R::QUANTITIES;
         let r = R::sample(
             &self.means[i * q..(i + 1) * q],
@@ -584,6 +659,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             &mut self.noise_rng,
         );
         self.agents[i].handle_reading(r);
+        r
     }
 
     /// Runs every due second up to and including `until`.
@@ -650,7 +726,7 @@ impl<'a, R: Reading> Sim<'a, R> {
                     ));
                     continue;
                 }
-                self.sample(r);
+                let own = self.sample(r);
                 let accepted =
                     self.agents[r].handle_message(now, l.bearing, m, &mut self.proto_rng);
                 self.calls += 1;
@@ -662,6 +738,10 @@ impl<'a, R: Reading> Sim<'a, R> {
                     debug_assert!(self.agents[r].poll_event().is_none());
                     debug_assert_eq!(secs(self.agents[r].poll_timeout()), self.scheduled[r]);
                     continue;
+                }
+                if let (Some(tap), SimMessage::Readings(rs)) = (self.tap.as_mut(), m) {
+                    let own = std::iter::once(own.first());
+                    tap.add(rs.iter().map(R::first).chain(own));
                 }
                 self.drain_events(r, t);
                 self.reschedule(r);

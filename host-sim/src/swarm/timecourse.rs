@@ -29,7 +29,8 @@ pub struct Spread {
 }
 
 impl Spread {
-    fn of(xs: &[f64]) -> Spread {
+    /// The spread of `xs` (NaN for none; the standard error NaN for fewer than two).
+    pub fn of(xs: &[f64]) -> Spread {
         Spread {
             mean: stats::mean(xs).unwrap_or(f64::NAN),
             q10: stats::quantile(xs, 0.1).unwrap_or(f64::NAN),

@@ -33,6 +33,7 @@ mod beyond;
 mod caption_cloud;
 mod page;
 mod sensitivity;
+mod settle;
 mod verdicts;
 
 use page::{Report, markdown};
@@ -252,6 +253,15 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         .iter()
         .map(|[c, _]| (c.plateau, c.plateau_se, c.plateau_runs))
         .collect();
+    let course_seeds = [st.seed(COURSE_STAGE), st.seed(COURSE_STAGE + 2)];
+    let settled = settle::run(
+        &mut st,
+        main,
+        [&sharp, &gradient],
+        course_seeds,
+        [courses[0][0].plateau, courses[1][0].plateau],
+        &caption,
+    )?;
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
     let sensitivity = sensitivity(&mut st, main, &sharp, &gradient)?;
     let runs_n = (4 + u64::from(crate::swarm::shapes::KEEP_FORMATIONS))
@@ -294,6 +304,7 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         sensitivity: &sensitivity,
         shapes: &shapes,
         beyond: &beyond,
+        settled: &settled,
         cycle_rows: &cycle_rows,
         cycle_runs: CYCLE_RUNS,
         waves,
@@ -318,6 +329,11 @@ const PROFILE_RUNS: u32 = 40;
 pub const OTHER_RUNS: u32 = 20;
 /// Runs per scenario and placement of the averaged courses (Figs. 4b, 7b) and the plateaus.
 pub const COURSE_RUNS: u32 = 50;
+/// The averaged courses' plateau counts the runs that arrived at least this many periods
+/// before the end.
+pub(super) const PLATEAU_MIN_AFTER: u32 = 10;
+/// First seed stage of the averaged courses: `COURSE_STAGE + 2 · field + placement`.
+const COURSE_STAGE: u64 = 40;
 /// Runs per point of the cycle-length experiment.
 const CYCLE_RUNS: u32 = 50;
 
@@ -519,8 +535,8 @@ fn time_courses(
             pair.push(time_course(
                 placed,
                 COURSE_RUNS,
-                10,
-                st.seed(40 + 2 * k as u64 + j as u64),
+                PLATEAU_MIN_AFTER,
+                st.seed(COURSE_STAGE + 2 * k as u64 + j as u64),
                 &p,
             )?);
             st.done(&p);

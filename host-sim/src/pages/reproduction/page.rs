@@ -33,6 +33,8 @@ pub(super) struct Report<'a> {
     pub(super) shapes: &'a crate::swarm::shapes::ShapesSection,
     /// Entropy instead of variance (beyond the paper).
     pub(super) beyond: &'a beyond::BeyondSection,
+    /// The experiments that settle the open rows.
+    pub(super) settled: &'a settle::Settled,
     pub(super) cycle_rows: &'a [CycleRow],
     pub(super) cycle_runs: u32,
     pub(super) waves: crate::swarm::waves::WavesSection,
@@ -55,6 +57,7 @@ struct Page<'a> {
     sensitivity: &'a SensitivitySection,
     shapes: &'a crate::swarm::shapes::ShapesSection,
     beyond: &'a beyond::BeyondSection,
+    settle: &'a settle::SettleSection,
     speed: SpeedSection,
     waves: crate::swarm::waves::WavesSection,
     names: [String; 3],
@@ -627,6 +630,7 @@ fn page<'a>(r: &Report<'a>) -> Result<Page<'a>, Error> {
         sensitivity: r.sensitivity,
         shapes: r.shapes,
         beyond: r.beyond,
+        settle: &r.settled.section,
         speed: speed_section(r),
         waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),

@@ -93,6 +93,10 @@ fn judge(r: &Report<'_>, c: &'static Claim) -> Judged {
         Id::SharpEdge | Id::GradientEdge => edge(r, c),
         Id::CloudLimit | Id::CloudOutward | Id::CaptionLimit => cloud(r, c),
         Id::ShapesLine | Id::ShapesCross => shapes(r, c.id),
+        Id::SharpWalk | Id::GradientWalk => walk(r, c),
+        Id::Steeper => steeper(r),
+        Id::CaptionToward => toward_border(r),
+        Id::Refractory => refractory(r),
     }
 }
 
@@ -107,7 +111,8 @@ fn field_of(id: Id) -> usize {
         | Id::SharpPlateau
         | Id::SharpMapNear
         | Id::SharpMapFar
-        | Id::SharpEdge => 0,
+        | Id::SharpEdge
+        | Id::SharpWalk => 0,
         _ => 1,
     }
 }
@@ -274,17 +279,47 @@ fn start(r: &Report<'_>, c: &'static Claim) -> Judged {
             first.map_or("–".into(), |p| fixed(p.diversity.q90, 2)),
         ),
         verdict: verdict::level(m, se, paper, rel),
-        why: if m > paper {
-            format!(
-                "{across} % of our agents stand across x = 0 at the start and read the other side; the noise alone gives {}",
-                fixed(floor, 2)
-            )
-        } else {
-            format!(
-                "ours is about the noise alone ({}): the {across} % of our agents across x = 0 stand low on the ramp; the paper's value needs more spread (a steeper slope, more noise, or agents farther up), which it does not give",
-                fixed(floor, 2)
-            )
-        },
+        why: format!(
+            "{}; the noise alone gives {}; {}",
+            if m > paper {
+                format!(
+                    "{across} % of our agents ({}) stand across x = 0 at the start and read the other side",
+                    r.settled.start.at_start[k]
+                )
+            } else {
+                format!(
+                    "ours is about the noise alone: the {across} % of our agents across x = 0 stand low on the ramp"
+                )
+            },
+            fixed(floor, 2),
+            start_against_across(r, k, paper),
+        ),
+    }
+}
+
+/// What the settling section's starts say of the paper's starting diversity: the count of
+/// agents across whose mean is nearest it, or the most any count gave.
+fn start_against_across(r: &Report<'_>, k: usize, paper: f64) -> String {
+    let by = if k == 0 {
+        &r.settled.start.sharp
+    } else {
+        &r.settled.start.gradient
+    };
+    let nearest = by
+        .iter()
+        .min_by(|a, b| (a.1 - paper).abs().total_cmp(&(b.1 - paper).abs()));
+    let most = by.iter().max_by(|a, b| a.1.total_cmp(&b.1));
+    match (nearest, most) {
+        (Some(&(n, m, runs)), _) if (m - paper).abs() <= 0.1 * paper => format!(
+            "with {n} agent{} across the first period gives {} ({runs} runs, settling section): the paper's value",
+            if n == 1 { "" } else { "s" },
+            fixed(m, 2)
+        ),
+        (_, Some(&(n, m, _))) => format!(
+            "no start of the settling section gives the paper's value: at most {} (with {n} agents across)",
+            fixed(m, 2)
+        ),
+        _ => String::new(),
     }
 }
 
@@ -320,11 +355,43 @@ fn arrival(r: &Report<'_>, c: &'static Claim) -> Judged {
         ),
         verdict: verdict::level(m, se, paper, rel),
         why: format!(
-            "the paper's is one run, {} our runs' 10–90 % range; {} % of the distance our swarms walk is gained along +x (the averaged courses)",
+            "the paper's is one run, {} our runs' 10–90 % range; {} % of the distance our swarms walk is gained along +x (the averaged courses){}",
             if in_spread { "inside" } else { "outside" },
-            fixed(100.0 * course.straightness, 0)
+            fixed(100.0 * course.straightness, 0),
+            if k == 1 {
+                arrival_way(r)
+            } else {
+                String::new()
+            }
         ),
     }
+}
+
+/// "rises", "falls" or "changes", as `values` (in order) do.
+fn trend_words(values: impl Iterator<Item = f64> + Clone) -> &'static str {
+    let v: Vec<f64> = values.collect();
+    if v.windows(2).all(|w| w[1] > w[0]) {
+        "rises"
+    } else if v.windows(2).all(|w| w[1] < w[0]) {
+        "falls"
+    } else {
+        "changes"
+    }
+}
+
+/// Where the gradient's periods go (settling section).
+fn arrival_way(r: &Report<'_>) -> String {
+    let a = &r.settled.arrival;
+    format!(
+        "; {} of our {} runs arrive within the paper's periods (the fastest in {}); they spend {} periods before the ramp and {} on it, {} of them in its last R before the line, where the first move's heading toward +x has faded to {} (settling section)",
+        a.within_paper,
+        a.arrived,
+        fixed(a.fastest, 0),
+        fixed(a.before_ramp, 1),
+        fixed(a.on_ramp, 1),
+        fixed(a.last_r, 1),
+        fixed(a.heading_mid_last_r, 2)
+    )
 }
 
 /// The diversity plateau after arrival.
@@ -346,10 +413,61 @@ fn plateau(r: &Report<'_>, c: &'static Claim) -> Judged {
         _ => {
             let paper = c.band().map_or(f64::NAN, |b| b.0);
             let rel = c.tolerance();
+            let f = &r.settled.plateau;
+            let fits = |&&(_, _, m, se): &&(u64, crate::swarm::scenario::Placement, f64, f64)| {
+                verdict::level(m, se, paper, rel) == Verdict::Reproduced
+            };
+            let ours_verdict = verdict::level(m, se, paper, rel);
+            let open = ours_verdict != Verdict::Reproduced && f.by_cycle.iter().any(|c| fits(&c));
+            let list = f
+                .by_cycle
+                .iter()
+                .filter(|c| c.1 == r.main)
+                .map(|c| format!("{} at {} s", fixed(c.2, 2), c.0))
+                .collect::<Vec<_>>()
+                .join(", ");
             Judged {
                 ours,
-                verdict: verdict::level(m, se, paper, rel),
-                why: "not explained; the paper may average over messages rather than over the agents' stores (see the averaged courses)".into(),
+                verdict: if open {
+                    Verdict::DependsOnUnspecifiedRule
+                } else {
+                    ours_verdict
+                },
+                why: format!(
+                    "the plateau {} with the cycle length t_p^max, which the paper does not give ({}: {list}; the {} placement within {}); {}; the mean variance per message ({}) and the pooled variance ({}) are farther from the paper's (settling section)",
+                    trend_words(f.by_cycle.iter().filter(|c| c.1 == r.main).map(|c| c.2)),
+                    r.main,
+                    r.main.other(),
+                    fixed(
+                        f.by_cycle
+                            .iter()
+                            .filter(|c| c.1 != r.main)
+                            .filter_map(|o| {
+                                let same =
+                                    f.by_cycle.iter().find(|c| c.1 == r.main && c.0 == o.0)?;
+                                Some((o.2 - same.2).abs())
+                            })
+                            .fold(0.0, f64::max),
+                        2
+                    ),
+                    if open {
+                        let ok: Vec<String> = f
+                            .by_cycle
+                            .iter()
+                            .filter(|c| fits(c))
+                            .map(|c| format!("{} s ({})", c.0, c.1))
+                            .collect();
+                        format!(
+                            "within ± {} % of it with {}",
+                            fixed(100.0 * rel, 0),
+                            ok.join(", ")
+                        )
+                    } else {
+                        "no cycle tried brings it within the band".to_string()
+                    },
+                    fixed(f.message, 2),
+                    fixed(f.pooled, 2)
+                ),
             }
         }
     }
@@ -526,4 +644,130 @@ pub(super) fn counts(rows: &[Row]) -> String {
         .map(|(v, n)| format!("{n} {v}"))
         .collect();
     format!("Of {} rows: {}", rows.len(), parts.join(", "))
+}
+
+/// The walk after arrival (settling section): the growth of the mean squared displacement
+/// across and along.
+fn walk(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let sharp = field_of(c.id) == 0;
+    let w = if sharp {
+        &r.settled.wander.sharp
+    } else {
+        &r.settled.wander.gradient
+    };
+    let dims = match c.kind {
+        Kind::Walk { dims } => dims,
+        _ => 1,
+    };
+    let pm = |s: (f64, f64)| format!("{} ± {}", fixed(s.0, 4), fixed(s.1, 4));
+    Judged {
+        ours: format!(
+            "mean squared displacement after arrival grows {} R² per period along x, {} along y; after {} periods {} and {} R²",
+            pm(w.x_slope),
+            pm(w.y_slope),
+            w.max_lag,
+            fixed(w.at_max.0, 2),
+            fixed(w.at_max.1, 2)
+        ),
+        verdict: verdict::walk(w.x_slope, w.y_slope, dims),
+        why: if dims == 1 {
+            "the rule: the growth along the border (y) has its 95 % interval above zero and the growth across it (x) is below a tenth of that (least squares over lags 1 to 20; the lags overlap, so the intervals are a guide)".into()
+        } else {
+            format!(
+                "the rule: both growths have their 95 % intervals above zero and each is at least a tenth of the other; along x it grows {} times slower than along y: below the line the pull toward +x bounds the walk on one side (settling section)",
+                fixed(w.y_slope.0 / w.x_slope.0.max(1e-12), 1)
+            )
+        },
+    }
+}
+
+/// Steeper ramps (settling section): time to the same line against the slope.
+fn steeper(r: &Report<'_>) -> Judged {
+    let s = &r.settled.steep;
+    let (lo, hi) = s.slopes;
+    let also = s.success.1 >= s.success.0;
+    Judged {
+        ours: format!(
+            "from slope {lo} to {hi} per R: success {} → {}, periods to within 0.33 R of x = 0 {} → {} ({} ± {} per doubling; the sharp border {}), to x ≥ 2.33 {} → {}",
+            fixed(s.success.0, 2),
+            fixed(s.success.1, 2),
+            fixed(s.to_line.0, 1),
+            fixed(s.to_line.1, 1),
+            fixed(s.per_doubling.0, 2),
+            fixed(s.per_doubling.1, 2),
+            fixed(s.sharp_time, 1),
+            fixed(s.to_criterion.0, 1),
+            fixed(s.to_criterion.1, 1),
+        ),
+        verdict: verdict::trend(s.per_doubling.0, s.per_doubling.1, Sign::Falls, also),
+        why: "the rule: the time to the same line (the border, or the ramp's start) falls with the slope (its 95 % interval against log2 of the slope below zero) and success does not; the paper's evidence, 7 periods on the sharp border against 15 on the gradient, times two criteria 2.33 R apart".into(),
+    }
+}
+
+/// The caption's cloud toward its border (settling section).
+fn toward_border(r: &Report<'_>) -> Judged {
+    let t = &r.settled.caption;
+    let points: Vec<(f64, f64)> = t.points.iter().map(|p| (p.1, p.2)).collect();
+    let short: Vec<String> = t
+        .points
+        .iter()
+        .filter(|p| p.1 < t.threshold)
+        .map(|p| fixed(p.0, 2))
+        .collect();
+    let inside_away = t
+        .points
+        .iter()
+        .filter(|p| p.0 < t.edge && p.1 < 0.0)
+        .map(|p| p.0)
+        .fold((f64::MAX, f64::MIN), |(a, b), d| (a.min(d), b.max(d)));
+    Judged {
+        ours: format!(
+            "{} of {} distances below {} with mean alignment toward the border ≥ {}",
+            t.points.len() - short.len(),
+            t.points.len(),
+            t.reach,
+            t.threshold
+        ),
+        verdict: verdict::profile(&points, t.threshold),
+        why: match t.settles_at {
+            Some((d, se)) if inside_away.0 <= inside_away.1 => format!(
+                "the rule: at every distance below {} the mean alignment toward the border (r = {}) at least {}; inside the cloud the swarm heads away from the border from {} to {} R and its centre settles {} ± {} R from the centre, where its outer agents straddle the border; short at {}",
+                t.reach,
+                t.edge,
+                t.threshold,
+                fixed(inside_away.0, 2),
+                fixed(inside_away.1, 2),
+                fixed(d, 2),
+                fixed(se, 2),
+                short.join(", ")
+            ),
+            _ => format!(
+                "the rule: at every distance below {} the mean alignment toward the border (r = {}) at least {}; short at: {}",
+                t.reach,
+                t.edge,
+                t.threshold,
+                if short.is_empty() {
+                    "none".into()
+                } else {
+                    short.join(", ")
+                }
+            ),
+        },
+    }
+}
+
+/// The refractory time off (a model of the simulator's rule) and on (the protocol).
+fn refractory(r: &Report<'_>) -> Judged {
+    let f = &r.settled.refractory;
+    Judged {
+        ours: format!(
+            "without it (model): {} transmissions per agent in {} s, {}; with {} s (the protocol's least): every agent once",
+            fixed(f.sends_without, 1),
+            f.horizon,
+            if f.floods_without { "still going" } else { "over" },
+            f.smallest.map_or("–".into(), |s| s.to_string())
+        ),
+        verdict: verdict::mechanism(f.floods_without, !f.once_with),
+        why: "the rule: the wave keeps coming back without a refractory time and every agent sends once with it; the protocol refuses a refractory time not above the relay delay, so the first is the simulator's delivery rule as a model, checked equal to the protocol where both run".into(),
+    }
 }

@@ -5,7 +5,7 @@
 use std::process::Command;
 
 use host_sim::arena::campaign::{self, Decide, Plan, SCENARIOS};
-use host_sim::swarm::experiment::Progress;
+use host_sim::progress::Progress;
 
 fn cimax(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_cimax"))

@@ -1,8 +1,9 @@
 //! End-to-end checks of the 2D simulator: the scenarios behave as the paper describes, the
 //! success criteria are applied, and results do not depend on the number of threads.
 
+use host_sim::progress::Progress;
 use host_sim::report;
-use host_sim::swarm::experiment::{self, Progress, direction_map, radial_profile, sweep};
+use host_sim::swarm::experiment::{self, direction_map, radial_profile, sweep};
 use host_sim::swarm::geometry::Shape;
 use host_sim::swarm::scenario::{GridSpec, LATTICE_SPACING, Scenario};
 use nalgebra::Point2;

@@ -11,9 +11,10 @@
 //!   (the environment); [`swarm::scenario`]: the built-in scenarios and the TOML scenario
 //!   files; [`swarm::experiment`]: runs, sweeps, preferred-direction grids, spread over all
 //!   cores.
-//! - [`arena`]: the emulated lab over `hal-emu`: `cimax arena` itself ([`arena::line`]: robots
-//!   in a line under light patterns), robots on a plane ([`arena::plane`]), the fault campaign
-//!   ([`arena::campaign`], `docs/reliability.md`) and its stress sections ([`arena::stress`]).
+//! - [`arena`]: the emulated lab over `hal-emu`: robots on a plane ([`arena::plane`]), the fault
+//!   campaign ([`arena::campaign`], `docs/reliability.md`) and its stress sections
+//!   ([`arena::stress`]). `cimax arena` itself (robots in a line under light patterns, judged by
+//!   `hal_emu::judge`) is the binary's `cli/arena`, beside `cli/swarm.rs`.
 //! - [`pages`]: what the pages say about the paper: its claims typed once
 //!   ([`pages::claims`]), one verdict function per kind of claim ([`pages::verdict`]), the
 //!   paper's marks on the figures ([`pages::marks`]), and [`pages::reproduction`], which runs

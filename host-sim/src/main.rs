@@ -1,22 +1,21 @@
 //! `cimax`: the CIMAX command-line tool.
 //!
-//! - `cimax arena` runs the paper's four-robot lab experiment (section 4), see
-//!   [`host_sim::arena::line`].
+//! - `cimax arena` runs the paper's four-robot lab experiment (section 4), see [`cli::arena`].
 //! - `cimax swarm run|sweep|field|reproduce|bench` are the paper's 2D simulations (section 3),
 //!   over the [`host_sim`] library, see [`cli::swarm`].
 //! - `cimax view TRACE -o PAGE.html` makes the replay viewer's page of a saved trace
 //!   ([`host_sim::viewer`]).
 //!
 //! This file only parses the command line and dispatches: `cimax swarm` runs in `cli/swarm.rs`,
-//! `cimax arena` in the library's `arena` module.
+//! `cimax arena` in `cli/arena/`.
 
 mod cli;
 
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use cli::arena;
 use cli::swarm::SwarmCommand;
-use host_sim::arena::line as arena;
 
 /// The most worker threads `--threads` asks for (each has a stack; more than the cores only
 /// costs memory).

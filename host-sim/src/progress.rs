@@ -29,7 +29,8 @@ impl Progress {
         Progress(None)
     }
 
-    pub(crate) fn inc(&self) {
+    /// One more step done.
+    pub fn inc(&self) {
         if let Some(b) = &self.0 {
             b.inc(1);
         }

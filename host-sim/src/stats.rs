@@ -1,7 +1,10 @@
 //! The statistics every page and table of `cimax` uses, in one place: the mean, the population
-//! variance and standard error, and quantiles by the nearest-rank method.
+//! variance and standard error, quantiles by the nearest-rank method, and the circular mean of
+//! directions ([`Resultant`], [`circular_mean`]).
 //!
 //! Sums run in slice order, so a result is the same bit for bit whatever thread made the slice.
+
+use nalgebra::Vector2;
 
 /// The mean of `xs`; `None` for none.
 pub fn mean(xs: &[f64]) -> Option<f64> {
@@ -103,6 +106,62 @@ pub fn crossing(profile: &[(f64, f64, f64)], level: f64, up: bool) -> Option<(f6
     Some((d, 0.5 * (a.2 + b.2) / slope.abs()))
 }
 
+/// Below this length a [`Resultant`] has no direction: its unit vectors cancel.
+///
+/// An absolute bound: only sums that cancel to within `f64` rounding count as no direction. The
+/// 2D simulator has moved its swarm by this rule from the start, and every result of it
+/// (`docs/reproduction.md`) was computed with it. `hal_emu::world::arena::swarm_heading` (the
+/// arena's swarm reading its LEDs) uses `1e-5 · n` instead, and keeps it: its bearings are the
+/// centres of a few LED sectors, so exactly opposite sectors are common, and as `f32` angles
+/// they leave about 1e-7 per opposed pair rather than 0; its relative bound calls such a tie no
+/// heading. The two are not merged because either change could move a swarm differently in
+/// some run, and the pages and tests must stay as they are.
+pub const CANCELLED: f64 = 1e-12;
+
+/// The sum of the unit vectors at some angles, and how many there were: their circular mean
+/// ([`direction`](Self::direction)) and how well they agree ([`length`](Self::length)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Resultant {
+    /// The sum of the unit vectors `(cos θ, sin θ)`, in the angles' order.
+    pub sum: Vector2<f64>,
+    /// How many angles.
+    pub n: u32,
+}
+
+impl Resultant {
+    /// The resultant of `thetas` (radians), summed in order.
+    pub fn of(thetas: impl IntoIterator<Item = f64>) -> Resultant {
+        let mut n = 0;
+        let sum = thetas
+            .into_iter()
+            .inspect(|_| n += 1)
+            .map(|t| Vector2::new(t.cos(), t.sin()))
+            .sum();
+        Resultant { sum, n }
+    }
+
+    /// The circular mean, radians in `(−π, π]`; `None` without angles or if they cancel (the
+    /// sum no longer than [`CANCELLED`]).
+    pub fn direction(&self) -> Option<f64> {
+        (self.n > 0 && self.sum.norm() > CANCELLED).then(|| self.sum.y.atan2(self.sum.x))
+    }
+
+    /// The mean resultant length, 0 (no agreement, or no angles) to 1 (all equal).
+    pub fn length(&self) -> f64 {
+        if self.n > 0 {
+            self.sum.norm() / f64::from(self.n)
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The circular mean of `thetas` (radians): the direction of the sum of their unit vectors, as
+/// the simulator moves the swarm; `None` without angles or if they cancel.
+pub fn circular_mean(thetas: impl IntoIterator<Item = f64>) -> Option<f64> {
+    Resultant::of(thetas).direction()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -150,5 +209,17 @@ mod tests {
         let (d, _) = crossing(&p, 0.5, false).unwrap();
         assert!((d - 3.5).abs() < 1e-12);
         assert_eq!(crossing(&p, 2.0, true), None);
+    }
+
+    #[test]
+    fn circular_means_cancel_and_agree() {
+        let deg = |d: f64| d.to_radians();
+        assert!((circular_mean([0.0, deg(90.0)]).unwrap() - deg(45.0)).abs() < 1e-12);
+        assert_eq!(circular_mean([0.0, std::f64::consts::PI]), None);
+        assert_eq!(circular_mean([]), None);
+        let r = Resultant::of([0.0, 0.0, std::f64::consts::PI]);
+        assert_eq!(r.n, 3);
+        assert!((r.length() - 1.0 / 3.0).abs() < 1e-12);
+        assert_eq!(Resultant::of([]).length(), 0.0);
     }
 }

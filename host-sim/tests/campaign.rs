@@ -2,24 +2,14 @@
 //! bar with exit code 1, prints replay commands that reproduce their run, does not depend on
 //! the number of threads, and refuses bad options with exit code 2.
 
-use std::process::Command;
+mod common;
 
+use common::{cimax, pool, scratch};
 use host_sim::arena::campaign::{self, Decide, Plan, SCENARIOS};
-use host_sim::swarm::experiment::Progress;
-
-fn cimax(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_cimax"))
-        .args(args)
-        .output()
-        .expect("cimax runs")
-}
+use host_sim::progress::Progress;
 
 fn index(name: &str) -> usize {
     SCENARIOS.iter().position(|s| s.name == name).unwrap()
-}
-
-fn tmp(what: &str) -> std::path::PathBuf {
-    std::env::temp_dir().join(format!("cimax-campaign-{what}-{}", std::process::id()))
 }
 
 #[test]
@@ -83,11 +73,7 @@ fn results_do_not_depend_on_the_number_of_threads() {
         decide: Decide::Fixed,
     };
     let on = |threads| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        let r = pool.install(|| campaign::run(&plan, &Progress::hidden()).unwrap());
+        let r = pool(threads).install(|| campaign::run(&plan, &Progress::hidden()).unwrap());
         format!("{:?}", r.results)
     };
     assert_eq!(on(1), on(2));
@@ -95,7 +81,7 @@ fn results_do_not_depend_on_the_number_of_threads() {
 
 #[test]
 fn a_missed_bar_exits_1_names_it_and_its_replay_reproduces_the_run() {
-    let dir = tmp("fail");
+    let dir = scratch("campaign-fail");
     let out = dir.join("r.md");
     let res = cimax(&[
         "arena",

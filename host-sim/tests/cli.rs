@@ -1,17 +1,12 @@
 //! The `cimax` binary: exit codes and messages.
 
-use std::process::Command;
+mod common;
 
-fn cimax(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_cimax"))
-        .args(args)
-        .output()
-        .expect("cimax runs")
-}
+use common::{cimax, scratch};
 
 #[test]
 fn a_bad_scenario_file_names_the_line_and_fails() {
-    let dir = std::env::temp_dir().join(format!("cimax-cli-{}", std::process::id()));
+    let dir = scratch("cli");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("bad.toml");
     std::fs::write(
@@ -36,7 +31,7 @@ fn a_bad_scenario_file_names_the_line_and_fails() {
 
 #[test]
 fn swarm_run_writes_csv_and_svg() {
-    let dir = std::env::temp_dir().join(format!("cimax-run-{}", std::process::id()));
+    let dir = scratch("run");
     let d = dir.to_str().unwrap();
     let out = cimax(&[
         "swarm",
@@ -111,7 +106,7 @@ fn arena_failing_runs_exit_1_and_print_the_command_that_replays_them() {
 
 #[test]
 fn arena_json_trace_and_svg() {
-    let dir = std::env::temp_dir().join(format!("cimax-arena-{}", std::process::id()));
+    let dir = scratch("arena");
     std::fs::create_dir_all(&dir).unwrap();
     let trace = dir.join("t.jsonl");
     let svg = dir.join("t.svg");
@@ -351,7 +346,7 @@ fn counts_and_sizes_beyond_their_limits_fail_naming_the_option() {
 
 #[test]
 fn a_scenario_too_large_to_place_fails_naming_the_key() {
-    let dir = std::env::temp_dir().join(format!("cimax-huge-{}", std::process::id()));
+    let dir = scratch("huge");
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("huge.toml");
     let p = path.to_str().unwrap();
@@ -384,7 +379,7 @@ fn a_scenario_too_large_to_place_fails_naming_the_key() {
 
 #[test]
 fn agents_sit_on_the_lattice_unless_placement_random() {
-    let dir = std::env::temp_dir().join(format!("cimax-placement-{}", std::process::id()));
+    let dir = scratch("placement");
     let d = dir.to_str().unwrap();
     let run = |extra: &[&str]| {
         let mut args = vec!["swarm", "run", "--periods", "1", "--out-dir", d];

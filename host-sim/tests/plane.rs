@@ -3,14 +3,15 @@
 
 use hal_emu::run;
 use hal_emu::world::arena::swarm_heading;
-use host_sim::arena::plane::{Placement, PlaneSpec, config};
+use host_sim::arena::plane::{Layout, PlaneSpec, config};
+use host_sim::swarm::scenario::Placement;
 use host_sim::swarm::scenario::Scenario;
 use protocol::Params;
 
 fn spec(robots: usize, x_init: f64, moves: u32) -> PlaneSpec {
     PlaneSpec {
         scenario: Scenario::load("sharp").unwrap(),
-        placement: Placement::Lattice,
+        placement: Layout::Placed(Placement::Lattice),
         robots,
         sectors: 6,
         x_init,

@@ -1,21 +1,18 @@
 //! End-to-end checks of the 2D simulator: the scenarios behave as the paper describes, the
 //! success criteria are applied, and results do not depend on the number of threads.
 
+mod common;
+
+use common::{pool, scratch};
+use host_sim::progress::Progress;
 use host_sim::report;
-use host_sim::swarm::experiment::{self, Progress, direction_map, radial_profile, sweep};
+use host_sim::swarm::experiment::{self, direction_map, radial_profile, sweep};
 use host_sim::swarm::geometry::Shape;
 use host_sim::swarm::scenario::{GridSpec, LATTICE_SPACING, Scenario};
 use nalgebra::Point2;
 
 fn scenario(name: &str) -> Scenario {
     Scenario::builtin(name).expect("built-in")
-}
-
-fn pool(threads: usize) -> rayon::ThreadPool {
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("thread pool")
 }
 
 #[test]
@@ -134,7 +131,7 @@ fn cloud_attracts_from_outside_and_repels_from_inside() {
 #[test]
 fn csv_files_have_the_documented_columns() {
     let scn = scenario("sharp");
-    let dir = std::env::temp_dir().join(format!("cimax-csv-{}", std::process::id()));
+    let dir = scratch("csv");
     let pts = sweep(&scn, scn.run, &[0.0, 4.0], 2, 1, &Progress::hidden()).unwrap();
     let path = dir.join("sweep.csv");
     report::write_sweep_csv(&path, &pts).unwrap();

@@ -1,17 +1,13 @@
 //! The lab experiment end to end: the real robot program (`firmware::Robot::run`) on emulated
 //! hardware (`hal-emu`) in the emulated light medium, judged by the LEDs.
 
+mod common;
+
+use common::{RUN, lab};
 use firmware::LedColor;
+use hal_emu::MediumParams;
 use hal_emu::judge::{PAPER_PATTERNS, expected, judge, leds_str, mirrored, parse_pattern};
-use hal_emu::{ArenaConfig, MediumParams};
 use protocol::{Duration, Instant};
-
-/// Three negotiation periods of the longest (70 s) cycles.
-const RUN: Duration = Duration::from_secs(3 * 10 * 70);
-
-fn lab(pattern: &str, seed: u64) -> ArenaConfig {
-    ArenaConfig::line(parse_pattern(pattern).unwrap(), 1.0, RUN, seed)
-}
 
 #[test]
 fn six_patterns_light_the_expected_leds() {

@@ -5,20 +5,21 @@
 //! - Robots with the key ignore a robot without it or with another one: its frames are dropped
 //!   and counted as bad MACs, and its light does not reach their decisions.
 
+mod common;
+
+use common::RUN;
 use firmware::{Config, LedColor, Stats};
 use hal_emu::judge::{PAPER_PATTERNS, expected, judge, leds_str, parse_pattern};
 use hal_emu::{ArenaConfig, TraceEvent, run};
+use protocol::SwarmKey;
 use protocol::frame::FRAME_MAX;
-use protocol::{Duration, SwarmKey};
-
-/// Three negotiation periods of the longest (70 s) cycles.
-const RUN: Duration = Duration::from_secs(3 * 10 * 70);
 
 const SWARM: SwarmKey = SwarmKey::new(*b"CIMAX swarm key!");
 const FOREIGN: SwarmKey = SwarmKey::new(*b"another swarm...");
 
+/// The lab line of [`common::lab`], every robot with `key`.
 fn lab(pattern: &str, seed: u64, key: Option<SwarmKey>) -> ArenaConfig {
-    let mut cfg = ArenaConfig::line(parse_pattern(pattern).unwrap(), 1.0, RUN, seed);
+    let mut cfg = common::lab(pattern, seed);
     cfg.robot.key = key;
     cfg
 }

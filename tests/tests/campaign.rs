@@ -2,21 +2,17 @@
 //! replayer), a robot dead from the start, a reboot; the real robot program, judged by its
 //! LEDs. The full campaign over hundreds of seeds is `cimax arena campaign`.
 
+mod common;
+
+use common::{RUN, lab};
 use firmware::LedColor;
 use hal_emu::judge::{expected_without, judge, leds_str, parse_pattern};
-use hal_emu::{Adversary, ArenaConfig, Point2, TraceEvent};
+use hal_emu::{Adversary, Point2, TraceEvent};
 use protocol::{Duration, Instant};
-
-/// Three negotiation periods of the longest (70 s) cycles.
-const RUN: Duration = Duration::from_secs(3 * 10 * 70);
 
 /// Between robots 1 and 2 of a line of four 1 m apart: all four hear it (range 1.5 m).
 fn middle() -> Point2<f64> {
     Point2::new(1.5, 0.0)
-}
-
-fn lab(pattern: &str, seed: u64) -> ArenaConfig {
-    ArenaConfig::line(parse_pattern(pattern).unwrap(), 1.0, RUN, seed)
 }
 
 #[test]

@@ -3,16 +3,16 @@
 //! process over a channel (`loopback`), on the run's virtual clock. The same bridge serves QEMU
 //! robots and boards (`cimax arena --hil`, `.ci/run`).
 
-use hal_emu::judge::{PAPER_PATTERNS, judge, leds_str, parse_pattern};
+mod common;
+
+use hal_emu::judge::{PAPER_PATTERNS, judge, leds_str};
 use hal_emu::world::hil::{HilRobot, Transport};
 use hal_emu::{ArenaConfig, ArenaError};
 use protocol::Duration;
 
-/// Three negotiation periods of the longest (70 s) cycles.
-const RUN: Duration = Duration::from_secs(3 * 10 * 70);
-
+/// The lab line of [`common::lab`] with the robots at `in_loop` in the loop, in this process.
 fn lab(pattern: &str, seed: u64, in_loop: &[usize]) -> ArenaConfig {
-    let mut c = ArenaConfig::line(parse_pattern(pattern).unwrap(), 1.0, RUN, seed);
+    let mut c = common::lab(pattern, seed);
     c.hil = in_loop
         .iter()
         .map(|&robot| HilRobot {

@@ -17,26 +17,40 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
 
+use crate::progress::Progress;
+use crate::swarm::experiment::SweepPoint;
 use crate::swarm::geometry::{PlacementError, Shape, Swarm};
-use crate::swarm::scenario::{Scenario, Success, check_runs};
+use crate::swarm::scenario::{Placement, Scenario, Success};
 
-/// How the robots are placed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum Placement {
+/// How the robots are placed on the plane: as the 2D simulator places a swarm
+/// ([`Placement`]), or in a way only the arena has (a line, a file).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Layout {
+    /// [`Placement::Lattice`]: the nodes of a triangular lattice of spacing 0.75 R nearest the
+    /// centre (61: the paper's disk of 6 R). [`Placement::Random`]: uniformly at random in a
+    /// disk with the density of the paper's (61 robots in 6 R), redrawn until connected
+    /// (`--shape disk`).
+    Placed(Placement),
     /// In a line along x, 0.75 R apart.
     Line,
-    /// The nodes of a triangular lattice of spacing 0.75 R nearest the centre (61: the paper's
-    /// disk of 6 R).
-    Lattice,
-    /// Uniformly at random in a disk with the density of the paper's (61 robots in 6 R), redrawn
-    /// until connected.
-    Disk,
     /// Where a file says (`--positions FILE`, [`read_positions`]).
     File,
 }
 
+impl Layout {
+    /// Its name in the arena's summaries and figure titles: `Line`, `Lattice`, `Disk`, `File`.
+    pub fn label(self) -> &'static str {
+        match self {
+            Layout::Placed(Placement::Lattice) => "Lattice",
+            Layout::Placed(Placement::Random) => "Disk",
+            Layout::Line => "Line",
+            Layout::File => "File",
+        }
+    }
+}
+
 /// Spacing of the line and the lattice, in R: 61 lattice robots fill the paper's 6 R disk.
-pub const SPACING: f64 = 0.75;
+pub const SPACING: f64 = crate::swarm::scenario::LATTICE_SPACING;
 
 /// One plane experiment.
 #[derive(Clone, Debug)]
@@ -44,7 +58,7 @@ pub struct PlaneSpec {
     /// The field, the success criterion and the step, from a `cimax swarm` scenario.
     pub scenario: Scenario,
     /// How the robots are placed.
-    pub placement: Placement,
+    pub placement: Layout,
     /// Number of robots.
     pub robots: usize,
     /// Receive sectors per robot (2 to 8).
@@ -57,7 +71,7 @@ pub struct PlaneSpec {
     pub medium: MediumParams,
     /// Protocol parameters (`sectors` is set from `sectors`).
     pub params: Params,
-    /// Positions relative to the swarm, in R, for [`Placement::File`] (recentred on their
+    /// Positions relative to the swarm, in R, for [`Layout::File`] (recentred on their
     /// centre of mass).
     pub file_positions: Vec<Vector2<f64>>,
     /// What the light sensors report (`--readings`).
@@ -73,8 +87,13 @@ impl PlaneSpec {
     /// The experiment in a few words: robots, placement, sectors, field, start and moves.
     pub fn summary(&self) -> String {
         format!(
-            "{} robots ({:?}, K = {}) on field {} from x = {}, {} moves",
-            self.robots, self.placement, self.sectors, self.scenario.name, self.x_init, self.moves
+            "{} robots ({}, K = {}) on field {} from x = {}, {} moves",
+            self.robots,
+            self.placement.label(),
+            self.sectors,
+            self.scenario.name,
+            self.x_init,
+            self.moves
         )
     }
 }
@@ -176,16 +195,16 @@ impl std::error::Error for PlaneError {}
 pub fn positions(spec: &PlaneSpec, seed: u64) -> Result<Vec<Vector2<f64>>, PlacementError> {
     let n = spec.robots;
     let shape = match spec.placement {
-        Placement::Line => {
+        Layout::Line => {
             let mid = (n as f64 - 1.0) / 2.0;
             return Ok((0..n)
                 .map(|i| Vector2::new((i as f64 - mid) * SPACING, 0.0))
                 .collect());
         }
-        Placement::File => return Ok(spec.file_positions.clone()),
-        Placement::Lattice => Shape::Lattice { spacing: SPACING },
+        Layout::File => return Ok(spec.file_positions.clone()),
+        Layout::Placed(Placement::Lattice) => Shape::Lattice { spacing: SPACING },
         // The paper's density: 61 robots in a disk of diameter 6 R.
-        Placement::Disk => Shape::Disk { diameter: 6.0 }.scaled_for(61, n),
+        Layout::Placed(Placement::Random) => Shape::Disk { diameter: 6.0 }.scaled_for(61, n),
     };
     let mut rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[7]));
     Ok(Swarm::place(n, shape, 1.0, &mut rng)?.offsets().to_vec())
@@ -368,6 +387,59 @@ pub fn viewer_header(
     h
 }
 
+/// The sweep of `cimax arena sweep`: `base` started at each of `xs` (its `x_init` replaced),
+/// `runs` runs each with seeds `seed`, `seed + 1`, ..., in parallel; per position the success
+/// rate and the mean moves to success. The result does not depend on the number of threads.
+///
+/// # Errors
+/// A [`PlaneError`] if a run cannot be set up.
+pub fn sweep(
+    base: &PlaneSpec,
+    xs: &[f64],
+    runs: u64,
+    seed: u64,
+    progress: &Progress,
+) -> Result<Vec<SweepPoint>, PlaneError> {
+    use rayon::prelude::*;
+    let spec = |x: f64| PlaneSpec {
+        x_init: x,
+        ..base.clone()
+    };
+    let jobs: Vec<(usize, u64)> = (0..xs.len())
+        .flat_map(|p| (0..runs).map(move |k| (p, seed.wrapping_add(k))))
+        .collect();
+    let done: Vec<(usize, PlaneRun)> = jobs
+        .par_iter()
+        .map(|&(p, s)| {
+            let r = run(&spec(xs[p]), s);
+            progress.inc();
+            r.map(|r| (p, r))
+        })
+        .collect::<Result<_, _>>()?;
+    let points = xs
+        .iter()
+        .enumerate()
+        .map(|(p, &x)| {
+            let mine: Vec<&PlaneRun> = done
+                .iter()
+                .filter(|(q, _)| *q == p)
+                .map(|(_, r)| r)
+                .collect();
+            let moves: Vec<f64> = mine
+                .iter()
+                .filter_map(|r| r.moves_to_success.map(f64::from))
+                .collect();
+            SweepPoint {
+                x_init: x,
+                runs: mine.len() as u32,
+                successes: mine.iter().filter(|r| r.success).count() as u32,
+                mean_success_periods: crate::stats::mean(&moves),
+            }
+        })
+        .collect();
+    Ok(points)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -441,419 +513,4 @@ mod tests {
         let (first, _) = judge(&moves[..1], 0.33, &near);
         assert_eq!(first, None);
     }
-}
-
-/// Prints the runs of one plane experiment (a table, or JSON with `json`); exit code 0.
-pub fn print_runs(
-    spec: &PlaneSpec,
-    runs: &[PlaneRun],
-    wall_s: f64,
-    json: bool,
-) -> std::process::ExitCode {
-    let ok = runs.iter().filter(|r| r.success).count();
-    let emulated: f64 = runs.iter().map(|r| r.emulated_s).sum();
-    let mean_moves = mean(
-        runs.iter()
-            .filter_map(|r| r.moves_to_success.map(f64::from)),
-    );
-    if json {
-        #[derive(Serialize)]
-        struct Summary {
-            runs: usize,
-            successes: usize,
-            mean_moves_to_success: Option<f64>,
-            emulated_s: f64,
-            wall_s: f64,
-            robot_s_per_wall_s: f64,
-        }
-        #[derive(Serialize)]
-        struct Report<'a> {
-            runs: &'a [PlaneRun],
-            summary: Summary,
-        }
-        let report = Report {
-            runs,
-            summary: Summary {
-                runs: runs.len(),
-                successes: ok,
-                mean_moves_to_success: mean_moves,
-                emulated_s: emulated,
-                wall_s,
-                robot_s_per_wall_s: emulated * spec.robots as f64 / wall_s.max(1e-9),
-            },
-        };
-        match serde_json::to_string_pretty(&report) {
-            Ok(s) => println!("{s}"),
-            Err(e) => {
-                eprintln!("cimax arena: {e}");
-                return std::process::ExitCode::from(2);
-            }
-        }
-        return std::process::ExitCode::SUCCESS;
-    }
-    println!(
-        "CIMAX arena on a plane, the robot program on {} of {} R",
-        spec.summary(),
-        spec.scenario.run.step
-    );
-    println!("seed      success  moves  final x  final y  mean consensus");
-    for r in runs {
-        println!(
-            "{:<9} {:<8} {:>5}  {:>7.2}  {:>7.2}  {:>14.2}",
-            r.seed,
-            if r.success { "yes" } else { "no" },
-            r.moves_to_success.map_or("-".into(), |m| m.to_string()),
-            r.final_position[0],
-            r.final_position[1],
-            mean(r.consensus.iter().copied()).unwrap_or(0.0)
-        );
-        for h in &r.hil {
-            println!(
-                "  robot {} in the loop over {}: {} link frames sent to it, {} received ({} light frames), {} link errors",
-                h.robot, h.transport, h.frames_sent, h.frames_received, h.tx, h.link_errors
-            );
-        }
-    }
-    println!(
-        "{} runs, {} successful ({}); mean moves to success {}; {:.0} robot-s in {:.1} s wall",
-        runs.len(),
-        ok,
-        spec.scenario
-            .success
-            .map_or("no criterion".into(), |s| s.to_string()),
-        mean_moves.map_or("-".into(), |m| format!("{m:.1}")),
-        emulated * spec.robots as f64,
-        wall_s
-    );
-    std::process::ExitCode::SUCCESS
-}
-
-fn mean(xs: impl Iterator<Item = f64>) -> Option<f64> {
-    crate::stats::mean(&xs.collect::<Vec<_>>())
-}
-
-/// Options of `cimax arena sweep`.
-#[derive(clap::Args, Debug, Clone)]
-pub struct SweepArgs {
-    /// The field: a `cimax swarm` scenario (sharp, gradient) or its TOML file.
-    #[arg(long, default_value = "sharp")]
-    pub field: String,
-    /// How the robots are placed.
-    #[arg(long, value_enum, default_value_t = Placement::Lattice)]
-    pub shape: Placement,
-    /// Number of robots.
-    #[arg(long, default_value_t = 61, value_parser = clap::value_parser!(u16).range(2..=1000))]
-    pub robots: u16,
-    /// Receive sectors per robot.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
-    pub sectors: u8,
-    /// First initial x, in R.
-    #[arg(long, default_value_t = -4.0, allow_hyphen_values = true)]
-    pub from: f64,
-    /// Last initial x, in R.
-    #[arg(long, default_value_t = 4.0, allow_hyphen_values = true)]
-    pub to: f64,
-    /// Step between initial positions, in R.
-    #[arg(long, default_value_t = 1.0)]
-    pub step: f64,
-    /// Runs per position (run k uses seed BASE + k).
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=10_000))]
-    pub runs: u64,
-    /// Base seed.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Moves per run.
-    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1000))]
-    pub moves: u32,
-    /// Probability that a frame is lost at a receiver.
-    #[arg(long, default_value_t = 0.0)]
-    pub loss: f64,
-    /// What the light sensors report (`full`, `binary`, `levels:N`, `gain:G,offset:B`; see
-    /// `cimax arena --help`).
-    #[arg(long, value_name = "KIND", default_value_t = hal_emu::Readings::Levels)]
-    pub readings: hal_emu::Readings,
-    /// Runs of the 2D simulator (`cimax swarm`, three-phase variant, same placement) per
-    /// position, for the curve beside, 0 to 100,000; 0 leaves it out.
-    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=i64::from(crate::swarm::scenario::MAX_RUNS_PER_POINT)))]
-    pub swarm_runs: u32,
-    /// Where to write the CSV and the SVG (`arena-<field>-sweep.csv|svg`).
-    #[arg(long, default_value = "target/arena-sweep")]
-    pub out: std::path::PathBuf,
-}
-
-/// `cimax arena sweep`: success rate and mean moves to success against the initial position,
-/// the robot program beside the 2D simulator and the paper.
-pub fn sweep_main(a: &SweepArgs) -> std::process::ExitCode {
-    match sweep(a) {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("cimax arena sweep: {e}");
-            std::process::ExitCode::from(2)
-        }
-    }
-}
-
-fn sweep(a: &SweepArgs) -> Result<(), String> {
-    let scenario = Scenario::load(&a.field).map_err(|e| e.to_string())?;
-    if scenario.success.is_none() {
-        return Err(PlaneError::NoCriterion(scenario.name).to_string());
-    }
-    let (xs, medium) = sweep_positions(a)?;
-    let arena = arena_points(a, &scenario, &xs, medium)?;
-    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
-    let csv = a.out.join(format!("arena-{}-sweep.csv", scenario.name));
-    crate::report::write_sweep_csv(&csv, &arena).map_err(|e| format!("{}: {e}", csv.display()))?;
-    let swarm = swarm_points(a, &scenario, &xs)?;
-    let svg = sweep_svg(a, &scenario, &arena, swarm.as_deref())?;
-    print_sweep(&arena, swarm.as_deref());
-    println!("wrote {} and {}", csv.display(), svg.display());
-    Ok(())
-}
-
-/// The initial positions of `cimax arena sweep` and its medium, after checking the options.
-fn sweep_positions(a: &SweepArgs) -> Result<(Vec<f64>, MediumParams), String> {
-    if a.shape == Placement::File {
-        return Err("sweep places robots on a line, the lattice or a disk, not from a file".into());
-    }
-    if !(a.step > 0.0 && a.from.is_finite() && a.to.is_finite() && a.from <= a.to) {
-        return Err(format!(
-            "--from {} --to {} --step {}: need from <= to and a positive step",
-            a.from, a.to, a.step
-        ));
-    }
-    // At most 10,001 positions, as `cimax swarm sweep`: a tiny step would ask for billions.
-    let span = (a.to - a.from) / a.step;
-    if span > 10_000.0 {
-        return Err(format!(
-            "--from {} --to {} --step {}: {} positions; at most 10001",
-            a.from,
-            a.to,
-            a.step,
-            (span + 1e-9).floor() + 1.0
-        ));
-    }
-    let medium = MediumParams {
-        loss: a.loss,
-        ..MediumParams::default()
-    };
-    medium.validate()?;
-    let count = (span + 1e-9).floor() as usize + 1;
-    check_runs(&[(count as u64, "positions"), (a.runs, "runs")])
-        .map_err(|e| format!("--runs {}: {e}", a.runs))?;
-    check_runs(&[
-        (count as u64, "positions"),
-        (u64::from(a.swarm_runs), "runs"),
-    ])
-    .map_err(|e| format!("--swarm-runs {}: {e}", a.swarm_runs))?;
-    let xs: Vec<f64> = (0..count).map(|i| a.from + a.step * i as f64).collect();
-    Ok((xs, medium))
-}
-
-/// The robots' sweep: every position `a.runs` times, in parallel.
-fn arena_points(
-    a: &SweepArgs,
-    scenario: &Scenario,
-    xs: &[f64],
-    medium: MediumParams,
-) -> Result<Vec<crate::swarm::experiment::SweepPoint>, String> {
-    use rayon::prelude::*;
-    let spec = |x: f64| PlaneSpec {
-        scenario: scenario.clone(),
-        placement: a.shape,
-        robots: usize::from(a.robots),
-        sectors: a.sectors,
-        x_init: x,
-        moves: a.moves,
-        medium,
-        params: Params::robots(),
-        file_positions: Vec::new(),
-        readings: a.readings,
-        hil: Vec::new(),
-        sample_period: None,
-    };
-    let jobs: Vec<(usize, u64)> = (0..xs.len())
-        .flat_map(|p| (0..a.runs).map(move |k| (p, a.seed.wrapping_add(k))))
-        .collect();
-    let bar = crate::progress::Progress::new(jobs.len() as u64, "arena sweep", false);
-    let runs: Vec<(usize, PlaneRun)> = jobs
-        .par_iter()
-        .map(|&(p, s)| {
-            let r = run(&spec(xs[p]), s);
-            bar.inc();
-            r.map(|r| (p, r))
-        })
-        .collect::<Result<_, _>>()
-        .map_err(|e| e.to_string())?;
-    bar.finish();
-    let arena = xs
-        .iter()
-        .enumerate()
-        .map(|(p, &x)| {
-            let mine: Vec<&PlaneRun> = runs
-                .iter()
-                .filter(|(q, _)| *q == p)
-                .map(|(_, r)| r)
-                .collect();
-            crate::swarm::experiment::SweepPoint {
-                x_init: x,
-                runs: mine.len() as u32,
-                successes: mine.iter().filter(|r| r.success).count() as u32,
-                mean_success_periods: mean(
-                    mine.iter()
-                        .filter_map(|r| r.moves_to_success.map(f64::from)),
-                ),
-            }
-        })
-        .collect();
-    Ok(arena)
-}
-
-/// The swarm simulator's sweep over the same positions (none with `--swarm-runs 0`), and its
-/// CSV file.
-fn swarm_points(
-    a: &SweepArgs,
-    scenario: &Scenario,
-    xs: &[f64],
-) -> Result<Option<Vec<crate::swarm::experiment::SweepPoint>>, String> {
-    let mut swarm_scn = scenario.clone();
-    if a.shape == Placement::Lattice {
-        swarm_scn.shape = Shape::Lattice { spacing: SPACING };
-    }
-    swarm_scn.agents = usize::from(a.robots);
-    Ok(if a.swarm_runs > 0 {
-        let progress = crate::progress::Progress::new(
-            (xs.len() * a.swarm_runs as usize) as u64,
-            "swarm sweep",
-            false,
-        );
-        let pts = crate::swarm::experiment::sweep(
-            &swarm_scn,
-            swarm_scn.run,
-            xs,
-            a.swarm_runs,
-            a.seed,
-            &progress,
-        )
-        .map_err(|e| e.to_string())?;
-        progress.finish();
-        let csv = a.out.join(format!("swarm-{}-sweep.csv", scenario.name));
-        crate::report::write_sweep_csv(&csv, &pts)
-            .map_err(|e| format!("{}: {e}", csv.display()))?;
-        Some(pts)
-    } else {
-        None
-    })
-}
-
-/// The sweep's figure: the robots beside the swarm simulator and the paper.
-fn sweep_svg(
-    a: &SweepArgs,
-    scenario: &Scenario,
-    arena: &[crate::swarm::experiment::SweepPoint],
-    swarm: Option<&[crate::swarm::experiment::SweepPoint]>,
-) -> Result<std::path::PathBuf, String> {
-    let arena_label = format!("robot program (arena), K = {}", a.sectors);
-    let mut series: Vec<(&str, &[crate::swarm::experiment::SweepPoint])> =
-        vec![(&arena_label, arena)];
-    if let Some(s) = swarm {
-        series.push(("three-phase (cimax swarm)", s));
-    }
-    // The same paper marks as docs/reproduction.md's sweeps (the gradient's 85–100 % band and
-    // its 25 % at −4), for the built-in scenarios.
-    let paper = crate::pages::marks::sweep_for(&scenario.name);
-    let svg = a.out.join(format!("arena-{}-sweep.svg", scenario.name));
-    crate::report::plot::sweep_figure(
-        &svg,
-        &format!(
-            "{}: {} robots ({:?}), success within {} moves, {} runs per point",
-            scenario.name, a.robots, a.shape, a.moves, a.runs
-        ),
-        &series,
-        &paper,
-    )
-    .map_err(|e| format!("{}: {e}", svg.display()))?;
-    Ok(svg)
-}
-
-/// The sweep as a table on stdout.
-fn print_sweep(
-    arena: &[crate::swarm::experiment::SweepPoint],
-    swarm: Option<&[crate::swarm::experiment::SweepPoint]>,
-) {
-    println!("x_init  arena success  moves   swarm success  moves");
-    for (i, p) in arena.iter().enumerate() {
-        let s = swarm.and_then(|s| s.get(i));
-        println!(
-            "{:>6.2}  {:>13.2}  {:>5}   {:>13}  {:>5}",
-            p.x_init,
-            p.success_rate(),
-            p.mean_success_periods
-                .map_or("-".into(), |m| format!("{m:.1}")),
-            s.map_or("-".into(), |s| format!("{:.2}", s.success_rate())),
-            s.and_then(|s| s.mean_success_periods)
-                .map_or("-".into(), |m| format!("{m:.1}")),
-        );
-    }
-}
-
-/// Options of `cimax arena bench`.
-#[derive(clap::Args, Debug, Clone)]
-pub struct BenchArgs {
-    /// Swarm sizes to time (robots on the hexagonal lattice), 2 to 1000 each.
-    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000], value_parser = clap::value_parser!(u16).range(2..=1000))]
-    pub robots: Vec<u16>,
-    /// Receive sectors per robot.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
-    pub sectors: u8,
-    /// Seed.
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-}
-
-/// `cimax arena bench`: robot-seconds per wall second of the robot program over the emulated
-/// medium, one negotiation period (550 s) of the sharp field 2 R from the border, on one core
-/// (one run at a time on the calling thread).
-pub fn bench_main(a: &BenchArgs) -> std::process::ExitCode {
-    let scenario = match Scenario::load("sharp") {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("cimax arena bench: {e}");
-            return std::process::ExitCode::from(2);
-        }
-    };
-    println!("robots  emulated s  wall s  robot-s per wall s  x real time");
-    for &n in &a.robots {
-        let spec = PlaneSpec {
-            scenario: scenario.clone(),
-            placement: Placement::Lattice,
-            robots: usize::from(n),
-            sectors: a.sectors,
-            x_init: -2.0,
-            moves: 1,
-            medium: MediumParams::default(),
-            params: Params::robots(),
-            file_positions: Vec::new(),
-            readings: hal_emu::Readings::Levels,
-            hil: Vec::new(),
-            sample_period: None,
-        };
-        match run(&spec, a.seed) {
-            Ok(r) => {
-                let rate = r.emulated_s * spec.robots as f64 / r.wall_s.max(1e-9);
-                println!(
-                    "{:>6}  {:>10.0}  {:>6.2}  {:>18.3e}  {:>11.0}",
-                    spec.robots,
-                    r.emulated_s,
-                    r.wall_s,
-                    rate,
-                    r.emulated_s / r.wall_s.max(1e-9)
-                );
-            }
-            Err(e) => {
-                eprintln!("cimax arena bench: {e}");
-                return std::process::ExitCode::from(2);
-            }
-        }
-    }
-    std::process::ExitCode::SUCCESS
 }

@@ -9,7 +9,8 @@ use protocol::Params;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::arena::campaign::{self, Decide, Outcome, Report, SCENARIOS, quantile};
+use crate::arena::campaign::{self, Decide, Outcome, Report, SCENARIOS};
+use crate::stats::quantile;
 
 /// Frame losses of the sweep.
 pub const LOSSES: [f64; 8] = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8];

@@ -6,14 +6,15 @@ use std::time::Instant as Clock;
 
 use clap::{Args, Subcommand};
 use host_sim::pages::reproduction as reproduce;
+use host_sim::progress::Progress;
 use host_sim::report;
 use host_sim::report::plot;
 use host_sim::seeds;
-use host_sim::swarm::experiment::{self, Progress};
+use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{
-    DEFAULT_PLACEMENT, MAX_AGENTS, MAX_PERIOD_SECS, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement,
-    Scenario, check_runs,
+    DEFAULT_PLACEMENT, MAX_AGENTS, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement, Scenario, check_runs,
 };
+use host_sim::swarm::sim::MAX_PERIOD_SECS;
 use nalgebra::Point2;
 use protocol::Duration;
 

@@ -1,12 +1,15 @@
-//! What the experiments' results become: CSV files ([`csv_files`]), SVG figures ([`plot`]) and
-//! the Markdown pages rendered from templates ([`page`]). Shared by the arena and the swarm
+//! What the experiments' results become: CSV files ([`csv_files`]), SVG figures ([`plot`], and
+//! the arena's: [`reliability_plot`], [`lab_timeline`]) and the Markdown pages rendered from
+//! templates ([`page`]). Shared by the arena and the swarm
 //! simulator; it runs no experiment itself.
 
 use std::path::{Path, PathBuf};
 
 pub mod csv_files;
+pub mod lab_timeline;
 pub mod page;
 pub mod plot;
+pub mod reliability_plot;
 pub mod shapes_plot;
 pub mod timecourse_plot;
 pub mod waves_plot;

@@ -9,7 +9,7 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 
-pub use crate::progress::Progress;
+use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::swarm::geometry::Swarm;
 use crate::swarm::scenario::{GridSpec, Scenario, Success};

@@ -6,9 +6,10 @@ use nalgebra::Point2;
 use protocol::Duration;
 use rayon::prelude::*;
 
+use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::stats;
-use crate::swarm::experiment::{Error, Progress, SweepPoint, run, sweep};
+use crate::swarm::experiment::{Error, SweepPoint, run, sweep};
 use crate::swarm::field::Along;
 use crate::swarm::geometry::{Shape, lattice};
 use crate::swarm::scenario::Scenario;

@@ -24,6 +24,7 @@ use serde::Serialize;
 use crate::progress::Progress;
 use crate::report::shapes_plot;
 use crate::seeds::derive;
+use crate::stats::circular_mean;
 use crate::swarm::experiment::Error;
 use crate::swarm::field::Field;
 use crate::swarm::geometry::{Shape, Swarm, lattice};
@@ -169,16 +170,6 @@ impl Decisions {
     pub fn preferred_mean(&self) -> Option<f64> {
         circular_mean(self.preferred.iter().map(|&b| f64::from(b)))
     }
-}
-
-/// The direction of the sum of unit vectors at `thetas` (radians), as the simulator moves the
-/// swarm; `None` without angles or if they cancel.
-pub fn circular_mean(thetas: impl IntoIterator<Item = f64>) -> Option<f64> {
-    let s: Vector2<f64> = thetas
-        .into_iter()
-        .map(|t| Vector2::new(t.cos(), t.sin()))
-        .sum();
-    (s.norm() > 1e-12).then(|| s.y.atan2(s.x))
 }
 
 /// `runs` single negotiation periods of `formation` on `field` with the centre at the origin;
@@ -497,24 +488,47 @@ pub fn reproduce(
 ) -> Result<ShapesSection, Error> {
     let field = Field::default();
     let tol = TOLERANCE_DEG.to_radians();
-    let mut hists = Vec::new();
-    let mut notes = Vec::new();
-    let (mut on_line, mut on_cross, mut diagonal) = (Vec::new(), Vec::new(), Vec::new());
-    let mut holds = std::collections::HashMap::new();
+    let mut tables = Tables::default();
     for (k, f) in formations().iter().enumerate() {
         let s = derive(seed, &[k as u64]);
         let runs = decide(f, &field, cfg, RUNS, s, progress)?;
-        let d = Directions::of(&runs);
+        tables.add(f, &runs, s, tol)?;
+    }
+    let (keep, keep_holds) = with_keep(cfg, seed, tol, progress)?;
+    let diffusion = format!("{:.0}", 100.0 * f64::from(cfg.params.diffusion));
+    shapes_plot::write_shapes_csv(&figs.join(CSV), &tables.hists)?;
+    shapes_plot::shapes_figure(&figs.join(FIGURE), &tables.hists, RUNS, &diffusion)?;
+    Ok(tables.section(diffusion, keep, keep_holds))
+}
+
+/// What [`reproduce`] gathers formation by formation: the histograms of the figure, the notes
+/// and rows of the tables, and per formation whether its directions hold the claim on its own
+/// axes (agents before diffusion, agents, swarm before diffusion, swarm).
+#[derive(Default)]
+struct Tables {
+    hists: Vec<ShapeHistograms>,
+    notes: Vec<FormationNote>,
+    on_line: Vec<ShapeRow>,
+    on_cross: Vec<ShapeRow>,
+    diagonal: Vec<ShapeRow>,
+    holds: std::collections::HashMap<&'static str, [bool; 4]>,
+}
+
+impl Tables {
+    /// Formation `f`'s runs (from seed `s`), counted with tolerance `tol`.
+    fn add(&mut self, f: &Formation, runs: &[Decisions], s: u64, tol: f64) -> Result<(), Error> {
+        let d = Directions::of(runs);
         let t = d.tallies(tol);
         let row = |count: fn(&Tally) -> usize| ShapeRow::of(f.name(), &t, count);
-        on_line.push(row(|t| t.on_line));
-        on_cross.push(row(|t| t.on_cross));
-        diagonal.push(row(|t| t.diagonal));
+        self.on_line.push(row(|t| t.on_line));
+        self.on_cross.push(row(|t| t.on_cross));
+        self.diagonal.push(row(|t| t.diagonal));
         let axes: fn(&Tally) -> usize = match f {
             Formation::Cross { .. } => |t| t.on_cross,
             _ => |t| t.on_line,
         };
-        holds.insert(f.name(), t.map(|t| t.frac(axes(&t)) >= CLAIM));
+        self.holds
+            .insert(f.name(), t.map(|t| t.frac(axes(&t)) >= CLAIM));
         let swarm0 = f.swarm(derive(s, &[0]))?;
         let degree = match f {
             Formation::RandomDisk { .. } => {
@@ -531,14 +545,14 @@ pub fn reproduce(
             e if f.extent() >= 10.0 => e.trim_end_matches(".0").to_owned(),
             e => e,
         };
-        notes.push(FormationNote {
+        self.notes.push(FormationNote {
             name: f.name(),
             agents: f.agents(),
             extent: extent.clone(),
             degree: format!("{degree:.1}"),
             moved: d.swarm.len() as u32,
         });
-        hists.push(ShapeHistograms {
+        self.hists.push(ShapeHistograms {
             name: f.name(),
             size: f.agents(),
             extent,
@@ -548,46 +562,53 @@ pub fn reproduce(
             agents: histogram(d.agents.iter().copied(), BINS),
             agents_preferred: histogram(d.agents_preferred.iter().copied(), BINS),
         });
+        Ok(())
     }
-    let (keep, keep_holds) = with_keep(cfg, seed, tol, progress)?;
-    let diffusion = format!("{:.0}", 100.0 * f64::from(cfg.params.diffusion));
-    shapes_plot::write_shapes_csv(&figs.join(CSV), &hists)?;
-    shapes_plot::shapes_figure(&figs.join(FIGURE), &hists, RUNS, &diffusion)?;
-    let h = |name: &str, i: usize| holds.get(name).is_some_and(|v| v[i]);
-    let find = |rows: &[ShapeRow], name: &str| rows.iter().find(|r| r.name == name).cloned();
-    let key = Key {
-        line: find(&on_line, "line"),
-        cross: find(&on_cross, "cross"),
-        cross_diagonal: find(&diagonal, "cross"),
-        lattice: find(&on_line, "lattice disk"),
-        random: find(&on_line, "random disk"),
-    };
-    Ok(ShapesSection {
-        runs: RUNS,
-        diffusion,
-        tolerance: format!("{TOLERANCE_DEG:.0}"),
-        claim: pct(CLAIM),
-        spacing: LATTICE_SPACING.to_string(),
-        uniform: [2.0, 4.0].map(|a| pct(a * 2.0 * TOLERANCE_DEG / 360.0)),
-        formations: notes,
-        on_line,
-        on_cross,
-        diagonal,
-        key,
-        line_preferred_holds: h("line", 0),
-        cross_preferred_holds: h("cross", 0),
-        line_agents_hold: h("line", 1),
-        cross_agents_hold: h("cross", 1),
-        line_swarm_preferred_holds: h("line", 2),
-        cross_swarm_preferred_holds: h("cross", 2),
-        line_swarm_holds: h("line", 3),
-        cross_swarm_holds: h("cross", 3),
-        figure: FIGURE,
-        csv: CSV,
-        line_holds_by_rule: [h("line", 3), keep_holds.0],
-        cross_holds_by_rule: [h("cross", 3), keep_holds.1],
-        keep,
-    })
+
+    /// The page's section: these tables, with diffusion `diffusion` (%), and the line and the
+    /// cross run again with [`Opposite::Keep`] (`keep`, and whether each holds the claim).
+    fn section(
+        self,
+        diffusion: String,
+        keep: Vec<ShapeRow>,
+        keep_holds: (bool, bool),
+    ) -> ShapesSection {
+        let h = |name: &str, i: usize| self.holds.get(name).is_some_and(|v| v[i]);
+        let find = |rows: &[ShapeRow], name: &str| rows.iter().find(|r| r.name == name).cloned();
+        let key = Key {
+            line: find(&self.on_line, "line"),
+            cross: find(&self.on_cross, "cross"),
+            cross_diagonal: find(&self.diagonal, "cross"),
+            lattice: find(&self.on_line, "lattice disk"),
+            random: find(&self.on_line, "random disk"),
+        };
+        ShapesSection {
+            runs: RUNS,
+            diffusion,
+            tolerance: format!("{TOLERANCE_DEG:.0}"),
+            claim: pct(CLAIM),
+            spacing: LATTICE_SPACING.to_string(),
+            uniform: [2.0, 4.0].map(|a| pct(a * 2.0 * TOLERANCE_DEG / 360.0)),
+            line_preferred_holds: h("line", 0),
+            cross_preferred_holds: h("cross", 0),
+            line_agents_hold: h("line", 1),
+            cross_agents_hold: h("cross", 1),
+            line_swarm_preferred_holds: h("line", 2),
+            cross_swarm_preferred_holds: h("cross", 2),
+            line_swarm_holds: h("line", 3),
+            cross_swarm_holds: h("cross", 3),
+            figure: FIGURE,
+            csv: CSV,
+            line_holds_by_rule: [h("line", 3), keep_holds.0],
+            cross_holds_by_rule: [h("cross", 3), keep_holds.1],
+            keep,
+            formations: self.notes,
+            on_line: self.on_line,
+            on_cross: self.on_cross,
+            diagonal: self.diagonal,
+            key,
+        }
+    }
 }
 
 /// The line and the cross (the formations whose agents hear exactly opposite bearings) run

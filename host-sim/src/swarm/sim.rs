@@ -37,6 +37,7 @@ use protocol::{Instant, ParamError, Params, Sector, WaveState};
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
+use crate::stats::Resultant;
 use crate::swarm::field::Field;
 use crate::swarm::geometry::Swarm;
 use crate::swarm::measure::Measure;
@@ -768,24 +769,20 @@ impl<'a, R: Reading> Sim<'a, R> {
             .ok_or(SimError::TooManyPeriods)?;
         self.advance_to(end);
         self.periods = index;
-        let (mut sum, mut decided, mut diversity) = (Vector2::zeros(), 0u32, 0.0);
-        for a in &self.agents {
-            diversity += f64::from(a.diversity());
-            if let Some(b) = a.decision() {
-                let b = f64::from(b);
-                sum += Vector2::new(b.cos(), b.sin());
-                decided += 1;
-            }
-        }
+        let diversity: f64 = self
+            .agents
+            .iter()
+            .fold(0.0, |d, a| d + f64::from(a.diversity()));
+        let resultant = Resultant::of(
+            self.agents
+                .iter()
+                .filter_map(|a| a.decision())
+                .map(f64::from),
+        );
         let n = self.agents.len().max(1) as f64;
         let from = self.centre;
-        let norm = sum.norm();
-        let direction = (decided > 0 && norm > 1e-12).then(|| sum.y.atan2(sum.x));
-        let consensus = if decided > 0 {
-            norm / f64::from(decided)
-        } else {
-            0.0
-        };
+        let direction = resultant.direction();
+        let consensus = resultant.length();
         if let Some(rec) = self.trace.as_mut() {
             rec.events.push(TraceEvent::Moved {
                 t_ms: end * 1000,
@@ -810,7 +807,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             to: self.centre,
             direction,
             consensus,
-            decided,
+            decided: resultant.n,
             diversity: diversity / n,
         })
     }

@@ -10,9 +10,10 @@
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::stats;
-use crate::swarm::experiment::{Error, Progress, RunOutput, run};
+use crate::swarm::experiment::{Error, RunOutput, run};
 use crate::swarm::scenario::Scenario;
 
 /// Mean and spread of one quantity over runs at one time.

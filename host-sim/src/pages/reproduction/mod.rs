@@ -12,6 +12,7 @@ use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
 
 use crate::pages::marks;
+use crate::progress::Progress;
 use crate::report::csv_files::write_course_csv;
 use crate::report::csv_files::{
     CycleRow, fixed, opt, write_cycle_csv, write_field_csv, write_radial_csv, write_run_csv,
@@ -21,8 +22,8 @@ use crate::report::plot::{self, Line};
 use crate::report::timecourse_plot::time_course_figure;
 use crate::seeds::derive;
 use crate::swarm::experiment::{
-    self, Arrow, Error, Progress, RadialPoint, RunOutput, SweepPoint, direction_map,
-    radial_profile, sweep, waves_heard,
+    self, Arrow, Error, RadialPoint, RunOutput, SweepPoint, direction_map, radial_profile, sweep,
+    waves_heard,
 };
 use crate::swarm::geometry::{Swarm, lattice};
 use crate::swarm::scenario::{DEFAULT_PLACEMENT, LATTICE_SPACING, Placement, Scenario};

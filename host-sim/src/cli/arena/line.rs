@@ -1,0 +1,368 @@
+//! `cimax arena` on a line: the paper's suite or one pattern, many seeds, judged by the LEDs;
+//! a table or JSON on stdout, the failing runs with their replay commands on stderr, and the
+//! first run's trace, replay page and timeline if asked.
+
+use std::process::ExitCode;
+
+use firmware::Config;
+use hal_emu::judge::{
+    LabExperiment, LabRun, judge, leds_str, paper_suite, parse_pattern, pattern_str,
+};
+use hal_emu::world::hil::HilRobot;
+use hal_emu::{ArenaConfig, ArenaError, MediumParams};
+use host_sim::progress::Progress;
+use protocol::{Duration, Instant, Params};
+use rayon::prelude::*;
+
+use super::ArenaArgs;
+use super::options::{hil_robots, medium, robot_params, run_length, scaled, time_scale};
+use super::print::{Crashed, JsonSummary, print_failures, print_hil, print_json, print_table};
+
+/// One experiment: a list of runs sharing a label and an expected outcome.
+pub(super) struct Experiment {
+    /// The pattern, or e.g. `1000>0001` where it changes.
+    pub(super) label: String,
+    /// One configuration per seed.
+    pub(super) configs: Vec<ArenaConfig>,
+}
+
+/// The number of robots in the line (`--robots`, the pattern's length, or 4), 2 to 64.
+fn line_robots(args: &ArenaArgs, lights: Option<&[bool]>) -> Result<usize, String> {
+    let robots = args
+        .robots
+        .map(usize::from)
+        .or(lights.map(<[bool]>::len))
+        .unwrap_or(4);
+    if !(2..=64).contains(&robots) {
+        return Err(format!("a line needs 2 to 64 robots, not {robots}"));
+    }
+    Ok(robots)
+}
+
+/// The experiments the options ask for: the paper's suite, or one pattern (with its change if
+/// `--switch-at --then`), each over `--runs` seeds.
+pub(super) fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
+    let params = robot_params(args)?;
+    let medium = medium(args)?;
+    let run = run_length(args, &params)?;
+    let lights = args.lights.as_deref().map(parse_pattern).transpose()?;
+    let robots = line_robots(args, lights.as_deref())?;
+    let then = args.then.as_deref().map(parse_pattern).transpose()?;
+    let setup = LineSetup {
+        args,
+        params,
+        medium,
+        hil: hil_robots(args, robots, 2)?,
+        sample: scaled(Config::robots().sample_period, time_scale(args)?),
+    };
+    for &(r, _) in args.kill.iter().chain(&args.restart) {
+        if r >= robots {
+            return Err(format!(
+                "there is no robot {r} to kill or restart (robots are 0..{})",
+                robots - 1
+            ));
+        }
+    }
+    suite(lights, robots)?
+        .iter()
+        .map(|e| experiment(&setup, e, then.as_deref(), robots, run))
+        .collect()
+}
+
+/// The patterns to run: `--lights`, else the paper's suite (for four robots only).
+fn suite(lights: Option<Vec<bool>>, robots: usize) -> Result<Vec<LabExperiment>, String> {
+    match lights {
+        Some(p) => Ok(vec![LabExperiment {
+            first: p,
+            then: None,
+        }]),
+        None if robots == 4 => Ok(paper_suite()),
+        None => Err(format!(
+            "--robots {robots} needs --lights (the paper's patterns are for 4)"
+        )),
+    }
+}
+
+/// `Ok` if pattern `p` (`what`) has one light per robot.
+fn check_length(p: &[bool], robots: usize, what: &str) -> Result<(), String> {
+    if p.len() == robots {
+        Ok(())
+    } else {
+        Err(format!(
+            "{what} {} has {} robots but there are {robots}",
+            pattern_str(p),
+            p.len()
+        ))
+    }
+}
+
+/// The options' robots, medium, faults and sensors, put on each run of a line.
+struct LineSetup<'a> {
+    args: &'a ArenaArgs,
+    params: Params,
+    medium: MediumParams,
+    hil: Vec<HilRobot>,
+    sample: Duration,
+}
+
+impl LineSetup<'_> {
+    /// `c`, a run of the experiment, with the options' robots, medium, faults and sensors.
+    fn apply(&self, mut c: ArenaConfig) -> ArenaConfig {
+        let args = self.args;
+        c.robot.params = self.params;
+        c.robot.key = args.key;
+        c.medium = self.medium;
+        c.kills = args
+            .kill
+            .iter()
+            .map(|&(r, t)| (Instant::from_secs(t), r))
+            .collect();
+        c.restarts = args
+            .restart
+            .iter()
+            .map(|&(r, t)| (Instant::from_secs(t), r))
+            .collect();
+        c.env.readings = args.readings();
+        c.robot.sample_period = self.sample;
+        c.hil = self.hil.clone();
+        c
+    }
+}
+
+/// Experiment `e` of the suite over the options' seeds, each run `run` long; `--switch-at
+/// --then` changes a single pattern (the suite's alternating experiments have their own change).
+fn experiment(
+    setup: &LineSetup<'_>,
+    e: &LabExperiment,
+    then: Option<&[bool]>,
+    robots: usize,
+    run: Duration,
+) -> Result<Experiment, String> {
+    let args = setup.args;
+    check_length(&e.first, robots, "pattern")?;
+    let switch = match (args.switch_at, then, &e.then) {
+        (Some(at), Some(t), None) => {
+            check_length(t, robots, "--then pattern")?;
+            Some((Instant::from_secs(at), t))
+        }
+        _ => None,
+    };
+    let configs = (0..args.runs)
+        .map(|k| args.seed.wrapping_add(k))
+        .map(|s| {
+            let mut c = setup.apply(e.config(args.spacing, run, s));
+            if let Some((at, t)) = switch {
+                c.env.schedule.push((at, t.to_vec()));
+                c.duration = c.duration.max(at.saturating_since(Instant::ZERO) + run);
+            }
+            c
+        })
+        .collect();
+    let label = match switch {
+        Some((_, t)) => format!("{}>{}", e.label(), pattern_str(t)),
+        None => e.label(),
+    };
+    Ok(Experiment { label, configs })
+}
+
+/// The options that replay a run of `cfg` alone: its first pattern (`--lights`) and, if the
+/// pattern changes, when and to what (`--switch-at`, `--then`).
+pub(super) fn replay_lights(cfg: &ArenaConfig) -> String {
+    let mut out = String::new();
+    for (i, (t, p)) in cfg.env.schedule.iter().enumerate() {
+        if i == 0 {
+            out += &format!("--lights {}", pattern_str(p));
+        } else {
+            let at = t.saturating_since(Instant::ZERO).as_millis() / 1000;
+            out += &format!(" --switch-at {at} --then {}", pattern_str(p));
+        }
+    }
+    out
+}
+
+/// `cimax arena` on a line; the exit code is non-zero if any run with a verdict failed or an
+/// option was bad.
+pub(super) fn main(args: &ArenaArgs) -> ExitCode {
+    let experiments = match build(args) {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let first = experiments.first().and_then(|e| e.configs.first()).cloned();
+    let ((runs, crashed), wall_s) = match run_all(&experiments) {
+        Ok(r) => r,
+        Err(ArenaError::Interrupted) => {
+            eprintln!("cimax arena: interrupted; robots in the loop stopped");
+            return ExitCode::from(130);
+        }
+        Err(e) => {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if let Some(cfg) = &first
+        && let Err(e) = write_artifacts(args, cfg)
+    {
+        eprintln!("cimax arena: {e}");
+        return ExitCode::from(2);
+    }
+
+    let emulated_s: f64 = runs
+        .iter()
+        .map(|(_, r)| r.report.emulated.as_secs_f64())
+        .sum();
+    let failures: Vec<(&LabRun, String)> = runs
+        .iter()
+        .filter(|(_, r)| !r.success)
+        .map(|(i, r)| {
+            let cfg = experiments[*i].configs.iter().find(|c| c.seed == r.seed);
+            (r, cfg.map(replay_lights).unwrap_or_default())
+        })
+        .collect();
+    let total = runs.len() + crashed.len();
+    let successes = runs.len() - failures.len();
+    if args.json {
+        let summary = JsonSummary {
+            runs: total,
+            successes,
+            emulated_s,
+            wall_s,
+        };
+        if let Err(e) = print_json(&runs, &crashed, summary) {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
+        }
+    } else {
+        print_table(args, &experiments, &runs, &crashed);
+        print_hil(&runs);
+        println!(
+            "{} runs, {} successful; {:.0} s of robot time in {:.3} s wall ({:.0}x real time)",
+            total,
+            successes,
+            emulated_s,
+            wall_s,
+            emulated_s / wall_s.max(1e-9)
+        );
+    }
+    print_failures(args, &failures, &crashed);
+    if failures.is_empty() && crashed.is_empty() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+/// Judged runs and crashed runs, each with its experiment's index.
+pub(super) type Runs = (Vec<(usize, LabRun)>, Vec<(usize, Crashed)>);
+
+/// Runs every configuration of every experiment in parallel: the judged runs, the runs in
+/// which a robot crashed, and the wall time.
+pub(super) fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaError> {
+    let jobs: Vec<(usize, &ArenaConfig)> = experiments
+        .iter()
+        .enumerate()
+        .flat_map(|(i, e)| e.configs.iter().map(move |c| (i, c)))
+        .collect();
+    let bar = if jobs.len() > 1 {
+        Progress::new(jobs.len() as u64, "arena", false)
+    } else {
+        Progress::hidden()
+    };
+    let wall = std::time::Instant::now();
+    // Each run is independent and seeded: the results do not depend on the thread count.
+    let one = |c: &ArenaConfig| {
+        let r = judge(c);
+        bar.inc();
+        r
+    };
+    // Runs with robots in the loop go in real time, one at a time (the robots are one board,
+    // or QEMU processes that need the cores); the others in parallel.
+    let results: Vec<Result<LabRun, ArenaError>> = if jobs.iter().any(|(_, c)| c.real_time()) {
+        jobs.iter().map(|(_, c)| one(c)).collect()
+    } else {
+        jobs.par_iter().map(|(_, c)| one(c)).collect()
+    };
+    bar.finish();
+    let wall_s = wall.elapsed().as_secs_f64();
+    let (mut runs, mut crashed): Runs = (Vec::new(), Vec::new());
+    // Runs in which a robot stopped on its own (a panic): failed, without LEDs to judge.
+    for ((i, c), r) in jobs.iter().zip(results) {
+        match r {
+            Ok(r) => runs.push((*i, r)),
+            Err(ArenaError::Robot(f)) => crashed.push((*i, Crashed::new(c, f))),
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(((runs, crashed), wall_s))
+}
+
+/// `--trace`, `--html` and `--svg` for the first run (run again with tracing on).
+fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
+    if args.trace.is_none() && args.svg.is_none() && args.html.is_none() {
+        return Ok(());
+    }
+    let mut cfg = cfg.clone();
+    cfg.trace = true;
+    let run = judge(&cfg).map_err(|e| e.to_string())?;
+    if args.trace.is_some() || args.html.is_some() {
+        let header = lab_header(&cfg, &run, args);
+        if let Some(path) = &args.trace {
+            host_sim::viewer::write_trace(path, header.clone(), &run.report.trace)?;
+        }
+        if let Some(path) = &args.html {
+            host_sim::viewer::write_page(path, header, &run.report.trace)?;
+        }
+    }
+    if let Some(path) = &args.svg {
+        std::fs::write(path, timeline_svg(&cfg, &run))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+    }
+    Ok(())
+}
+
+/// The viewer's header of a lab run: the set-up, a title and the verdict.
+fn lab_header(cfg: &ArenaConfig, run: &LabRun, args: &ArenaArgs) -> host_sim::viewer::Header {
+    let mut h = host_sim::viewer::header_of(cfg, &run.report.trace);
+    h.title = format!(
+        "cimax arena: {} robots, lights {}, seed {}, {:?} rule",
+        cfg.positions.len(),
+        replay_lights(cfg).trim_start_matches("--lights "),
+        cfg.seed,
+        args.decide
+    );
+    let leds = leds_str(&run.leds);
+    let expected = run.expected.as_deref().map(leds_str);
+    let text = match (&expected, run.success) {
+        (None, _) => format!("no verdict for this pattern; LEDs at the end {leds}"),
+        (Some(x), true) => format!(
+            "passed: LEDs {leds} as expected ({x}){}",
+            run.consensus_s
+                .map_or(String::new(), |s| format!(", settled after {s:.0} s"))
+        ),
+        (Some(x), false) => match run.flicker {
+            Some((t, r)) => format!(
+                "FAILED: robot {r} changed its LEDs at {t:.0} s after the swarm agreed; at the end {leds}, expected {x}"
+            ),
+            None => format!("FAILED: LEDs at the end {leds}, expected {x}"),
+        },
+    };
+    h.verdict = Some(host_sim::viewer::Verdict {
+        success: run.success,
+        leds,
+        expected,
+        text,
+    });
+    h
+}
+
+/// The timeline of `run` as SVG ([`host_sim::report::lab_timeline`]); an error is reported on
+/// stderr and leaves what was drawn.
+fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
+    let mut svg = String::new();
+    if let Err(e) = host_sim::report::lab_timeline::draw_timeline(cfg, run, &mut svg) {
+        eprintln!("cimax arena: timeline: {e}");
+    }
+    svg
+}

@@ -1,0 +1,160 @@
+//! What the options of `cimax arena` set, shared by a line and a plane: the robots' protocol
+//! parameters, the light medium, the run's length and the robots in the loop, each checked.
+
+use std::path::PathBuf;
+
+use hal_emu::MediumParams;
+use hal_emu::world::hil::{HilRobot, Transport};
+use protocol::{Duration, Params};
+
+use super::{ArenaArgs, MAX_RUN_SECS};
+
+/// `--cycle` over the paper's 55 s (1 without `--cycle`).
+pub(super) fn time_scale(args: &ArenaArgs) -> Result<f64, String> {
+    let Some(c) = args.cycle else { return Ok(1.0) };
+    secs(c, "cycle")?;
+    Ok(c / Params::robots().wave.cycle.as_secs_f64())
+}
+
+/// `d` times `scale`, to the millisecond, at least 1 ms.
+pub(super) fn scaled(d: Duration, scale: f64) -> Duration {
+    Duration::from_millis(((d.as_millis() as f64 * scale).round() as u64).max(1))
+}
+
+/// The robots in the loop the options ask for, in a swarm of `robots` with `sectors` each:
+/// their places (`--hil-at`, else the first ones) and transports.
+pub(super) fn hil_robots(
+    args: &ArenaArgs,
+    robots: usize,
+    sectors: u8,
+) -> Result<Vec<HilRobot>, String> {
+    if args.hil.is_empty() {
+        return Ok(Vec::new());
+    }
+    let image = args.hil_image.clone().unwrap_or_else(|| {
+        let name = if sectors == 2 { "hil" } else { "hil6" };
+        PathBuf::from("firmware/qemu/target/thumbv7em-none-eabihf/release").join(name)
+    });
+    let transports: Vec<Transport> = args.hil.iter().flat_map(|h| h.transports(&image)).collect();
+    if transports.iter().any(|t| matches!(t, Transport::Qemu(_))) {
+        if !image.is_file() {
+            return Err(format!(
+                "--hil qemu: no image at {} (build it with `cargo hil-image`; docs/hil.md)",
+                image.display()
+            ));
+        }
+        if sectors != 2 && sectors != 6 {
+            return Err(format!(
+                "--hil qemu: the HIL images have 2 (hil) or 6 (hil6) receivers, not {sectors}"
+            ));
+        }
+    }
+    let places: Vec<usize> = if args.hil_at.is_empty() {
+        (0..transports.len()).collect()
+    } else if args.hil_at.len() == transports.len() {
+        args.hil_at.clone()
+    } else {
+        return Err(format!(
+            "--hil-at names {} places for {} robots in the loop",
+            args.hil_at.len(),
+            transports.len()
+        ));
+    };
+    if transports.len() > robots {
+        return Err(format!(
+            "{} robots in the loop, but only {robots} places",
+            transports.len()
+        ));
+    }
+    if let Some(p) = places.iter().find(|&&p| p >= robots) {
+        return Err(format!(
+            "--hil-at {p}: there is no place {p} (robots are 0..{})",
+            robots - 1
+        ));
+    }
+    if args.key.is_some() {
+        return Err("--key with --hil: link version 1 carries no swarm key".into());
+    }
+    Ok(places
+        .into_iter()
+        .zip(transports)
+        .map(|(robot, transport)| HilRobot { robot, transport })
+        .collect())
+}
+
+/// `s` seconds as a [`Duration`], to the millisecond; an error naming `--what` unless it is a
+/// non-negative number.
+pub(super) fn secs(s: f64, what: &str) -> Result<Duration, String> {
+    if s.is_finite() && s >= 0.0 {
+        Ok(Duration::from_millis((s * 1000.0).round() as u64))
+    } else {
+        Err(format!(
+            "--{what} must be a non-negative number of seconds, not {s}"
+        ))
+    }
+}
+
+/// The light medium the options describe.
+pub(super) fn medium(args: &ArenaArgs) -> Result<MediumParams, String> {
+    let medium = MediumParams {
+        bitrate: args.bitrate,
+        range: args.range,
+        loss: args.loss,
+        byte_error_rate: args.byte_error_rate,
+        collisions: !args.no_collisions,
+        ..MediumParams::default()
+    };
+    medium.validate()?;
+    Ok(medium)
+}
+
+/// The robots' protocol parameters: `Params::robots()` with the options' changes, validated.
+pub(super) fn robot_params(args: &ArenaArgs) -> Result<Params, String> {
+    let mut params = Params::robots();
+    if let Some(c) = args.cycle {
+        // The timing the options leave out keeps the paper's proportions to the cycle
+        // (15 s spread, 1 s relay delay and 4 s refractory to 55 s), so that `--cycle 2`
+        // alone shrinks a whole run (robots in the loop run in real time).
+        let scale = time_scale(args)?;
+        let w = &mut params.wave;
+        w.cycle = secs(c, "cycle")?;
+        w.cycle_spread = scaled(w.cycle_spread, scale);
+        w.relay_delay = scaled(w.relay_delay, scale);
+        w.refractory = scaled(w.refractory, scale);
+    }
+    if let Some(c) = args.cycle_spread {
+        params.wave.cycle_spread = secs(c, "cycle-spread")?;
+    }
+    if let Some(r) = args.refractory {
+        params.wave.refractory = secs(r, "refractory")?;
+    }
+    if let Some(n) = args.negotiation {
+        params.negotiation_cycles = n;
+    }
+    params.decide = args.decide.into();
+    params
+        .validate()
+        .map_err(|e| format!("protocol parameters: {e}"))?;
+    Ok(params)
+}
+
+/// The length of a run (`--duration`, or three negotiation periods of the longest cycle),
+/// after checking `--spacing`.
+pub(super) fn run_length(args: &ArenaArgs, params: &Params) -> Result<Duration, String> {
+    if !(args.spacing.is_finite() && args.spacing > 0.0) {
+        return Err(format!(
+            "--spacing must be a positive number of metres, not {}",
+            args.spacing
+        ));
+    }
+    let run = args.duration.map_or(params.lab_run(), Duration::from_secs);
+    if run > Duration::from_secs(MAX_RUN_SECS) {
+        return Err(format!(
+            "a run of three negotiation periods of the longest cycle (--cycle, --cycle-spread, \
+             --negotiation) lasts {} s; at most {MAX_RUN_SECS} s (give a --duration)",
+            run.as_millis().div_ceil(1000)
+        ));
+    }
+
+    Ok(run)
+}

@@ -1,0 +1,545 @@
+//! `cimax arena --field ...`, `cimax arena sweep` and `cimax arena bench`: robots on a plane over
+//! one of the 2D simulator's fields ([`host_sim::arena::plane`]), as the options ask, printed.
+
+use std::process::ExitCode;
+
+use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+use firmware::Config;
+use hal_emu::MediumParams;
+use host_sim::arena::plane::{self, Layout, PlaneError, PlaneRun, PlaneSpec};
+use host_sim::progress::Progress;
+use host_sim::swarm::experiment::SweepPoint;
+use host_sim::swarm::geometry::Shape;
+use host_sim::swarm::scenario::{Placement, Scenario, check_runs};
+use protocol::Params;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::ArenaArgs;
+use super::options::{hil_robots, medium, robot_params, scaled, time_scale};
+
+/// `--shape`: how the robots are placed on the plane, as typed (`line`, `lattice`, `disk`,
+/// `file`), each with its help.
+pub(super) fn shape_parser() -> impl TypedValueParser<Value = Layout> {
+    PossibleValuesParser::new([
+        PossibleValue::new("line").help("In a line along x, 0.75 R apart"),
+        PossibleValue::new("lattice").help(
+            "The nodes of a triangular lattice of spacing 0.75 R nearest the centre (61: the \
+             paper's disk of 6 R)",
+        ),
+        PossibleValue::new("disk").help(
+            "Uniformly at random in a disk with the density of the paper's (61 robots in 6 R), \
+             redrawn until connected",
+        ),
+        PossibleValue::new("file")
+            .help("Where a file says (`--positions FILE`, [`read_positions`])"),
+    ])
+    .map(|s| match s.as_str() {
+        "line" => Layout::Line,
+        "disk" => Layout::Placed(Placement::Random),
+        "file" => Layout::File,
+        _ => Layout::Placed(Placement::Lattice),
+    })
+}
+
+/// `cimax arena --field ...`: robots on a plane over a field, moving as they decide.
+pub(super) fn main(args: &ArenaArgs) -> ExitCode {
+    let spec = match plane_spec(args) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let wall = std::time::Instant::now();
+    let seeds: Vec<u64> = (0..args.runs).map(|k| args.seed.wrapping_add(k)).collect();
+    // With robots in the loop, in real time and one run at a time.
+    let results: Result<Vec<_>, _> = if spec.hil.is_empty() {
+        seeds.par_iter().map(|&s| plane::run(&spec, s)).collect()
+    } else {
+        seeds.iter().map(|&s| plane::run(&spec, s)).collect()
+    };
+    let runs = match results {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("cimax arena: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    if let Err(e) = plane_artifacts(args, &spec) {
+        eprintln!("cimax arena: {e}");
+        return ExitCode::from(2);
+    }
+    print_runs(&spec, &runs, wall.elapsed().as_secs_f64(), args.json)
+}
+
+/// `--trace` and `--html` of a plane's first run (run again with tracing on; `--svg` draws
+/// lines only).
+fn plane_artifacts(args: &ArenaArgs, spec: &PlaneSpec) -> Result<(), String> {
+    if args.trace.is_none() && args.html.is_none() {
+        return Ok(());
+    }
+    let (run, cfg, trace) = plane::run_traced(spec, args.seed, true).map_err(|e| e.to_string())?;
+    let header = plane::viewer_header(spec, &cfg, &run, &trace);
+    if let Some(path) = &args.trace {
+        host_sim::viewer::write_trace(path, header.clone(), &trace)?;
+    }
+    if let Some(path) = &args.html {
+        host_sim::viewer::write_page(path, header, &trace)?;
+    }
+    Ok(())
+}
+
+/// The plane experiment the options describe.
+pub(super) fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
+    let field = args.field.as_deref().unwrap_or("sharp");
+    let scenario = Scenario::load(field).map_err(|e| e.to_string())?;
+    if !args.x_init.is_finite() {
+        return Err(format!(
+            "--x-init must be a number of R, not {}",
+            args.x_init
+        ));
+    }
+    if args.lights.is_some()
+        || args.then.is_some()
+        || !args.kill.is_empty()
+        || !args.restart.is_empty()
+        || args.svg.is_some()
+    {
+        return Err(
+            "--field runs over a field: --lights, --then, --kill, --restart and --svg (a line's \
+             timeline; see --html) do not apply"
+                .into(),
+        );
+    }
+    // The timing options as on a line (`--cycle` scales what the others leave out).
+    let mut params = robot_params(args)?;
+    let medium = medium(args)?;
+    params.sectors = args.sectors;
+    params
+        .validate()
+        .map_err(|e| format!("protocol parameters: {e}"))?;
+    let file_positions = match (&args.positions, args.shape) {
+        (Some(path), Layout::File) => {
+            let text =
+                std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+            plane::read_positions(&text, &path.display().to_string())?
+        }
+        (None, Layout::File) => return Err("--shape file needs --positions FILE".into()),
+        (Some(_), _) => return Err("--positions needs --shape file".into()),
+        (None, _) => Vec::new(),
+    };
+    let robots = if file_positions.is_empty() {
+        args.robots.map_or(61, usize::from)
+    } else {
+        file_positions.len()
+    };
+    Ok(PlaneSpec {
+        file_positions,
+        scenario,
+        placement: args.shape,
+        robots,
+        sectors: args.sectors,
+        x_init: args.x_init,
+        moves: args.moves,
+        medium,
+        params,
+        readings: args.readings(),
+        hil: hil_robots(args, robots, args.sectors)?,
+        sample_period: args
+            .cycle
+            .map(|_| time_scale(args).map(|s| scaled(Config::robots().sample_period, s)))
+            .transpose()?,
+    })
+}
+
+/// Prints the runs of one plane experiment (a table, or JSON with `json`); exit code 0, or 2 if
+/// the JSON cannot be written.
+fn print_runs(spec: &PlaneSpec, runs: &[PlaneRun], wall_s: f64, json: bool) -> ExitCode {
+    let ok = runs.iter().filter(|r| r.success).count();
+    let emulated: f64 = runs.iter().map(|r| r.emulated_s).sum();
+    let mean_moves = mean(
+        runs.iter()
+            .filter_map(|r| r.moves_to_success.map(f64::from)),
+    );
+    if json {
+        let summary = PlaneSummary {
+            runs: runs.len(),
+            successes: ok,
+            mean_moves_to_success: mean_moves,
+            emulated_s: emulated,
+            wall_s,
+            robot_s_per_wall_s: emulated * spec.robots as f64 / wall_s.max(1e-9),
+        };
+        return match serde_json::to_string_pretty(&PlaneReport { runs, summary }) {
+            Ok(s) => {
+                println!("{s}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("cimax arena: {e}");
+                ExitCode::from(2)
+            }
+        };
+    }
+    print_run_table(spec, runs);
+    println!(
+        "{} runs, {} successful ({}); mean moves to success {}; {:.0} robot-s in {:.1} s wall",
+        runs.len(),
+        ok,
+        spec.scenario
+            .success
+            .map_or("no criterion".into(), |s| s.to_string()),
+        mean_moves.map_or("-".into(), |m| format!("{m:.1}")),
+        emulated * spec.robots as f64,
+        wall_s
+    );
+    ExitCode::SUCCESS
+}
+
+/// The `--json` summary of a plane experiment.
+#[derive(Serialize)]
+struct PlaneSummary {
+    runs: usize,
+    successes: usize,
+    mean_moves_to_success: Option<f64>,
+    emulated_s: f64,
+    wall_s: f64,
+    robot_s_per_wall_s: f64,
+}
+
+/// The `--json` report of a plane experiment: every run and the summary.
+#[derive(Serialize)]
+struct PlaneReport<'a> {
+    runs: &'a [PlaneRun],
+    summary: PlaneSummary,
+}
+
+/// The table of a plane experiment's runs, one line per run (and per robot in the loop).
+fn print_run_table(spec: &PlaneSpec, runs: &[PlaneRun]) {
+    println!(
+        "CIMAX arena on a plane, the robot program on {} of {} R",
+        spec.summary(),
+        spec.scenario.run.step
+    );
+    println!("seed      success  moves  final x  final y  mean consensus");
+    for r in runs {
+        println!(
+            "{:<9} {:<8} {:>5}  {:>7.2}  {:>7.2}  {:>14.2}",
+            r.seed,
+            if r.success { "yes" } else { "no" },
+            r.moves_to_success.map_or("-".into(), |m| m.to_string()),
+            r.final_position[0],
+            r.final_position[1],
+            mean(r.consensus.iter().copied()).unwrap_or(0.0)
+        );
+        for h in &r.hil {
+            println!(
+                "  robot {} in the loop over {}: {} link frames sent to it, {} received ({} light frames), {} link errors",
+                h.robot, h.transport, h.frames_sent, h.frames_received, h.tx, h.link_errors
+            );
+        }
+    }
+}
+
+/// The mean of `xs`, `None` if empty.
+fn mean(xs: impl Iterator<Item = f64>) -> Option<f64> {
+    host_sim::stats::mean(&xs.collect::<Vec<_>>())
+}
+
+/// Options of `cimax arena sweep`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct SweepArgs {
+    /// The field: a `cimax swarm` scenario (sharp, gradient) or its TOML file.
+    #[arg(long, default_value = "sharp")]
+    pub field: String,
+    /// How the robots are placed.
+    #[arg(long, value_parser = shape_parser(), default_value = "lattice")]
+    pub shape: Layout,
+    /// Number of robots.
+    #[arg(long, default_value_t = 61, value_parser = clap::value_parser!(u16).range(2..=1000))]
+    pub robots: u16,
+    /// Receive sectors per robot.
+    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
+    pub sectors: u8,
+    /// First initial x, in R.
+    #[arg(long, default_value_t = -4.0, allow_hyphen_values = true)]
+    pub from: f64,
+    /// Last initial x, in R.
+    #[arg(long, default_value_t = 4.0, allow_hyphen_values = true)]
+    pub to: f64,
+    /// Step between initial positions, in R.
+    #[arg(long, default_value_t = 1.0)]
+    pub step: f64,
+    /// Runs per position (run k uses seed BASE + k).
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    pub runs: u64,
+    /// Base seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Moves per run.
+    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub moves: u32,
+    /// Probability that a frame is lost at a receiver.
+    #[arg(long, default_value_t = 0.0)]
+    pub loss: f64,
+    /// What the light sensors report (`full`, `binary`, `levels:N`, `gain:G,offset:B`; see
+    /// `cimax arena --help`).
+    #[arg(long, value_name = "KIND", default_value_t = hal_emu::Readings::Levels)]
+    pub readings: hal_emu::Readings,
+    /// Runs of the 2D simulator (`cimax swarm`, three-phase variant, same placement) per
+    /// position, for the curve beside, 0 to 100,000; 0 leaves it out.
+    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=i64::from(host_sim::swarm::scenario::MAX_RUNS_PER_POINT)))]
+    pub swarm_runs: u32,
+    /// Where to write the CSV and the SVG (`arena-<field>-sweep.csv|svg`).
+    #[arg(long, default_value = "target/arena-sweep")]
+    pub out: std::path::PathBuf,
+}
+
+/// `cimax arena sweep`: success rate and mean moves to success against the initial position,
+/// the robot program beside the 2D simulator and the paper.
+pub fn sweep_main(a: &SweepArgs) -> std::process::ExitCode {
+    match sweep(a) {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("cimax arena sweep: {e}");
+            std::process::ExitCode::from(2)
+        }
+    }
+}
+
+fn sweep(a: &SweepArgs) -> Result<(), String> {
+    let scenario = Scenario::load(&a.field).map_err(|e| e.to_string())?;
+    if scenario.success.is_none() {
+        return Err(PlaneError::NoCriterion(scenario.name).to_string());
+    }
+    let (xs, medium) = sweep_positions(a)?;
+    let arena = arena_points(a, &scenario, &xs, medium)?;
+    std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
+    let csv = a.out.join(format!("arena-{}-sweep.csv", scenario.name));
+    host_sim::report::write_sweep_csv(&csv, &arena)
+        .map_err(|e| format!("{}: {e}", csv.display()))?;
+    let swarm = swarm_points(a, &scenario, &xs)?;
+    let svg = sweep_svg(a, &scenario, &arena, swarm.as_deref())?;
+    print_sweep(&arena, swarm.as_deref());
+    println!("wrote {} and {}", csv.display(), svg.display());
+    Ok(())
+}
+
+/// The initial positions of `cimax arena sweep` and its medium, after checking the options.
+fn sweep_positions(a: &SweepArgs) -> Result<(Vec<f64>, MediumParams), String> {
+    if a.shape == Layout::File {
+        return Err("sweep places robots on a line, the lattice or a disk, not from a file".into());
+    }
+    if !(a.step > 0.0 && a.from.is_finite() && a.to.is_finite() && a.from <= a.to) {
+        return Err(format!(
+            "--from {} --to {} --step {}: need from <= to and a positive step",
+            a.from, a.to, a.step
+        ));
+    }
+    // At most 10,001 positions, as `cimax swarm sweep`: a tiny step would ask for billions.
+    let span = (a.to - a.from) / a.step;
+    if span > 10_000.0 {
+        return Err(format!(
+            "--from {} --to {} --step {}: {} positions; at most 10001",
+            a.from,
+            a.to,
+            a.step,
+            (span + 1e-9).floor() + 1.0
+        ));
+    }
+    let medium = MediumParams {
+        loss: a.loss,
+        ..MediumParams::default()
+    };
+    medium.validate()?;
+    let count = (span + 1e-9).floor() as usize + 1;
+    check_runs(&[(count as u64, "positions"), (a.runs, "runs")])
+        .map_err(|e| format!("--runs {}: {e}", a.runs))?;
+    check_runs(&[
+        (count as u64, "positions"),
+        (u64::from(a.swarm_runs), "runs"),
+    ])
+    .map_err(|e| format!("--swarm-runs {}: {e}", a.swarm_runs))?;
+    let xs: Vec<f64> = (0..count).map(|i| a.from + a.step * i as f64).collect();
+    Ok((xs, medium))
+}
+
+/// The robots' sweep: every position `a.runs` times, in parallel.
+fn arena_points(
+    a: &SweepArgs,
+    scenario: &Scenario,
+    xs: &[f64],
+    medium: MediumParams,
+) -> Result<Vec<SweepPoint>, String> {
+    let base = PlaneSpec {
+        scenario: scenario.clone(),
+        placement: a.shape,
+        robots: usize::from(a.robots),
+        sectors: a.sectors,
+        x_init: 0.0,
+        moves: a.moves,
+        medium,
+        params: Params::robots(),
+        file_positions: Vec::new(),
+        readings: a.readings,
+        hil: Vec::new(),
+        sample_period: None,
+    };
+    let bar = Progress::new(xs.len() as u64 * a.runs, "arena sweep", false);
+    let points = plane::sweep(&base, xs, a.runs, a.seed, &bar).map_err(|e| e.to_string())?;
+    bar.finish();
+    Ok(points)
+}
+
+/// The swarm simulator's sweep over the same positions (none with `--swarm-runs 0`), and its
+/// CSV file.
+fn swarm_points(
+    a: &SweepArgs,
+    scenario: &Scenario,
+    xs: &[f64],
+) -> Result<Option<Vec<SweepPoint>>, String> {
+    let mut swarm_scn = scenario.clone();
+    if a.shape == Layout::Placed(Placement::Lattice) {
+        swarm_scn.shape = Shape::Lattice {
+            spacing: plane::SPACING,
+        };
+    }
+    swarm_scn.agents = usize::from(a.robots);
+    Ok(if a.swarm_runs > 0 {
+        let progress = Progress::new(
+            (xs.len() * a.swarm_runs as usize) as u64,
+            "swarm sweep",
+            false,
+        );
+        let pts = host_sim::swarm::experiment::sweep(
+            &swarm_scn,
+            swarm_scn.run,
+            xs,
+            a.swarm_runs,
+            a.seed,
+            &progress,
+        )
+        .map_err(|e| e.to_string())?;
+        progress.finish();
+        let csv = a.out.join(format!("swarm-{}-sweep.csv", scenario.name));
+        host_sim::report::write_sweep_csv(&csv, &pts)
+            .map_err(|e| format!("{}: {e}", csv.display()))?;
+        Some(pts)
+    } else {
+        None
+    })
+}
+
+/// The sweep's figure: the robots beside the swarm simulator and the paper.
+fn sweep_svg(
+    a: &SweepArgs,
+    scenario: &Scenario,
+    arena: &[SweepPoint],
+    swarm: Option<&[SweepPoint]>,
+) -> Result<std::path::PathBuf, String> {
+    let arena_label = format!("robot program (arena), K = {}", a.sectors);
+    let mut series: Vec<(&str, &[SweepPoint])> = vec![(&arena_label, arena)];
+    if let Some(s) = swarm {
+        series.push(("three-phase (cimax swarm)", s));
+    }
+    // The same paper marks as docs/reproduction.md's sweeps (the gradient's 85–100 % band and
+    // its 25 % at −4), for the built-in scenarios.
+    let paper = host_sim::pages::marks::sweep_for(&scenario.name);
+    let svg = a.out.join(format!("arena-{}-sweep.svg", scenario.name));
+    host_sim::report::plot::sweep_figure(
+        &svg,
+        &format!(
+            "{}: {} robots ({}), success within {} moves, {} runs per point",
+            scenario.name,
+            a.robots,
+            a.shape.label(),
+            a.moves,
+            a.runs
+        ),
+        &series,
+        &paper,
+    )
+    .map_err(|e| format!("{}: {e}", svg.display()))?;
+    Ok(svg)
+}
+
+/// The sweep as a table on stdout.
+fn print_sweep(arena: &[SweepPoint], swarm: Option<&[SweepPoint]>) {
+    println!("x_init  arena success  moves   swarm success  moves");
+    for (i, p) in arena.iter().enumerate() {
+        let s = swarm.and_then(|s| s.get(i));
+        println!(
+            "{:>6.2}  {:>13.2}  {:>5}   {:>13}  {:>5}",
+            p.x_init,
+            p.success_rate(),
+            p.mean_success_periods
+                .map_or("-".into(), |m| format!("{m:.1}")),
+            s.map_or("-".into(), |s| format!("{:.2}", s.success_rate())),
+            s.and_then(|s| s.mean_success_periods)
+                .map_or("-".into(), |m| format!("{m:.1}")),
+        );
+    }
+}
+
+/// Options of `cimax arena bench`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct BenchArgs {
+    /// Swarm sizes to time (robots on the hexagonal lattice), 2 to 1000 each.
+    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000], value_parser = clap::value_parser!(u16).range(2..=1000))]
+    pub robots: Vec<u16>,
+    /// Receive sectors per robot.
+    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
+    pub sectors: u8,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+/// `cimax arena bench`: robot-seconds per wall second of the robot program over the emulated
+/// medium, one negotiation period (550 s) of the sharp field 2 R from the border, on one core
+/// (one run at a time on the calling thread).
+pub fn bench_main(a: &BenchArgs) -> std::process::ExitCode {
+    let scenario = match Scenario::load("sharp") {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("cimax arena bench: {e}");
+            return std::process::ExitCode::from(2);
+        }
+    };
+    println!("robots  emulated s  wall s  robot-s per wall s  x real time");
+    for &n in &a.robots {
+        let spec = PlaneSpec {
+            scenario: scenario.clone(),
+            placement: Layout::Placed(Placement::Lattice),
+            robots: usize::from(n),
+            sectors: a.sectors,
+            x_init: -2.0,
+            moves: 1,
+            medium: MediumParams::default(),
+            params: Params::robots(),
+            file_positions: Vec::new(),
+            readings: hal_emu::Readings::Levels,
+            hil: Vec::new(),
+            sample_period: None,
+        };
+        match plane::run(&spec, a.seed) {
+            Ok(r) => {
+                let rate = r.emulated_s * spec.robots as f64 / r.wall_s.max(1e-9);
+                println!(
+                    "{:>6}  {:>10.0}  {:>6.2}  {:>18.3e}  {:>11.0}",
+                    spec.robots,
+                    r.emulated_s,
+                    r.wall_s,
+                    rate,
+                    r.emulated_s / r.wall_s.max(1e-9)
+                );
+            }
+            Err(e) => {
+                eprintln!("cimax arena bench: {e}");
+                return std::process::ExitCode::from(2);
+            }
+        }
+    }
+    std::process::ExitCode::SUCCESS
+}

@@ -1,0 +1,383 @@
+//! What `cimax arena` on a line prints: the table, the `--json` report, the robots in the
+//! loop's links, and the failed or crashed runs with the commands that replay them.
+
+use firmware::LedColor;
+use hal_emu::judge::{LabRun, leds_str, pattern_str};
+use hal_emu::world::arena::RobotFailure;
+use hal_emu::world::hil::{HilReport, HilSpec};
+use hal_emu::{ArenaConfig, Readings};
+use host_sim::arena::campaign::Decide;
+use protocol::{Instant, Params};
+use serde::Serialize;
+
+use super::ArenaArgs;
+use super::line::{Experiment, replay_lights};
+
+/// One run in the `--json` report.
+#[derive(Serialize)]
+pub(super) struct JsonRun {
+    lights: String,
+    expected: Option<String>,
+    leds: String,
+    success: bool,
+    consensus_s: Option<f64>,
+    seed: u64,
+    emulated_s: f64,
+    wall_s: f64,
+    /// Why the run has no result (a robot panicked); absent for a judged run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    error: Option<String>,
+    /// Each robot in the loop's link (`--hil`): transport, frames each way, link errors.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    hil: Vec<HilReport>,
+}
+
+/// The `--json` summary.
+#[derive(Serialize)]
+pub(super) struct JsonSummary {
+    pub(super) runs: usize,
+    pub(super) successes: usize,
+    pub(super) emulated_s: f64,
+    pub(super) wall_s: f64,
+}
+
+/// The `--json` report: every run and the summary.
+#[derive(Serialize)]
+struct JsonReport {
+    runs: Vec<JsonRun>,
+    summary: JsonSummary,
+}
+
+/// Prints the `--json` report.
+pub(super) fn print_json(
+    runs: &[(usize, LabRun)],
+    crashed: &[(usize, Crashed)],
+    summary: JsonSummary,
+) -> Result<(), serde_json::Error> {
+    let report = JsonReport {
+        runs: runs
+            .iter()
+            .map(|(_, r)| JsonRun {
+                lights: pattern_str(&r.lights),
+                expected: r.expected.as_deref().map(leds_str),
+                leds: leds_str(&r.leds),
+                success: r.success,
+                consensus_s: r.consensus_s,
+                seed: r.seed,
+                emulated_s: r.report.emulated.as_secs_f64(),
+                wall_s: r.report.wall.as_secs_f64(),
+                error: None,
+                hil: r.report.hil.clone(),
+            })
+            .chain(crashed.iter().map(|(_, c)| c.json()))
+            .collect(),
+        summary,
+    };
+    println!("{}", serde_json::to_string_pretty(&report)?);
+    Ok(())
+}
+
+/// One line per robot in the loop: its link over all runs.
+pub(super) fn print_hil(runs: &[(usize, LabRun)]) {
+    let mut places: std::collections::BTreeMap<usize, (String, HilReport, usize)> =
+        std::collections::BTreeMap::new();
+    for (_, r) in runs {
+        for h in &r.report.hil {
+            let e = places
+                .entry(h.robot)
+                .or_insert_with(|| (h.transport.clone(), HilReport::default(), 0));
+            e.1.frames_sent += h.frames_sent;
+            e.1.frames_received += h.frames_received;
+            e.1.link_errors += h.link_errors;
+            e.1.tx += h.tx;
+            e.1.hello_ms = e.1.hello_ms.max(h.hello_ms);
+            e.1.bytes_sent += h.bytes_sent;
+            e.1.bytes_received += h.bytes_received;
+            // The mean over runs, weighted by round trips.
+            let trips = e.1.round_trips + h.round_trips;
+            if let Some(mean) = (e.1.rtt_mean_us * e.1.round_trips + h.rtt_mean_us * h.round_trips)
+                .checked_div(trips)
+            {
+                e.1.rtt_mean_us = mean;
+            }
+            e.1.round_trips = trips;
+            e.1.rtt_max_us = e.1.rtt_max_us.max(h.rtt_max_us);
+            e.2 += 1;
+        }
+    }
+    for (robot, (transport, h, n)) in places {
+        println!(
+            "robot {robot} in the loop over {transport}: {n} runs, {} link frames ({} B) sent to it, {} ({} B) received with {} light frames, {} link errors; hello within {} ms, heartbeat round trip {:.2} ms mean, {:.2} ms max",
+            h.frames_sent,
+            h.bytes_sent,
+            h.frames_received,
+            h.bytes_received,
+            h.tx,
+            h.link_errors,
+            h.hello_ms,
+            h.rtt_mean_us as f64 / 1000.0,
+            h.rtt_max_us as f64 / 1000.0
+        );
+    }
+}
+
+/// The options of `args` a replay repeats (after `--runs 1`).
+pub(super) fn replay_extra(args: &ArenaArgs) -> String {
+    let mut extra = String::new();
+    for h in &args.hil {
+        extra += &format!(" --hil {}", hil_spec_str(h));
+    }
+    if !args.hil_at.is_empty() {
+        let at: Vec<String> = args.hil_at.iter().map(usize::to_string).collect();
+        extra += &format!(" --hil-at {}", at.join(","));
+    }
+    if let Some(c) = args.cycle {
+        extra += &format!(" --cycle {c}");
+    }
+    if let Some(d) = args.duration {
+        extra += &format!(" --duration {d}");
+    }
+    if args.decide != Decide::Fixed {
+        extra += " --decide adaptive";
+    }
+    if args.loss > 0.0 {
+        extra += &format!(" --loss {}", args.loss);
+    }
+    match args.readings() {
+        Readings::Levels => {}
+        Readings::Binary => extra += " --binary-readings",
+        r => extra += &format!(" --readings {r}"),
+    }
+    extra
+}
+
+/// `--hil`'s spec as typed.
+fn hil_spec_str(h: &HilSpec) -> String {
+    match h {
+        HilSpec::Qemu(n) => format!("qemu:{n}"),
+        HilSpec::Loopback(n) => format!("loopback:{n}"),
+        HilSpec::Serial(p, b) => format!("serial:{}@{b}", p.display()),
+        HilSpec::Tcp(a) => format!("tcp:{a}"),
+    }
+}
+
+/// One line on stderr per failed or crashed run (each failed run with the `--lights` options
+/// that replay it, [`replay_lights`]), with the command that replays it.
+pub(super) fn print_failures(
+    args: &ArenaArgs,
+    failures: &[(&LabRun, String)],
+    crashed: &[(usize, Crashed)],
+) {
+    let extra = replay_extra(args);
+    for (r, lights) in failures {
+        let flicker = r
+            .flicker
+            .map(|(t, robot)| {
+                format!("; robot {robot}'s LEDs changed at {t:.0} s, after consensus")
+            })
+            .unwrap_or_default();
+        eprintln!(
+            "FAILED {} seed {}: LEDs {}, expected {}{flicker} (replay: cimax arena {lights} --seed {} --runs 1{extra})",
+            pattern_str(&r.lights),
+            r.seed,
+            leds_str(&r.leds),
+            r.expected.as_deref().map(leds_str).unwrap_or_default(),
+            r.seed
+        );
+    }
+    for (_, c) in crashed {
+        eprintln!("{}", c.failed_line(&extra));
+    }
+}
+
+/// A run in which a robot stopped on its own ([`hal_emu::ArenaError::Robot`]: its task panicked, or it
+/// could not boot). It has no LEDs worth judging: it failed.
+pub(super) struct Crashed {
+    /// The pattern at the end of the run (what a judged run reports as its lights).
+    lights: Vec<bool>,
+    /// The LEDs the run should have ended with, if its pattern has a verdict.
+    expected: Option<Vec<LedColor>>,
+    /// Which robot, why, and the seed.
+    failure: RobotFailure,
+    /// The options that replay it ([`replay_lights`]).
+    replay: String,
+}
+
+impl Crashed {
+    pub(super) fn new(cfg: &ArenaConfig, failure: RobotFailure) -> Self {
+        let end = Instant::ZERO + cfg.duration;
+        let lights = cfg
+            .env
+            .pattern_at(end)
+            .map(<[bool]>::to_vec)
+            .unwrap_or_default();
+        let expected = hal_emu::judge::expected_without(&lights, &hal_emu::judge::absent(cfg));
+        Crashed {
+            lights,
+            expected,
+            failure,
+            replay: replay_lights(cfg),
+        }
+    }
+
+    /// The `FAILED` line on stderr, like a judged run's, with the command that replays it.
+    fn failed_line(&self, extra: &str) -> String {
+        let (lights, seed) = (pattern_str(&self.lights), self.failure.seed);
+        format!(
+            "FAILED {lights} seed {seed}: {}, expected {} (replay: cimax arena {} --seed {seed} --runs 1{extra})",
+            self.failure.what(),
+            self.expected.as_deref().map(leds_str).unwrap_or_default(),
+            self.replay,
+        )
+    }
+
+    /// The run in the `--json` report: no LEDs, not a success, and the error.
+    fn json(&self) -> JsonRun {
+        JsonRun {
+            lights: pattern_str(&self.lights),
+            expected: self.expected.as_deref().map(leds_str),
+            leds: String::new(),
+            success: false,
+            consensus_s: None,
+            seed: self.failure.seed,
+            emulated_s: 0.0,
+            wall_s: 0.0,
+            error: Some(self.failure.what()),
+            hil: Vec::new(),
+        }
+    }
+}
+
+/// What the LEDs of a run of `cfg` should show: the verdict of its pattern, or of each pattern
+/// in turn where the pattern changes (`LLLL>RRRR`); `(none)` for a pattern without a verdict.
+pub(super) fn expected_str(cfg: &ArenaConfig) -> String {
+    let absent = hal_emu::judge::absent(cfg);
+    cfg.env
+        .schedule
+        .iter()
+        .map(|(_, p)| {
+            hal_emu::judge::expected_without(p, &absent).map_or("(none)".into(), |e| leds_str(&e))
+        })
+        .collect::<Vec<_>>()
+        .join(">")
+}
+
+/// The table of every experiment: expected LEDs, the LEDs of each run, success, mean time to
+/// consensus and speed.
+pub(super) fn print_table(
+    args: &ArenaArgs,
+    experiments: &[Experiment],
+    runs: &[(usize, LabRun)],
+    crashed: &[(usize, Crashed)],
+) {
+    let cycle_s = args
+        .cycle
+        .unwrap_or(Params::robots().wave.cycle.as_secs_f64());
+    println!(
+        "CIMAX lab arena: robots in a line running the robot program over the emulated light medium{}",
+        match args.readings() {
+            Readings::Binary => "; binary readings (g = 1 lit, 0 dark)".to_string(),
+            Readings::Levels => String::new(),
+            r => format!("; readings {r}"),
+        }
+    );
+    println!(
+        "{:<12} {:<10} {:<36} {:>8} {:>24} {:>9}",
+        "pattern", "expected", "LEDs per run", "success", "consensus s (cycles)", "speed"
+    );
+    for (i, e) in experiments.iter().enumerate() {
+        let rs: Vec<&LabRun> = runs
+            .iter()
+            .filter(|(j, _)| *j == i)
+            .map(|(_, r)| r)
+            .collect();
+        let crashes: Vec<&Crashed> = crashed
+            .iter()
+            .filter(|(j, _)| *j == i)
+            .map(|(_, c)| c)
+            .collect();
+        let ok = rs.iter().filter(|r| r.success).count();
+        let times: Vec<f64> = rs.iter().filter_map(|r| r.consensus_s).collect();
+        let mean = host_sim::stats::mean(&times);
+        let speed: f64 = rs
+            .iter()
+            .map(|r| r.report.emulated.as_secs_f64())
+            .sum::<f64>()
+            / rs.iter()
+                .map(|r| r.report.wall.as_secs_f64())
+                .sum::<f64>()
+                .max(1e-9);
+        let mut leds: Vec<String> = rs.iter().map(|r| leds_str(&r.leds)).collect();
+        leds.extend(crashes.iter().map(|_| "crashed".to_string()));
+        let exp = e
+            .configs
+            .first()
+            .map_or_else(|| "(none)".into(), expected_str);
+        // A crashed run is a failure whatever its pattern.
+        let success = if crashes.is_empty() && rs.iter().all(|r| r.expected.is_none()) {
+            "n/a".to_string()
+        } else {
+            let n = rs.len() + crashes.len();
+            format!("{:.0}%", 100.0 * ok as f64 / n.max(1) as f64)
+        };
+        let consensus = mean.map_or("-".into(), |m| format!("{m:.0} ({:.1})", m / cycle_s));
+        println!(
+            "{:<12} {:<10} {:<36} {:>8} {:>24} {:>8.0}x",
+            e.label,
+            exp,
+            leds.join(" "),
+            success,
+            consensus,
+            speed
+        );
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hal_emu::judge::parse_pattern;
+    use protocol::Duration;
+
+    #[test]
+    fn a_run_in_which_a_robot_panicked_is_reported_failed_with_its_replay() {
+        // What `judge` returns when robot 1's task panics (hal-emu's arena tests inject one);
+        // `main` keeps it as a crashed run instead of stopping every run.
+        let mut cfg = ArenaConfig::line(
+            parse_pattern("1100").unwrap(),
+            1.0,
+            Duration::from_secs(2101),
+            42,
+        );
+        cfg.env
+            .schedule
+            .push((Instant::from_secs(2101), parse_pattern("0011").unwrap()));
+        cfg.duration = Duration::from_secs(4202);
+        let c = Crashed::new(
+            &cfg,
+            RobotFailure {
+                robot: 1,
+                seed: 42,
+                panicked: true,
+                message: "attempt to subtract with overflow".into(),
+            },
+        );
+        assert_eq!(
+            c.failed_line(" --decide adaptive"),
+            "FAILED 0011 seed 42: robot 1 panicked: attempt to subtract with overflow, expected \
+             RRLL (replay: cimax arena --lights 1100 --switch-at 2101 --then 0011 --seed 42 --runs 1 \
+             --decide adaptive)"
+        );
+        let json = serde_json::to_value(c.json()).unwrap();
+        assert_eq!(json["success"], false);
+        assert_eq!(json["seed"], 42);
+        assert_eq!(
+            json["error"],
+            "robot 1 panicked: attempt to subtract with overflow"
+        );
+        // A judged run's JSON has no `error` key.
+        let mut judged = c.json();
+        judged.error = None;
+        assert!(serde_json::to_value(judged).unwrap().get("error").is_none());
+    }
+}

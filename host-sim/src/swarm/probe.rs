@@ -15,9 +15,10 @@
 use nalgebra::Point2;
 use rayon::prelude::*;
 
+use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::stats;
-use crate::swarm::experiment::{Error, Progress, RunOutput, run_tapped};
+use crate::swarm::experiment::{Error, RunOutput, run_tapped};
 use crate::swarm::geometry::Swarm;
 use crate::swarm::scenario::Scenario;
 use crate::swarm::sim::Tap;

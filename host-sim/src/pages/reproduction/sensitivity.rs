@@ -79,19 +79,43 @@ pub(super) fn cell(p: &SweepPoint) -> String {
     )
 }
 
-/// The knobs the paper leaves open, one at a time: success from [`SENS_X`] against each, the
-/// gradient's diversity against its slope, and the perception edge of a smaller swarm.
+/// The sensitivity stage: success against each knob the paper leaves open (cycle, period,
+/// diffusion, noise), the gradient's diversity against its slope, and the perception edge of a
+/// smaller swarm; writes the `sensitivity-*.svg` figures.
+///
+/// # Errors
+/// If a run fails or a figure cannot be written.
 pub(super) fn sensitivity(
     st: &mut Stage<'_>,
     main: Placement,
     sharp: &Scenario,
     gradient: &Scenario,
 ) -> Result<SensitivitySection, Error> {
-    let sharp_o = builtin_placed(&sharp.name, main.other())?;
-    let gradient_o = builtin_placed(&gradient.name, main.other())?;
-    let name = |s: &Scenario, p: Placement| format!("{}, {p}", s.name);
-    let mut tables = Vec::new();
-    let specs: [SensSpec; 4] = [
+    let tables = knob_tables(st, main, sharp, gradient)?;
+    let slope_rows = slope_rows(st, main, gradient)?;
+    let extent = extent_rows(st, main, sharp, gradient)?;
+    let edge = |k: usize| extent[k].edge_se.map_or(0.0, |e| e.0);
+    let extent_big_matches = {
+        use crate::pages::{claims::Id, verdict::Verdict};
+        verdicts::edge_verdict(extent[0].edge_se, Id::SharpEdge) == Verdict::Reproduced
+            && verdicts::edge_verdict(extent[2].edge_se, Id::GradientEdge) == Verdict::Reproduced
+    };
+    let extent_small_shorter = edge(1) < edge(0) && edge(3) < edge(2);
+    Ok(SensitivitySection {
+        extent_big_matches,
+        extent_small_shorter,
+        runs: SENS_RUNS,
+        x: SENS_X.to_string(),
+        tables,
+        slope_rows,
+        extent_runs: EXTENT_RUNS,
+        extent,
+    })
+}
+
+/// The knobs of the sensitivity tables: key, axis, values, log axis, both placements.
+fn knob_specs() -> [SensSpec; 4] {
+    [
         (
             "cycle",
             "cycle length t_p^max / s",
@@ -126,8 +150,22 @@ pub(super) fn sensitivity(
             false,
             false,
         ),
-    ];
-    for (k, (key, what, values, log_x, both_placements)) in specs.into_iter().enumerate() {
+    ]
+}
+
+/// One table and figure per knob of [`knob_specs`]: success from [`SENS_X`] per value, per
+/// field (and placement, for the cycle).
+fn knob_tables(
+    st: &mut Stage<'_>,
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+) -> Result<Vec<SensTable>, Error> {
+    let sharp_o = builtin_placed(&sharp.name, main.other())?;
+    let gradient_o = builtin_placed(&gradient.name, main.other())?;
+    let name = |s: &Scenario, p: Placement| format!("{}, {p}", s.name);
+    let mut tables = Vec::new();
+    for (k, (key, what, values, log_x, both_placements)) in knob_specs().into_iter().enumerate() {
         let mut cases: Vec<(String, &Scenario)> =
             vec![(name(sharp, main), sharp), (name(gradient, main), gradient)];
         if both_placements {
@@ -141,39 +179,12 @@ pub(super) fn sensitivity(
         );
         let mut results = Vec::new();
         for (j, (_, scn)) in cases.iter().enumerate() {
-            results.push(success_against(
-                scn,
-                &knobs,
-                SENS_X,
-                SENS_RUNS,
-                st.seed(500 + 10 * k as u64 + j as u64),
-                &p,
-            )?);
+            let seed = st.seed(500 + 10 * k as u64 + j as u64);
+            results.push(success_against(scn, &knobs, SENS_X, SENS_RUNS, seed, &p)?);
         }
         st.done(&p);
-        let lines: Vec<Line> = cases
-            .iter()
-            .zip(&results)
-            .map(|((label, _), pts)| Line {
-                label: label.clone(),
-                points: values
-                    .iter()
-                    .zip(pts)
-                    .map(|(v, p)| (v.0, p.success_rate(), 0.0))
-                    .collect(),
-            })
-            .collect();
         let figure = format!("sensitivity-{key}.svg");
-        plot::xy_figure(
-            &st.figs.join(&figure),
-            &format!("success from x = {SENS_X} against the {key}, {SENS_RUNS} runs per point"),
-            what,
-            "success rate",
-            &lines,
-            (0.0, 1.05),
-            &[],
-            log_x,
-        )?;
+        knob_figure(st, &figure, key, what, &cases, &values, &results, log_x)?;
         tables.push(SensTable {
             key,
             what,
@@ -190,8 +201,53 @@ pub(super) fn sensitivity(
                 .collect(),
         });
     }
+    Ok(tables)
+}
 
-    // The gradient's slope: success from SENS_X and the diversity at the success line.
+/// One knob's figure: success against the knob's value, one line per case.
+#[allow(clippy::too_many_arguments)]
+fn knob_figure(
+    st: &Stage<'_>,
+    figure: &str,
+    key: &str,
+    what: &str,
+    cases: &[(String, &Scenario)],
+    values: &[(f64, Knob)],
+    results: &[Vec<SweepPoint>],
+    log_x: bool,
+) -> Result<(), Error> {
+    let lines: Vec<Line> = cases
+        .iter()
+        .zip(results)
+        .map(|((label, _), pts)| Line {
+            label: label.clone(),
+            points: values
+                .iter()
+                .zip(pts)
+                .map(|(v, p)| (v.0, p.success_rate(), 0.0))
+                .collect(),
+        })
+        .collect();
+    plot::xy_figure(
+        &st.figs.join(figure),
+        &format!("success from x = {SENS_X} against the {key}, {SENS_RUNS} runs per point"),
+        what,
+        "success rate",
+        &lines,
+        (0.0, 1.05),
+        &[],
+        log_x,
+    )?;
+    Ok(())
+}
+
+/// The gradient's slope: success from [`SENS_X`] and the diversity at the success line, per
+/// slope; writes `sensitivity-slope.svg`.
+fn slope_rows(
+    st: &mut Stage<'_>,
+    main: Placement,
+    gradient: &Scenario,
+) -> Result<Vec<[String; 4]>, Error> {
     let slopes = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0];
     let knobs: Vec<Knob> = slopes.iter().map(|&k| Knob::Slope(k)).collect();
     let p = st.start(
@@ -207,13 +263,8 @@ pub(super) fn sensitivity(
     let mut div_line = Vec::new();
     for (k, knob) in knobs.iter().enumerate() {
         let s = knob.apply(gradient)?;
-        let (m, se) = diversity_at(
-            &s,
-            Point2::new(line_x, 0.0),
-            SENS_RUNS,
-            st.seed(560 + k as u64),
-            &p,
-        )?;
+        let at = Point2::new(line_x, 0.0);
+        let (m, se) = diversity_at(&s, at, SENS_RUNS, st.seed(560 + k as u64), &p)?;
         div_line.push((slopes[k], m, se));
         slope_rows.push([
             slopes[k].to_string(),
@@ -238,8 +289,17 @@ pub(super) fn sensitivity(
         &[],
         false,
     )?;
+    Ok(slope_rows)
+}
 
-    // The swarm's extent: 3 R against 2.5 R, the heading of the first move against x.
+/// The swarm's extent: 6 R against 5 R across, the heading of the first move against the
+/// start and its edge, per field; writes `sensitivity-extent.svg`.
+fn extent_rows(
+    st: &mut Stage<'_>,
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+) -> Result<Vec<ExtentRow>, Error> {
     let xs = refined(
         (1..=9).map(|k| -0.5 * f64::from(k)).rev().collect(),
         &EXTENT_REFINED,
@@ -253,30 +313,21 @@ pub(super) fn sensitivity(
     for (k, scn) in [sharp, gradient].into_iter().enumerate() {
         for (j, d) in [6.0, 5.0].into_iter().enumerate() {
             let s = Knob::Extent(d).apply(scn)?;
-            let prof = heading_against_x(
-                &s,
-                &xs,
-                EXTENT_RUNS,
-                st.seed(570 + 2 * k as u64 + j as u64),
-                &p,
-            )?;
-            let mut prof = prof;
+            let seed = st.seed(570 + 2 * k as u64 + j as u64);
+            let mut prof = heading_against_x(&s, &xs, EXTENT_RUNS, seed, &p)?;
             prof.sort_by(|a, b| a.0.total_cmp(&b.0));
             let edge = extent_edge(&prof);
+            let id = [
+                crate::pages::claims::Id::SharpEdge,
+                crate::pages::claims::Id::GradientEdge,
+            ][k];
             extent.push(ExtentRow {
                 field: scn.name.clone(),
                 diameter: d.to_string(),
                 agents: s.agents,
                 edge: edge.map(|e| format!("{} ± {}", fixed(e.0, 2), fixed(e.1, 2))),
                 edge_se: edge,
-                verdict: verdicts::edge_verdict(
-                    edge,
-                    [
-                        crate::pages::claims::Id::SharpEdge,
-                        crate::pages::claims::Id::GradientEdge,
-                    ][k],
-                )
-                .words(),
+                verdict: verdicts::edge_verdict(edge, id).words(),
             });
             lines.push(Line {
                 label: format!("{}, diameter {d} R ({} agents)", scn.name, s.agents),
@@ -297,21 +348,5 @@ pub(super) fn sensitivity(
         &marks::extent(),
         false,
     )?;
-    let edge = |k: usize| extent[k].edge_se.map_or(0.0, |e| e.0);
-    let extent_big_matches = {
-        use crate::pages::{claims::Id, verdict::Verdict};
-        verdicts::edge_verdict(extent[0].edge_se, Id::SharpEdge) == Verdict::Reproduced
-            && verdicts::edge_verdict(extent[2].edge_se, Id::GradientEdge) == Verdict::Reproduced
-    };
-    let extent_small_shorter = edge(1) < edge(0) && edge(3) < edge(2);
-    Ok(SensitivitySection {
-        extent_big_matches,
-        extent_small_shorter,
-        runs: SENS_RUNS,
-        x: SENS_X.to_string(),
-        tables,
-        slope_rows,
-        extent_runs: EXTENT_RUNS,
-        extent,
-    })
+    Ok(extent)
 }

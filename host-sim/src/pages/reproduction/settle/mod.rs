@@ -28,7 +28,7 @@ use crate::swarm::probe::{Tapped, tapped_runs};
 use crate::swarm::scenario::{Placement, Scenario};
 
 /// First stage of this section's seeds (clear of the other stages of `reproduce`).
-const STAGE: u64 = 500;
+const STAGE: u64 = 600;
 
 /// The section as its template (`reproduction/settle.md.j2`) sees it.
 #[derive(Serialize)]

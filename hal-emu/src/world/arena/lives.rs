@@ -3,22 +3,22 @@
 //! world; its protocol events go into the trace ([`Tracer`]). Every life draws from RNGs seeded
 //! from the run's seed, its robot and its number ([`rng`]).
 
-use std::cell::{Cell, RefCell};
+use std::cell::RefCell;
 use std::rc::Rc;
 
 use embassy_futures::select::select;
 use firmware::{Clock, Config, Hardware, Observer, Robot, SetupError, Stats};
-use nalgebra::Vector2;
 use protocol::fused::NodeStats;
 use protocol::wave::WaveStats;
 use protocol::{Event, FusedNode, Instant, Sector, WaveState};
 use rand_pcg::Pcg32;
 use tokio::sync::oneshot;
 
-use crate::board::leds::{EmuLeds, LedLog};
+use super::camera::LedLog;
+use crate::board::clock::EmuClock;
+use crate::board::leds::EmuLeds;
 use crate::board::sensor::EmuSensor;
-use crate::world::clock::EmuClock;
-use crate::world::env::Environment;
+use crate::world::env::SwarmEnv;
 use crate::world::hil::{
     Bridge, HilReport, HilRobot, HilTimeouts, Transport, setup_of, setup_seed,
 };
@@ -29,14 +29,13 @@ use crate::world::medium::{Medium, SharedMedium, TraceEvent};
 pub(super) struct Shared {
     pub(super) medium: SharedMedium,
     pub(super) clock: EmuClock,
-    pub(super) env: Rc<Environment>,
+    /// The environment, and where the swarm is over a plane field.
+    pub(super) surroundings: Rc<SwarmEnv>,
     pub(super) leds: Rc<LedLog>,
     pub(super) config: Config,
     pub(super) configs: Vec<Option<Config>>,
     pub(super) ids: Option<Vec<u16>>,
     pub(super) seed: u64,
-    /// The swarm's displacement over a plane field.
-    pub(super) offset: Rc<Cell<Vector2<f64>>>,
     /// Robots in the loop, and how long to wait for them.
     pub(super) hil: Vec<HilRobot>,
     pub(super) hil_timeouts: HilTimeouts,
@@ -166,12 +165,11 @@ async fn life_of<const N: usize>(
         .map_err(|rx| format!("the medium gave {} receivers for {N} sectors", rx.len()))?;
     let clock = shared.clock;
     let sensor = EmuSensor::new(
-        shared.env.clone(),
+        shared.surroundings.clone(),
         robot,
         clock,
         rng(shared.seed, RNG_SENSOR, robot, life),
-    )
-    .moving_with(shared.offset.clone());
+    );
     let leds = EmuLeds::new(shared.leds.clone(), robot);
     let mut hw = Hardware {
         transmitter: tx,
@@ -235,12 +233,11 @@ async fn in_the_loop(
         transmitter: Some(tx),
         receivers: rx,
         sensor: EmuSensor::new(
-            shared.env.clone(),
+            shared.surroundings.clone(),
             robot,
             clock,
             rng(shared.seed, RNG_SENSOR, robot, life),
-        )
-        .moving_with(shared.offset.clone()),
+        ),
         leds: EmuLeds::new(shared.leds.clone(), robot),
         config,
         setup: setup_of(&config, setup_seed(seed)),

@@ -17,21 +17,20 @@
 //! - `schedule.rs`: kills, restarts and pattern changes in time order, carried out on the
 //!   robots' lives;
 //! - `motion.rs`: the swarm's moves over a plane field ([`Motion`], [`swarm_heading`]);
-//! - `camera.rs`: the LED record ([`LedChange`]);
+//! - `camera.rs`: the LED record ([`LedChange`]), the board's camera;
 //! - `report.rs` and `error.rs`: what a run gives ([`RunReport`]) or why it has no result
 //!   ([`ArenaError`], [`RobotFailure`]).
 
-use std::cell::{Cell, RefCell};
+use std::cell::RefCell;
 use std::rc::Rc;
 
 use embassy_futures::select::{Either, select};
 use firmware::SetupError;
-use nalgebra::Vector2;
 use protocol::{Duration, Instant};
 
-use crate::board::leds::LedLog;
+use crate::board::clock::EmuClock;
 use crate::world::adversary;
-use crate::world::clock::EmuClock;
+use crate::world::env::SwarmEnv;
 use crate::world::medium::Medium;
 
 mod camera;
@@ -43,7 +42,6 @@ mod report;
 mod schedule;
 
 pub use camera::LedChange;
-pub(crate) use camera::leds_at;
 pub use config::ArenaConfig;
 pub use error::{ArenaError, RobotFailure};
 pub use motion::{Motion, Move, swarm_heading};
@@ -234,8 +232,8 @@ fn world(cfg: &ArenaConfig) -> Rc<Shared> {
     Rc::new(Shared {
         medium: medium.clone(),
         clock,
-        env: Rc::new(cfg.env.clone()),
-        leds: Rc::new(LedLog::new(clock, medium.clone())),
+        surroundings: Rc::new(SwarmEnv::new(Rc::new(cfg.env.clone()))),
+        leds: Rc::new(camera::LedLog::new(clock, medium.clone())),
         config: cfg.robot,
         configs: cfg.configs.clone(),
         ids: cfg.ids.clone(),
@@ -244,9 +242,6 @@ fn world(cfg: &ArenaConfig) -> Rc<Shared> {
         hil_timeouts: cfg.hil_timeouts,
         failed: Rc::new(tokio::sync::Notify::new()),
         hil_reports: RefCell::new(Vec::new()),
-        offset: Rc::new(Cell::new(
-            cfg.env.field.as_ref().map_or(Vector2::zeros(), |f| f.start),
-        )),
     })
 }
 

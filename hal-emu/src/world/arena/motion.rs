@@ -63,7 +63,7 @@ pub fn swarm_heading(leds: &[LedColor], sectors: u8) -> (Option<f64>, f64) {
 
 /// Moves the swarm every `motion.period` along the heading of the LEDs, for ever.
 pub(super) async fn mover(shared: Rc<Shared>, motion: Motion, moves: Rc<RefCell<Vec<Move>>>) {
-    let Some(plane) = shared.env.field.clone() else {
+    let Some(plane) = shared.surroundings.env().field.clone() else {
         return;
     };
     let sectors = shared.config.params.sectors;
@@ -74,7 +74,7 @@ pub(super) async fn mover(shared: Rc<Shared>, motion: Motion, moves: Rc<RefCell<
         shared.clock.sleep_until(t).await;
         let leds = shared.leds.now(n);
         let (heading, consensus) = swarm_heading(&leds, sectors);
-        let offset = shared.offset.get();
+        let offset = shared.surroundings.offset();
         let centre = plane.centre(offset);
         moves.borrow_mut().push(Move {
             t,
@@ -91,8 +91,8 @@ pub(super) async fn mover(shared: Rc<Shared>, motion: Motion, moves: Rc<RefCell<
         });
         if let Some(h) = heading {
             shared
-                .offset
-                .set(offset + Vector2::new(h.cos(), h.sin()) * motion.step);
+                .surroundings
+                .set_offset(offset + Vector2::new(h.cos(), h.sin()) * motion.step);
         }
     }
 }

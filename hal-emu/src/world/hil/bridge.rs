@@ -16,10 +16,10 @@ use tokio::task::JoinHandle;
 use super::ends::LinkEnds;
 use super::link::open;
 use super::transport::Transport;
+use crate::board::clock::EmuClock;
 use crate::board::leds::EmuLeds;
 use crate::board::light::{EmuReceiver, EmuTransmitter};
 use crate::board::sensor::EmuSensor;
-use crate::world::clock::EmuClock;
 
 /// What the bridge of one robot needs from the run.
 pub(crate) struct Bridge {

@@ -8,8 +8,8 @@ use firmware::hil::robot::Link;
 use rand_pcg::Pcg32;
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender};
 
+use crate::board::clock::EmuClock;
 use crate::board::light::EmuReceiver;
-use crate::world::clock::EmuClock;
 
 /// The robot program in this process, over the link (`firmware::hil::robot::run`), with as
 /// many receivers as `base` has sectors.

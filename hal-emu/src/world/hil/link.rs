@@ -10,7 +10,7 @@ use super::in_process::in_process;
 use super::qemu;
 use super::serial::serial;
 use super::transport::Transport;
-use crate::world::clock::EmuClock;
+use crate::board::clock::EmuClock;
 
 /// Opens the link to one robot over `transport`, and asks the robot who it is (an in-process
 /// robot runs on `clock`, with `base` as the configuration its image would have).

@@ -25,9 +25,9 @@
 //! All randomness comes from the medium's own seeded RNG, drawn in the deterministic order of
 //! the current-thread runtime.
 //!
-//! This is the world's side of the light. A robot's side, its transmitter and receivers, is
-//! the board's ([`crate::board::light`]); [`Medium::attach`] hands them out. Every event is
-//! traced ([`trace`]).
+//! This is the world's side of the light: the medium is the board's [`Air`]. A robot's side,
+//! its transmitter and receivers, is the board's ([`crate::board::light`]);
+//! [`Medium::attach`] hands them out. Every event is traced ([`trace`]).
 
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -40,8 +40,8 @@ use rand_pcg::Pcg32;
 use serde::Serialize;
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
-use crate::board::light::{EmuReceiver, EmuTransmitter};
-use crate::world::clock::EmuClock;
+use crate::board::clock::EmuClock;
+use crate::board::light::{Air, EmuReceiver, EmuTransmitter};
 
 pub mod trace;
 
@@ -384,7 +384,8 @@ impl Medium {
             .unzip();
         node.inboxes = senders;
         node.alive = true;
-        Ok((EmuTransmitter::new(this.clone(), robot), receivers))
+        let transmitter = EmuTransmitter::new(Box::new(this.clone()), m.clock, robot);
+        Ok((transmitter, receivers))
     }
 
     /// Robot `robot` dies: it hears nothing more until attached again.
@@ -625,6 +626,13 @@ impl Medium {
         if let Some(inbox) = m.nodes[a.to].inboxes.get(usize::from(a.sector)) {
             let _ = inbox.send(a.bytes);
         }
+    }
+}
+
+/// A robot's transmitter ([`EmuTransmitter`]) sends its frames into the medium.
+impl Air for SharedMedium {
+    fn transmit(&self, robot: usize, frame: &[u8]) -> Instant {
+        Medium::transmit(self, robot, frame, Emission::Frame)
     }
 }
 

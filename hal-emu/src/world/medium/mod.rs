@@ -557,7 +557,6 @@ impl Medium {
             return;
         };
         let mut a = m.pending.swap_remove(i);
-        let t_ms = a.end.as_millis();
         if !m.nodes[a.to].alive {
             return m.dropped(a.end, a.to, a.from, DropReason::ReceiverDead);
         }
@@ -566,56 +565,50 @@ impl Medium {
         }
         let garbled = a.fate == Fate::Collided;
         let to_robot = m.nodes[a.to].role == Role::Robot;
+        if garbled && to_robot {
+            m.stats.garbled += 1;
+        }
+        let corrupted = m.damage(&mut a.bytes, garbled);
+        if to_robot {
+            m.received(a, garbled, corrupted);
+        } else {
+            m.captured(a, garbled, corrupted);
+        }
+    }
+
+    /// What the light does to `bytes` on the way: if `garbled` by a collision, about half of
+    /// them replaced by noise; then each corrupted at the byte error rate. Returns how many
+    /// were corrupted.
+    fn damage(&mut self, bytes: &mut [u8], garbled: bool) -> u32 {
         if garbled {
-            if to_robot {
-                m.stats.garbled += 1;
-            }
-            for b in a.bytes.iter_mut() {
-                if m.rng.random_bool(0.5) {
-                    *b = m.rng.random();
+            for b in bytes.iter_mut() {
+                if self.rng.random_bool(0.5) {
+                    *b = self.rng.random();
                 }
             }
         }
         let mut corrupted = 0u32;
-        if m.params.byte_error_rate > 0.0 {
-            for b in a.bytes.iter_mut() {
-                if m.rng.random_bool(m.params.byte_error_rate) {
-                    *b ^= m.rng.random_range(1..=255u8);
+        if self.params.byte_error_rate > 0.0 {
+            for b in bytes.iter_mut() {
+                if self.rng.random_bool(self.params.byte_error_rate) {
+                    *b ^= self.rng.random_range(1..=255u8);
                     corrupted += 1;
                 }
             }
         }
-        let from_robot = m.nodes[a.from].role == Role::Robot;
-        if !to_robot {
-            let kept = from_robot && !garbled && corrupted == 0;
-            if kept {
-                m.stats.captured += 1;
-            } else {
-                m.stats.capture_missed += 1;
-            }
-            m.log(TraceEvent::Captured {
-                t_ms,
-                node: a.to,
-                from: a.from,
-                len: a.bytes.len(),
-                kept,
-            });
-            if let (true, Some(c)) = (kept, &m.nodes[a.to].captures) {
-                let _ = c.send(Capture {
-                    t: a.end,
-                    from: a.from,
-                    bytes: a.bytes,
-                });
-            }
-            return;
+        corrupted
+    }
+
+    /// Arrival `a` reaches a robot's receiver: counted, traced and put into the receiver's
+    /// inbox.
+    fn received(&mut self, a: Arrival, garbled: bool, corrupted: u32) {
+        self.stats.corrupted_bytes += u64::from(corrupted);
+        self.stats.delivered += 1;
+        if self.nodes[a.from].role != Role::Robot {
+            self.stats.adversary_delivered += 1;
         }
-        m.stats.corrupted_bytes += u64::from(corrupted);
-        m.stats.delivered += 1;
-        if !from_robot {
-            m.stats.adversary_delivered += 1;
-        }
-        m.log(TraceEvent::Received {
-            t_ms,
+        self.log(TraceEvent::Received {
+            t_ms: a.end.as_millis(),
             robot: a.to,
             from: a.from,
             sector: a.sector,
@@ -623,8 +616,32 @@ impl Medium {
             garbled,
             corrupted,
         });
-        if let Some(inbox) = m.nodes[a.to].inboxes.get(usize::from(a.sector)) {
+        if let Some(inbox) = self.nodes[a.to].inboxes.get(usize::from(a.sector)) {
             let _ = inbox.send(a.bytes);
+        }
+    }
+
+    /// Arrival `a` reaches a replayer: kept for replay if a robot sent it and it came intact.
+    fn captured(&mut self, a: Arrival, garbled: bool, corrupted: u32) {
+        let kept = self.nodes[a.from].role == Role::Robot && !garbled && corrupted == 0;
+        if kept {
+            self.stats.captured += 1;
+        } else {
+            self.stats.capture_missed += 1;
+        }
+        self.log(TraceEvent::Captured {
+            t_ms: a.end.as_millis(),
+            node: a.to,
+            from: a.from,
+            len: a.bytes.len(),
+            kept,
+        });
+        if let (true, Some(c)) = (kept, &self.nodes[a.to].captures) {
+            let _ = c.send(Capture {
+                t: a.end,
+                from: a.from,
+                bytes: a.bytes,
+            });
         }
     }
 }

@@ -1,5 +1,5 @@
 //! The robot's end of the HIL link (`firmware::hil::robot::run`) against a scripted host, over
-//! two in-memory pipes, under tokio's paused clock. The host's real end (`hal_emu::hil`) is
+//! two in-memory pipes, under tokio's paused clock. The host's real end (`hal_emu::world::hil`) is
 //! tested against it in `tests/tests/hil.rs`.
 
 use embassy_futures::select::{Either, select};

@@ -1,7 +1,7 @@
 //! The judge: the paper's lab experiment (section 4) as runs of the emulated world (robots in a
 //! line under a light pattern), and the check a person makes by looking at the top-cap LEDs.
 //! It only reads what a run reports ([`RunReport`]); the world and the board know nothing of
-//! it. Also reachable as `hal_emu::lab`, its former name.
+//! it.
 
 use firmware::LedColor;
 use protocol::{Duration, Instant};

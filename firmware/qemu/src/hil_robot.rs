@@ -3,7 +3,7 @@
 //! program ([`firmware::Robot::run`]) over the link of `docs/hil.md` on UART0 ([`uart`]), in
 //! wall-clock time (a 1 kHz SysTick, [`tick`]; run without `-icount`). It joins the emulated
 //! arena: `cimax arena --hil qemu:N` starts one QEMU process per robot, its UART0 a TCP client
-//! of the host (`hal_emu::hil::qemu_args`); its semihosting log goes to QEMU's stdout.
+//! of the host (`hal_emu::world::hil::qemu_args`); its semihosting log goes to QEMU's stdout.
 //!
 //! It says `Hello` until the host sends its `Setup`, then runs the robot with the setup's id,
 //! seed and timing; each new `Setup` restarts it afresh. A panic resets the board (the host

@@ -1,30 +1,42 @@
 //! The board's light: a robot's transmitter and its per-sector receivers, the firmware's
-//! byte streams ([`embedded_io_async::Write`] and [`Read`]) over the world's light medium
-//! ([`crate::world::medium`]).
+//! byte streams ([`embedded_io_async::Write`] and [`Read`]).
 //!
-//! A transmitter broadcasts each write as one frame and returns when its airtime is over; a
-//! receiver reads the bytes of the frames that reached its sector, one frame after the other.
-//! What happens on the way (range, airtime, collisions, loss) is the medium's business: these
-//! types only hand bytes over. [`Medium::attach`] makes them when a robot boots.
+//! A transmitter broadcasts each write as one frame into the [`Air`] and returns when its
+//! airtime is over; a receiver reads the bytes of the frames that reached its sector, one frame
+//! after the other, from a channel. What happens on the way (range, airtime, collisions, loss)
+//! is the world's business: the world's light medium implements [`Air`], makes these types
+//! when a robot boots and feeds the receivers' channels. These types only hand bytes over.
+
+use std::fmt;
 
 use embedded_io_async::{ErrorKind, ErrorType, Read, Write};
 use firmware::Clock;
+use protocol::Instant;
 use tokio::sync::mpsc::UnboundedReceiver;
 
-use crate::world::medium::{Emission, Medium, SharedMedium};
+use crate::board::clock::EmuClock;
+
+/// The light a robot's transmitter sends into, as the board sees it: the world's light medium
+/// implements it (`world::medium`).
+pub trait Air: fmt::Debug {
+    /// Starts robot `robot`'s transmission of `frame` now; returns when its airtime ends.
+    fn transmit(&self, robot: usize, frame: &[u8]) -> Instant;
+}
 
 /// A robot's light transmitter: an [`embedded_io_async::Write`] that broadcasts each write as
 /// one frame and returns when its airtime is over.
 #[derive(Debug)]
 pub struct EmuTransmitter {
-    medium: SharedMedium,
+    air: Box<dyn Air>,
+    clock: EmuClock,
     robot: usize,
 }
 
 impl EmuTransmitter {
-    /// Robot `robot`'s transmitter into `medium` ([`Medium::attach`] hands them out).
-    pub(crate) fn new(medium: SharedMedium, robot: usize) -> Self {
-        EmuTransmitter { medium, robot }
+    /// Robot `robot`'s transmitter into `air`, waiting out each frame's airtime on `clock`
+    /// (the world's medium hands them out when the robot boots).
+    pub(crate) fn new(air: Box<dyn Air>, clock: EmuClock, robot: usize) -> Self {
+        EmuTransmitter { air, clock, robot }
     }
 }
 
@@ -37,9 +49,8 @@ impl Write for EmuTransmitter {
         if buf.is_empty() {
             return Ok(0);
         }
-        let end = Medium::transmit(&self.medium, self.robot, buf, Emission::Frame);
-        let clock = self.medium.borrow().clock();
-        clock.sleep_until(end).await;
+        let end = self.air.transmit(self.robot, buf);
+        self.clock.sleep_until(end).await;
         Ok(buf.len())
     }
 
@@ -58,8 +69,8 @@ pub struct EmuReceiver {
 }
 
 impl EmuReceiver {
-    /// A receiver reading what the medium puts into `rx`, one frame per message
-    /// ([`Medium::attach`] hands them out).
+    /// A receiver reading what the world puts into `rx`, one frame per message (the world's
+    /// medium hands them out when the robot boots).
     pub(crate) fn new(rx: UnboundedReceiver<Vec<u8>>) -> Self {
         EmuReceiver {
             rx,

@@ -3,17 +3,22 @@
 //! else, so the unchanged robot program runs on it:
 //!
 //! - [`light`]: the light transmitter and the per-sector receivers
-//!   ([`embedded_io_async::Write`] and [`Read`](embedded_io_async::Read)), over the world's
-//!   light medium;
-//! - [`sensor`]: the environmental [`Sensor`](firmware::Sensor), reading the world's
-//!   environment;
-//! - [`leds`]: the top-cap [`Leds`](firmware::Leds), recorded as a camera would;
-//! - the [`Clock`](firmware::Clock) is the world's ([`crate::world::clock::EmuClock`]): every
-//!   robot of a run shares virtual time.
+//!   ([`embedded_io_async::Write`] and [`Read`](embedded_io_async::Read));
+//! - [`sensor`]: the environmental [`Sensor`](firmware::Sensor);
+//! - [`leds`]: the top-cap [`Leds`](firmware::Leds);
+//! - [`clock`]: the [`Clock`](firmware::Clock), virtual time on tokio's paused clock, one value
+//!   shared by every robot of a run and by the world around them.
 //!
-//! The world ([`crate::world`]) hands these out when a robot boots
-//! ([`Medium::attach`](crate::world::medium::Medium::attach), the run's boot of a robot).
+//! ## Layering
+//! The board is the bottom layer of hal-emu: it imports nothing of [`crate::world`]. What a
+//! device needs of its surroundings the board states as a small trait of its own, and the
+//! world implements it: the light the transmitter sends into ([`light::Air`], the world's
+//! medium), what the sensor reads ([`sensor::Surroundings`], the world's environment), what
+//! sees the LEDs ([`leds::Camera`], the world's LED record). The world builds a robot's board
+//! when the robot boots ([`Medium::attach`](crate::world::medium::Medium::attach) hands out its
+//! light; the run makes its sensor and LEDs).
 
+pub mod clock;
 pub mod leds;
 pub mod light;
 pub mod sensor;

@@ -1,53 +1,53 @@
-//! The board's environmental sensor: what one robot reads of the world's
-//! [`Environment`] (a light pattern, or a field over the plane where the swarm is), with the
-//! environment's noise drawn from the robot's own RNG, or the paper's binary readings
-//! ([`Readings`](crate::world::env::Readings)). It implements the firmware's [`Sensor`] and
-//! nothing else.
+//! The board's environmental sensor: [`EmuSensor`] implements the firmware's [`Sensor`] and
+//! nothing else. What it reads comes from its [`Surroundings`] (in a run, the world's
+//! environment where the swarm is: a light pattern, or a field over the plane), with the
+//! noise drawn from the robot's own RNG.
 
-use std::cell::{Cell, RefCell};
+use std::cell::RefCell;
+use std::fmt;
 use std::rc::Rc;
 
-use firmware::{ErrorKind, Sensor, hal::ErrorType};
-use nalgebra::Vector2;
-use protocol::Level;
+use firmware::{Clock, ErrorKind, Sensor, hal::ErrorType};
+use protocol::{Instant, Level};
 use rand_pcg::Pcg32;
 
-use crate::world::clock::EmuClock;
-use crate::world::env::Environment;
+use crate::board::clock::EmuClock;
+
+/// What is around a robot for its sensor to read, as the board sees it: the world's
+/// environment implements it (`world::env`).
+pub trait Surroundings: fmt::Debug {
+    /// The ambient light robot `robot`'s sensor reports at `now`, noise drawn from `rng`.
+    fn ambient_light(&self, robot: usize, now: Instant, rng: &mut Pcg32) -> Level;
+    /// The oxygen level robot `robot`'s sensor reports, noise drawn from `rng`.
+    fn oxygen(&self, robot: usize, rng: &mut Pcg32) -> Level;
+}
 
 /// One robot's sensor in the emulated environment.
 #[derive(Debug)]
 pub struct EmuSensor {
-    env: Rc<Environment>,
+    surroundings: Rc<dyn Surroundings>,
     robot: usize,
     clock: EmuClock,
     rng: Pcg32,
     /// Reads that fail from now on (to test a failing sensor); shared so a test can flip it.
     pub failing: Rc<RefCell<bool>>,
-    /// The swarm's displacement over a [`PlaneField`](crate::world::env::PlaneField), shared with whatever moves the swarm.
-    offset: Rc<Cell<Vector2<f64>>>,
 }
 
 impl EmuSensor {
-    /// The sensor of robot `robot`, with its own noise RNG; over a [`PlaneField`](crate::world::env::PlaneField) the swarm
-    /// stays at the field's `start`.
-    pub fn new(env: Rc<Environment>, robot: usize, clock: EmuClock, rng: Pcg32) -> Self {
-        let start = env.field.as_ref().map_or(Vector2::zeros(), |f| f.start);
+    /// The sensor of robot `robot` in `surroundings`, with its own noise RNG.
+    pub fn new(
+        surroundings: Rc<dyn Surroundings>,
+        robot: usize,
+        clock: EmuClock,
+        rng: Pcg32,
+    ) -> Self {
         EmuSensor {
-            env,
+            surroundings,
             robot,
             clock,
             rng,
             failing: Rc::new(RefCell::new(false)),
-            offset: Rc::new(Cell::new(start)),
         }
-    }
-
-    /// The same sensor, reading a [`PlaneField`](crate::world::env::PlaneField) where `offset` (shared with the arena's
-    /// motion) says the swarm is.
-    pub fn moving_with(mut self, offset: Rc<Cell<Vector2<f64>>>) -> Self {
-        self.offset = offset;
-        self
     }
 }
 
@@ -60,51 +60,16 @@ impl Sensor for EmuSensor {
         if *self.failing.borrow() {
             return Err(ErrorKind::Bus);
         }
-        if let Some(f) = &self.env.field {
-            let level = f.level(self.robot, self.offset.get());
-            return Ok(self.env.field_light(level, &mut self.rng));
-        }
-        let t = firmware::Clock::now(&self.clock);
-        Ok(self.env.light(self.robot, t, &mut self.rng))
+        let now = self.clock.now();
+        Ok(self
+            .surroundings
+            .ambient_light(self.robot, now, &mut self.rng))
     }
 
     async fn oxygen(&mut self) -> Result<Level, ErrorKind> {
         if *self.failing.borrow() {
             return Err(ErrorKind::Bus);
         }
-        Ok(self.env.noisy(self.env.oxygen, &mut self.rng))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::world::env::Readings;
-    use firmware::Clock as _;
-    use protocol::Instant;
-    use rand_pcg::Pcg32;
-
-    #[tokio::test(flavor = "current_thread", start_paused = true)]
-    async fn binary_readings_reach_the_robot_as_zero_or_one() {
-        let mut env = Environment::constant(vec![false, true]);
-        env.schedule
-            .push((Instant::from_secs(60), vec![true, false]));
-        env.readings = Readings::Binary;
-        let env = Rc::new(env);
-        let clock = EmuClock::new(tokio::time::Instant::now());
-        let mut sensors: Vec<EmuSensor> = (0..2)
-            .map(|r| EmuSensor::new(env.clone(), r, clock, Pcg32::new(r as u64, 1)))
-            .collect();
-        let mut seen = Vec::new();
-        for _ in 0..4 {
-            for s in &mut sensors {
-                seen.push(s.ambient_light().await.unwrap().0);
-            }
-            clock
-                .sleep_until(clock.now() + protocol::Duration::from_secs(30))
-                .await;
-        }
-        // Dark-lit for the first minute, lit-dark after it.
-        assert_eq!(seen, [0, 1, 0, 1, 1, 0, 1, 0]);
+        Ok(self.surroundings.oxygen(self.robot, &mut self.rng))
     }
 }

@@ -27,7 +27,7 @@ use rand::Rng;
 use rand_pcg::Pcg32;
 use tokio::sync::mpsc::UnboundedReceiver;
 
-use crate::world::clock::EmuClock;
+use crate::board::clock::EmuClock;
 use crate::world::medium::{Capture, Emission, Medium, SharedMedium};
 
 /// A device in the arena that is not a robot.

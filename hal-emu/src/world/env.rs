@@ -1,11 +1,17 @@
 //! The environment the robots sense: a light pattern per robot, changing at scheduled times, or
 //! a scalar field over the plane ([`PlaneField`]) sampled where each robot is as the swarm moves.
-//! Part of the world; the board's sensor ([`crate::board::sensor::EmuSensor`]) reads it.
+//! Part of the world: [`SwarmEnv`], the environment where the swarm is, is the board's
+//! [`Surroundings`], what each robot's sensor ([`crate::board::sensor::EmuSensor`]) reads.
+
+use std::cell::Cell;
+use std::rc::Rc;
 
 use nalgebra::{Point2, Vector2};
 use protocol::{Instant, Level};
 use rand::Rng;
 use rand_pcg::Pcg32;
+
+use crate::board::sensor::Surroundings;
 
 /// Light patterns over time, and how they read on the sensors.
 #[derive(Clone, Debug, PartialEq)]
@@ -299,9 +305,86 @@ impl Environment {
     }
 }
 
+/// The environment where the swarm is, as one run's sensors read it (the board's
+/// [`Surroundings`]): the light pattern of the time, or over a [`PlaneField`] the field where
+/// each robot is with the swarm displaced by an offset shared with whatever moves the swarm
+/// (the arena's motion).
+#[derive(Debug)]
+pub struct SwarmEnv {
+    env: Rc<Environment>,
+    offset: Rc<Cell<Vector2<f64>>>,
+}
+
+impl SwarmEnv {
+    /// `env` with the swarm at its start (a [`PlaneField`]'s `start`, or nowhere in particular).
+    pub fn new(env: Rc<Environment>) -> Self {
+        let start = env.field.as_ref().map_or(Vector2::zeros(), |f| f.start);
+        SwarmEnv {
+            env,
+            offset: Rc::new(Cell::new(start)),
+        }
+    }
+
+    /// The environment.
+    pub fn env(&self) -> &Environment {
+        &self.env
+    }
+
+    /// The swarm's displacement over the plane field now.
+    pub fn offset(&self) -> Vector2<f64> {
+        self.offset.get()
+    }
+
+    /// Moves the swarm: displaced by `offset` from now on.
+    pub fn set_offset(&self, offset: Vector2<f64>) {
+        self.offset.set(offset);
+    }
+}
+
+impl Surroundings for SwarmEnv {
+    fn ambient_light(&self, robot: usize, now: Instant, rng: &mut Pcg32) -> Level {
+        if let Some(f) = &self.env.field {
+            let level = f.level(robot, self.offset.get());
+            return self.env.field_light(level, rng);
+        }
+        self.env.light(robot, now, rng)
+    }
+
+    fn oxygen(&self, _robot: usize, rng: &mut Pcg32) -> Level {
+        self.env.noisy(self.env.oxygen, rng)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::board::clock::EmuClock;
+    use crate::board::sensor::EmuSensor;
+    use firmware::{Clock as _, Sensor as _};
+
+    #[tokio::test(flavor = "current_thread", start_paused = true)]
+    async fn binary_readings_reach_the_robot_as_zero_or_one() {
+        let mut env = Environment::constant(vec![false, true]);
+        env.schedule
+            .push((Instant::from_secs(60), vec![true, false]));
+        env.readings = Readings::Binary;
+        let env: Rc<dyn Surroundings> = Rc::new(SwarmEnv::new(Rc::new(env)));
+        let clock = EmuClock::new(tokio::time::Instant::now());
+        let mut sensors: Vec<EmuSensor> = (0..2)
+            .map(|r| EmuSensor::new(env.clone(), r, clock, Pcg32::new(r as u64, 1)))
+            .collect();
+        let mut seen = Vec::new();
+        for _ in 0..4 {
+            for s in &mut sensors {
+                seen.push(s.ambient_light().await.unwrap().0);
+            }
+            clock
+                .sleep_until(clock.now() + protocol::Duration::from_secs(30))
+                .await;
+        }
+        // Dark-lit for the first minute, lit-dark after it.
+        assert_eq!(seen, [0, 1, 0, 1, 1, 0, 1, 0]);
+    }
 
     #[test]
     fn schedule_picks_the_pattern_in_force() {

@@ -25,10 +25,10 @@
 //! All randomness comes from the medium's own seeded RNG, drawn in the deterministic order of
 //! the current-thread runtime.
 //!
-//! This is the world's side of the light. A robot's side, its transmitter and receivers, is
-//! the board's ([`crate::board::light`]); [`Medium::attach`] hands them out.
+//! This is the world's side of the light: the medium is the board's [`Air`]. A robot's side,
+//! its transmitter and receivers, is the board's ([`crate::board::light`]);
+//! [`Medium::attach`] hands them out. Every event is traced ([`trace`]).
 
-use std::borrow::Cow;
 use std::cell::RefCell;
 use std::rc::Rc;
 
@@ -37,11 +37,15 @@ use nalgebra::Point2;
 use protocol::{Duration, Instant, Sector};
 use rand::Rng;
 use rand_pcg::Pcg32;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
-use crate::board::light::{EmuReceiver, EmuTransmitter};
-use crate::world::clock::EmuClock;
+use crate::board::clock::EmuClock;
+use crate::board::light::{Air, EmuReceiver, EmuTransmitter};
+
+pub mod trace;
+
+pub use trace::{DropReason, TraceEvent};
 
 /// How the light behaves.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -110,177 +114,6 @@ impl MediumParams {
         }
         Ok(())
     }
-}
-
-/// Why a frame did not reach a receiver.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum DropReason {
-    /// Lost on the way (the `loss` probability).
-    Loss,
-    /// The receiving robot was transmitting during the frame's airtime.
-    ReceiverTransmitting,
-    /// The receiving robot was dead (killed, not yet restarted).
-    ReceiverDead,
-}
-
-/// One line of the trace (`cimax arena --trace` writes them as JSON lines, `cimax view` reads
-/// them back).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "event", rename_all = "snake_case")]
-pub enum TraceEvent {
-    /// A robot started sending a frame.
-    Sent {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// Sender.
-        robot: usize,
-        /// Frame length, bytes.
-        len: usize,
-    },
-    /// A frame arrived at a receiver (possibly garbled or corrupted).
-    Received {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// Receiver.
-        robot: usize,
-        /// Sender.
-        from: usize,
-        /// The receiving robot's sector.
-        sector: u8,
-        /// Frame length, bytes.
-        len: usize,
-        /// True if it collided with another frame.
-        garbled: bool,
-        /// Bytes corrupted by the byte error rate.
-        corrupted: u32,
-    },
-    /// A frame did not arrive.
-    Dropped {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// Would-be receiver.
-        robot: usize,
-        /// Sender.
-        from: usize,
-        /// Why.
-        reason: DropReason,
-    },
-    /// A robot's LEDs changed.
-    Led {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// Robot.
-        robot: usize,
-        /// `green` (left), `blue` (right), `off`, or `sector N` (robots with more than two sectors).
-        color: Cow<'static, str>,
-    },
-    /// A robot's wave state changed (from the robot program's protocol events).
-    State {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// Robot.
-        robot: usize,
-        /// `inactive`, `active` or `refractory`.
-        state: Cow<'static, str>,
-    },
-    /// A robot's preferred direction changed.
-    Preference {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// Robot.
-        robot: usize,
-        /// `left`, `right`, `none` or `sector N`.
-        preference: String,
-    },
-    /// A robot decided (the robot program's `Event::Decided`): what its LEDs show next, and
-    /// what it was based on.
-    Decided {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// Robot.
-        robot: usize,
-        /// The negotiation period, counted from 1.
-        period: u32,
-        /// The sector decided, if any (with two: 0 right, 1 left).
-        decision: Option<u8>,
-        /// Votes counted per sector (K entries).
-        votes: Vec<u16>,
-        /// The average diversity heard per sector (K entries; `None`: nothing heard).
-        scores: Vec<Option<f32>>,
-        /// The robot's last sensor reading (a level, 0 to 255; in the 2D simulator the
-        /// field's X where the agent is).
-        reading: f32,
-    },
-    /// The swarm moved (robots on a plane): by `step` R along `heading` from `centre`.
-    Moved {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// The centre of mass before the move, in R.
-        centre: [f64; 2],
-        /// The heading (radians), if any robot had decided.
-        heading: Option<f64>,
-        /// The length of the move, in R (0 without a heading).
-        step: f64,
-        /// Fraction of all robots whose LEDs show the sector nearest the heading.
-        consensus: f64,
-    },
-    /// A robot was killed.
-    Killed {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// Robot.
-        robot: usize,
-    },
-    /// A robot was restarted with fresh state.
-    Restarted {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// Robot.
-        robot: usize,
-    },
-    /// The light pattern changed.
-    Pattern {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// One character per robot, `1` lit.
-        lights: String,
-    },
-    /// A rogue transmitter started a burst of random bytes.
-    RogueSent {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// The rogue's node number.
-        node: usize,
-        /// Burst length, bytes.
-        len: usize,
-    },
-    /// A replayer started sending a captured frame again.
-    Replayed {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// The replayer's node number.
-        node: usize,
-        /// Frame length, bytes.
-        len: usize,
-        /// The robot that sent the original.
-        from: usize,
-        /// When the original was captured, ms.
-        captured_ms: u64,
-    },
-    /// A frame reached a replayer (kept for replay if it came from a robot, intact).
-    Captured {
-        /// Emulated time, ms.
-        t_ms: u64,
-        /// The replayer's node number.
-        node: usize,
-        /// Sender.
-        from: usize,
-        /// Frame length, bytes.
-        len: usize,
-        /// True if kept for replay.
-        kept: bool,
-    },
 }
 
 /// Frame counts kept by the medium. Deliveries, drops, garbling and corruption count what
@@ -551,7 +384,8 @@ impl Medium {
             .unzip();
         node.inboxes = senders;
         node.alive = true;
-        Ok((EmuTransmitter::new(this.clone(), robot), receivers))
+        let transmitter = EmuTransmitter::new(Box::new(this.clone()), m.clock, robot);
+        Ok((transmitter, receivers))
     }
 
     /// Robot `robot` dies: it hears nothing more until attached again.
@@ -580,74 +414,15 @@ impl Medium {
         let t1 = t0 + m.params.airtime(bytes.len());
         sender.tx_until = t1;
         let src = sender.pos;
-        let (t_ms, len) = (t0.as_millis(), bytes.len());
-        match what {
-            Emission::Frame => {
-                m.stats.sent += 1;
-                m.log(TraceEvent::Sent {
-                    t_ms,
-                    robot: from,
-                    len,
-                });
-            }
-            Emission::Noise => {
-                m.stats.rogue_bursts += 1;
-                m.log(TraceEvent::RogueSent {
-                    t_ms,
-                    node: from,
-                    len,
-                });
-            }
-            Emission::Replay {
-                from: original,
-                captured,
-            } => {
-                m.stats.replayed += 1;
-                m.log(TraceEvent::Replayed {
-                    t_ms,
-                    node: from,
-                    len,
-                    from: original,
-                    captured_ms: captured.as_millis(),
-                });
-            }
-        }
+        m.emitted(t0, from, bytes.len(), what);
         // Half duplex: what the sender was receiving is lost under its own light.
         for a in m.pending.iter_mut().filter(|a| a.to == from && a.end > t0) {
             a.fate = Fate::Deaf;
         }
         for to in 0..m.nodes.len() {
-            let node = &m.nodes[to];
-            if to == from
-                || !node.alive
-                || node.role == Role::Rogue
-                || nalgebra::distance(&node.pos, &src) > m.params.range
-            {
+            let Some((sector, fate)) = m.reception(from, src, to, t0, t1) else {
                 continue;
-            }
-            let d = src - node.pos;
-            let sector = Sector::from_bearing(d.y.atan2(d.x) as f32, node.sectors).index();
-            if node.tx_until > t0 {
-                m.dropped(t1, to, from, DropReason::ReceiverTransmitting);
-                continue;
-            }
-            if m.params.loss > 0.0 && m.rng.random_bool(m.params.loss) {
-                m.dropped(t1, to, from, DropReason::Loss);
-                continue;
-            }
-            let mut fate = Fate::Clear;
-            if m.params.collisions {
-                for a in m
-                    .pending
-                    .iter_mut()
-                    .filter(|a| a.to == to && a.sector == sector && a.end > t0)
-                {
-                    if a.fate == Fate::Clear {
-                        a.fate = Fate::Collided;
-                    }
-                    fate = Fate::Collided;
-                }
-            }
+            };
             let id = m.next_id;
             m.next_id += 1;
             m.pending.push(Arrival {
@@ -669,6 +444,93 @@ impl Medium {
             });
         }
         t1
+    }
+
+    /// Counts and traces node `from`'s transmission of `len` bytes, started at `t0`.
+    fn emitted(&mut self, t0: Instant, from: usize, len: usize, what: Emission) {
+        let t_ms = t0.as_millis();
+        match what {
+            Emission::Frame => {
+                self.stats.sent += 1;
+                self.log(TraceEvent::Sent {
+                    t_ms,
+                    robot: from,
+                    len,
+                });
+            }
+            Emission::Noise => {
+                self.stats.rogue_bursts += 1;
+                self.log(TraceEvent::RogueSent {
+                    t_ms,
+                    node: from,
+                    len,
+                });
+            }
+            Emission::Replay {
+                from: original,
+                captured,
+            } => {
+                self.stats.replayed += 1;
+                self.log(TraceEvent::Replayed {
+                    t_ms,
+                    node: from,
+                    len,
+                    from: original,
+                    captured_ms: captured.as_millis(),
+                });
+            }
+        }
+    }
+
+    /// Whether node `to` receives what node `from` (at `src`) sends during `t0..t1`: the
+    /// sector it arrives on and its fate so far, or `None` if it does not reach `to` (out of
+    /// range, not a receiver, or dropped: counted and traced).
+    fn reception(
+        &mut self,
+        from: usize,
+        src: Point2<f64>,
+        to: usize,
+        t0: Instant,
+        t1: Instant,
+    ) -> Option<(u8, Fate)> {
+        let node = &self.nodes[to];
+        if to == from
+            || !node.alive
+            || node.role == Role::Rogue
+            || nalgebra::distance(&node.pos, &src) > self.params.range
+        {
+            return None;
+        }
+        let d = src - node.pos;
+        let sector = Sector::from_bearing(d.y.atan2(d.x) as f32, node.sectors).index();
+        if node.tx_until > t0 {
+            self.dropped(t1, to, from, DropReason::ReceiverTransmitting);
+            return None;
+        }
+        if self.params.loss > 0.0 && self.rng.random_bool(self.params.loss) {
+            self.dropped(t1, to, from, DropReason::Loss);
+            return None;
+        }
+        Some((sector, self.collide(to, sector, t0)))
+    }
+
+    /// With collisions on, a frame arriving at `to`'s receiver `sector` from `t0` on garbles
+    /// every frame still arriving there, and is garbled by them: its fate.
+    fn collide(&mut self, to: usize, sector: u8, t0: Instant) -> Fate {
+        let mut fate = Fate::Clear;
+        if self.params.collisions {
+            for a in self
+                .pending
+                .iter_mut()
+                .filter(|a| a.to == to && a.sector == sector && a.end > t0)
+            {
+                if a.fate == Fate::Clear {
+                    a.fate = Fate::Collided;
+                }
+                fate = Fate::Collided;
+            }
+        }
+        fate
     }
 
     /// Counts and traces a frame from `from` that did not reach `to` (at `t`, its airtime's end).
@@ -695,7 +557,6 @@ impl Medium {
             return;
         };
         let mut a = m.pending.swap_remove(i);
-        let t_ms = a.end.as_millis();
         if !m.nodes[a.to].alive {
             return m.dropped(a.end, a.to, a.from, DropReason::ReceiverDead);
         }
@@ -704,56 +565,50 @@ impl Medium {
         }
         let garbled = a.fate == Fate::Collided;
         let to_robot = m.nodes[a.to].role == Role::Robot;
+        if garbled && to_robot {
+            m.stats.garbled += 1;
+        }
+        let corrupted = m.damage(&mut a.bytes, garbled);
+        if to_robot {
+            m.received(a, garbled, corrupted);
+        } else {
+            m.captured(a, garbled, corrupted);
+        }
+    }
+
+    /// What the light does to `bytes` on the way: if `garbled` by a collision, about half of
+    /// them replaced by noise; then each corrupted at the byte error rate. Returns how many
+    /// were corrupted.
+    fn damage(&mut self, bytes: &mut [u8], garbled: bool) -> u32 {
         if garbled {
-            if to_robot {
-                m.stats.garbled += 1;
-            }
-            for b in a.bytes.iter_mut() {
-                if m.rng.random_bool(0.5) {
-                    *b = m.rng.random();
+            for b in bytes.iter_mut() {
+                if self.rng.random_bool(0.5) {
+                    *b = self.rng.random();
                 }
             }
         }
         let mut corrupted = 0u32;
-        if m.params.byte_error_rate > 0.0 {
-            for b in a.bytes.iter_mut() {
-                if m.rng.random_bool(m.params.byte_error_rate) {
-                    *b ^= m.rng.random_range(1..=255u8);
+        if self.params.byte_error_rate > 0.0 {
+            for b in bytes.iter_mut() {
+                if self.rng.random_bool(self.params.byte_error_rate) {
+                    *b ^= self.rng.random_range(1..=255u8);
                     corrupted += 1;
                 }
             }
         }
-        let from_robot = m.nodes[a.from].role == Role::Robot;
-        if !to_robot {
-            let kept = from_robot && !garbled && corrupted == 0;
-            if kept {
-                m.stats.captured += 1;
-            } else {
-                m.stats.capture_missed += 1;
-            }
-            m.log(TraceEvent::Captured {
-                t_ms,
-                node: a.to,
-                from: a.from,
-                len: a.bytes.len(),
-                kept,
-            });
-            if let (true, Some(c)) = (kept, &m.nodes[a.to].captures) {
-                let _ = c.send(Capture {
-                    t: a.end,
-                    from: a.from,
-                    bytes: a.bytes,
-                });
-            }
-            return;
+        corrupted
+    }
+
+    /// Arrival `a` reaches a robot's receiver: counted, traced and put into the receiver's
+    /// inbox.
+    fn received(&mut self, a: Arrival, garbled: bool, corrupted: u32) {
+        self.stats.corrupted_bytes += u64::from(corrupted);
+        self.stats.delivered += 1;
+        if self.nodes[a.from].role != Role::Robot {
+            self.stats.adversary_delivered += 1;
         }
-        m.stats.corrupted_bytes += u64::from(corrupted);
-        m.stats.delivered += 1;
-        if !from_robot {
-            m.stats.adversary_delivered += 1;
-        }
-        m.log(TraceEvent::Received {
-            t_ms,
+        self.log(TraceEvent::Received {
+            t_ms: a.end.as_millis(),
             robot: a.to,
             from: a.from,
             sector: a.sector,
@@ -761,9 +616,40 @@ impl Medium {
             garbled,
             corrupted,
         });
-        if let Some(inbox) = m.nodes[a.to].inboxes.get(usize::from(a.sector)) {
+        if let Some(inbox) = self.nodes[a.to].inboxes.get(usize::from(a.sector)) {
             let _ = inbox.send(a.bytes);
         }
+    }
+
+    /// Arrival `a` reaches a replayer: kept for replay if a robot sent it and it came intact.
+    fn captured(&mut self, a: Arrival, garbled: bool, corrupted: u32) {
+        let kept = self.nodes[a.from].role == Role::Robot && !garbled && corrupted == 0;
+        if kept {
+            self.stats.captured += 1;
+        } else {
+            self.stats.capture_missed += 1;
+        }
+        self.log(TraceEvent::Captured {
+            t_ms: a.end.as_millis(),
+            node: a.to,
+            from: a.from,
+            len: a.bytes.len(),
+            kept,
+        });
+        if let (true, Some(c)) = (kept, &self.nodes[a.to].captures) {
+            let _ = c.send(Capture {
+                t: a.end,
+                from: a.from,
+                bytes: a.bytes,
+            });
+        }
+    }
+}
+
+/// A robot's transmitter ([`EmuTransmitter`]) sends its frames into the medium.
+impl Air for SharedMedium {
+    fn transmit(&self, robot: usize, frame: &[u8]) -> Instant {
+        Medium::transmit(self, robot, frame, Emission::Frame)
     }
 }
 

@@ -1,5 +1,6 @@
-//! The robots' clock: tokio time, measured from the start of the run. Part of the world (every
-//! robot of a run shares it); it is also the board's [`Clock`].
+//! The board's [`Clock`]: tokio time, measured from the start of the run. Every robot of a run
+//! and the world around them (its medium, adversaries and schedule) share one value of it, so
+//! they all live in the same virtual time.
 
 use firmware::Clock;
 use protocol::Instant;

@@ -1,0 +1,102 @@
+//! Why a run could not start or has no valid result.
+
+use firmware::SetupError;
+
+/// Why a run could not start.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ArenaError {
+    /// The robot program refused its configuration.
+    Setup(SetupError),
+    /// The medium's parameters make no sense.
+    Medium(String),
+    /// A kill, restart or per-robot configuration names a robot that does not exist.
+    NoSuchRobot(usize),
+    /// An adversary's parameters make no sense.
+    Adversary(String),
+    /// The tokio runtime could not be built.
+    Runtime(String),
+    /// A robot in the loop cannot be: its place does not exist or is taken twice, or the run
+    /// asks what the link cannot carry (kills and restarts of it, a swarm key).
+    Hil(String),
+    /// A run in real time was interrupted (Ctrl-C, SIGTERM or SIGHUP) before its end; robots
+    /// in the loop were stopped, QEMU processes killed and reaped.
+    Interrupted,
+    /// A robot stopped before the end of the run: its task panicked (a bug in the robot
+    /// program or the emulator) or it could not boot. The run then has no valid result (its
+    /// LEDs and counters would be those of a swarm that lost a robot without anyone killing
+    /// it), so it fails; the failure's seed replays it.
+    Robot(RobotFailure),
+}
+
+/// A robot that stopped before the end of its run ([`ArenaError::Robot`]).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct RobotFailure {
+    /// The robot's index (its position in [`ArenaConfig::positions`](super::ArenaConfig::positions)).
+    pub robot: usize,
+    /// The run's seed ([`ArenaConfig::seed`](super::ArenaConfig::seed)): it replays the failure.
+    pub seed: u64,
+    /// True if the robot's task panicked; false if the robot could not boot, or (a robot in the
+    /// loop) its link failed.
+    pub panicked: bool,
+    /// The panic's message, or why the robot could not boot or its link failed.
+    pub message: String,
+}
+
+impl std::fmt::Display for RobotFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let what = if self.panicked { "panicked" } else { "failed" };
+        write!(
+            f,
+            "robot {} {what} (seed {}): {}",
+            self.robot, self.seed, self.message
+        )
+    }
+}
+
+impl RobotFailure {
+    /// What stopped the robot, without the seed: `robot 2 panicked: MESSAGE`.
+    pub fn what(&self) -> String {
+        let how = if self.panicked { "panicked" } else { "failed" };
+        format!("robot {} {how}: {}", self.robot, self.message)
+    }
+
+    /// The failure of robot `robot`'s task in the run with `seed`, from how it ended.
+    pub(super) fn from_join(robot: usize, seed: u64, e: tokio::task::JoinError) -> Self {
+        let panicked = e.is_panic();
+        let message = if panicked {
+            let payload = e.into_panic();
+            payload
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic without a message".to_string())
+        } else {
+            "its task was cancelled".to_string()
+        };
+        RobotFailure {
+            robot,
+            seed,
+            panicked,
+            message,
+        }
+    }
+}
+
+impl std::fmt::Display for ArenaError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ArenaError::Setup(e) => write!(f, "robot configuration: {e}"),
+            ArenaError::Medium(e) => write!(f, "medium: {e}"),
+            ArenaError::NoSuchRobot(i) => {
+                write!(f, "there is no robot {i} to kill, restart or configure")
+            }
+            ArenaError::Adversary(e) => write!(f, "adversary: {e}"),
+            ArenaError::Runtime(e) => write!(f, "runtime: {e}"),
+            ArenaError::Hil(e) => write!(f, "robots in the loop: {e}"),
+            ArenaError::Interrupted => f.write_str("interrupted"),
+            ArenaError::Robot(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for ArenaError {}

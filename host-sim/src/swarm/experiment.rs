@@ -13,7 +13,8 @@ use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::swarm::geometry::Swarm;
 use crate::swarm::scenario::{GridSpec, Scenario, Success};
-use crate::swarm::sim::{Period, RunConfig, Sim, SimError, Tap};
+use crate::swarm::sim::{Period, RunConfig, Sim, SimError};
+use crate::swarm::tap::Tap;
 
 /// Any failure of an experiment (parameters that do not validate, a swarm that cannot be placed).
 pub type Error = Box<dyn std::error::Error + Send + Sync>;

@@ -13,5 +13,6 @@ pub mod scenario;
 pub mod sensitivity;
 pub mod shapes;
 pub mod sim;
+pub mod tap;
 pub mod timecourse;
 pub mod waves;

@@ -21,7 +21,7 @@ use crate::stats;
 use crate::swarm::experiment::{Error, RunOutput, run_tapped};
 use crate::swarm::geometry::Swarm;
 use crate::swarm::scenario::Scenario;
-use crate::swarm::sim::Tap;
+use crate::swarm::tap::Tap;
 use crate::swarm::timecourse::Spread;
 
 /// One full run with its taps, one per period.

@@ -145,7 +145,24 @@ pub fn summarise(outs: &[RunOutput], min_after: u32) -> TimeCourse {
             (tail.len() >= min_after as usize).then(|| stats::mean(&tail).unwrap_or(f64::NAN))
         })
         .collect();
-    // The path of each run that arrived, up to its arrival.
+    let (y_at_arrival, straightness, mean_arrival) = paths(outs);
+    TimeCourse {
+        y_at_arrival,
+        straightness,
+        mean_arrival,
+        runs: outs.len() as u32,
+        points,
+        plateau: stats::mean(&tails).unwrap_or(f64::NAN),
+        plateau_se: stats::standard_error(&tails).unwrap_or(0.0),
+        plateau_runs: tails.len(),
+        success_at: outs.iter().map(|o| o.success_at).collect(),
+        across_at_start: across_at_start(outs),
+    }
+}
+
+/// Over the runs that arrived, up to their arrival: the mean |y| at arrival, the share of the
+/// distance walked that was gained along +x, and the mean periods to arrive.
+fn paths(outs: &[RunOutput]) -> (f64, f64, f64) {
     let paths: Vec<(f64, f64, f64)> = outs
         .iter()
         .filter_map(|o| {
@@ -169,33 +186,27 @@ pub fn summarise(outs: &[RunOutput], min_after: u32) -> TimeCourse {
         let v: Vec<f64> = paths.iter().map(f).filter(|v| v.is_finite()).collect();
         stats::mean(&v).unwrap_or(f64::NAN)
     };
-    TimeCourse {
-        y_at_arrival: col(|p| p.0),
-        straightness: col(|p| p.1),
-        mean_arrival: col(|p| p.2),
-        runs: outs.len() as u32,
-        points,
-        plateau: stats::mean(&tails).unwrap_or(f64::NAN),
-        plateau_se: stats::standard_error(&tails).unwrap_or(0.0),
-        plateau_runs: tails.len(),
-        success_at: outs.iter().map(|o| o.success_at).collect(),
-        across_at_start: stats::mean(
-            &outs
-                .iter()
-                .map(|o| {
-                    let n = o.swarm.offsets().len().max(1) as f64;
-                    let across = o
-                        .swarm
-                        .offsets()
-                        .iter()
-                        .filter(|v| o.start.x + v.x >= 0.0)
-                        .count();
-                    across as f64 / n
-                })
-                .collect::<Vec<_>>(),
-        )
-        .unwrap_or(0.0),
-    }
+    (col(|p| p.0), col(|p| p.1), col(|p| p.2))
+}
+
+/// The mean over runs of the share of agents at x ≥ 0 at the start.
+fn across_at_start(outs: &[RunOutput]) -> f64 {
+    stats::mean(
+        &outs
+            .iter()
+            .map(|o| {
+                let n = o.swarm.offsets().len().max(1) as f64;
+                let across = o
+                    .swarm
+                    .offsets()
+                    .iter()
+                    .filter(|v| o.start.x + v.x >= 0.0)
+                    .count();
+                across as f64 / n
+            })
+            .collect::<Vec<_>>(),
+    )
+    .unwrap_or(0.0)
 }
 
 #[cfg(test)]

@@ -32,7 +32,7 @@ const PROFILE_XS: [f64; 8] = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.33, 3.5, 5.0];
 const SLOPES: [f64; 3] = [1.0, 2.5, 4.0];
 
 /// The section as its template (`reproduction/beyond.md.j2`) sees it.
-#[derive(Serialize)]
+#[derive(Default, Serialize)]
 pub(super) struct BeyondSection {
     runs: u32,
     x: String,
@@ -103,11 +103,28 @@ pub(super) fn run(st: &mut Stage<'_>, fields: [&Scenario; 2]) -> Result<BeyondSe
     for b in BINS {
         measures.push(Measure::entropy(b).ok_or("bad bin width")?);
     }
+    let main_m = 1 + BINS.iter().position(|&b| b == MAIN_BIN).unwrap_or(0);
+    let results = success(st, fields, &measures)?;
+    let both = [Measure::Variance, measures[main_m]];
+    let along = along_gradient(st, fields[1], both)?;
+    let (two_rows, two_same) = two_quantities(st, fields[0], both, &results, main_m)?;
+    let mut section = success_section(fields, &measures, &results, main_m);
+    section.two_rows = two_rows;
+    section.two_same = two_same;
+    along.fill(&mut section);
+    Ok(section)
+}
+
+/// Success from [`SENS_X`] per field and measure: `results[field][measure]`.
+fn success(
+    st: &mut Stage<'_>,
+    fields: [&Scenario; 2],
+    measures: &[Measure],
+) -> Result<Vec<Vec<SweepPoint>>, Error> {
     let p = st.start(
         "beyond the paper: entropy, success",
         (fields.len() * measures.len()) as u64 * u64::from(SENS_RUNS),
     );
-    // results[f][m]
     let mut results: Vec<Vec<SweepPoint>> = Vec::new();
     for (f, scn) in fields.iter().enumerate() {
         let mut per = Vec::new();
@@ -119,7 +136,16 @@ pub(super) fn run(st: &mut Stage<'_>, fields: [&Scenario; 2]) -> Result<BeyondSe
         results.push(per);
     }
     st.done(&p);
-    let main_m = 1 + BINS.iter().position(|&b| b == MAIN_BIN).unwrap_or(0);
+    Ok(results)
+}
+
+/// The section's success part (the rest filled in by the other steps).
+fn success_section(
+    fields: [&Scenario; 2],
+    measures: &[Measure],
+    results: &[Vec<SweepPoint>],
+    main_m: usize,
+) -> BeyondSection {
     let rows = measures
         .iter()
         .enumerate()
@@ -129,34 +155,56 @@ pub(super) fn run(st: &mut Stage<'_>, fields: [&Scenario; 2]) -> Result<BeyondSe
                 .collect()
         })
         .collect();
-    let same_success = results
-        .iter()
-        .map(|per| (per[main_m].success_rate() - per[0].success_rate()).abs() <= 0.15)
-        .collect();
-    let worst_entropy = results
-        .iter()
-        .map(|per| {
-            let w = per[1..]
-                .iter()
-                .map(SweepPoint::success_rate)
-                .fold(f64::MAX, f64::min);
-            fixed(w, 2)
-        })
-        .collect();
-    let variance_rate = results
-        .iter()
-        .map(|per| fixed(per[0].success_rate(), 2))
-        .collect();
+    BeyondSection {
+        runs: SENS_RUNS,
+        x: SENS_X.to_string(),
+        main_bin: MAIN_BIN.to_string(),
+        fields: fields.iter().map(|s| s.name.clone()).collect(),
+        rows,
+        same_success: results
+            .iter()
+            .map(|per| (per[main_m].success_rate() - per[0].success_rate()).abs() <= 0.15)
+            .collect(),
+        worst_entropy: results
+            .iter()
+            .map(|per| {
+                let w = per[1..]
+                    .iter()
+                    .map(SweepPoint::success_rate)
+                    .fold(f64::MAX, f64::min);
+                fixed(w, 2)
+            })
+            .collect(),
+        variance_rate: results
+            .iter()
+            .map(|per| fixed(per[0].success_rate(), 2))
+            .collect(),
+        ..BeyondSection::default()
+    }
+}
 
-    // The mean diversity along the gradient, both measures.
-    let gradient = fields[1];
-    let profile_measures = [Measure::Variance, measures[main_m]];
+/// Both measures along the gradient and at its success line against the slope.
+struct Along {
+    /// Per measure, `(x, mean, s.e.)` per point of [`PROFILE_XS`].
+    prof: Vec<Vec<(f64, f64, f64)>>,
+    /// Per slope of [`SLOPES`], both measures at the success line.
+    by_slope: Vec<[f64; 2]>,
+    line_x: f64,
+}
+
+/// Runs both measures along the gradient and against the slope; writes
+/// `beyond-diversity.svg`.
+fn along_gradient(
+    st: &mut Stage<'_>,
+    gradient: &Scenario,
+    measures: [Measure; 2],
+) -> Result<Along, Error> {
     let p = st.start(
         "beyond the paper: entropy, diversity along the gradient",
-        (profile_measures.len() * (PROFILE_XS.len() + SLOPES.len())) as u64 * u64::from(SENS_RUNS),
+        (measures.len() * (PROFILE_XS.len() + SLOPES.len())) as u64 * u64::from(SENS_RUNS),
     );
     let mut prof: Vec<Vec<(f64, f64, f64)>> = Vec::new();
-    for (m, &measure) in profile_measures.iter().enumerate() {
+    for (m, &measure) in measures.iter().enumerate() {
         let s = with(gradient, measure);
         let mut pts = Vec::new();
         for (k, &x) in PROFILE_XS.iter().enumerate() {
@@ -170,95 +218,85 @@ pub(super) fn run(st: &mut Stage<'_>, fields: [&Scenario; 2]) -> Result<BeyondSe
         Some(Success::BeyondX { x }) => *x,
         _ => 2.33,
     };
-    // Both measures at the success line against the slope.
     let mut by_slope: Vec<[f64; 2]> = Vec::new();
     for (k, &slope) in SLOPES.iter().enumerate() {
         let s = Knob::Slope(slope).apply(gradient)?;
         let mut v = [0.0; 2];
-        for (m, &measure) in profile_measures.iter().enumerate() {
+        for (m, &measure) in measures.iter().enumerate() {
             let seed = st.seed(STAGE + 80 + 2 * k as u64 + m as u64);
-            v[m] = diversity_at(
-                &with(&s, measure),
-                Point2::new(line_x, 0.0),
-                SENS_RUNS,
-                seed,
-                &p,
-            )?
-            .0;
+            let at = Point2::new(line_x, 0.0);
+            v[m] = diversity_at(&with(&s, measure), at, SENS_RUNS, seed, &p)?.0;
         }
         by_slope.push(v);
     }
     st.done(&p);
-    let (lo, hi) = (by_slope[0], by_slope[SLOPES.len() - 1]);
-    let slope_ratio = SLOPES[SLOPES.len() - 1] / SLOPES[0];
-    let at = |m: usize, x: f64| {
-        prof[m]
+    let along = Along {
+        prof,
+        by_slope,
+        line_x,
+    };
+    along.figure(st, gradient, measures)?;
+    Ok(along)
+}
+
+/// log2 of a message's most readings with the scorer's own (33): the entropy's ceiling.
+fn ceiling() -> f64 {
+    33f64.log2()
+}
+
+impl Along {
+    /// The mean of measure `m` at profile point `x`.
+    fn at(&self, m: usize, x: f64) -> f64 {
+        self.prof[m]
             .iter()
             .find(|q| (q.0 - x).abs() < 1e-9)
             .map_or(f64::NAN, |q| q.1)
-    };
-    let far_x = PROFILE_XS[PROFILE_XS.len() - 1];
-    let (v_line, v_far) = (at(0, line_x), at(0, far_x));
-    let (e_line, e_far) = (at(1, line_x), at(1, far_x));
-    let ceiling = 33f64.log2();
-    let y_max = prof
-        .iter()
-        .flatten()
-        .map(|q| q.1 + q.2)
-        .fold(ceiling, f64::max);
-    plot::xy_figure(
-        &st.figs.join("beyond-diversity.svg"),
-        &format!(
-            "{}: the agents' mean diversity against the swarm's x, {SENS_RUNS} runs per point",
-            gradient.name
-        ),
-        "x of the swarm's centre / R",
-        "mean V_k (variance) or bits (entropy)",
-        &profile_measures
-            .iter()
-            .zip(&prof)
-            .map(|(m, pts)| Line {
-                label: m.to_string(),
-                points: pts.clone(),
-            })
-            .collect::<Vec<_>>(),
-        (0.0, 1.05 * y_max),
-        &[(line_x, " success line")],
-        false,
-    )?;
-    // Two quantities: light uniform (no information), oxygen the sharp border.
-    let sharp = fields[0];
-    let mut two = sharp.clone();
-    two.field = crate::swarm::field::Field::default();
-    two.field2 = Some(sharp.field.clone());
-    let two_measures = [Measure::Variance, measures[main_m]];
-    let p = st.start(
-        "beyond the paper: two quantities",
-        two_measures.len() as u64 * u64::from(SENS_RUNS),
-    );
-    let mut two_rows = Vec::new();
-    let mut two_same = Vec::new();
-    for (m, &measure) in two_measures.iter().enumerate() {
-        let s = with(&two, measure);
-        let seed = st.seed(STAGE + 90 + m as u64);
-        let pt = sweep(&s, s.run, &[SENS_X], SENS_RUNS, seed, &p)?[0];
-        let alone = &results[0][if m == 0 { 0 } else { main_m }];
-        two_same.push((pt.success_rate() - alone.success_rate()).abs() <= 0.15);
-        two_rows.push([measure.to_string(), cell(&pt)]);
     }
-    st.done(&p);
-    Ok(BeyondSection {
-        two_rows,
-        two_same,
-        runs: SENS_RUNS,
-        x: SENS_X.to_string(),
-        main_bin: MAIN_BIN.to_string(),
-        fields: fields.iter().map(|s| s.name.clone()).collect(),
-        rows,
-        same_success,
-        worst_entropy,
-        variance_rate,
-        profile_rows: PROFILE_XS
+
+    fn figure(
+        &self,
+        st: &Stage<'_>,
+        gradient: &Scenario,
+        measures: [Measure; 2],
+    ) -> Result<(), Error> {
+        let y_max = self
+            .prof
+            .iter()
+            .flatten()
+            .map(|q| q.1 + q.2)
+            .fold(ceiling(), f64::max);
+        plot::xy_figure(
+            &st.figs.join("beyond-diversity.svg"),
+            &format!(
+                "{}: the agents' mean diversity against the swarm's x, {SENS_RUNS} runs per point",
+                gradient.name
+            ),
+            "x of the swarm's centre / R",
+            "mean V_k (variance) or bits (entropy)",
+            &measures
+                .iter()
+                .zip(&self.prof)
+                .map(|(m, pts)| Line {
+                    label: m.to_string(),
+                    points: pts.clone(),
+                })
+                .collect::<Vec<_>>(),
+            (0.0, 1.05 * y_max),
+            &[(self.line_x, " success line")],
+            false,
+        )?;
+        Ok(())
+    }
+
+    /// Fills the section's profile and slope parts.
+    fn fill(&self, s: &mut BeyondSection) {
+        let (lo, hi) = (self.by_slope[0], self.by_slope[SLOPES.len() - 1]);
+        let slope_ratio = SLOPES[SLOPES.len() - 1] / SLOPES[0];
+        let far_x = PROFILE_XS[PROFILE_XS.len() - 1];
+        let (v_line, v_far) = (self.at(0, self.line_x), self.at(0, far_x));
+        let (e_line, e_far) = (self.at(1, self.line_x), self.at(1, far_x));
+        let prof = &self.prof;
+        s.profile_rows = PROFILE_XS
             .iter()
             .enumerate()
             .map(|(k, x)| {
@@ -268,28 +306,58 @@ pub(super) fn run(st: &mut Stage<'_>, fields: [&Scenario; 2]) -> Result<BeyondSe
                     format!("{} ± {}", fixed(prof[1][k].1, 2), fixed(prof[1][k].2, 2)),
                 ]
             })
-            .collect(),
-        line_x: line_x.to_string(),
-        entropy_line: fixed(e_line, 2),
-        entropy_far: fixed(e_far, 2),
-        variance_line: fixed(v_line, 1),
-        variance_far: fixed(v_far, 1),
-        ceiling: fixed(ceiling, 2),
-        entropy_flat: (e_far / e_line - 1.0).abs() <= 0.1,
-        variance_grows: v_far > 1.1 * v_line,
-        entropy_ratio: fixed(e_far / e_line, 2),
-        variance_ratio: fixed(v_far / v_line, 2),
-        variance_flat: (v_far / v_line - 1.0).abs() <= 0.1,
-        slope_rows: SLOPES
+            .collect();
+        s.line_x = self.line_x.to_string();
+        s.entropy_line = fixed(e_line, 2);
+        s.entropy_far = fixed(e_far, 2);
+        s.variance_line = fixed(v_line, 1);
+        s.variance_far = fixed(v_far, 1);
+        s.ceiling = fixed(ceiling(), 2);
+        s.entropy_flat = (e_far / e_line - 1.0).abs() <= 0.1;
+        s.variance_grows = v_far > 1.1 * v_line;
+        s.entropy_ratio = fixed(e_far / e_line, 2);
+        s.variance_ratio = fixed(v_far / v_line, 2);
+        s.variance_flat = (v_far / v_line - 1.0).abs() <= 0.1;
+        s.slope_rows = SLOPES
             .iter()
-            .zip(&by_slope)
+            .zip(&self.by_slope)
             .map(|(k, v)| [k.to_string(), fixed(v[0], 2), fixed(v[1], 2)])
-            .collect(),
-        slope_variance_ratio: fixed(hi[0] / lo[0], 1),
-        slope_entropy_bits: fixed(hi[1] - lo[1], 2),
-        slope_ratio: fixed(slope_ratio, 1),
-        slope_log2: fixed(slope_ratio.log2(), 2),
-        entropy_logarithmic: hi[1] - lo[1] <= slope_ratio.log2() + 0.25
-            && hi[0] / lo[0] > slope_ratio,
-    })
+            .collect();
+        s.slope_variance_ratio = fixed(hi[0] / lo[0], 1);
+        s.slope_entropy_bits = fixed(hi[1] - lo[1], 2);
+        s.slope_ratio = fixed(slope_ratio, 1);
+        s.slope_log2 = fixed(slope_ratio.log2(), 2);
+        s.entropy_logarithmic =
+            hi[1] - lo[1] <= slope_ratio.log2() + 0.25 && hi[0] / lo[0] > slope_ratio;
+    }
+}
+
+/// Two quantities, light uniform (no information) and oxygen the sharp border: success from
+/// [`SENS_X`] per measure, and whether it is within 0.15 of the sharp field alone.
+fn two_quantities(
+    st: &mut Stage<'_>,
+    sharp: &Scenario,
+    measures: [Measure; 2],
+    results: &[Vec<SweepPoint>],
+    main_m: usize,
+) -> Result<(Vec<[String; 2]>, Vec<bool>), Error> {
+    let mut two = sharp.clone();
+    two.field = crate::swarm::field::Field::default();
+    two.field2 = Some(sharp.field.clone());
+    let p = st.start(
+        "beyond the paper: two quantities",
+        measures.len() as u64 * u64::from(SENS_RUNS),
+    );
+    let mut two_rows = Vec::new();
+    let mut two_same = Vec::new();
+    for (m, &measure) in measures.iter().enumerate() {
+        let s = with(&two, measure);
+        let seed = st.seed(STAGE + 90 + m as u64);
+        let pt = sweep(&s, s.run, &[SENS_X], SENS_RUNS, seed, &p)?[0];
+        let alone = &results[0][if m == 0 { 0 } else { main_m }];
+        two_same.push((pt.success_rate() - alone.success_rate()).abs() <= 0.15);
+        two_rows.push([measure.to_string(), cell(&pt)]);
+    }
+    st.done(&p);
+    Ok((two_rows, two_same))
 }

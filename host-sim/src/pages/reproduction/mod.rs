@@ -254,32 +254,13 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
         .iter()
         .map(|[c, _]| (c.plateau, c.plateau_se, c.plateau_runs))
         .collect();
-    let course_seeds = [st.seed(COURSE_STAGE), st.seed(COURSE_STAGE + 2)];
-    let settled = settle::run(
-        &mut st,
-        main,
-        [&sharp, &gradient],
-        course_seeds,
-        [courses[0][0].plateau, courses[1][0].plateau],
-        &caption,
-    )?;
+    let settled = settle::run(&mut st, main, [&sharp, &gradient], &courses, &caption)?;
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
     let sensitivity = sensitivity(&mut st, main, &sharp, &gradient)?;
-    let runs_n = (4 + u64::from(crate::swarm::shapes::KEEP_FORMATIONS))
-        * u64::from(crate::swarm::shapes::RUNS);
-    let p = st.start("shapes on a random field", runs_n);
-    let shapes = crate::swarm::shapes::reproduce(&st.figs, sharp.run, st.seed(200), &p)?;
-    st.done(&p);
+    let shapes = shapes_stage(&mut st, &sharp)?;
     let beyond = beyond::run(&mut st, [&sharp, &gradient])?;
-    let p = st.start("one wave (Fig. 2)", 1);
-    let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(95))?;
-    st.done(&p);
-
-    // Speed: one negotiation period per size on one thread (`swarm bench`).
-    let mut speed = Vec::new();
-    for n in BENCH_AGENTS {
-        speed.push(experiment::bench(&sharp, n, st.seed(70 + n as u64))?);
-    }
+    let waves = wave_stage(&mut st)?;
+    let speed = speed(&st, &sharp)?;
 
     let wall_s = t0.elapsed().as_secs_f64();
     let md = markdown(&Report {
@@ -323,6 +304,35 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
     })
 }
 
+/// The discussion's shapes on a random field (line, cross, …), both opposite-bearing rules.
+fn shapes_stage(
+    st: &mut Stage<'_>,
+    sharp: &Scenario,
+) -> Result<crate::swarm::shapes::ShapesSection, Error> {
+    let runs_n = (4 + u64::from(crate::swarm::shapes::KEEP_FORMATIONS))
+        * u64::from(crate::swarm::shapes::RUNS);
+    let p = st.start("shapes on a random field", runs_n);
+    let shapes = crate::swarm::shapes::reproduce(&st.figs, sharp.run, st.seed(200), &p)?;
+    st.done(&p);
+    Ok(shapes)
+}
+
+/// One wave through the swarm of Fig. 2.
+fn wave_stage(st: &mut Stage<'_>) -> Result<crate::swarm::waves::WavesSection, Error> {
+    let p = st.start("one wave (Fig. 2)", 1);
+    let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(95))?;
+    st.done(&p);
+    Ok(waves)
+}
+
+/// Speed: one negotiation period per size of [`BENCH_AGENTS`] on one thread (`swarm bench`).
+fn speed(st: &Stage<'_>, sharp: &Scenario) -> Result<Vec<experiment::BenchResult>, Error> {
+    BENCH_AGENTS
+        .iter()
+        .map(|&n| experiment::bench(sharp, n, st.seed(70 + n as u64)))
+        .collect()
+}
+
 /// Runs per distance of the cloud's radial profile.
 const PROFILE_RUNS: u32 = 40;
 /// Runs per point of the other placement's sweeps (the robustness check; the main placement
@@ -334,7 +344,7 @@ pub const COURSE_RUNS: u32 = 50;
 /// before the end.
 pub(super) const PLATEAU_MIN_AFTER: u32 = 10;
 /// First seed stage of the averaged courses: `COURSE_STAGE + 2 · field + placement`.
-const COURSE_STAGE: u64 = 40;
+pub(super) const COURSE_STAGE: u64 = 40;
 /// Runs per point of the cycle-length experiment.
 const CYCLE_RUNS: u32 = 50;
 

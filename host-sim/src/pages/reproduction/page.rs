@@ -525,75 +525,85 @@ struct CourseSection {
     scenarios: Vec<CourseScenario>,
 }
 
-fn course_section(r: &Report<'_>) -> CourseSection {
-    let tail_of = |c: &TimeCourse, f: fn(&crate::swarm::timecourse::TimePoint) -> f64| {
-        let k = c.points.len().saturating_sub(10);
-        let v: Vec<f64> = c.points[k..].iter().map(f).collect();
-        crate::stats::mean(&v).unwrap_or(f64::NAN)
-    };
+/// The mean of `f` over a course's last ten periods.
+fn tail_of(c: &TimeCourse, f: fn(&crate::swarm::timecourse::TimePoint) -> f64) -> f64 {
+    let k = c.points.len().saturating_sub(10);
+    let v: Vec<f64> = c.points[k..].iter().map(f).collect();
+    crate::stats::mean(&v).unwrap_or(f64::NAN)
+}
+
+/// One placement's row of a scenario's averaged course.
+fn course_row(c: &TimeCourse, placement: Placement, paper: &PaperCourse) -> CourseRow {
     let tail = |c: &TimeCourse, f| fixed(tail_of(c, f), 2);
+    let first = c.points.first();
+    CourseRow {
+        placement: placement.to_string(),
+        runs: c.runs,
+        start: first.map_or(String::new(), |p| fixed(p.diversity.mean, 2)),
+        start_range: first.map_or(String::new(), |p| {
+            format!(
+                "{}–{}",
+                fixed(p.diversity.q10, 2),
+                fixed(p.diversity.q90, 2)
+            )
+        }),
+        across: fixed(100.0 * c.across_at_start, 0),
+        end: tail(c, |p| p.diversity.mean),
+        consensus_start: first.map_or(String::new(), |p| fixed(p.consensus.mean, 2)),
+        consensus_end: tail(c, |p| p.consensus.mean),
+        arrived: c.points.last().map_or(0, |p| p.arrived),
+        above_paper: first.is_some_and(|p| p.diversity.mean > paper.start),
+        mean_arrival: fixed(c.mean_arrival, 1),
+        y_at_arrival: fixed(c.y_at_arrival, 1),
+        straightness: fixed(100.0 * c.straightness, 0),
+        consensus_falls: first.is_some_and(|p| tail_of(c, |p| p.consensus.mean) < p.consensus.mean),
+    }
+}
+
+/// One scenario's averaged courses (`k`: 0 sharp, 1 gradient), both placements.
+fn course_scenario(
+    r: &Report<'_>,
+    k: usize,
+    scn: &Scenario,
+    pair: &[TimeCourse; 2],
+) -> CourseScenario {
+    let paper = paper_course(k);
+    let floor = scn.run.noise * scn.run.noise / 12.0;
+    let rows = pair
+        .iter()
+        .zip([r.main, r.main.other()])
+        .map(|(c, placement)| course_row(c, placement, &paper))
+        .collect();
+    let main = &pair[0];
+    let p = main.across_at_start;
+    CourseScenario {
+        name: scn.name.clone(),
+        x_start: scn.start.x.to_string(),
+        paper_start: paper.start.to_string(),
+        paper_plateaus: paper
+            .plateaus
+            .iter()
+            .map(|(v, what)| format!("≈ {v} ({what})"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        rows,
+        plateau: format!("{:.1} ± {:.1}", main.plateau, main.plateau_se),
+        plateau_runs: main.plateau_runs,
+        noise_floor: fixed(floor, 2),
+        mixture: (k == 0).then(|| {
+            let step =
+                scn.field.mean(Point2::new(10.0, 0.0)) - scn.field.mean(Point2::new(-10.0, 0.0));
+            fixed(p * (1.0 - p) * step * step + floor, 2)
+        }),
+    }
+}
+
+fn course_section(r: &Report<'_>) -> CourseSection {
     let scenarios = [r.sharp, r.gradient]
         .iter()
         .zip(r.courses)
-        .zip([paper_course(0), paper_course(1)])
         .enumerate()
-        .map(|(k, ((scn, pair), paper))| {
-            let noise = scn.run.noise;
-            let floor = noise * noise / 12.0;
-            let rows = pair
-                .iter()
-                .zip([r.main, r.main.other()])
-                .map(|(c, placement)| {
-                    let first = c.points.first();
-                    CourseRow {
-                        placement: placement.to_string(),
-                        runs: c.runs,
-                        start: first.map_or(String::new(), |p| fixed(p.diversity.mean, 2)),
-                        start_range: first.map_or(String::new(), |p| {
-                            format!(
-                                "{}–{}",
-                                fixed(p.diversity.q10, 2),
-                                fixed(p.diversity.q90, 2)
-                            )
-                        }),
-                        across: fixed(100.0 * c.across_at_start, 0),
-                        end: tail(c, |p| p.diversity.mean),
-                        consensus_start: first
-                            .map_or(String::new(), |p| fixed(p.consensus.mean, 2)),
-                        consensus_end: tail(c, |p| p.consensus.mean),
-                        arrived: c.points.last().map_or(0, |p| p.arrived),
-                        above_paper: first.is_some_and(|p| p.diversity.mean > paper.start),
-                        mean_arrival: fixed(c.mean_arrival, 1),
-                        y_at_arrival: fixed(c.y_at_arrival, 1),
-                        straightness: fixed(100.0 * c.straightness, 0),
-                        consensus_falls: first
-                            .is_some_and(|p| tail_of(c, |p| p.consensus.mean) < p.consensus.mean),
-                    }
-                })
-                .collect();
-            let main = &pair[0];
-            let p = main.across_at_start;
-            CourseScenario {
-                name: scn.name.clone(),
-                x_start: scn.start.x.to_string(),
-                paper_start: paper.start.to_string(),
-                paper_plateaus: paper
-                    .plateaus
-                    .iter()
-                    .map(|(v, what)| format!("≈ {v} ({what})"))
-                    .collect::<Vec<_>>()
-                    .join(", "),
-                rows,
-                plateau: format!("{:.1} ± {:.1}", main.plateau, main.plateau_se),
-                plateau_runs: main.plateau_runs,
-                noise_floor: fixed(floor, 2),
-                mixture: (k == 0).then(|| {
-                    let step = scn.field.mean(Point2::new(10.0, 0.0))
-                        - scn.field.mean(Point2::new(-10.0, 0.0));
-                    fixed(p * (1.0 - p) * step * step + floor, 2)
-                }),
-            }
-        })
+        .map(|(k, (scn, pair))| course_scenario(r, k, scn, pair))
         .collect();
     let ys: Vec<f64> = r.runs[1]
         .1

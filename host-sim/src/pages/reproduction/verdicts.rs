@@ -297,29 +297,36 @@ fn start(r: &Report<'_>, c: &'static Claim) -> Judged {
     }
 }
 
-/// What the settling section's starts say of the paper's starting diversity: the count of
-/// agents across whose mean is nearest it, or the most any count gave.
+/// What the settling section's starts say of the paper's starting diversity: between which
+/// counts of agents across (main placement) it lies, or that no count reaches it.
 fn start_against_across(r: &Report<'_>, k: usize, paper: f64) -> String {
     let by = if k == 0 {
         &r.settled.start.sharp
     } else {
         &r.settled.start.gradient
     };
-    let nearest = by
-        .iter()
-        .min_by(|a, b| (a.1 - paper).abs().total_cmp(&(b.1 - paper).abs()));
-    let most = by.iter().max_by(|a, b| a.1.total_cmp(&b.1));
-    match (nearest, most) {
-        (Some(&(n, m, runs)), _) if (m - paper).abs() <= 0.1 * paper => format!(
-            "with {n} agent{} across the first period gives {} ({runs} runs, settling section): the paper's value",
-            if n == 1 { "" } else { "s" },
-            fixed(m, 2)
+    let above = by.iter().position(|&(_, m, _)| m >= paper);
+    let count = |n: usize| format!("{n} agent{}", if n == 1 { "" } else { "s" });
+    match above {
+        Some(0) => format!(
+            "with {} across the first period already gives {} (settling section)",
+            count(by[0].0),
+            fixed(by[0].1, 2)
         ),
-        (_, Some(&(n, m, _))) => format!(
-            "no start of the settling section gives the paper's value: at most {} (with {n} agents across)",
-            fixed(m, 2)
+        Some(i) => format!(
+            "the paper's value lies between what {} and {} across give ({} and {}; settling section)",
+            by[i - 1].0,
+            count(by[i].0),
+            fixed(by[i - 1].1, 2),
+            fixed(by[i].1, 2)
         ),
-        _ => String::new(),
+        None => by.last().map_or(String::new(), |&(n, m, _)| {
+            format!(
+                "no start of the settling section reaches the paper's value: at most {} (with {} across)",
+                fixed(m, 2),
+                count(n)
+            )
+        }),
     }
 }
 

@@ -26,6 +26,7 @@ use crate::report::csv_files::fixed;
 use crate::swarm::experiment::Error;
 use crate::swarm::probe::{Tapped, tapped_runs};
 use crate::swarm::scenario::{Placement, Scenario};
+use crate::swarm::timecourse::TimeCourse;
 
 /// First stage of this section's seeds (clear of the other stages of `reproduce`).
 const STAGE: u64 = 600;
@@ -70,9 +71,9 @@ pub(super) struct CourseRuns {
     pub(super) gradient: Vec<Tapped>,
 }
 
-/// Runs every experiment of the section and writes its figures and CSV files.
-/// `course_seeds` are the seeds of the main placement's averaged courses (sharp, gradient);
-/// `course_plateaus` their plateaus, which the tapped runs must give again.
+/// Runs every experiment of the section and writes its figures and CSV files. `courses` are
+/// the averaged courses (per field: main placement, other); the main placement's runs are run
+/// again, tapped, and must give their plateaus again.
 ///
 /// # Errors
 /// If a run fails, a file cannot be written, or the tapped runs are not the courses' runs.
@@ -80,11 +81,12 @@ pub(super) fn run(
     st: &mut Stage<'_>,
     main: Placement,
     scns: [&Scenario; 2],
-    course_seeds: [u64; 2],
-    course_plateaus: [f64; 2],
+    courses: &[[TimeCourse; 2]],
     caption_cloud: &CaptionCloud,
 ) -> Result<Settled, Error> {
-    let runs = course_runs(st, scns, course_seeds, course_plateaus)?;
+    let seeds = [0, 1].map(|k| st.seed(super::COURSE_STAGE + 2 * k));
+    let plateaus = [0, 1].map(|k| courses.get(k).map_or(f64::NAN, |c| c[0].plateau));
+    let runs = course_runs(st, scns, seeds, plateaus)?;
     let (plateau, plateau_facts) = plateau::run(st, main, scns, &runs)?;
     let (arrival, arrival_facts) = arrival::run(st, scns, &runs)?;
     let (start, start_facts) = start::run(st, main, scns)?;

@@ -47,6 +47,8 @@ pub(super) struct StartPart {
     /// The starts from which the main placement has one agent across (the lattice's are
     /// fixed).
     sharp_one_starts: String,
+    /// How much farther out than the page's start the nearest of those starts lies, R.
+    sharp_one_gap: Option<String>,
     /// Gradient (main placement): the same.
     gradient_none: String,
     gradient_paper: String,
@@ -184,6 +186,13 @@ fn summary(cols: &[Column], rows: Vec<Vec<String>>, scns: [&Scenario; 2]) -> Sta
         sharp_none: none(&cols[0]),
         sharp_paper: fixed(sharp_paper, 1),
         sharp_one_starts: one_starts(&cols[0]),
+        sharp_one_gap: XS
+            .iter()
+            .filter(|&&x| cols[0].runs.iter().any(|r| r.x == x && r.across == 1))
+            .map(|x| scns[0].start.x - x)
+            .filter(|g| *g > 0.0)
+            .reduce(f64::min)
+            .map(|g| fixed(g, 2)),
         gradient_none: none(&cols[2]),
         gradient_paper: fixed(gradient_paper, 1),
         gradient_max: fixed(gradient_max, 2),

@@ -4,6 +4,8 @@
 //! marks; `report` draws and renders.
 
 pub mod claims;
+pub mod csv;
+pub mod figures;
 pub mod marks;
 pub mod reproduction;
 pub mod verdict;

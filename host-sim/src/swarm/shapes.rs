@@ -21,8 +21,8 @@ use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use crate::pages::figures as shapes_plot;
 use crate::progress::Progress;
-use crate::report::shapes_plot;
 use crate::seeds::derive;
 use crate::stats::circular_mean;
 use crate::swarm::experiment::Error;

@@ -39,8 +39,8 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
 
+use crate::pages::figures as waves_plot;
 use crate::report::csv_files::fixed;
-use crate::report::waves_plot;
 use crate::seeds::derive;
 use crate::swarm::experiment::Error;
 use crate::swarm::field::Field;

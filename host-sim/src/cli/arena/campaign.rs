@@ -13,8 +13,8 @@ use host_sim::arena::campaign::{
     config, failure_line, lab_suite, missed_line, rules_section, secs, suite_section, table,
 };
 use host_sim::arena::stress;
+use host_sim::pages::figures::{rules_chart, success_chart};
 use host_sim::progress::Progress;
-use host_sim::report::reliability_plot::{rules_chart, success_chart};
 
 /// Options of `cimax arena campaign`.
 #[derive(Args, Debug, Clone)]

@@ -8,4 +8,6 @@ pub mod csv;
 pub mod figures;
 pub mod marks;
 pub mod reproduction;
+pub mod shapes;
 pub mod verdict;
+pub mod waves;

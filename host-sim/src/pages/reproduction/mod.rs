@@ -265,14 +265,14 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
     )?;
     let cycle_rows = cycle_effect(&mut st, &sharp)?;
     let sensitivity = sensitivity(&mut st, main, &sharp, &gradient)?;
-    let runs_n = (4 + u64::from(crate::swarm::shapes::KEEP_FORMATIONS))
-        * u64::from(crate::swarm::shapes::RUNS);
+    let runs_n = (4 + u64::from(crate::pages::shapes::KEEP_FORMATIONS))
+        * u64::from(crate::pages::shapes::RUNS);
     let p = st.start("shapes on a random field", runs_n);
-    let shapes = crate::swarm::shapes::reproduce(&st.figs, sharp.run, st.seed(200), &p)?;
+    let shapes = crate::pages::shapes::reproduce(&st.figs, sharp.run, st.seed(200), &p)?;
     st.done(&p);
     let beyond = beyond::run(&mut st, [&sharp, &gradient])?;
     let p = st.start("one wave (Fig. 2)", 1);
-    let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(95))?;
+    let waves = crate::pages::waves::reproduce(&st.figs, st.seed(95))?;
     st.done(&p);
 
     // Speed: one negotiation period per size on one thread (`swarm bench`).

@@ -7,6 +7,7 @@ pub mod claims;
 pub mod csv;
 pub mod figures;
 pub mod marks;
+pub mod reliability;
 pub mod reproduction;
 pub mod shapes;
 pub mod verdict;

@@ -414,7 +414,8 @@ pub struct Page {
     pub campaign: CampaignSection,
     /// Both rules side by side.
     pub rules: Option<RulesSection>,
-    /// The lab suite under both rules, once per [`SUITE_READINGS`].
+    /// The lab suite under both rules, once per
+    /// [`SUITE_READINGS`](crate::arena::campaign::SUITE_READINGS).
     pub suites: Vec<SuiteSection>,
     /// Initiations per negotiation period.
     pub initiations: Option<crate::arena::stress::InitiationsSection>,

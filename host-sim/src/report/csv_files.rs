@@ -14,11 +14,11 @@ pub fn create(path: &Path) -> std::io::Result<csv::Writer<std::fs::File>> {
 }
 
 /// `v` with `digits` decimal places.
-pub(crate) fn fixed(v: f64, digits: usize) -> String {
+pub fn fixed(v: f64, digits: usize) -> String {
     format!("{v:.digits$}")
 }
 
 /// `v` with `digits` decimal places, or an empty cell.
-pub(crate) fn opt(v: Option<f64>, digits: usize) -> String {
+pub fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or(String::new(), |v| fixed(v, digits))
 }

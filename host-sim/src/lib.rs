@@ -12,19 +12,23 @@
 //!   files; [`swarm::experiment`]: runs, sweeps, preferred-direction grids, spread over all
 //!   cores.
 //! - [`arena`]: the emulated lab over `hal-emu`: robots on a plane ([`arena::plane`]), the fault
-//!   campaign ([`arena::campaign`], `docs/reliability.md`) and its stress sections
-//!   ([`arena::stress`]). `cimax arena` itself (robots in a line under light patterns, judged by
+//!   campaign ([`arena::campaign`]) and its stress sections ([`arena::stress`]). `cimax arena` itself (robots in a line under light patterns, judged by
 //!   `hal_emu::judge`) is the binary's `cli/arena`, beside `cli/swarm.rs`.
-//! - [`pages`]: what the pages say about the paper: its claims typed once
-//!   ([`pages::claims`]), one verdict function per kind of claim ([`pages::verdict`]), the
-//!   paper's marks on the figures ([`pages::marks`]), and [`pages::reproduction`], which runs
-//!   every experiment for `docs/reproduction.md`.
-//! - [`report`]: what results become: CSV files, SVG figures ([`report::plot`]) and the
-//!   pages, rendered from the templates in `host-sim/templates/` ([`report::page`]).
+//! - [`pages`]: the simulators' results as figures ([`pages::figures`]), CSV files
+//!   ([`pages::csv`]) and pages: [`pages::reliability`] (`docs/reliability.md`) and
+//!   [`pages::reproduction`], which runs every experiment for `docs/reproduction.md` (with
+//!   [`pages::shapes`] and [`pages::waves`]); and what the pages say about the paper: its claims
+//!   typed once ([`pages::claims`]), one verdict function per kind of claim
+//!   ([`pages::verdict`]), the paper's marks on the figures ([`pages::marks`]).
+//! - [`report`]: generic output, a leaf: CSV writing and number formatting
+//!   ([`report::csv_files`]), the x–y figure, legend and palette ([`report::plot`]), and page
+//!   rendering from the templates in `host-sim/templates/` ([`report::page`]).
 //! - [`viewer`]: the replay viewer's page of a run (`--html`, `cimax view`).
 //! - [`seeds`] and [`progress`]: the seed derivation and the progress bar both sides share.
 //!
-//! Data flow: scenario → experiment → result structs → JSON | CSV | template → page | plot.
+//! Data flow: scenario → experiment (`swarm`, `arena`) → result structs → `pages` → JSON | CSV |
+//! template → page | plot, written through `report`. `report` imports none of the others;
+//! `swarm` and `arena` import neither `report` nor `pages`.
 //!
 //! ## What it never does
 //! - implement CIMAX a second time: every decision is made by `protocol`'s state machines;

@@ -6,6 +6,7 @@ mod common;
 
 use common::{cimax, pool, scratch};
 use host_sim::arena::campaign::{self, Decide, Plan, SCENARIOS};
+use host_sim::pages::reliability;
 use host_sim::progress::Progress;
 
 fn index(name: &str) -> usize {
@@ -55,7 +56,7 @@ fn a_small_campaign_meets_the_bars() {
         }
     }
     assert!(report.missed().is_empty());
-    let md = campaign::markdown(&report, Some("figures/reliability.svg"));
+    let md = reliability::markdown(&report, Some("figures/reliability.svg"));
     assert!(
         md.contains("| `loss-20` | 6 | 100.0 % (6) | 95 % | **PASS** |"),
         "{md}"

@@ -4,8 +4,8 @@
 mod common;
 
 use common::{pool, scratch};
+use host_sim::pages::csv::write_sweep_csv;
 use host_sim::progress::Progress;
-use host_sim::report;
 use host_sim::swarm::experiment::{self, direction_map, radial_profile, sweep};
 use host_sim::swarm::geometry::Shape;
 use host_sim::swarm::scenario::{GridSpec, LATTICE_SPACING, Scenario};
@@ -134,7 +134,7 @@ fn csv_files_have_the_documented_columns() {
     let dir = scratch("csv");
     let pts = sweep(&scn, scn.run, &[0.0, 4.0], 2, 1, &Progress::hidden()).unwrap();
     let path = dir.join("sweep.csv");
-    report::write_sweep_csv(&path, &pts).unwrap();
+    write_sweep_csv(&path, &pts).unwrap();
     let text = std::fs::read_to_string(&path).unwrap();
     let mut lines = text.lines();
     assert_eq!(

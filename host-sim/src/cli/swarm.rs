@@ -5,10 +5,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant as Clock;
 
 use clap::{Args, Subcommand};
+use host_sim::pages::csv::{write_field_csv, write_run_csv, write_sweep_csv};
+use host_sim::pages::figures;
 use host_sim::pages::reproduction as reproduce;
 use host_sim::progress::Progress;
 use host_sim::report;
-use host_sim::report::plot;
 use host_sim::seeds;
 use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{
@@ -213,8 +214,8 @@ fn swarm_run(
     let (csv, svg) = c.outputs(&scn, "run");
     ensure_parent(&csv)?;
     ensure_parent(&svg)?;
-    report::write_run_csv(&csv, &out, &scn.run)?;
-    plot::run_figure(&svg, &scn, &out)?;
+    write_run_csv(&csv, &out, &scn.run)?;
+    figures::run_figure(&svg, &scn, &out)?;
     let last = out.periods.last();
     println!(
         "{}: {} agents (mean {:.1} neighbours), from ({:.2}, {:.2}), {} periods of {} s in {:.2} s",
@@ -282,10 +283,10 @@ fn swarm_sweep(
     let (csv, svg) = c.outputs(&scn, "sweep");
     ensure_parent(&csv)?;
     ensure_parent(&svg)?;
-    report::write_sweep_csv(&csv, &pts)?;
+    write_sweep_csv(&csv, &pts)?;
     let crit = scn.success.map(|s| s.to_string()).unwrap_or_default();
     // A built-in scenario's sweep carries the paper's marks, as on docs/reproduction.md.
-    plot::sweep_figure(
+    figures::sweep_figure(
         &svg,
         &format!("{}: success ({crit}), {n} runs per point", scn.description),
         &[("this simulator", &pts)],
@@ -328,8 +329,8 @@ fn swarm_field(c: &Common) -> Res {
     let (csv, svg) = c.outputs(&scn, "field");
     ensure_parent(&csv)?;
     ensure_parent(&svg)?;
-    report::write_field_csv(&csv, &arrows)?;
-    plot::direction_figure(
+    write_field_csv(&csv, &arrows)?;
+    figures::direction_figure(
         &svg,
         &scn,
         &grid,

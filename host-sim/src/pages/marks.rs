@@ -3,8 +3,7 @@
 //! draws the same marks on the maps of built-in scenarios ([`map_for`]).
 
 use super::claims::{CLAIMS, Claim, Figure, Id, Value};
-use crate::report::plot::{MapMark, MapMarks, MapShape, SweepMark};
-use crate::report::timecourse_plot::PaperMark;
+use crate::pages::figures::{MapMark, MapMarks, MapShape, PaperMark, SweepMark};
 use crate::swarm::scenario::Scenario;
 
 /// The claims drawn on `figure`, in the table's order, with each mark's legend and value: a

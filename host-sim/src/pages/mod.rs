@@ -1,9 +1,16 @@
-//! What the pages say about the paper: its claims as data ([`claims`]), how ours is judged
-//! against each ([`verdict`]), and the paper's marks on the figures ([`marks`]). The
-//! simulators (`swarm`, `arena`) return result structs; this layer turns them into verdicts and
-//! marks; `report` draws and renders.
+//! The layer that writes: the simulators (`swarm`, `arena`) return result structs, and this
+//! layer turns them into figures ([`figures`]), CSV files ([`csv`]) and pages
+//! ([`reliability`], [`reproduction`] with its [`shapes`] and [`waves`] sections), through
+//! `report`'s generic pieces (CSV writer, x–y figure, legend, template rendering). And what the
+//! pages say about the paper: its claims as data ([`claims`]), how ours is judged against each
+//! ([`verdict`]), and the paper's marks on the figures ([`marks`]).
 
 pub mod claims;
+pub mod csv;
+pub mod figures;
 pub mod marks;
+pub mod reliability;
 pub mod reproduction;
+pub mod shapes;
 pub mod verdict;
+pub mod waves;

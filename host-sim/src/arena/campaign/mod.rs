@@ -10,13 +10,12 @@
 //! with rayon; each is independent and seeded, so the report does not depend on the number
 //! of threads.
 //!
-//! The report ([`markdown`], built in `page.rs`) gives per scenario the success rate, time to
-//! consensus (median and 95th percentile), frames per run dropped by reason, the bar with PASS
-//! or FAIL, and the failing seeds with the command that replays each;
-//! [`crate::report::reliability_plot`] draws the success rates against the bars as SVG. The
-//! scenarios and how each injects its fault are `scenarios.rs`; this file runs them.
+//! [`run`] returns a [`Report`]; the page made of it (`pages::reliability`) gives per scenario
+//! the success rate, time to consensus (median and 95th percentile), frames per run dropped by
+//! reason, the bar with PASS or FAIL, and the failing seeds with the command that replays each,
+//! and `pages::figures` draws the success rates against the bars as SVG. The scenarios and how
+//! each injects its fault are `scenarios.rs`; this file runs them.
 
-mod page;
 mod scenarios;
 
 use std::fmt::Write as _;
@@ -31,11 +30,6 @@ use rayon::prelude::*;
 
 use crate::progress::Progress;
 
-pub use page::{
-    CampaignSection, FailingGroup, LabelledRow, Page, RulesRow, RulesSection, ScenarioRow, Setup,
-    SuiteSection, campaign_section, decision_times, failure_line, markdown, missed_line, pct,
-    rules_section, secs, suite_section, table,
-};
 pub use scenarios::{ADVERSARY_AT, Fault, REBOOT_DOWN, SCENARIOS, Scenario, config, pattern_for};
 
 /// `--decide`: the protocol's [`DecisionRule`] on the command line.
@@ -173,7 +167,7 @@ impl Report {
 }
 
 /// The failed outcome of a run of `cfg` in which a robot stopped on its own.
-fn crashed(cfg: &ArenaConfig, failure: &RobotFailure) -> Outcome {
+pub(crate) fn crashed(cfg: &ArenaConfig, failure: &RobotFailure) -> Outcome {
     let end = Instant::ZERO + cfg.duration;
     let lights = cfg
         .env

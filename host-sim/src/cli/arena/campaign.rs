@@ -1,6 +1,7 @@
 //! `cimax arena campaign`: runs the fault campaign ([`host_sim::arena::campaign`]) under one
-//! rule or both, prints its tables, writes `docs/reliability.md` with its figures, and exits 1
-//! if a bar is missed or a robot crashed.
+//! rule or both, prints its tables, writes `docs/reliability.md`
+//! ([`host_sim::pages::reliability`]) with its figures, and exits 1 if a bar is missed or a robot
+//! crashed.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -9,12 +10,14 @@ use clap::Args;
 use clap::builder::PossibleValuesParser;
 use hal_emu::judge::judge;
 use host_sim::arena::campaign::{
-    self, Decide, Page, Plan, Report, SCENARIOS, SUITE_READINGS, Scenario, campaign_section,
-    config, failure_line, lab_suite, missed_line, rules_section, secs, suite_section, table,
+    self, Decide, Plan, Report, SCENARIOS, SUITE_READINGS, Scenario, config, lab_suite,
 };
 use host_sim::arena::stress;
+use host_sim::pages::figures::{rules_chart, success_chart};
+use host_sim::pages::reliability::{
+    Page, campaign_section, failure_line, missed_line, rules_section, secs, suite_section, table,
+};
 use host_sim::progress::Progress;
-use host_sim::report::reliability_plot::{rules_chart, success_chart};
 
 /// Options of `cimax arena campaign`.
 #[derive(Args, Debug, Clone)]

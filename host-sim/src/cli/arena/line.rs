@@ -357,11 +357,11 @@ fn lab_header(cfg: &ArenaConfig, run: &LabRun, args: &ArenaArgs) -> host_sim::vi
     h
 }
 
-/// The timeline of `run` as SVG ([`host_sim::report::lab_timeline`]); an error is reported on
+/// The timeline of `run` as SVG ([`host_sim::pages::figures::draw_timeline`]); an error is reported on
 /// stderr and leaves what was drawn.
 fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
     let mut svg = String::new();
-    if let Err(e) = host_sim::report::lab_timeline::draw_timeline(cfg, run, &mut svg) {
+    if let Err(e) = host_sim::pages::figures::draw_timeline(cfg, run, &mut svg) {
         eprintln!("cimax arena: timeline: {e}");
     }
     svg

@@ -317,7 +317,7 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
     let arena = arena_points(a, &scenario, &xs, medium)?;
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     let csv = a.out.join(format!("arena-{}-sweep.csv", scenario.name));
-    host_sim::report::write_sweep_csv(&csv, &arena)
+    host_sim::pages::csv::write_sweep_csv(&csv, &arena)
         .map_err(|e| format!("{}: {e}", csv.display()))?;
     let swarm = swarm_points(a, &scenario, &xs)?;
     let svg = sweep_svg(a, &scenario, &arena, swarm.as_deref())?;
@@ -423,7 +423,7 @@ fn swarm_points(
         .map_err(|e| e.to_string())?;
         progress.finish();
         let csv = a.out.join(format!("swarm-{}-sweep.csv", scenario.name));
-        host_sim::report::write_sweep_csv(&csv, &pts)
+        host_sim::pages::csv::write_sweep_csv(&csv, &pts)
             .map_err(|e| format!("{}: {e}", csv.display()))?;
         Some(pts)
     } else {
@@ -447,7 +447,7 @@ fn sweep_svg(
     // its 25 % at −4), for the built-in scenarios.
     let paper = host_sim::pages::marks::sweep_for(&scenario.name);
     let svg = a.out.join(format!("arena-{}-sweep.svg", scenario.name));
-    host_sim::report::plot::sweep_figure(
+    host_sim::pages::figures::sweep_figure(
         &svg,
         &format!(
             "{}: {} robots ({}), success within {} moves, {} runs per point",

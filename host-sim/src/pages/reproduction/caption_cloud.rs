@@ -9,9 +9,10 @@ use super::{
     CLOUD_REFINED, PROFILE_RUNS, Stage, builtin_placed, by_distance, outward_limit,
     perception_limit, refined,
 };
+use crate::pages::csv::{write_field_csv, write_radial_csv};
+use crate::pages::figures;
 use crate::pages::marks;
-use crate::report::csv_files::{fixed, write_field_csv, write_radial_csv};
-use crate::report::plot;
+use crate::report::csv_files::fixed;
 use crate::swarm::experiment::{Arrow, Error, RadialPoint, direction_map, radial_profile};
 use crate::swarm::scenario::Placement;
 
@@ -57,7 +58,7 @@ pub(super) fn run(st: &mut Stage<'_>, main: Placement) -> Result<CaptionCloud, E
     let arrows = direction_map(&scn, grid, st.seed(MAP_STAGE), &p)?;
     st.done(&p);
     write_field_csv(&st.figs.join("cloud-caption-field.csv"), &arrows)?;
-    plot::direction_figure(
+    figures::direction_figure(
         &st.figs.join("cloud-caption-field.svg"),
         &scn,
         grid,
@@ -82,7 +83,7 @@ pub(super) fn run(st: &mut Stage<'_>, main: Placement) -> Result<CaptionCloud, E
     let profile = by_distance(profile);
     st.done(&p);
     write_radial_csv(&st.figs.join("cloud-caption-profile.csv"), &profile)?;
-    plot::radial_figure(
+    figures::radial_figure(
         &st.figs.join("cloud-caption-profile.svg"),
         &format!(
             "caption's cloud: heading of a swarm against its distance from the centre, {PROFILE_RUNS} runs per point"

@@ -11,15 +11,15 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::Serialize;
 
+use crate::pages::csv::write_course_csv;
+use crate::pages::csv::{
+    CycleRow, write_cycle_csv, write_field_csv, write_radial_csv, write_run_csv, write_sweep_csv,
+};
+use crate::pages::figures::{self, time_course_figure};
 use crate::pages::marks;
 use crate::progress::Progress;
-use crate::report::csv_files::write_course_csv;
-use crate::report::csv_files::{
-    CycleRow, fixed, opt, write_cycle_csv, write_field_csv, write_radial_csv, write_run_csv,
-    write_sweep_csv,
-};
+use crate::report::csv_files::{fixed, opt};
 use crate::report::plot::{self, Line};
-use crate::report::timecourse_plot::time_course_figure;
 use crate::seeds::derive;
 use crate::swarm::experiment::{
     self, Arrow, Error, RadialPoint, RunOutput, SweepPoint, direction_map, radial_profile, sweep,
@@ -308,19 +308,19 @@ pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, E
 fn shapes_stage(
     st: &mut Stage<'_>,
     sharp: &Scenario,
-) -> Result<crate::swarm::shapes::ShapesSection, Error> {
-    let runs_n = (4 + u64::from(crate::swarm::shapes::KEEP_FORMATIONS))
-        * u64::from(crate::swarm::shapes::RUNS);
+) -> Result<crate::pages::shapes::ShapesSection, Error> {
+    let runs_n = (4 + u64::from(crate::pages::shapes::KEEP_FORMATIONS))
+        * u64::from(crate::pages::shapes::RUNS);
     let p = st.start("shapes on a random field", runs_n);
-    let shapes = crate::swarm::shapes::reproduce(&st.figs, sharp.run, st.seed(200), &p)?;
+    let shapes = crate::pages::shapes::reproduce(&st.figs, sharp.run, st.seed(200), &p)?;
     st.done(&p);
     Ok(shapes)
 }
 
 /// One wave through the swarm of Fig. 2.
-fn wave_stage(st: &mut Stage<'_>) -> Result<crate::swarm::waves::WavesSection, Error> {
+fn wave_stage(st: &mut Stage<'_>) -> Result<crate::pages::waves::WavesSection, Error> {
     let p = st.start("one wave (Fig. 2)", 1);
-    let waves = crate::swarm::waves::reproduce(&st.figs, st.seed(95))?;
+    let waves = crate::pages::waves::reproduce(&st.figs, st.seed(95))?;
     st.done(&p);
     Ok(waves)
 }
@@ -369,7 +369,7 @@ fn run_figures(st: &mut Stage<'_>, scns: [&Scenario; 2]) -> Result<Vec<(u64, Run
         let (tries, out) = chosen.ok_or("no run")?;
         let figs = &st.figs;
         write_run_csv(&figs.join(format!("{}-run.csv", scn.name)), &out, &scn.run)?;
-        plot::run_figure(&figs.join(format!("{}-run.svg", scn.name)), scn, &out)?;
+        figures::run_figure(&figs.join(format!("{}-run.svg", scn.name)), scn, &out)?;
         st.done(&p);
         runs.push((tries, out));
     }
@@ -441,7 +441,7 @@ fn sweep_figures(
     .into_iter()
     .enumerate()
     {
-        plot::sweep_figure(
+        figures::sweep_figure(
             &figs.join(format!("{}-sweep.svg", scn.name)),
             &format!(
                 "{}: success ({crit} within {} periods), runs per point: {main} {}, {} {}",
@@ -477,7 +477,7 @@ fn direction_maps(st: &mut Stage<'_>, scns: [&Scenario; 3]) -> Result<Vec<Vec<Ar
         st.done(&p);
         let figs = &st.figs;
         write_field_csv(&figs.join(format!("{}-field.csv", scn.name)), &arrows)?;
-        plot::direction_figure(
+        figures::direction_figure(
             &figs.join(format!("{}-field.svg", scn.name)),
             scn,
             grid,
@@ -512,7 +512,7 @@ fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint
     let profile = by_distance(profile);
     st.done(&p);
     write_radial_csv(&st.figs.join("cloud-profile.csv"), &profile)?;
-    plot::radial_figure(
+    figures::radial_figure(
         &st.figs.join("cloud-profile.svg"),
         &format!(
             "cloud: heading of a swarm against its distance from the cloud's centre, {profile_runs} runs per point"

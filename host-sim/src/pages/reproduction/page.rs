@@ -30,14 +30,14 @@ pub(super) struct Report<'a> {
     pub(super) courses: &'a [[TimeCourse; 2]],
     pub(super) sensitivity: &'a SensitivitySection,
     /// The discussion's line and cross on a random field.
-    pub(super) shapes: &'a crate::swarm::shapes::ShapesSection,
+    pub(super) shapes: &'a crate::pages::shapes::ShapesSection,
     /// Entropy instead of variance (beyond the paper).
     pub(super) beyond: &'a beyond::BeyondSection,
     /// The experiments that settle the open rows.
     pub(super) settled: &'a settle::Settled,
     pub(super) cycle_rows: &'a [CycleRow],
     pub(super) cycle_runs: u32,
-    pub(super) waves: crate::swarm::waves::WavesSection,
+    pub(super) waves: crate::pages::waves::WavesSection,
 }
 
 /// `docs/reproduction.md` as its template sees it (`templates/reproduction.md.j2`).
@@ -55,11 +55,11 @@ struct Page<'a> {
     cycle: CycleSection,
     course: CourseSection,
     sensitivity: &'a SensitivitySection,
-    shapes: &'a crate::swarm::shapes::ShapesSection,
+    shapes: &'a crate::pages::shapes::ShapesSection,
     beyond: &'a beyond::BeyondSection,
     settle: &'a settle::SettleSection,
     speed: SpeedSection,
-    waves: crate::swarm::waves::WavesSection,
+    waves: crate::pages::waves::WavesSection,
     names: [String; 3],
     placement: PlacementNote,
 }

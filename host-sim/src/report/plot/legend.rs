@@ -5,7 +5,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::field::level_colour;
+use super::palette::level_colour;
 use super::{FONT, PlotError};
 
 /// What a legend entry shows beside its text.
@@ -63,7 +63,7 @@ fn legend_layout(width: i32, entries: &[Entry]) -> (Vec<(i32, i32)>, i32) {
 }
 
 /// Height of the legend strip of `entries` across `width` px (0 without entries).
-pub(super) fn legend_height(width: u32, entries: &[Entry]) -> u32 {
+pub fn legend_height(width: u32, entries: &[Entry]) -> u32 {
     let (_, rows) = legend_layout(width as i32, entries);
     if rows == 0 {
         0
@@ -135,7 +135,7 @@ fn draw_key(
 
 /// Draws `entries` in rows across `area`, a strip outside every plot, so that no entry can
 /// cover data.
-pub(super) fn draw_legend(
+pub fn draw_legend(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     entries: &[Entry],
 ) -> Result<(), PlotError> {

@@ -1,5 +1,4 @@
-//! Plain x–y figures with error bars and marker lines, and the cloud's radial profile drawn as
-//! one.
+//! Plain x–y figures with error bars and marker lines.
 
 use std::path::Path;
 
@@ -7,7 +6,6 @@ use plotters::prelude::*;
 
 use super::legend::{Entry, Key, draw_legend, legend_height};
 use super::{FONT, PlotError};
-use crate::swarm::experiment::RadialPoint;
 
 /// One line of a figure: a label and its points (x, y, optional error).
 pub struct Line {
@@ -153,35 +151,4 @@ impl XyBody<'_> {
         }
         Ok(())
     }
-}
-
-/// The radial profile of a cloud: how strongly the swarm heads for the cloud's centre against
-/// its distance from it.
-///
-/// # Errors
-/// If the file cannot be written.
-pub fn radial_figure(
-    path: &Path,
-    title: &str,
-    points: &[RadialPoint],
-    markers: &[(f64, String)],
-) -> Result<(), PlotError> {
-    let markers: Vec<(f64, &str)> = markers.iter().map(|(d, l)| (*d, l.as_str())).collect();
-    let line = Line {
-        label: "mean cos(direction − direction to the centre)".into(),
-        points: points
-            .iter()
-            .map(|p| (p.distance, p.inward, p.inward_se))
-            .collect(),
-    };
-    xy_figure(
-        path,
-        title,
-        "distance of the swarm's centre from the cloud's centre / R",
-        "inward alignment",
-        &[line],
-        (-1.05, 1.05),
-        &markers,
-        false,
-    )
 }

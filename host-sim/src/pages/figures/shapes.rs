@@ -7,9 +7,9 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use crate::pages::shapes::ShapeHistograms;
 use crate::report::csv_files::fixed;
 use crate::report::plot::PlotError;
-use crate::swarm::shapes::ShapeHistograms;
 
 const FONT: &str = "sans-serif";
 /// Decisions with the paper's diffusion: filled bars.

@@ -6,9 +6,10 @@ use std::path::Path;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use crate::arena::campaign::{Report, decision_times, pct};
+use crate::arena::campaign::Report;
+use crate::pages::reliability::{decision_times, pct};
 
-/// The figure of [`crate::arena::campaign::rules_section`]: per scenario, the median time (bar) and the 95th
+/// The figure of [`crate::pages::reliability::rules_section`]: per scenario, the median time (bar) and the 95th
 /// percentile (whisker) of each rule, on a common axis of seconds.
 ///
 /// # Errors

@@ -5,7 +5,7 @@ use std::path::Path;
 use plotters::prelude::*;
 
 use super::field::{draw_field, square_range};
-use super::{FONT, PlotError};
+use crate::report::plot::{FONT, PlotError};
 use crate::swarm::experiment::RunOutput;
 use crate::swarm::scenario::Scenario;
 

@@ -8,8 +8,7 @@ use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
 use super::field::draw_field;
-use super::legend::{Entry, Key, draw_legend, legend_height};
-use super::{FONT, PlotError};
+use crate::report::plot::{Entry, FONT, Key, PlotError, draw_legend, legend_height};
 use crate::swarm::experiment::Arrow;
 use crate::swarm::scenario::{GridSpec, Scenario};
 

@@ -1,6 +1,8 @@
-//! The campaign as the page `docs/reliability.md` shows it: the view models its templates
-//! render (`templates/reliability*.md.j2`), the table printed on stdout, and the lines that
-//! name failed runs and missed bars.
+//! The fault campaign ([`crate::arena::campaign`]) as the page `docs/reliability.md` shows it:
+//! the view models its templates render (`templates/reliability*.md.j2`), the table printed on
+//! stdout, and the lines that name failed runs and missed bars. Its figures are
+//! `pages::figures`' [`success_chart`](crate::pages::figures::success_chart) and
+//! [`rules_chart`](crate::pages::figures::rules_chart).
 
 use std::fmt::Write as _;
 
@@ -9,7 +11,7 @@ use hal_emu::{ArenaConfig, Readings};
 use protocol::{Duration, Params};
 use serde::Serialize;
 
-use super::{
+use crate::arena::campaign::{
     ADVERSARY_AT, Decide, Fault, Outcome, Plan, REBOOT_DOWN, Report, SCENARIOS, SUITE_BAR,
     ScenarioResult, SuiteResult, config, replay_command,
 };
@@ -412,7 +414,8 @@ pub struct Page {
     pub campaign: CampaignSection,
     /// Both rules side by side.
     pub rules: Option<RulesSection>,
-    /// The lab suite under both rules, once per [`SUITE_READINGS`].
+    /// The lab suite under both rules, once per
+    /// [`SUITE_READINGS`](crate::arena::campaign::SUITE_READINGS).
     pub suites: Vec<SuiteSection>,
     /// Initiations per negotiation period.
     pub initiations: Option<crate::arena::stress::InitiationsSection>,
@@ -578,8 +581,8 @@ pub fn missed_line(r: &ScenarioResult) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{crashed, pattern_for};
     use super::*;
+    use crate::arena::campaign::{crashed, pattern_for};
     use hal_emu::world::arena::RobotFailure;
 
     #[test]

@@ -6,8 +6,7 @@ use std::path::Path;
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::legend::{Entry, Key, draw_legend, legend_height};
-use super::{FONT, PlotError};
+use crate::report::plot::{Entry, FONT, Key, PlotError, draw_legend, legend_height};
 use crate::swarm::experiment::SweepPoint;
 
 /// Colours of the series of a sweep figure.

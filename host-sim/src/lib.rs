@@ -7,7 +7,7 @@
 //!
 //! ## Where to start reading
 //! - [`swarm`]: the 2D simulator. [`swarm::sim`] is the engine (message delivery, readings,
-//!   the move) over [`swarm::geometry`] (placement and neighbour lists) and [`swarm::field`]
+//!   the move) over [`swarm::geometry`] (placement and neighbour lists) and [`hal_emu::world::field`]
 //!   (the environment); [`swarm::scenario`]: the built-in scenarios and the TOML scenario
 //!   files; [`swarm::experiment`]: runs, sweeps, preferred-direction grids, spread over all
 //!   cores.

@@ -2,7 +2,7 @@
 //!
 //! Robots on a line, the paper's hexagonal lattice or a random disk, each with K receivers,
 //! run the unchanged robot program (`firmware::Robot`) over the emulated light medium
-//! (`hal-emu`). What they sense is one of the 2D simulator's fields ([`crate::swarm::field`], the
+//! (`hal-emu`). What they sense is one of the 2D simulator's fields ([`hal_emu::world::field`], the
 //! scenarios of `cimax swarm`), read where each robot is; every negotiation period the swarm
 //! moves rigidly by the scenario's step (0.33 R) along the circular mean of the sectors its
 //! LEDs show ([`hal_emu::world::arena::swarm_heading`]). A run succeeds by the scenario's criterion

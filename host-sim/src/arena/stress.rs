@@ -1,15 +1,15 @@
-//! Two sections of the campaign page beyond its bars: where the lab swarm breaks under frame
+//! Two experiments of the campaign page beyond its bars: where the lab swarm breaks under frame
 //! loss (a sweep from 10 % to 80 %), and how often the robots initiate a wave per negotiation
-//! period (the paper: "every aMussel initiated at least 10 messages").
+//! period (the paper: "every aMussel initiated at least 10 messages"). Their sections are
+//! [`crate::pages::reliability::stress`].
 //!
 //! Both run the same emulated lab as the campaign ([`campaign::run_one`]), seeded the same way,
 //! so the page regenerates byte for byte.
 
 use protocol::Params;
 use rayon::prelude::*;
-use serde::Serialize;
 
-use crate::arena::campaign::{self, Decide, Outcome, Report, SCENARIOS};
+use crate::arena::campaign::{self, Decide, Outcome, SCENARIOS};
 use crate::stats::quantile;
 
 /// Frame losses of the sweep.
@@ -19,7 +19,7 @@ pub const LOSSES: [f64; 8] = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8];
 pub const SWEEP_SEEDS: u64 = 50;
 
 /// The scenario whose initiations are counted: the fault-free baseline.
-const BASELINE: &str = "cycle-spread";
+pub const BASELINE: &str = "cycle-spread";
 
 /// One point of the loss sweep.
 #[derive(Clone, Debug)]
@@ -72,59 +72,6 @@ pub fn loss_sweep(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<LossPoint
         .collect()
 }
 
-fn pct(x: f64) -> String {
-    format!("{:.0} %", 100.0 * x)
-}
-
-fn secs(x: Option<f64>) -> String {
-    x.map_or("-".into(), |s| format!("{s:.0}"))
-}
-
-/// The loss sweep of both rules, as the page's section shows it (`loss` in
-/// `templates/reliability/loss.md.j2`).
-#[derive(Serialize)]
-pub struct LossSection {
-    /// Seeds per loss and rule.
-    pub seeds: u64,
-    /// Per loss: the loss, then success and median time of the fixed and the adaptive rule.
-    pub rows: Vec<[String; 5]>,
-    /// Where the fixed rule's success first falls below 95 %.
-    pub fixed_breaks: String,
-    /// Where the adaptive rule's success first falls below 95 %.
-    pub adaptive_breaks: String,
-}
-
-/// The sweep of both rules as the page's section.
-pub fn loss_section(fixed: &[LossPoint], adaptive: &[LossPoint], seeds: u64) -> LossSection {
-    let rows = fixed
-        .iter()
-        .zip(adaptive)
-        .map(|(f, a)| {
-            [
-                pct(f.loss),
-                pct(f.success()),
-                secs(f.median_s()),
-                pct(a.success()),
-                secs(a.median_s()),
-            ]
-        })
-        .collect();
-    let breaks = |points: &[LossPoint]| {
-        points
-            .iter()
-            .find(|p| p.success() < 0.95)
-            .map_or("not within 80 %".to_string(), |p| {
-                format!("at {} loss", pct(p.loss))
-            })
-    };
-    LossSection {
-        seeds,
-        rows,
-        fixed_breaks: breaks(fixed),
-        adaptive_breaks: breaks(adaptive),
-    }
-}
-
 /// Initiations per robot and nominal negotiation period in the runs of one scenario: for each
 /// robot of each run, its waves initiated (and initiations skipped while busy) times the
 /// nominal period over the run's length.
@@ -154,57 +101,6 @@ pub fn full_periods(runs: &[Outcome]) -> (u64, Option<f64>) {
     }
     let share = (periods > 0).then(|| (periods - short) as f64 / periods as f64);
     (periods, share)
-}
-
-/// Initiations per negotiation period of both rules, as the page's section shows it
-/// (`initiations` in `templates/reliability/initiations.md.j2`).
-#[derive(Serialize)]
-pub struct InitiationsSection {
-    /// The scenario counted.
-    pub scenario: &'static str,
-    /// Cycles per negotiation period.
-    pub cycles: u16,
-    /// The nominal cycle, s.
-    pub cycle_s: String,
-    /// Per rule: its name, robot-runs, initiated min, p5, median, mean, skipped median, share
-    /// of robot-runs with at least 10 per nominal period, the robots' own negotiation periods
-    /// completed and the share of them with at least one initiation per cycle.
-    pub rows: Vec<[String; 10]>,
-}
-
-/// Initiations per negotiation period of both rules in the baseline scenario, as the page's
-/// section.
-pub fn initiations_section(fixed: &Report, adaptive: &Report) -> InitiationsSection {
-    let params = Params::robots();
-    let mut rows = Vec::new();
-    for report in [fixed, adaptive] {
-        let Some(r) = report.results.iter().find(|r| r.scenario.name == BASELINE) else {
-            continue;
-        };
-        let (init, skip) = per_period(&r.runs, &params);
-        let mean = crate::stats::mean(&init).unwrap_or(0.0);
-        let ten = init.iter().filter(|&&x| x >= 10.0).count() as f64 / init.len().max(1) as f64;
-        let f = |x: Option<f64>| x.map_or("-".into(), |v| format!("{v:.1}"));
-        let (periods, full) = full_periods(&r.runs);
-        rows.push([
-            report.plan.decide.name().to_string(),
-            init.len().to_string(),
-            f(init.first().copied()),
-            f(quantile(&init, 0.05)),
-            f(quantile(&init, 0.5)),
-            format!("{mean:.1}"),
-            f(quantile(&skip, 0.5)),
-            pct(ten),
-            periods.to_string(),
-            full.map_or("-".into(), pct),
-        ]);
-    }
-    InitiationsSection {
-        scenario: BASELINE,
-        cycles: params.negotiation_cycles,
-        cycle_s: params.wave.cycle.as_secs_f64().to_string(),
-        rows,
-    }
 }
 
 #[cfg(test)]
@@ -279,8 +175,5 @@ mod tests {
         };
         assert_eq!(p.success(), 0.75);
         assert_eq!(p.median_s(), Some(200.0));
-        let section = loss_section(std::slice::from_ref(&p), std::slice::from_ref(&p), 4);
-        assert_eq!(section.rows, [["50 %", "75 %", "200", "75 %", "200"]]);
-        assert_eq!(section.fixed_breaks, "at 50 % loss");
     }
 }

@@ -12,10 +12,10 @@ use crate::pages::figures::{shapes_figure, write_shapes_csv};
 use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::swarm::experiment::Error;
-use crate::swarm::field::Field;
 use crate::swarm::scenario::LATTICE_SPACING;
 use crate::swarm::shapes::{Decisions, Formation, Tally, decide, formations, histogram};
 use crate::swarm::sim::RunConfig;
+use hal_emu::world::field::Field;
 
 /// Runs per formation on the page.
 pub const RUNS: u32 = 300;

@@ -1,11 +1,9 @@
 //! The paper's 2D swarm simulator (section 3): the engine ([`sim`]) over the swarm's
-//! [`geometry`] and the environment's [`field`]s, the [`scenario`]s, the [`experiment`]s run on
-//! them (runs, sweeps, direction maps, profiles). `docs/reproduction.md`, which runs them all,
+//! [`geometry`] and the environment's fields ([`hal_emu::world::field`], shared with the
+//! arena), the [`scenario`]s, the [`experiment`]s run on them (runs, sweeps, direction maps, profiles). `docs/reproduction.md`, which runs them all,
 //! is [`crate::pages::reproduction`].
 
 pub mod experiment;
-/// The environment's fields, shared with the emulated arena (they live in `hal-emu`).
-pub use hal_emu::world::field;
 pub mod geometry;
 pub mod measure;
 pub mod probe;

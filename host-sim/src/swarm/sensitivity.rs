@@ -10,9 +10,9 @@ use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::stats;
 use crate::swarm::experiment::{Error, SweepPoint, run, sweep};
-use crate::swarm::field::Along;
 use crate::swarm::geometry::{Shape, lattice};
 use crate::swarm::scenario::Scenario;
+use hal_emu::world::field::Along;
 
 /// A setting the paper leaves open, and the value to give it.
 #[derive(Clone, Copy, Debug, PartialEq)]

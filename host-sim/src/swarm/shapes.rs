@@ -23,10 +23,10 @@ use crate::progress::Progress;
 use crate::seeds::derive;
 use crate::stats::circular_mean;
 use crate::swarm::experiment::Error;
-use crate::swarm::field::Field;
 use crate::swarm::geometry::{Shape, Swarm, lattice};
 use crate::swarm::scenario::LATTICE_SPACING;
 use crate::swarm::sim::{RunConfig, Sim};
+use hal_emu::world::field::Field;
 
 /// A swarm's formation: where its agents sit, in R (the perception range is 1 R).
 #[derive(Clone, Copy, Debug, PartialEq)]

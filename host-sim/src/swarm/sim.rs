@@ -38,10 +38,10 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
 use crate::stats::Resultant;
-use crate::swarm::field::Field;
 use crate::swarm::geometry::Swarm;
 use crate::swarm::measure::Measure;
 use crate::swarm::tap::Tap;
+use hal_emu::world::field::Field;
 
 /// The agent the simulator steps: the run's [`Measure`] as the diversity (the variance unless
 /// the scenario says otherwise), up to 32 readings per message, up to 16 distinct bearings per

@@ -41,9 +41,9 @@ use rand_pcg::Pcg64Mcg;
 
 use crate::seeds::derive;
 use crate::swarm::experiment::Error;
-use crate::swarm::field::Field;
 use crate::swarm::geometry::{Shape, Swarm};
 use crate::swarm::sim::{RunConfig, Sim};
+use hal_emu::world::field::Field;
 
 /// The paper's snapshot times (Fig. 2 a–e), seconds after the initiation.
 pub const SNAPSHOTS: [u64; 5] = [0, 2, 4, 11, 16];

@@ -248,11 +248,17 @@ fn write_page(
             missed.extend(section.missed.iter().map(|m| m.replace('`', "")));
             page.suites.push(section);
         }
-        page.initiations = Some(stress::initiations_section(fixed, adaptive));
+        page.initiations = Some(host_sim::pages::reliability::stress::initiations_section(
+            fixed, adaptive,
+        ));
         let sweep_seeds = seeds.min(stress::SWEEP_SEEDS);
         let f = stress::loss_sweep(Decide::Fixed, seed, sweep_seeds)?;
         let a = stress::loss_sweep(Decide::Adaptive, seed, sweep_seeds)?;
-        page.loss = Some(stress::loss_section(&f, &a, sweep_seeds));
+        page.loss = Some(host_sim::pages::reliability::stress::loss_section(
+            &f,
+            &a,
+            sweep_seeds,
+        ));
         println!(
             "wrote {}, {} and {}",
             out.display(),

@@ -5,7 +5,7 @@ use plotters::prelude::*;
 
 use crate::report::plot::PlotError;
 use crate::report::plot::palette::level_colour;
-use crate::swarm::field::Field;
+use hal_emu::world::field::Field;
 
 type Rect = ((f64, f64), (f64, f64), u8);
 

@@ -342,7 +342,7 @@ fn two_quantities(
     main_m: usize,
 ) -> Result<(Vec<[String; 2]>, Vec<bool>), Error> {
     let mut two = sharp.clone();
-    two.field = crate::swarm::field::Field::default();
+    two.field = hal_emu::world::field::Field::default();
     two.field2 = Some(sharp.field.clone());
     let p = st.start(
         "beyond the paper: two quantities",

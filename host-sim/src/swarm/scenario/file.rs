@@ -15,10 +15,10 @@ use super::{
     GridSpec, LATTICE_SPACING, MAX_AGENTS, MAX_EXTENT, MAX_PERIODS, MAX_RUNS_PER_POINT, Scenario,
     ScenarioError, Success, SweepSpec, check_runs,
 };
-use crate::swarm::field::{Along, Field, Layer, Segment};
 use crate::swarm::geometry::Shape;
 use crate::swarm::measure::Measure;
 use crate::swarm::sim::{MAX_PERIOD_SECS, RunConfig, SimError};
+use hal_emu::world::field::{Along, Field, Layer, Segment};
 
 /// Parses and validates a scenario; `source` names it in errors
 /// ([`Scenario::from_toml`]).

@@ -83,9 +83,9 @@ use std::path::Path;
 
 use nalgebra::Point2;
 
-use crate::swarm::field::Field;
 use crate::swarm::geometry::Shape;
 use crate::swarm::sim::RunConfig;
+use hal_emu::world::field::Field;
 
 /// Spacing of `shape = "lattice"` (and of `--placement lattice`) unless given: 0.75 R, at which 61 agents
 /// fill a disk of diameter 6 R with 5.1 neighbours on average (see [`Shape::Lattice`]).

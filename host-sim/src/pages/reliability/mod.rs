@@ -4,6 +4,8 @@
 //! `pages::figures`' [`success_chart`](crate::pages::figures::success_chart) and
 //! [`rules_chart`](crate::pages::figures::rules_chart).
 
+pub mod stress;
+
 use std::fmt::Write as _;
 
 use hal_emu::judge::PAPER_PATTERNS;
@@ -418,9 +420,9 @@ pub struct Page {
     /// [`SUITE_READINGS`](crate::arena::campaign::SUITE_READINGS).
     pub suites: Vec<SuiteSection>,
     /// Initiations per negotiation period.
-    pub initiations: Option<crate::arena::stress::InitiationsSection>,
+    pub initiations: Option<stress::InitiationsSection>,
     /// The loss sweep.
-    pub loss: Option<crate::arena::stress::LossSection>,
+    pub loss: Option<stress::LossSection>,
 }
 
 impl Page {

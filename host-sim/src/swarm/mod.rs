@@ -7,6 +7,7 @@ pub mod experiment;
 pub mod geometry;
 pub mod measure;
 pub mod probe;
+pub mod reading;
 pub mod scenario;
 pub mod sensitivity;
 pub mod shapes;

@@ -32,14 +32,14 @@ use hal_emu::TraceEvent;
 use nalgebra::{Point2, Vector2};
 use protocol::direction::Opposite;
 use protocol::three_phase::{SimEvent, SimMessage, ThreePhaseAgent};
-use protocol::{Diversity, PerQuantity};
 use protocol::{Instant, ParamError, Params, Sector, WaveState};
-use rand::{Rng, SeedableRng};
+use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 
 use crate::stats::Resultant;
 use crate::swarm::geometry::Swarm;
 use crate::swarm::measure::Measure;
+use crate::swarm::reading::Reading;
 use crate::swarm::tap::Tap;
 use hal_emu::world::field::Field;
 
@@ -53,63 +53,6 @@ pub type AgentOf<R> = ThreePhaseAgent<<R as Reading>::Measure, 32, 16, R>;
 
 /// A message between agents.
 pub type Message = SimMessage<32>;
-
-/// What an agent reads: one quantity (`f32`, the paper) or two at once (`[f32; 2]`, beyond
-/// the paper: a scenario with `[[field2]]`), and the measure that scores it.
-pub trait Reading: Copy + Default + fmt::Debug + PartialEq + Send + Sync + 'static {
-    /// Quantities per reading: the fields a run needs.
-    const QUANTITIES: usize;
-    /// The agents' diversity for readings of this type.
-    type Measure: Diversity<Self> + Clone + fmt::Debug + Send + Sync;
-    /// The diversity for the run's [`Measure`]: the measure itself for one quantity, the sum
-    /// over the quantities of it ([`PerQuantity`]) for several.
-    fn measure(m: Measure) -> Self::Measure;
-    /// A noisy reading from the fields' means at the agent (`QUANTITIES` values): each
-    /// quantity gets its own noise draw, in order.
-    fn sample(means: &[f64], noise: f64, rng: &mut Pcg64Mcg) -> Self;
-    /// The first quantity, as the observer's [`Tap`] pools it.
-    fn first(&self) -> f64;
-}
-
-impl Reading for f32 {
-    const QUANTITIES: usize = 1;
-    type Measure = Measure;
-
-    fn measure(m: Measure) -> Measure {
-        m
-    }
-
-    #[inline]
-    fn sample(means: &[f64], noise: f64, rng: &mut Pcg64Mcg) -> f32 {
-        let xi = noise * (rng.random::<f64>() - 0.5);
-        (means[0] + xi) as f32
-    }
-
-    fn first(&self) -> f64 {
-        f64::from(*self)
-    }
-}
-
-impl Reading for [f32; 2] {
-    const QUANTITIES: usize = 2;
-    type Measure = PerQuantity<Measure, 2>;
-
-    fn measure(m: Measure) -> Self::Measure {
-        PerQuantity(m)
-    }
-
-    #[inline]
-    fn sample(means: &[f64], noise: f64, rng: &mut Pcg64Mcg) -> [f32; 2] {
-        [
-            f32::sample(&means[..1], noise, rng),
-            f32::sample(&means[1..2], noise, rng),
-        ]
-    }
-
-    fn first(&self) -> f64 {
-        f64::from(self[0])
-    }
-}
 
 /// What a run needs besides the geometry and the field.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -125,6 +68,21 @@ pub struct RunConfig {
     /// What an agent does with an opinion exactly opposite its own (the paper does not say;
     /// counter-clockwise unless a run says otherwise).
     pub opposite: Opposite,
+    /// When an agent's sensor is read (the paper's noise is "time dependent" and says no
+    /// more; a fresh sample per activation unless a run says otherwise).
+    pub sensor: Sensor,
+}
+
+/// When an agent's sensor is read: the sensor model the paper leaves open.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sensor {
+    /// A fresh sample whenever the agent becomes active (initiates or is activated by a
+    /// message): the sample it scores and relays.
+    #[default]
+    PerActivation,
+    /// One sample per agent and negotiation period, drawn as the period starts (agents by
+    /// index) and used for every activation in it.
+    PerPeriod,
 }
 
 /// The longest negotiation period a run accepts, in seconds (11.6 days; the paper's period is
@@ -280,6 +238,8 @@ pub struct Sim<'a, R: Reading = f32> {
     trace: Option<Recorder>,
     /// The observer's diversities of the accepted messages, if asked for ([`Sim::tap`]).
     tap: Option<Tap>,
+    /// Each agent's reading of the current period ([`Sensor::PerPeriod`]; empty otherwise).
+    held: Vec<R>,
 }
 
 /// What [`Sim::record`] keeps: the events, and each agent's scores per sector before its
@@ -450,6 +410,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             means: Vec::with_capacity(n * R::QUANTITIES),
             trace: None,
             tap: None,
+            held: Vec::new(),
         };
         sim.place_means();
         for i in 0..n {
@@ -601,16 +562,36 @@ impl<'a, R: Reading> Sim<'a, R> {
         }
     }
 
-    /// A fresh reading for agent `i` at the current position; it is also returned.
-    fn sample(&mut self, i: usize) -> R {
+    /// A fresh reading for agent `i` at the current position.
+    fn draw(&mut self, i: usize) -> R {
         let q = R::QUANTITIES;
-        let r = R::sample(
+        R::sample(
             &self.means[i * q..(i + 1) * q],
             self.cfg.noise,
             &mut self.noise_rng,
-        );
+        )
+    }
+
+    /// Agent `i`'s reading as it becomes active (fresh, or the period's under
+    /// [`Sensor::PerPeriod`]), handed to it; it is also returned.
+    fn sample(&mut self, i: usize) -> R {
+        let r = match self.held.get(i) {
+            Some(&r) => r,
+            None => self.draw(i),
+        };
         self.agents[i].handle_reading(r);
         r
+    }
+
+    /// Under [`Sensor::PerPeriod`], every agent's reading for the period about to start.
+    fn hold_readings(&mut self) {
+        if self.cfg.sensor == Sensor::PerPeriod {
+            self.held.clear();
+            for i in 0..self.agents.len() {
+                let r = self.draw(i);
+                self.held.push(r);
+            }
+        }
     }
 
     /// Runs every due second up to and including `until`.
@@ -717,6 +698,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             .checked_period_secs()
             .and_then(|p| p.checked_mul(u64::from(index)))
             .ok_or(SimError::TooManyPeriods)?;
+        self.hold_readings();
         self.advance_to(end);
         self.periods = index;
         let diversity: f64 = self
@@ -784,7 +766,29 @@ mod tests {
             noise: 1.0,
             diversity: Measure::Variance,
             opposite: Opposite::default(),
+            sensor: Sensor::default(),
         }
+    }
+
+    #[test]
+    fn a_sensor_read_once_per_period_changes_the_readings_not_the_default_run() {
+        let mut rng = Pcg64Mcg::seed_from_u64(3);
+        let swarm = Swarm::place(30, Shape::Disk { diameter: 4.0 }, 1.0, &mut rng).unwrap();
+        let field = crate::swarm::scenario::Scenario::builtin("sharp")
+            .unwrap()
+            .field;
+        let run = |sensor| {
+            let cfg = RunConfig { sensor, ..cfg() };
+            let mut sim = Sim::new(&swarm, &field, cfg, Point2::new(-0.5, 0.0), 9).unwrap();
+            (0..2)
+                .map(|_| sim.run_period().unwrap())
+                .collect::<Vec<_>>()
+        };
+        let fresh = run(Sensor::PerActivation);
+        let held = run(Sensor::PerPeriod);
+        assert_eq!(fresh, run(Sensor::default()));
+        assert_ne!(fresh, held);
+        assert_eq!(held, run(Sensor::PerPeriod));
     }
 
     #[test]

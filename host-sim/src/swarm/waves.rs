@@ -95,6 +95,7 @@ impl WaveSpec {
             noise: 1.0,
             diversity: crate::swarm::measure::Measure::Variance,
             opposite: protocol::direction::Opposite::default(),
+            sensor: crate::swarm::sim::Sensor::default(),
         }
     }
 }

@@ -17,7 +17,7 @@ use super::{
 };
 use crate::swarm::geometry::Shape;
 use crate::swarm::measure::Measure;
-use crate::swarm::sim::{MAX_PERIOD_SECS, RunConfig, SimError};
+use crate::swarm::sim::{MAX_PERIOD_SECS, RunConfig, Sensor, SimError};
 use hal_emu::world::field::{Along, Field, Layer, Segment};
 
 /// Parses and validates a scenario; `source` names it in errors
@@ -91,6 +91,7 @@ pub(super) fn parse(text: &str, source: &str) -> Result<Scenario, ScenarioError>
             noise,
             diversity,
             opposite: Opposite::default(),
+            sensor: Sensor::default(),
         },
         periods,
         start,
@@ -607,6 +608,7 @@ fn period_fits(params: &Params) -> Result<(), String> {
         noise: 1.0,
         diversity: Measure::Variance,
         opposite: Opposite::default(),
+        sensor: Sensor::default(),
     };
     match run.check() {
         Err(SimError::PeriodTooLong {

@@ -8,12 +8,14 @@
 //! - the walk after arrival on both fields ([`wander`]);
 //! - steeper gradients ([`steep`]);
 //! - the caption's cloud, toward its border ([`caption`]);
-//! - the refractory time, off and on ([`refractory`]).
+//! - the refractory time, off and on ([`refractory`]);
+//! - the sensor model the paper leaves open, both ways ([`sensor`]).
 
 mod arrival;
 mod caption;
 mod plateau;
 mod refractory;
+pub(super) mod sensor;
 mod start;
 mod steep;
 mod wander;
@@ -41,6 +43,7 @@ pub(super) struct SettleSection {
     steep: steep::SteepPart,
     caption: caption::CaptionPart,
     refractory: refractory::RefractoryPart,
+    sensor: sensor::SensorPart,
 }
 
 /// The section's facts the comparison's rows read.
@@ -55,6 +58,8 @@ pub(super) struct Settled {
     pub(super) start: start::StartFacts,
     /// The refractory time, off and on.
     pub(super) refractory: refractory::Flooding,
+    /// The levels under the other sensor model.
+    pub(super) sensor: sensor::SensorFacts,
     /// The walk along the sharp border and the gradient's walk in two dimensions.
     pub(super) wander: wander::Walks,
     /// Steeper gradients, faster arrival.
@@ -87,6 +92,7 @@ pub(super) fn run(
     let seeds = [0, 1].map(|k| st.seed(super::COURSE_STAGE + 2 * k));
     let plateaus = [0, 1].map(|k| courses.get(k).map_or(f64::NAN, |c| c[0].plateau));
     let runs = course_runs(st, scns, seeds, plateaus)?;
+    let (sensor_part, sensor_facts) = sensor::run(st, scns, seeds, &runs)?;
     let (plateau, plateau_facts) = plateau::run(st, main, scns, &runs)?;
     let (arrival, arrival_facts) = arrival::run(st, scns, &runs)?;
     let (start, start_facts) = start::run(st, main, scns)?;
@@ -103,11 +109,13 @@ pub(super) fn run(
             steep: steep_part,
             caption: caption_part,
             refractory,
+            sensor: sensor_part,
         },
         plateau: plateau_facts,
         arrival: arrival_facts,
         start: start_facts,
         refractory: flooding,
+        sensor: sensor_facts,
         wander: walks,
         steep: steepness,
         caption: toward,

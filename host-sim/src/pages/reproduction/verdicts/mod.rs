@@ -11,6 +11,8 @@ use crate::report::csv_files::fixed;
 use crate::stats;
 use crate::swarm::experiment::{Arrow, SweepPoint};
 
+mod settled;
+
 /// One row of the table.
 #[derive(Serialize)]
 pub(super) struct Row {
@@ -93,10 +95,10 @@ fn judge(r: &Report<'_>, c: &'static Claim) -> Judged {
         Id::SharpEdge | Id::GradientEdge => edge(r, c),
         Id::CloudLimit | Id::CloudOutward | Id::CaptionLimit => cloud(r, c),
         Id::ShapesLine | Id::ShapesCross => shapes(r, c.id),
-        Id::SharpWalk | Id::GradientWalk => walk(r, c),
-        Id::Steeper => steeper(r),
-        Id::CaptionToward => toward_border(r),
-        Id::Refractory => refractory(r),
+        Id::SharpWalk | Id::GradientWalk => settled::walk(r, c),
+        Id::Steeper => settled::steeper(r),
+        Id::CaptionToward => settled::toward_border(r),
+        Id::Refractory => settled::refractory(r),
     }
 }
 
@@ -268,7 +270,7 @@ fn start(r: &Report<'_>, c: &'static Claim) -> Judged {
     let noise = [r.sharp, r.gradient][k].run.noise;
     let floor = noise * noise / 12.0;
     let across = fixed(100.0 * course.across_at_start, 0);
-    Judged {
+    let judged = Judged {
         ours: format!(
             "{}: {} ± {} ({} runs; 10–90 %: {}–{})",
             r.main,
@@ -294,7 +296,35 @@ fn start(r: &Report<'_>, c: &'static Claim) -> Judged {
             fixed(floor, 2),
             start_against_across(r, k, paper),
         ),
+    };
+    sensor_both(r, c, judged, |l| l.start, 2)
+}
+
+/// A level row judged again under the other sensor model (one reading per agent and period,
+/// the settling section): when one model reproduces the claim and the other does not, it
+/// depends on that rule; the row's reason gives the other model's value either way.
+fn sensor_both(
+    r: &Report<'_>,
+    c: &'static Claim,
+    mut j: Judged,
+    pick: fn(&super::settle::sensor::Levels) -> (f64, f64),
+    digits: usize,
+) -> Judged {
+    let (m, se) = pick(&r.settled.sensor.per_period[field_of(c.id)]);
+    let paper = c.band().map_or(f64::NAN, |b| b.0);
+    let other = verdict::level(m, se, paper, c.tolerance());
+    let reproduced = |v: Verdict| v == Verdict::Reproduced;
+    if reproduced(other) != reproduced(j.verdict) {
+        j.verdict = Verdict::DependsOnUnspecifiedRule;
     }
+    j.why = format!(
+        "{}; with one sensor reading per agent and period instead of one per activation: {} ± {} ({})",
+        j.why,
+        fixed(m, digits),
+        fixed(se, digits),
+        other.words()
+    );
+    j
 }
 
 /// What the settling section's starts say of the paper's starting diversity: between which
@@ -349,7 +379,7 @@ fn arrival(r: &Report<'_>, c: &'static Claim) -> Judged {
     let paper = c.band().map_or(f64::NAN, |b| b.0);
     let rel = c.tolerance();
     let in_spread = (q10..=q90).contains(&paper);
-    Judged {
+    let judged = Judged {
         ours: format!(
             "{}: {} ± {} (the {} of {} runs that arrived; 10–90 %: {}–{})",
             r.main,
@@ -371,7 +401,8 @@ fn arrival(r: &Report<'_>, c: &'static Claim) -> Judged {
                 String::new()
             }
         ),
-    }
+    };
+    sensor_both(r, c, judged, |l| l.arrival, 1)
 }
 
 /// "rises", "falls" or "changes", as `values` (in order) do.
@@ -433,7 +464,7 @@ fn plateau(r: &Report<'_>, c: &'static Claim) -> Judged {
                 .map(|c| format!("{} at {} s", fixed(c.2, 2), c.0))
                 .collect::<Vec<_>>()
                 .join(", ");
-            Judged {
+            let judged = Judged {
                 ours,
                 verdict: if open {
                     Verdict::DependsOnUnspecifiedRule
@@ -475,7 +506,8 @@ fn plateau(r: &Report<'_>, c: &'static Claim) -> Judged {
                     fixed(f.message, 2),
                     fixed(f.pooled, 2)
                 ),
-            }
+            };
+            sensor_both(r, c, judged, |l| l.plateau, 2)
         }
     }
 }
@@ -651,130 +683,4 @@ pub(super) fn counts(rows: &[Row]) -> String {
         .map(|(v, n)| format!("{n} {v}"))
         .collect();
     format!("Of {} rows: {}", rows.len(), parts.join(", "))
-}
-
-/// The walk after arrival (settling section): the growth of the mean squared displacement
-/// across and along.
-fn walk(r: &Report<'_>, c: &'static Claim) -> Judged {
-    let sharp = field_of(c.id) == 0;
-    let w = if sharp {
-        &r.settled.wander.sharp
-    } else {
-        &r.settled.wander.gradient
-    };
-    let dims = match c.kind {
-        Kind::Walk { dims } => dims,
-        _ => 1,
-    };
-    let pm = |s: (f64, f64)| format!("{} ± {}", fixed(s.0, 4), fixed(s.1, 4));
-    Judged {
-        ours: format!(
-            "mean squared displacement after arrival grows {} R² per period along x, {} along y; after {} periods {} and {} R²",
-            pm(w.x_slope),
-            pm(w.y_slope),
-            w.max_lag,
-            fixed(w.at_max.0, 2),
-            fixed(w.at_max.1, 2)
-        ),
-        verdict: verdict::walk(w.x_slope, w.y_slope, dims),
-        why: if dims == 1 {
-            "the rule: the growth along the border (y) has its 95 % interval above zero and the growth across it (x) is below a tenth of that (least squares over lags 1 to 20; the lags overlap, so the intervals are a guide)".into()
-        } else {
-            format!(
-                "the rule: both growths have their 95 % intervals above zero and each is at least a tenth of the other; along x it grows {} times slower than along y: below the line the pull toward +x bounds the walk on one side (settling section)",
-                fixed(w.y_slope.0 / w.x_slope.0.max(1e-12), 1)
-            )
-        },
-    }
-}
-
-/// Steeper ramps (settling section): time to the same line against the slope.
-fn steeper(r: &Report<'_>) -> Judged {
-    let s = &r.settled.steep;
-    let (lo, hi) = s.slopes;
-    let also = s.success.1 >= s.success.0;
-    Judged {
-        ours: format!(
-            "from slope {lo} to {hi} per R: success {} → {}, periods to within 0.33 R of x = 0 {} → {} ({} ± {} per doubling; the sharp border {}), to x ≥ 2.33 {} → {}",
-            fixed(s.success.0, 2),
-            fixed(s.success.1, 2),
-            fixed(s.to_line.0, 1),
-            fixed(s.to_line.1, 1),
-            fixed(s.per_doubling.0, 2),
-            fixed(s.per_doubling.1, 2),
-            fixed(s.sharp_time, 1),
-            fixed(s.to_criterion.0, 1),
-            fixed(s.to_criterion.1, 1),
-        ),
-        verdict: verdict::trend(s.per_doubling.0, s.per_doubling.1, Sign::Falls, also),
-        why: "the rule: the time to the same line (the border, or the ramp's start) falls with the slope (its 95 % interval against log2 of the slope below zero) and success does not; the paper's evidence, 7 periods on the sharp border against 15 on the gradient, times two criteria 2.33 R apart".into(),
-    }
-}
-
-/// The caption's cloud toward its border (settling section).
-fn toward_border(r: &Report<'_>) -> Judged {
-    let t = &r.settled.caption;
-    let points: Vec<(f64, f64)> = t.points.iter().map(|p| (p.1, p.2)).collect();
-    let short: Vec<String> = t
-        .points
-        .iter()
-        .filter(|p| p.1 < t.threshold)
-        .map(|p| fixed(p.0, 2))
-        .collect();
-    let inside_away = t
-        .points
-        .iter()
-        .filter(|p| p.0 < t.edge && p.1 < 0.0)
-        .map(|p| p.0)
-        .fold((f64::MAX, f64::MIN), |(a, b), d| (a.min(d), b.max(d)));
-    Judged {
-        ours: format!(
-            "{} of {} distances below {} with mean alignment toward the border ≥ {}",
-            t.points.len() - short.len(),
-            t.points.len(),
-            t.reach,
-            t.threshold
-        ),
-        verdict: verdict::profile(&points, t.threshold),
-        why: match t.settles_at {
-            Some((d, se)) if inside_away.0 <= inside_away.1 => format!(
-                "the rule: at every distance below {} the mean alignment toward the border (r = {}) at least {}; inside the cloud the swarm heads away from the border from {} to {} R and its centre settles {} ± {} R from the centre, where its outer agents straddle the border; short at {}",
-                t.reach,
-                t.edge,
-                t.threshold,
-                fixed(inside_away.0, 2),
-                fixed(inside_away.1, 2),
-                fixed(d, 2),
-                fixed(se, 2),
-                short.join(", ")
-            ),
-            _ => format!(
-                "the rule: at every distance below {} the mean alignment toward the border (r = {}) at least {}; short at: {}",
-                t.reach,
-                t.edge,
-                t.threshold,
-                if short.is_empty() {
-                    "none".into()
-                } else {
-                    short.join(", ")
-                }
-            ),
-        },
-    }
-}
-
-/// The refractory time off (a model of the simulator's rule) and on (the protocol).
-fn refractory(r: &Report<'_>) -> Judged {
-    let f = &r.settled.refractory;
-    Judged {
-        ours: format!(
-            "without it (model): {} transmissions per agent in {} s, {}; with {} s (the protocol's least): every agent once",
-            fixed(f.sends_without, 1),
-            f.horizon,
-            if f.floods_without { "still going" } else { "over" },
-            f.smallest.map_or("–".into(), |s| s.to_string())
-        ),
-        verdict: verdict::mechanism(f.floods_without, !f.once_with),
-        why: "the rule: the wave keeps coming back without a refractory time and every agent sends once with it; the protocol refuses a refractory time not above the relay delay, so the first is the simulator's delivery rule as a model, checked equal to the protocol where both run".into(),
-    }
 }

@@ -128,14 +128,18 @@ pub(super) fn run(
     Ok((summary(&cols, rows, scns), facts))
 }
 
-/// The mean diversity of a column's runs with `n` agents across, and how many runs.
-fn mean_at(c: &Column, n: usize) -> Option<(f64, usize)> {
-    let v: Vec<f64> = c
-        .runs
+/// The diversities of a column's runs with `n` agents across.
+fn diversities_at(c: &Column, n: usize) -> Vec<f64> {
+    c.runs
         .iter()
         .filter(|r| r.across == n)
         .map(|r| r.diversity)
-        .collect();
+        .collect()
+}
+
+/// The mean diversity of a column's runs with `n` agents across, and how many runs.
+fn mean_at(c: &Column, n: usize) -> Option<(f64, usize)> {
+    let v = diversities_at(c, n);
     Some((stats::mean(&v)?, v.len()))
 }
 
@@ -235,12 +239,7 @@ fn figure(st: &Stage<'_>, cols: &[Column], most: usize) -> Result<(), Error> {
             label: c.label.clone(),
             points: (0..=most)
                 .filter_map(|n| {
-                    let v: Vec<f64> = c
-                        .runs
-                        .iter()
-                        .filter(|r| r.across == n)
-                        .map(|r| r.diversity)
-                        .collect();
+                    let v = diversities_at(c, n);
                     let m = stats::mean(&v)?;
                     Some((n as f64, m, stats::standard_error(&v).unwrap_or(0.0)))
                 })

@@ -41,7 +41,7 @@ use serde::Serialize;
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
 use crate::board::clock::EmuClock;
-use crate::board::light::{Air, EmuReceiver, EmuTransmitter};
+use crate::board::light::{self, Air, EmuReceiver, EmuTransmitter, Light};
 
 pub mod trace;
 
@@ -236,7 +236,8 @@ struct Node {
     alive: bool,
     /// The end of this node's current or last transmission.
     tx_until: Instant,
-    inboxes: Vec<UnboundedSender<Vec<u8>>>,
+    /// A robot's receivers, while it is attached.
+    light: Option<Light>,
     /// A replayer's captures.
     captures: Option<UnboundedSender<Capture>>,
 }
@@ -277,7 +278,7 @@ impl Medium {
                 role: Role::Robot,
                 alive: false,
                 tx_until: Instant::ZERO,
-                inboxes: Vec::new(),
+                light: None,
                 captures: None,
             })
             .collect();
@@ -350,7 +351,7 @@ impl Medium {
             role,
             alive: true,
             tx_until: Instant::ZERO,
-            inboxes: Vec::new(),
+            light: None,
             captures,
         });
         m.nodes.len() - 1
@@ -378,11 +379,8 @@ impl Medium {
             .nodes
             .get_mut(robot)
             .ok_or(NoSuchNode { node: robot, nodes })?;
-        let (senders, receivers): (Vec<_>, Vec<_>) = (0..node.sectors)
-            .map(|_| unbounded_channel())
-            .map(|(tx, rx)| (tx, EmuReceiver::new(rx)))
-            .unzip();
-        node.inboxes = senders;
+        let (feed, receivers) = light::receivers(usize::from(node.sectors));
+        node.light = Some(feed);
         node.alive = true;
         let transmitter = EmuTransmitter::new(Box::new(this.clone()), m.clock, robot);
         Ok((transmitter, receivers))
@@ -392,7 +390,7 @@ impl Medium {
     pub fn detach(&mut self, robot: usize) {
         if let Some(n) = self.nodes.get_mut(robot) {
             n.alive = false;
-            n.inboxes.clear();
+            n.light = None;
         }
     }
 
@@ -616,8 +614,8 @@ impl Medium {
             garbled,
             corrupted,
         });
-        if let Some(inbox) = self.nodes[a.to].inboxes.get(usize::from(a.sector)) {
-            let _ = inbox.send(a.bytes);
+        if let Some(light) = &self.nodes[a.to].light {
+            light.put(usize::from(a.sector), a.bytes);
         }
     }
 

@@ -485,8 +485,9 @@ fn print_sweep(arena: &[SweepPoint], swarm: Option<&[SweepPoint]>) {
 /// Options of `cimax arena bench`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct BenchArgs {
-    /// Swarm sizes to time (robots on the hexagonal lattice), 2 to 1000 each.
-    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000], value_parser = clap::value_parser!(u16).range(2..=1000))]
+    /// Swarm sizes to time (robots on the hexagonal lattice), 2 to 10,000 each (docs/plane.md
+    /// times 10,000 too).
+    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000], value_parser = clap::value_parser!(u16).range(2..=10_000))]
     pub robots: Vec<u16>,
     /// Receive sectors per robot.
     #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]

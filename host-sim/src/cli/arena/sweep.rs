@@ -158,6 +158,10 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
 pub fn merge(m: &Merged, out: &Path) -> Result<std::process::ExitCode, String> {
     let (job, units): (SweepJob, Vec<Unit>) = m.decode().map_err(|e| e.to_string())?;
     let ready = job.ready().map_err(|e| m.bad_config(e).to_string())?;
+    if units.len() as u64 != job.units() {
+        let e = format!("{} units, but the sweep has {}", units.len(), job.units());
+        return Err(m.bad_config(e).to_string());
+    }
     job.write(&ready, &units, out)?;
     Ok(std::process::ExitCode::SUCCESS)
 }

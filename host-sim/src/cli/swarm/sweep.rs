@@ -91,6 +91,11 @@ pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
 pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
     let (job, units): (SwarmSweepJob, Vec<Unit>) = m.decode().map_err(|e| e.to_string())?;
     let scn = job.scenario().map_err(|e| m.bad_config(e).to_string())?;
+    let total = job.xs.len() as u64 * u64::from(job.runs);
+    if units.len() as u64 != total {
+        let e = format!("{} units, but the sweep has {total}", units.len());
+        return Err(m.bad_config(e).to_string());
+    }
     let name = |ext: &str| out.join(format!("{}-sweep.{ext}", scn.name));
     let timing = Timing {
         wall_s: m.wall_s,
@@ -104,13 +109,6 @@ pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
 impl SwarmSweepJob {
     /// The job the options ask for, checked, and its scenario.
     fn of(c: &Common, o: &SweepOptions) -> Result<(SwarmSweepJob, Scenario), String> {
-        if o.shard.is_some() && (c.csv.is_some() || c.plot.is_some()) {
-            return Err(
-                "--shard writes only the part: --csv and --plot are for cimax merge's \
-                 --out"
-                    .into(),
-            );
-        }
         let mut job = SwarmSweepJob {
             scenario: ScenarioSource::of(&c.scenario)?,
             placement: c.placement().name().into(),

@@ -25,6 +25,8 @@
 //!   rendering from the templates in `host-sim/templates/` ([`report::page`]).
 //! - [`viewer`]: the replay viewer's page of a run (`--html`, `cimax view`).
 //! - [`seeds`] and [`progress`]: the seed derivation and the progress bar both sides share.
+//! - [`shard`]: a long command split over processes (`--shard I/N`), its part files, and
+//!   `cimax merge`'s checks.
 //!
 //! Data flow: scenario → experiment (`swarm`, `arena`) → result structs → `pages` → JSON | CSV |
 //! template → page | plot, written through `report`. `report` imports none of the others;
@@ -40,6 +42,7 @@ pub mod pages;
 pub mod progress;
 pub mod report;
 pub mod seeds;
+pub mod shard;
 pub mod stats;
 pub mod swarm;
 pub mod viewer;

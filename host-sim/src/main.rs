@@ -5,6 +5,8 @@
 //!   over the [`host_sim`] library, see [`cli::swarm`].
 //! - `cimax view TRACE -o PAGE.html` makes the replay viewer's page of a saved trace
 //!   ([`host_sim::viewer`]).
+//! - `cimax merge PARTS... --out DIR` puts the parts of a sharded `arena sweep`, `arena
+//!   campaign` or `swarm sweep` (`--shard I/N`) together, see [`cli::merge`].
 //!
 //! This file only parses the command line and dispatches: `cimax swarm` runs in `cli/swarm.rs`,
 //! `cimax arena` in `cli/arena/`.
@@ -56,6 +58,10 @@ enum Command {
         #[arg(short, long, value_name = "FILE.html")]
         output: std::path::PathBuf,
     },
+    /// The parts of a command run with `--shard I/N` (`arena sweep`, `arena campaign`, `swarm
+    /// sweep`) put together: checks that they are one job, complete and without overlap, then
+    /// writes and prints what the command unsharded would.
+    Merge(cli::merge::MergeArgs),
 }
 
 /// `cimax view`: the page of a saved trace.
@@ -92,6 +98,7 @@ fn main() -> ExitCode {
         Command::Arena(args) => return arena::main(&args),
         Command::Swarm { command } => cli::swarm::run(command),
         Command::View { trace, output } => return view(&trace, &output),
+        Command::Merge(args) => return cli::merge::main(&args),
     };
     match res {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,18 +1,25 @@
 //! The progress bar of long runs (sweeps, grids, the campaign), drawn on stderr only when it
-//! is a terminal.
+//! is a terminal; and, for a shard of a job run in batch (`--shard`, a Slurm array task whose
+//! stderr is a log file), a line with the time left every tenth of the way.
 
 use std::io::IsTerminal;
+use std::sync::atomic::{AtomicU64, Ordering};
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{HumanDuration, ProgressBar, ProgressDrawTarget, ProgressStyle};
 
-/// A progress bar on stderr, shown only when stderr is a terminal.
-pub struct Progress(Option<ProgressBar>);
+/// A progress bar on stderr, shown only when stderr is a terminal; or progress lines
+/// ([`Progress::logged`]).
+pub struct Progress {
+    bar: Option<ProgressBar>,
+    /// Lines instead of a bar: the label, and the last tenth reported.
+    log: Option<(String, AtomicU64)>,
+}
 
 impl Progress {
     /// A bar for `len` runs labelled `msg`, or nothing if stderr is not a terminal or `quiet`.
     pub fn new(len: u64, msg: &str, quiet: bool) -> Progress {
         if quiet || !std::io::stderr().is_terminal() {
-            return Progress(None);
+            return Progress::hidden();
         }
         let bar = ProgressBar::new(len);
         if let Ok(style) =
@@ -21,24 +28,63 @@ impl Progress {
             bar.set_style(style.progress_chars("=> "));
         }
         bar.set_message(msg.to_string());
-        Progress(Some(bar))
+        Progress {
+            bar: Some(bar),
+            log: None,
+        }
+    }
+
+    /// As [`Progress::new`] on a terminal; elsewhere (a batch job's log) a line on stderr each
+    /// tenth of the way: `LABEL: 12 of 30 runs, 1 minute left`. Nothing if `quiet`.
+    pub fn logged(len: u64, label: &str, quiet: bool) -> Progress {
+        if quiet || std::io::stderr().is_terminal() {
+            return Progress::new(len, label, quiet);
+        }
+        Progress {
+            bar: Some(ProgressBar::with_draw_target(
+                Some(len),
+                ProgressDrawTarget::hidden(),
+            )),
+            log: Some((label.to_string(), AtomicU64::new(0))),
+        }
     }
 
     /// No bar at all.
     pub fn hidden() -> Progress {
-        Progress(None)
+        Progress {
+            bar: None,
+            log: None,
+        }
     }
 
     /// One more step done.
     pub fn inc(&self) {
-        if let Some(b) = &self.0 {
-            b.inc(1);
+        let Some(b) = &self.bar else { return };
+        b.inc(1);
+        let Some((label, reported)) = &self.log else {
+            return;
+        };
+        let (pos, len) = (b.position(), b.length().unwrap_or(0).max(1));
+        let tenth = pos * 10 / len;
+        let last = reported.fetch_max(tenth, Ordering::Relaxed);
+        if tenth > last && pos < len {
+            eprintln!(
+                "{label}: {pos} of {len} runs, {} left",
+                HumanDuration(b.eta())
+            );
         }
     }
 
-    /// Removes the bar.
+    /// Removes the bar (a logged one says it is done).
     pub fn finish(&self) {
-        if let Some(b) = &self.0 {
+        if let Some(b) = &self.bar {
+            if let Some((label, _)) = &self.log {
+                eprintln!(
+                    "{label}: {} runs in {}",
+                    b.position(),
+                    HumanDuration(b.elapsed())
+                );
+            }
             b.finish_and_clear();
         }
     }

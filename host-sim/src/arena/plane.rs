@@ -15,7 +15,7 @@ use nalgebra::Vector2;
 use protocol::{MAX_TAGS, Params};
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::progress::Progress;
 use crate::swarm::experiment::SweepPoint;
@@ -390,6 +390,8 @@ pub fn viewer_header(
 /// The sweep of `cimax arena sweep`: `base` started at each of `xs` (its `x_init` replaced),
 /// `runs` runs each with seeds `seed`, `seed + 1`, ..., in parallel; per position the success
 /// rate and the mean moves to success. The result does not depend on the number of threads.
+/// Unit `p * runs + k` is run `k` at `xs[p]` ([`sweep_run`]), put together by
+/// [`sweep_points`].
 ///
 /// # Errors
 /// A [`PlaneError`] if a run cannot be set up.
@@ -401,30 +403,64 @@ pub fn sweep(
     progress: &Progress,
 ) -> Result<Vec<SweepPoint>, PlaneError> {
     use rayon::prelude::*;
-    let spec = |x: f64| PlaneSpec {
-        x_init: x,
-        ..base.clone()
-    };
-    let jobs: Vec<(usize, u64)> = (0..xs.len())
-        .flat_map(|p| (0..runs).map(move |k| (p, seed.wrapping_add(k))))
-        .collect();
-    let done: Vec<(usize, PlaneRun)> = jobs
-        .par_iter()
-        .map(|&(p, s)| {
-            let r = run(&spec(xs[p]), s);
+    let units = xs.len() as u64 * runs;
+    let done: Vec<SweepRun> = (0..units)
+        .into_par_iter()
+        .map(|k| {
+            let r = sweep_run(base, xs, runs, seed, k);
             progress.inc();
-            r.map(|r| (p, r))
+            r
         })
         .collect::<Result<_, _>>()?;
-    let points = xs
-        .iter()
+    Ok(sweep_points(xs, runs, &done))
+}
+
+/// What a sweep keeps of a run ([`PlaneRun`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SweepRun {
+    /// The criterion was met within the moves.
+    pub success: bool,
+    /// The first move after which it held.
+    pub moves_to_success: Option<u32>,
+}
+
+/// Unit `k` of [`sweep`]: run `k % runs` (seed `seed + k % runs`) from `xs[k / runs]`.
+///
+/// # Errors
+/// A [`PlaneError`] if the run cannot be set up or `k` is beyond the sweep.
+pub fn sweep_run(
+    base: &PlaneSpec,
+    xs: &[f64],
+    runs: u64,
+    seed: u64,
+    k: u64,
+) -> Result<SweepRun, PlaneError> {
+    let runs = runs.max(1);
+    let x = usize::try_from(k / runs)
+        .ok()
+        .and_then(|p| xs.get(p))
+        .ok_or_else(|| PlaneError::Arena(format!("sweep unit {k} is beyond the sweep")))?;
+    let spec = PlaneSpec {
+        x_init: *x,
+        ..base.clone()
+    };
+    let r = run(&spec, seed.wrapping_add(k % runs))?;
+    Ok(SweepRun {
+        success: r.success,
+        moves_to_success: r.moves_to_success,
+    })
+}
+
+/// The points of a sweep from its units' runs ([`sweep_run`], in unit order).
+pub fn sweep_points(xs: &[f64], runs: u64, done: &[SweepRun]) -> Vec<SweepPoint> {
+    xs.iter()
         .enumerate()
         .map(|(p, &x)| {
-            let mine: Vec<&PlaneRun> = done
-                .iter()
-                .filter(|(q, _)| *q == p)
-                .map(|(_, r)| r)
-                .collect();
+            let from = (p as u64).saturating_mul(runs);
+            let mine = usize::try_from(from)
+                .ok()
+                .and_then(|a| done.get(a..a.saturating_add(runs as usize)))
+                .unwrap_or_default();
             let moves: Vec<f64> = mine
                 .iter()
                 .filter_map(|r| r.moves_to_success.map(f64::from))
@@ -436,8 +472,7 @@ pub fn sweep(
                 mean_success_periods: crate::stats::mean(&moves),
             }
         })
-        .collect();
-    Ok(points)
+        .collect()
 }
 
 #[cfg(test)]

@@ -51,23 +51,46 @@ impl LossPoint {
 }
 
 /// Runs the lab (the campaign's loss scenario, its loss replaced) at every loss of
-/// [`LOSSES`] for `seeds` seeds from `seed`, in parallel.
+/// [`LOSSES`] for `seeds` seeds from `seed`, in parallel: [`loss_run`] for each, put together
+/// by [`loss_points`].
 ///
 /// # Errors
 /// A message if a run cannot start.
 pub fn loss_sweep(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<LossPoint>, String> {
+    let runs = (0..LOSSES.len())
+        .map(|l| {
+            (0..seeds)
+                .into_par_iter()
+                .map(|k| loss_run(decide, l, seed.wrapping_add(k)))
+                .collect::<Result<Vec<_>, String>>()
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(loss_points(runs.concat(), seeds))
+}
+
+/// One run of the loss sweep: the campaign's loss scenario at loss `LOSSES[loss]`, seed `seed`.
+///
+/// # Errors
+/// A message if the run cannot start or there is no such loss.
+pub fn loss_run(decide: Decide, loss: usize, seed: u64) -> Result<Outcome, String> {
     let scenario = SCENARIOS
         .iter()
         .find(|s| matches!(s.fault, campaign::Fault::Loss(_)))
         .ok_or("the campaign has no loss scenario")?;
+    let p = LOSSES
+        .get(loss)
+        .ok_or_else(|| format!("the loss sweep has no loss number {loss}"))?;
+    campaign::run_one(scenario, seed, Some(*p), decide)
+}
+
+/// The loss sweep's points from its runs ([`loss_run`]), loss by loss, `seeds` each, in order.
+pub fn loss_points(runs: Vec<Outcome>, seeds: u64) -> Vec<LossPoint> {
+    let mut runs = runs.into_iter();
     LOSSES
         .iter()
-        .map(|&loss| {
-            let runs = (0..seeds)
-                .into_par_iter()
-                .map(|k| campaign::run_one(scenario, seed.wrapping_add(k), Some(loss), decide))
-                .collect::<Result<Vec<_>, String>>()?;
-            Ok(LossPoint { loss, runs })
+        .map(|&loss| LossPoint {
+            loss,
+            runs: runs.by_ref().take(seeds as usize).collect(),
         })
         .collect()
 }

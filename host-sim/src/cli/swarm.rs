@@ -1,11 +1,16 @@
 //! `cimax swarm run|sweep|field|reproduce|bench`: the options of the 2D simulator's commands
 //! and what each does with the library (run the experiment, write its CSV and SVG, print).
+//! `sweep`, which shards (`--shard I/N`), is [`sweep`].
+
+mod sweep;
+
+pub(crate) use sweep::{COMMAND as SWEEP_COMMAND, merge as merge_sweep};
 
 use std::path::{Path, PathBuf};
 use std::time::Instant as Clock;
 
 use clap::{Args, Subcommand};
-use host_sim::pages::csv::{write_field_csv, write_run_csv, write_sweep_csv};
+use host_sim::pages::csv::{write_field_csv, write_run_csv};
 use host_sim::pages::figures;
 use host_sim::pages::reproduction as reproduce;
 use host_sim::progress::Progress;
@@ -13,7 +18,7 @@ use host_sim::report;
 use host_sim::seeds;
 use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{
-    DEFAULT_PLACEMENT, MAX_AGENTS, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement, Scenario, check_runs,
+    DEFAULT_PLACEMENT, MAX_AGENTS, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement, Scenario,
 };
 use host_sim::swarm::sim::MAX_PERIOD_SECS;
 use nalgebra::Point2;
@@ -47,8 +52,8 @@ pub struct Common {
     /// SVG plot output (default: OUT_DIR/SCENARIO-COMMAND.svg).
     #[arg(long)]
     plot: Option<PathBuf>,
-    /// Directory for default outputs.
-    #[arg(long, default_value = "target/swarm")]
+    /// Directory for default outputs (and for `sweep --shard`, the part).
+    #[arg(long, visible_alias = "out", default_value = "target/swarm")]
     out_dir: PathBuf,
     /// No progress bar.
     #[arg(long)]
@@ -92,6 +97,11 @@ pub enum SwarmCommand {
         /// (default: the scenario's, 50).
         #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RUNS_PER_POINT)))]
         runs: Option<u32>,
+        /// Run only shard I of N (1 <= I <= N) of the sweep's runs and write them to
+        /// OUT_DIR/part-I-of-N.jsonl, nothing else; `cimax merge` makes the CSV and SVG of
+        /// all N parts.
+        #[arg(long, value_name = "I/N", conflicts_with_all = ["csv", "plot"])]
+        shard: Option<host_sim::shard::ShardSpec>,
     },
     /// The preferred direction of a swarm centred at each point of a grid (Figs. 6, 9, 10).
     Field {
@@ -140,31 +150,21 @@ fn parse_placement(s: &str) -> Result<Placement, String> {
 pub type Res = Result<(), Box<dyn std::error::Error + Send + Sync>>;
 
 impl Common {
-    fn scenario(&self) -> Result<Scenario, Box<dyn std::error::Error + Send + Sync>> {
-        let placement = if self.lattice {
+    /// `--placement`, or the lattice with `--lattice`.
+    fn placement(&self) -> Placement {
+        if self.lattice {
             Placement::Lattice
         } else {
             self.placement.unwrap_or(DEFAULT_PLACEMENT)
-        };
-        let mut s = Scenario::load(&self.scenario)?
-            .placed(placement)
-            .map_err(|e| format!("--placement {placement}: {e}"))?;
-        if placement != DEFAULT_PLACEMENT {
-            s.name = format!("{}-{placement}", s.name);
         }
-        s.description = format!("{} ({placement} placement)", s.description);
-        if let Some(c) = self.cycle {
-            s.run.params.wave.cycle = Duration::from_secs(c);
-            s.run.check().map_err(|e| format!("--cycle {c}: {e}"))?;
-            if let Some(g) = &s.grid {
-                let mut grid = s.run;
-                grid.params.gather_cycles = g.gather_cycles;
-                grid.params.decide_cycles = g.decide_cycles;
-                grid.check()
-                    .map_err(|e| format!("--cycle {c} with the scenario's [grid]: {e}"))?;
-            }
-        }
-        Ok(s)
+    }
+
+    fn scenario(&self) -> Result<Scenario, Box<dyn std::error::Error + Send + Sync>> {
+        placed(
+            Scenario::load(&self.scenario)?,
+            self.placement(),
+            self.cycle,
+        )
     }
 
     fn outputs(&self, scn: &Scenario, what: &str) -> (PathBuf, PathBuf) {
@@ -174,6 +174,33 @@ impl Common {
             self.plot.clone().unwrap_or_else(|| name("svg")),
         )
     }
+}
+
+/// `s` with `placement` (its name marked unless the default) and `--cycle` `cycle`, checked.
+fn placed(
+    s: Scenario,
+    placement: Placement,
+    cycle: Option<u64>,
+) -> Result<Scenario, Box<dyn std::error::Error + Send + Sync>> {
+    let mut s = s
+        .placed(placement)
+        .map_err(|e| format!("--placement {placement}: {e}"))?;
+    if placement != DEFAULT_PLACEMENT {
+        s.name = format!("{}-{placement}", s.name);
+    }
+    s.description = format!("{} ({placement} placement)", s.description);
+    if let Some(c) = cycle {
+        s.run.params.wave.cycle = Duration::from_secs(c);
+        s.run.check().map_err(|e| format!("--cycle {c}: {e}"))?;
+        if let Some(g) = &s.grid {
+            let mut grid = s.run;
+            grid.params.gather_cycles = g.gather_cycles;
+            grid.params.decide_cycles = g.decide_cycles;
+            grid.check()
+                .map_err(|e| format!("--cycle {c} with the scenario's [grid]: {e}"))?;
+        }
+    }
+    Ok(s)
 }
 
 fn ensure_parent(p: &Path) -> std::io::Result<()> {
@@ -238,79 +265,6 @@ fn swarm_run(
         (Some(s), Some(k)) => println!("success ({s}) after {k} periods"),
         (Some(s), None) => println!("no success ({s}) within {periods} periods"),
         (None, _) => {}
-    }
-    wrote(&csv, &svg);
-    Ok(())
-}
-
-fn swarm_sweep(
-    c: &Common,
-    from: Option<f64>,
-    to: Option<f64>,
-    step: Option<f64>,
-    runs: Option<u32>,
-) -> Res {
-    let scn = c.scenario()?;
-    if scn.success.is_none() {
-        return Err(format!("scenario {} has no [success] criterion to sweep", scn.name).into());
-    }
-    let (mut xs, mut n) = scn
-        .sweep
-        .as_ref()
-        .map_or((vec![-5.0, -4.0, -3.0, -2.0, -1.0, 0.0], 50), |s| {
-            (s.xs.clone(), s.runs)
-        });
-    if from.is_some() || to.is_some() || step.is_some() {
-        let a = from.unwrap_or(xs.first().copied().unwrap_or(-5.0));
-        let b = to.unwrap_or(xs.last().copied().unwrap_or(5.0));
-        let s = step.unwrap_or(0.5);
-        if !(s > 0.0 && b >= a && (b - a) / s <= 10_000.0) {
-            return Err("--from/--to/--step do not make a range".into());
-        }
-        xs = (0..=((b - a) / s + 1e-9) as u64)
-            .map(|k| a + k as f64 * s)
-            .collect();
-    }
-    if let Some(r) = runs {
-        n = r;
-    }
-    check_runs(&[(xs.len() as u64, "positions"), (u64::from(n), "runs")])
-        .map_err(|e| format!("--runs {n}: {e}"))?;
-    let t = Clock::now();
-    let progress = Progress::new(xs.len() as u64 * u64::from(n), "sweep", c.quiet);
-    let pts = experiment::sweep(&scn, scn.run, &xs, n, c.seed, &progress)?;
-    progress.finish();
-    let (csv, svg) = c.outputs(&scn, "sweep");
-    ensure_parent(&csv)?;
-    ensure_parent(&svg)?;
-    write_sweep_csv(&csv, &pts)?;
-    let crit = scn.success.map(|s| s.to_string()).unwrap_or_default();
-    // A built-in scenario's sweep carries the paper's marks, as on docs/reproduction.md.
-    figures::sweep_figure(
-        &svg,
-        &format!("{}: success ({crit}), {n} runs per point", scn.description),
-        &[("this simulator", &pts)],
-        &host_sim::pages::marks::sweep_for(&scn.name),
-    )?;
-    println!(
-        "{}: success {crit} within {} periods, {n} runs per point, {:.1} s",
-        scn.description,
-        scn.periods,
-        t.elapsed().as_secs_f64()
-    );
-    println!(
-        "{:>8} {:>6} {:>8} {:>12}",
-        "x_init", "runs", "success", "mean periods"
-    );
-    for p in &pts {
-        println!(
-            "{:>8.2} {:>6} {:>8.2} {:>12}",
-            p.x_init,
-            p.runs,
-            p.success_rate(),
-            p.mean_success_periods
-                .map_or("-".into(), |t| format!("{t:.1}"))
-        );
     }
     wrote(&csv, &svg);
     Ok(())
@@ -437,7 +391,17 @@ pub fn run(command: SwarmCommand) -> Res {
             to,
             step,
             runs,
-        } => swarm_sweep(&common, from, to, step, runs),
+            shard,
+        } => sweep::sweep(
+            &common,
+            &sweep::SweepOptions {
+                from,
+                to,
+                step,
+                runs,
+                shard,
+            },
+        ),
         SwarmCommand::Field { common } => swarm_field(&common),
         SwarmCommand::Reproduce {
             seed,

@@ -284,7 +284,8 @@ impl SweepPoint {
 }
 
 /// `runs` runs from each `(x, 0)` in `xs`, each stopped at success or after the scenario's
-/// periods. Run `r` at point `p` uses seed `derive(seed, [p, r])`.
+/// periods. Run `r` at point `p` uses seed `derive(seed, [p, r])`: unit `p * runs + r` of
+/// [`sweep_run`], put together by [`sweep_points`].
 ///
 /// # Errors
 /// The first run's error, if any run fails.
@@ -296,22 +297,49 @@ pub fn sweep(
     seed: u64,
     progress: &Progress,
 ) -> Result<Vec<SweepPoint>, Error> {
-    let n = xs.len() * runs as usize;
+    let n = (xs.len() * runs as usize) as u64;
     let outcomes: Vec<Option<u32>> = (0..n)
         .into_par_iter()
         .map(|k| {
-            let (p, r) = (k / runs as usize, k % runs as usize);
-            let s = derive(seed, &[p as u64, r as u64]);
-            let out = run(scn, cfg, Point2::new(xs[p], 0.0), scn.periods, s, true);
+            let out = sweep_run(scn, cfg, xs, runs, seed, k);
             progress.inc();
-            out.map(|o| o.success_at)
+            out
         })
         .collect::<Result<_, _>>()?;
-    Ok(xs
-        .iter()
+    Ok(sweep_points(xs, runs, &outcomes))
+}
+
+/// Unit `k` of [`sweep`]: run `k % runs` from `(xs[k / runs], 0)`, with seed
+/// `derive(seed, [k / runs, k % runs])`; the periods until success, if it succeeded.
+///
+/// # Errors
+/// The run's error, or that `k` is beyond the sweep.
+pub fn sweep_run(
+    scn: &Scenario,
+    cfg: RunConfig,
+    xs: &[f64],
+    runs: u32,
+    seed: u64,
+    k: u64,
+) -> Result<Option<u32>, Error> {
+    let runs = u64::from(runs.max(1));
+    let (p, r) = (k / runs, k % runs);
+    let x = usize::try_from(p)
+        .ok()
+        .and_then(|p| xs.get(p))
+        .ok_or_else(|| format!("sweep unit {k} is beyond the sweep"))?;
+    let s = derive(seed, &[p, r]);
+    run(scn, cfg, Point2::new(*x, 0.0), scn.periods, s, true).map(|o| o.success_at)
+}
+
+/// The points of a sweep from its units' outcomes ([`sweep_run`], in unit order).
+pub fn sweep_points(xs: &[f64], runs: u32, outcomes: &[Option<u32>]) -> Vec<SweepPoint> {
+    xs.iter()
         .enumerate()
         .map(|(p, &x)| {
-            let mine = &outcomes[p * runs as usize..(p + 1) * runs as usize];
+            let mine = outcomes
+                .get(p * runs as usize..(p + 1) * runs as usize)
+                .unwrap_or_default();
             let ok: Vec<f64> = mine.iter().flatten().map(|&t| f64::from(t)).collect();
             SweepPoint {
                 x_init: x,
@@ -320,7 +348,7 @@ pub fn sweep(
                 mean_success_periods: stats::mean(&ok),
             }
         })
-        .collect())
+        .collect()
 }
 
 /// The swarm's preferred direction with its centre at one point.

@@ -17,6 +17,7 @@
 //! each injects its fault are `scenarios.rs`; this file runs them.
 
 mod scenarios;
+mod stats_serde;
 
 use std::fmt::Write as _;
 
@@ -27,13 +28,15 @@ use protocol::params::DecisionRule;
 use protocol::wave::WaveStats;
 use protocol::{Duration, Instant, Params};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use crate::progress::Progress;
 
 pub use scenarios::{ADVERSARY_AT, Fault, REBOOT_DOWN, SCENARIOS, Scenario, config, pattern_for};
 
 /// `--decide`: the protocol's [`DecisionRule`] on the command line.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
 pub enum Decide {
     /// At the end of every negotiation period (the paper's robots).
     #[default]
@@ -61,8 +64,9 @@ impl From<Decide> for DecisionRule {
     }
 }
 
-/// One run of a scenario, judged.
-#[derive(Clone, Debug)]
+/// One run of a scenario, judged. Serialised whole (a part file of `cimax arena campaign
+/// --shard`), floats bit for bit.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Outcome {
     /// The seed that replays it.
     pub seed: u64,
@@ -85,13 +89,16 @@ pub struct Outcome {
     /// Reboot only: seconds from the reboot until consensus was back for good.
     pub restore_s: Option<f64>,
     /// The medium's counters.
+    #[serde(with = "stats_serde::MediumStatsDef")]
     pub medium: MediumStats,
     /// Frames the robots' deframers rejected (CRC, stuffing, length), all robots.
     pub frame_errors: u64,
     /// Each robot's wave counters at the end (of its last life; empty if the run crashed).
+    #[serde(with = "stats_serde::waves")]
     pub waves: Vec<WaveStats>,
     /// Each robot's protocol counters at the end (of its last life; empty if the run crashed):
     /// negotiation periods, and those with fewer initiations than cycles.
+    #[serde(with = "stats_serde::nodes")]
     pub nodes: Vec<protocol::fused::NodeStats>,
     /// The run's emulated length, s.
     pub duration_s: f64,
@@ -270,11 +277,38 @@ pub fn run_one(
     outcome(&cfg, reboot)
 }
 
-/// Runs the plan, in parallel; the result does not depend on the number of threads.
+/// Runs the plan, in parallel; the result does not depend on the number of threads. Its runs
+/// are [`jobs`], each [`run_one`], put together by [`report`].
 ///
 /// # Errors
 /// A message if an option is unusable or a run cannot start.
 pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
+    check(plan)?;
+    let wall = std::time::Instant::now();
+    let jobs = jobs(plan);
+    let outcomes: Vec<Outcome> = jobs
+        .par_iter()
+        .map(|&(s, seed)| {
+            let o = run_one(&SCENARIOS[s], seed, plan.loss, plan.decide);
+            progress.inc();
+            o
+        })
+        .collect::<Result<_, String>>()?;
+    progress.finish();
+    Ok(report(
+        plan,
+        outcomes,
+        wall.elapsed().as_secs_f64(),
+        rayon::current_num_threads(),
+    ))
+}
+
+/// That the plan can run: at least one seed, a loss that is a probability, scenarios that
+/// exist.
+///
+/// # Errors
+/// A message naming the option.
+pub fn check(plan: &Plan) -> Result<(), String> {
     if plan.seeds == 0 {
         return Err("a campaign needs at least one seed".into());
     }
@@ -286,21 +320,21 @@ pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
     if let Some(&i) = plan.scenarios.iter().find(|&&i| i >= SCENARIOS.len()) {
         return Err(format!("there is no scenario number {i}"));
     }
-    let wall = std::time::Instant::now();
-    let jobs: Vec<(usize, u64)> = plan
-        .scenarios
+    Ok(())
+}
+
+/// The plan's runs in order, scenario by scenario (in plan order), seeds in order: (index into
+/// [`SCENARIOS`], seed).
+pub fn jobs(plan: &Plan) -> Vec<(usize, u64)> {
+    plan.scenarios
         .iter()
         .flat_map(|&s| (0..plan.seeds).map(move |k| (s, plan.seed.wrapping_add(k))))
-        .collect();
-    let outcomes: Vec<Result<Outcome, String>> = jobs
-        .par_iter()
-        .map(|&(s, seed)| {
-            let o = run_one(&SCENARIOS[s], seed, plan.loss, plan.decide);
-            progress.inc();
-            o
-        })
-        .collect();
-    progress.finish();
+        .collect()
+}
+
+/// The report of `plan` from the outcomes of its [`jobs`], in order, which took `wall_s` on
+/// `threads` threads.
+pub fn report(plan: &Plan, outcomes: Vec<Outcome>, wall_s: f64, threads: usize) -> Report {
     let mut results: Vec<ScenarioResult> = plan
         .scenarios
         .iter()
@@ -309,16 +343,16 @@ pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
             runs: Vec::new(),
         })
         .collect();
-    for ((s, _), o) in jobs.iter().zip(outcomes) {
+    for ((s, _), o) in jobs(plan).iter().zip(outcomes) {
         let i = plan.scenarios.iter().position(|x| x == s).unwrap_or(0);
-        results[i].runs.push(o?);
+        results[i].runs.push(o);
     }
-    Ok(Report {
+    Report {
         plan: plan.clone(),
         results,
-        wall_s: wall.elapsed().as_secs_f64(),
-        threads: rayon::current_num_threads(),
-    })
+        wall_s,
+        threads,
+    }
 }
 
 /// The command that replays one run.
@@ -352,7 +386,8 @@ pub const SUITE_READINGS: [Readings; 2] = [Readings::Levels, Readings::Binary];
 /// The lab suite under `decide` ([`hal_emu::judge::paper_suite`]): the paper's six patterns and
 /// the alternating experiment from each (mirrored once the run's duration has passed), seeds
 /// `seed..seed + seeds`, no fault, the sensors reporting `readings`, as
-/// `cimax arena --runs SEEDS --decide RULE --readings KIND` runs it.
+/// `cimax arena --runs SEEDS --decide RULE --readings KIND` runs it. Each run is a
+/// [`suite_run`], put together by [`suite_results`].
 ///
 /// # Errors
 /// A message if a run cannot start.
@@ -362,27 +397,52 @@ pub fn lab_suite(
     seed: u64,
     seeds: u64,
 ) -> Result<Vec<SuiteResult>, String> {
+    let experiments = hal_emu::judge::paper_suite().len();
+    let runs = (0..experiments)
+        .map(|e| {
+            (0..seeds)
+                .into_par_iter()
+                .map(|k| suite_run(decide, readings, e, seed.wrapping_add(k)))
+                .collect::<Result<Vec<_>, String>>()
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(suite_results(runs.concat(), seeds))
+}
+
+/// One run of the lab suite: experiment `experiment` of [`hal_emu::judge::paper_suite`] with
+/// seed `seed`; whether it succeeded, and its time to consensus.
+///
+/// # Errors
+/// A message if the run cannot start or there is no such experiment.
+pub fn suite_run(
+    decide: Decide,
+    readings: Readings,
+    experiment: usize,
+    seed: u64,
+) -> Result<(bool, Option<f64>), String> {
     let mut params = Params::robots();
     params.decide = decide.into();
-    let run = params.lab_run();
+    let suite = hal_emu::judge::paper_suite();
+    let e = suite
+        .get(experiment)
+        .ok_or_else(|| format!("the lab suite has no experiment {experiment}"))?;
+    let mut cfg = e.config(1.0, params.lab_run(), seed);
+    cfg.robot.params = params;
+    cfg.env.readings = readings;
+    judge(&cfg)
+        .map(|r| (r.success, r.consensus_s))
+        .map_err(|e| e.to_string())
+}
+
+/// The lab suite's results from its runs ([`suite_run`]), experiment by experiment, `seeds`
+/// each, in order.
+pub fn suite_results(runs: Vec<(bool, Option<f64>)>, seeds: u64) -> Vec<SuiteResult> {
+    let mut runs = runs.into_iter();
     hal_emu::judge::paper_suite()
         .iter()
-        .map(|e| {
-            let runs = (0..seeds)
-                .into_par_iter()
-                .map(|k| {
-                    let mut cfg = e.config(1.0, run, seed.wrapping_add(k));
-                    cfg.robot.params = params;
-                    cfg.env.readings = readings;
-                    judge(&cfg)
-                        .map(|r| (r.success, r.consensus_s))
-                        .map_err(|e| e.to_string())
-                })
-                .collect::<Result<Vec<_>, String>>()?;
-            Ok(SuiteResult {
-                label: e.label(),
-                runs,
-            })
+        .map(|e| SuiteResult {
+            label: e.label(),
+            runs: runs.by_ref().take(seeds as usize).collect(),
         })
         .collect()
 }

@@ -7,8 +7,8 @@
 //! watching the robots would.
 //!
 //! This module holds the options ([`ArenaArgs`]) and dispatches: robots in a line under light
-//! patterns ([`line`]), robots on a plane over a field and `cimax arena sweep|bench`
-//! ([`plane`]), the fault campaign ([`campaign`]). The experiments themselves are the
+//! patterns ([`line`]), robots on a plane over a field and `cimax arena bench` ([`plane`]),
+//! `cimax arena sweep` ([`sweep`]), the fault campaign ([`campaign`]). The experiments themselves are the
 //! library's [`host_sim::arena`] and `hal_emu::judge`; [`options`] turns the options into
 //! their configurations.
 
@@ -17,6 +17,7 @@ mod line;
 mod options;
 mod plane;
 mod print;
+mod sweep;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -29,7 +30,10 @@ use host_sim::arena::plane::Layout;
 use protocol::SwarmKey;
 
 pub use campaign::CampaignArgs;
-pub use plane::{BenchArgs, SweepArgs};
+pub(crate) use campaign::{COMMAND as CAMPAIGN_COMMAND, merge as merge_campaign};
+pub use plane::BenchArgs;
+pub use sweep::SweepArgs;
+pub(crate) use sweep::{COMMAND as SWEEP_COMMAND, merge as merge_sweep};
 
 /// Subcommands of `cimax arena`.
 #[derive(Subcommand, Debug, Clone)]
@@ -216,7 +220,7 @@ fn parse_at(s: &str) -> Result<(usize, u64), String> {
 pub fn main(args: &ArenaArgs) -> ExitCode {
     match args.command.as_deref() {
         Some(ArenaCommand::Campaign(c)) => campaign::main(c),
-        Some(ArenaCommand::Sweep(s)) => plane::sweep_main(s),
+        Some(ArenaCommand::Sweep(s)) => sweep::sweep_main(s),
         Some(ArenaCommand::Bench(b)) => plane::bench_main(b),
         None if args.field.is_some() => plane::main(args),
         None => line::main(args),

@@ -1,7 +1,10 @@
 //! `cimax arena campaign`: runs the fault campaign ([`host_sim::arena::campaign`]) under one
 //! rule or both, prints its tables, writes `docs/reliability.md`
 //! ([`host_sim::pages::reliability`]) with its figures, and exits 1 if a bar is missed or a robot
-//! crashed.
+//! crashed. With `--shard I/N` it runs only its share of the runs into a part ([`job`]), and
+//! `cimax merge` of the parts ([`merge`]) prints, writes and exits as the whole campaign would.
+
+mod job;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -9,15 +12,17 @@ use std::process::ExitCode;
 use clap::Args;
 use clap::builder::PossibleValuesParser;
 use hal_emu::judge::judge;
-use host_sim::arena::campaign::{
-    self, Decide, Plan, Report, SCENARIOS, SUITE_READINGS, Scenario, config, lab_suite,
-};
-use host_sim::arena::stress;
+use host_sim::arena::campaign::{Decide, Report, SCENARIOS, Scenario, config};
 use host_sim::pages::figures::{rules_chart, success_chart};
 use host_sim::pages::reliability::{
     Page, campaign_section, failure_line, missed_line, rules_section, secs, suite_section, table,
 };
 use host_sim::progress::Progress;
+use host_sim::shard::{self, Job, ShardSpec, Timing, merge::Merged};
+use job::{CampaignJob, Results};
+
+/// The job's command in a part's header.
+pub const COMMAND: &str = "arena campaign";
 
 /// Options of `cimax arena campaign`.
 #[derive(Args, Debug, Clone)]
@@ -40,7 +45,7 @@ pub struct CampaignArgs {
     pub decide: Option<Decide>,
     /// The Markdown report (default: docs/reliability.md for the documented campaign only,
     /// every scenario over 200 seeds from seed 1 at the scenarios' own loss; any other campaign
-    /// writes nothing unless --out is given).
+    /// writes nothing unless --out is given). With --shard, the directory of the part.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// The SVG chart (default: figures/reliability.svg beside the report).
@@ -49,32 +54,110 @@ pub struct CampaignArgs {
     /// Write the trace of the first run as JSON lines (to look into a replayed seed).
     #[arg(long)]
     pub trace: Option<PathBuf>,
+    /// Run only shard I of N (1 <= I <= N) of the campaign's runs (and of its page's lab suite
+    /// and loss sweep) and write them to OUT/part-I-of-N.jsonl, nothing else; `cimax merge
+    /// PARTS --out DIR` then writes DIR/reliability.md and its figures.
+    #[arg(long, value_name = "I/N", requires = "out", conflicts_with_all = ["figure", "trace"])]
+    pub shard: Option<ShardSpec>,
 }
 
 /// Runs `cimax arena campaign`: 0 if every bar is met, 1 if one is missed or a robot crashed
-/// in a run ([`campaign::Outcome::crashed`]), 2 for bad options.
+/// in a run ([`host_sim::arena::campaign::Outcome::crashed`]), 2 for bad options. A shard: 0 once its part is
+/// written.
 pub(super) fn main(args: &CampaignArgs) -> ExitCode {
-    let scenarios = selected(args);
-    let rules = args
-        .decide
-        .map_or(vec![Decide::Fixed, Decide::Adaptive], |d| vec![d]);
-    let mut reports = Vec::new();
-    for &decide in &rules {
-        let plan = Plan {
-            scenarios: scenarios.clone(),
-            seed: args.seed,
-            seeds: args.seeds,
-            loss: args.loss,
-            decide,
-        };
-        match run_rule(&plan, args) {
-            Ok(r) => reports.push(r),
-            Err(code) => return code,
+    match run(args) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("cimax arena campaign: {e}");
+            ExitCode::from(2)
         }
     }
+}
+
+/// The campaign the options ask for, whole (every unit, then [`finish`]) or one shard.
+fn run(args: &CampaignArgs) -> Result<ExitCode, String> {
+    let page = if args.shard.is_some() {
+        None
+    } else {
+        page_path(args)
+    };
+    let job = CampaignJob {
+        scenarios: selected(args)
+            .into_iter()
+            .map(|i| SCENARIOS[i].name.to_string())
+            .collect(),
+        seed: args.seed,
+        seeds: args.seeds,
+        loss: args.loss,
+        rules: args
+            .decide
+            .map_or(vec![Decide::Fixed, Decide::Adaptive], |d| vec![d]),
+        page: args.shard.is_some() || page.is_some(),
+    };
+    let plans = job.plans()?;
+    let total = job.units();
+    let unit = |k| job.unit(&plans, k);
+    if let (Some(shard), Some(dir)) = (args.shard, &args.out) {
+        let config = Job::new(COMMAND, &job).map_err(|e| e.to_string())?;
+        let path = shard::run_shard(config, total, shard, dir, false, unit)?;
+        println!("wrote {}", path.display());
+        return Ok(ExitCode::SUCCESS);
+    }
+    let wall = std::time::Instant::now();
+    let progress = if total > 1 {
+        Progress::new(total, "campaign", false)
+    } else {
+        Progress::hidden()
+    };
+    let all: Vec<u64> = (0..total).collect();
+    let units = shard::compute(&all, &progress, unit)?;
+    let timing = Timing {
+        wall_s: wall.elapsed().as_secs_f64(),
+        threads: rayon::current_num_threads(),
+    };
+    if let Some(path) = &args.trace {
+        for plan in &plans {
+            if let Some(&s) = plan.scenarios.first() {
+                write_trace(&SCENARIOS[s], plan.seed, plan.loss, plan.decide, path)?;
+            }
+        }
+    }
+    let results = job.assemble(&plans, units, timing)?;
+    Ok(finish(&results, page.map(|out| (out, args.figure.clone()))))
+}
+
+/// `cimax merge` of a campaign's parts: prints its tables, writes `OUT/reliability.md` with its
+/// figures in `OUT/figures/`, and gives the exit code, as the unsharded campaign with `--out
+/// OUT/reliability.md` does. The page's wall time is the shards' added up.
+///
+/// # Errors
+/// If the parts are not a campaign this cimax can write.
+pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
+    let (job, units): (CampaignJob, Vec<job::Unit>) = m.decode().map_err(|e| e.to_string())?;
+    if !job.page {
+        return Err(m.bad_config("a campaign without its page").to_string());
+    }
+    let plans = job.plans().map_err(|e| m.bad_config(e).to_string())?;
+    let timing = Timing {
+        wall_s: m.wall_s,
+        threads: m.threads,
+    };
+    let results = job
+        .assemble(&plans, units, timing)
+        .map_err(|e| m.bad_config(e).to_string())?;
+    Ok(finish(&results, Some((out.join("reliability.md"), None))))
+}
+
+/// What the campaign does with its results, whole or merged: prints each rule's table, writes
+/// the page (`page`: where, and the figure if not beside it), prints the failures; 0 if every
+/// bar is met, 1 if not or a robot crashed, 2 if the page cannot be written.
+fn finish(results: &Results, page: Option<(PathBuf, Option<PathBuf>)>) -> ExitCode {
+    for report in &results.reports {
+        print_report(report);
+    }
     let mut failed = false;
-    if let Some(out) = page_path(args) {
-        match write_page(&reports, &out, args.figure.clone()) {
+    if let Some((out, figure)) = page {
+        match write_page(results, &out, figure) {
             Ok(missed) => {
                 for m in missed {
                     eprintln!("{m}");
@@ -87,7 +170,7 @@ pub(super) fn main(args: &CampaignArgs) -> ExitCode {
             }
         }
     }
-    failed |= print_failures(&reports);
+    failed |= print_failures(&results.reports);
     if failed {
         ExitCode::FAILURE
     } else {
@@ -151,25 +234,9 @@ fn print_failures(reports: &[Report]) -> bool {
     failed
 }
 
-/// Runs one rule's campaign and prints its table (and each run, for a single seed); writes the
-/// trace if asked. `Err` holds the exit code of a bad option.
-fn run_rule(plan: &Plan, args: &CampaignArgs) -> Result<Report, ExitCode> {
-    let total = plan.scenarios.len() as u64 * plan.seeds;
-    let progress = if total > 1 {
-        Progress::new(total, "campaign", false)
-    } else {
-        Progress::hidden()
-    };
-    let report = campaign::run(plan, &progress).map_err(|e| {
-        eprintln!("cimax arena campaign: {e}");
-        ExitCode::from(2)
-    })?;
-    if let (Some(path), Some(&s)) = (&args.trace, plan.scenarios.first())
-        && let Err(e) = write_trace(&SCENARIOS[s], plan.seed, plan.loss, plan.decide, path)
-    {
-        eprintln!("cimax arena campaign: {e}");
-        return Err(ExitCode::from(2));
-    }
+/// Prints one rule's table (and each run, for a single seed).
+fn print_report(report: &Report) {
+    let plan = &report.plan;
     println!(
         "CIMAX fault campaign, {} rule: {} scenarios x {} seeds in the emulated arena ({:.1} s wall, {} threads)",
         plan.decide.name(),
@@ -178,7 +245,7 @@ fn run_rule(plan: &Plan, args: &CampaignArgs) -> Result<Report, ExitCode> {
         report.wall_s,
         report.threads
     );
-    print!("{}", table(&report));
+    print!("{}", table(report));
     if plan.seeds == 1 {
         for r in &report.results {
             for o in &r.runs {
@@ -198,20 +265,20 @@ fn run_rule(plan: &Plan, args: &CampaignArgs) -> Result<Report, ExitCode> {
             }
         }
     }
-    Ok(report)
 }
 
 /// Writes the page `out` with its figures beside it (`figures/reliability.svg`, or `figure`,
 /// and `reliability-rules.svg` next to it): the first report's page and, with two rules, the
-/// section setting them side by side.
+/// section setting them side by side, the lab suite's sections and the loss sweep's.
 ///
 /// Returns the lab suite's missed bars, one line each.
 fn write_page(
-    reports: &[Report],
+    results: &Results,
     out: &Path,
     figure: Option<PathBuf>,
 ) -> Result<Vec<String>, String> {
     let mut missed = Vec::new();
+    let reports = &results.reports;
     let Some(first) = reports.first() else {
         return Ok(missed);
     };
@@ -233,32 +300,25 @@ fn write_page(
         initiations: None,
         loss: None,
     };
-    if let [fixed, adaptive] = reports {
+    if let [fixed, adaptive] = reports.as_slice() {
         rules_chart(fixed, adaptive, &rules_figure).map_err(|e| e.to_string())?;
         page.rules = Some(rules_section(
             fixed,
             adaptive,
             Some(&relative(&rules_figure, out)),
         ));
-        let (seed, seeds) = (fixed.plan.seed, fixed.plan.seeds);
-        for readings in SUITE_READINGS {
-            let f = lab_suite(Decide::Fixed, readings, seed, seeds)?;
-            let a = lab_suite(Decide::Adaptive, readings, seed, seeds)?;
-            let section = suite_section(&f, &a, readings, seeds);
+        for (readings, f, a) in &results.suites {
+            let section = suite_section(f, a, *readings, fixed.plan.seeds);
             missed.extend(section.missed.iter().map(|m| m.replace('`', "")));
             page.suites.push(section);
         }
         page.initiations = Some(host_sim::pages::reliability::stress::initiations_section(
             fixed, adaptive,
         ));
-        let sweep_seeds = seeds.min(stress::SWEEP_SEEDS);
-        let f = stress::loss_sweep(Decide::Fixed, seed, sweep_seeds)?;
-        let a = stress::loss_sweep(Decide::Adaptive, seed, sweep_seeds)?;
-        page.loss = Some(host_sim::pages::reliability::stress::loss_section(
-            &f,
-            &a,
-            sweep_seeds,
-        ));
+        page.loss = results
+            .loss
+            .as_ref()
+            .map(|(f, a, seeds)| host_sim::pages::reliability::stress::loss_section(f, a, *seeds));
         println!(
             "wrote {}, {} and {}",
             out.display(),

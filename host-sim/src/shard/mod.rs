@@ -1,0 +1,108 @@
+//! Splitting a long command over many processes or machines (`--shard I/N`) and putting the
+//! pieces back together (`cimax merge`).
+//!
+//! A command that shards numbers its work in units (one run, say) in a fixed order; the whole
+//! job is `0..total`. Unsharded, it computes every unit ([`compute`]) and writes its outputs
+//! from the list of results. With `--shard I/N` it computes only its share ([`spec`]) and
+//! writes that as one part file ([`part`]); `cimax merge` reads all the parts, checks them
+//! ([`merge`]) and hands the command the same list of results, which it writes with the same
+//! function, so that the outputs are the very same bytes.
+//!
+//! Where to start: [`ShardSpec`] (which units are whose), [`run_shard`] (one shard's run),
+//! [`merge::merge`] (the checks). What it never does: write a half part under its final name,
+//! panic on a part's bytes, or depend on the order the parts are given in.
+
+pub mod merge;
+pub mod part;
+pub mod spec;
+
+use std::fmt::Display;
+use std::path::{Path, PathBuf};
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::progress::Progress;
+pub use part::{Job, PartError};
+pub use spec::ShardSpec;
+
+/// How long a job took and on how many threads: measured for an unsharded run, the shards'
+/// wall times added up (and their most threads) for a merged one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Timing {
+    /// Wall time, s.
+    pub wall_s: f64,
+    /// Worker threads.
+    pub threads: usize,
+}
+
+/// Computes `f` for each of `units`, in parallel, and returns the results in the order of
+/// `units`; `progress` steps once per unit.
+///
+/// # Errors
+/// The first error of a unit, in unit order.
+pub fn compute<U, E, F>(units: &[u64], progress: &Progress, f: F) -> Result<Vec<U>, E>
+where
+    U: Send,
+    E: Send,
+    F: Fn(u64) -> Result<U, E> + Sync,
+{
+    let out = units
+        .par_iter()
+        .map(|&k| {
+            let r = f(k);
+            progress.inc();
+            r
+        })
+        .collect();
+    progress.finish();
+    out
+}
+
+/// Runs shard `shard` of `job` (`total` units, unit `k` computed by `f`) and writes its part
+/// into `dir`: says on stderr what its share is, shows progress with the time left (unless
+/// `quiet`), and returns the part's path.
+///
+/// # Errors
+/// A unit's error, or the part not written.
+pub fn run_shard<U, E, F>(
+    job: Job,
+    total: u64,
+    shard: ShardSpec,
+    dir: &Path,
+    quiet: bool,
+    f: F,
+) -> Result<PathBuf, String>
+where
+    U: Serialize + Send,
+    E: Send + Display,
+    F: Fn(u64) -> Result<U, E> + Sync,
+{
+    let wall = std::time::Instant::now();
+    let units: Vec<u64> = shard.units(total).collect();
+    eprintln!(
+        "shard {shard}: {} of {total} runs of {}, into {}",
+        units.len(),
+        job.command,
+        dir.join(shard.file_name()).display()
+    );
+    let progress = Progress::logged(units.len() as u64, &format!("shard {shard}"), quiet);
+    let results = compute(&units, &progress, f).map_err(|e| e.to_string())?;
+    let header = part::Header {
+        format: part::FORMAT.into(),
+        version: part::VERSION,
+        cimax: part::CIMAX.into(),
+        job,
+        shard,
+        units: total,
+    };
+    let numbered: Vec<(u64, U)> = units.into_iter().zip(results).collect();
+    part::write_part(
+        dir,
+        &header,
+        &numbered,
+        wall.elapsed().as_secs_f64(),
+        rayon::current_num_threads(),
+    )
+    .map_err(|e| e.to_string())
+}

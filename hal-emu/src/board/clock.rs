@@ -2,20 +2,43 @@
 //! and the world around them (its medium, adversaries and schedule) share one value of it, so
 //! they all live in the same virtual time.
 
+use std::rc::Rc;
+
 use firmware::Clock;
 use protocol::Instant;
 
-/// A [`Clock`] over tokio's clock. Under a paused runtime (`start_paused`) time only moves when
-/// every task waits, straight to the next timer: virtual time, as fast as the CPU allows.
-#[derive(Clone, Copy, Debug)]
+use super::timeline::{self, Sleep, Timeline};
+
+/// A [`Clock`] over tokio's clock, or over a run's [`Timeline`] driven by it. Under a paused
+/// runtime (`start_paused`) time only moves when every task waits, straight to the next timer:
+/// virtual time, as fast as the CPU allows.
+#[derive(Clone, Debug)]
 pub struct EmuClock {
     epoch: tokio::time::Instant,
+    timeline: Option<Rc<Timeline>>,
 }
 
 impl EmuClock {
-    /// A clock whose zero is `epoch`.
+    /// A clock on tokio's clock whose zero is `epoch` (real time, or tokio's virtual time).
     pub fn new(epoch: tokio::time::Instant) -> Self {
-        EmuClock { epoch }
+        EmuClock {
+            epoch,
+            timeline: None,
+        }
+    }
+
+    /// A clock on a new [`Timeline`] whose zero is now, and the timeline's driver, to be
+    /// spawned on the run's runtime (paused: virtual time). Every user of the clock then waits
+    /// on one heap of deadlines instead of tokio's timer wheel.
+    pub fn on_timeline() -> (Self, impl std::future::Future<Output = ()>) {
+        let epoch = tokio::time::Instant::now();
+        let timeline = Rc::new(Timeline::default());
+        let driver = timeline::drive(timeline.clone(), epoch);
+        let clock = EmuClock {
+            epoch,
+            timeline: Some(timeline),
+        };
+        (clock, driver)
     }
 
     /// The tokio instant of a protocol instant, or `None` for [`Instant::MAX`] ("never") and
@@ -31,11 +54,17 @@ impl EmuClock {
 
 impl Clock for EmuClock {
     fn now(&self) -> Instant {
+        if let Some(t) = &self.timeline {
+            return t.now();
+        }
         let d = tokio::time::Instant::now().saturating_duration_since(self.epoch);
         Instant::from_millis(u64::try_from(d.as_millis()).unwrap_or(u64::MAX))
     }
 
     async fn sleep_until(&self, deadline: Instant) {
+        if let Some(t) = &self.timeline {
+            return Sleep::until(t.clone(), deadline).await;
+        }
         match self.to_tokio(deadline) {
             Some(t) => tokio::time::sleep_until(t).await,
             None => std::future::pending().await,

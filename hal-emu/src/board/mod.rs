@@ -22,3 +22,4 @@ pub mod clock;
 pub mod leds;
 pub mod light;
 pub mod sensor;
+pub mod timeline;

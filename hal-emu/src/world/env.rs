@@ -371,7 +371,7 @@ mod tests {
         let env: Rc<dyn Surroundings> = Rc::new(SwarmEnv::new(Rc::new(env)));
         let clock = EmuClock::new(tokio::time::Instant::now());
         let mut sensors: Vec<EmuSensor> = (0..2)
-            .map(|r| EmuSensor::new(env.clone(), r, clock, Pcg32::new(r as u64, 1)))
+            .map(|r| EmuSensor::new(env.clone(), r, clock.clone(), Pcg32::new(r as u64, 1)))
             .collect();
         let mut seen = Vec::new();
         for _ in 0..4 {

@@ -3,16 +3,16 @@
 //! world; its protocol events go into the trace ([`Tracer`]). Every life draws from RNGs seeded
 //! from the run's seed, its robot and its number ([`rng`]).
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::rc::Rc;
+use std::task::{Poll, Waker};
 
-use embassy_futures::select::select;
+use embassy_futures::select::{Either, select};
 use firmware::{Clock, Config, Hardware, Observer, Robot, SetupError, Stats};
 use protocol::fused::NodeStats;
 use protocol::wave::WaveStats;
 use protocol::{Event, FusedNode, Instant, Sector, WaveState};
 use rand_pcg::Pcg32;
-use tokio::sync::oneshot;
 
 use super::camera::LedLog;
 use crate::board::clock::EmuClock;
@@ -108,6 +108,40 @@ impl Observer for Tracer {
     }
 }
 
+/// Tells a robot's life to stop: a flag and the life's waker. The life polls it on every wake
+/// of the robot, so it is a look at a cell (a oneshot channel cost a tenth of a 1000-robot run).
+#[derive(Debug, Default)]
+pub(super) struct Stop {
+    stopped: Cell<bool>,
+    waker: RefCell<Option<Waker>>,
+}
+
+impl Stop {
+    /// Stops the life (now or when it is next polled).
+    pub(super) fn signal(&self) {
+        self.stopped.set(true);
+        if let Some(w) = self.waker.borrow_mut().take() {
+            w.wake();
+        }
+    }
+
+    /// Returns once [`signal`](Self::signal)led.
+    async fn wait(&self) {
+        std::future::poll_fn(|cx| {
+            if self.stopped.get() {
+                return Poll::Ready(());
+            }
+            let mut slot = self.waker.borrow_mut();
+            match &*slot {
+                Some(w) if w.will_wake(cx.waker()) => {}
+                _ => *slot = Some(cx.waker().clone()),
+            }
+            Poll::Pending
+        })
+        .await;
+    }
+}
+
 /// A seeded RNG for one purpose of one robot's life: runs are reproducible and independent.
 pub(super) fn rng(seed: u64, purpose: u64, robot: usize, life: u32) -> Pcg32 {
     Pcg32::new(
@@ -128,7 +162,7 @@ pub(super) async fn life(
     shared: Rc<Shared>,
     robot: usize,
     life: u32,
-    stop: oneshot::Receiver<()>,
+    stop: Rc<Stop>,
 ) -> Result<Counters, String> {
     if let Some(h) = shared.hil.iter().find(|h| h.robot == robot) {
         let transport = h.transport.clone();
@@ -157,17 +191,17 @@ async fn life_of<const N: usize>(
     shared: Rc<Shared>,
     robot: usize,
     life: u32,
-    stop: oneshot::Receiver<()>,
+    stop: Rc<Stop>,
 ) -> Result<Counters, String> {
     let (tx, rx) = Medium::attach(&shared.medium, robot).map_err(|e| e.to_string())?;
     // Receivers come indexed by sector (with two: right, left).
     let receivers = <[_; N]>::try_from(rx)
         .map_err(|rx| format!("the medium gave {} receivers for {N} sectors", rx.len()))?;
-    let clock = shared.clock;
+    let clock = shared.clock.clone();
     let sensor = EmuSensor::new(
         shared.surroundings.clone(),
         robot,
-        clock,
+        clock.clone(),
         rng(shared.seed, RNG_SENSOR, robot, life),
     );
     let leds = EmuLeds::new(shared.leds.clone(), robot);
@@ -176,7 +210,7 @@ async fn life_of<const N: usize>(
         receivers,
         sensor,
         leds,
-        clock,
+        clock: clock.clone(),
     };
     let config = Config {
         id: id_of(&shared, robot),
@@ -192,7 +226,7 @@ async fn life_of<const N: usize>(
         shared: shared.clone(),
         robot,
     };
-    select(r.run_observed(&mut hw, &mut tracer), stop).await;
+    select(r.run_observed(&mut hw, &mut tracer), stop.wait()).await;
     Ok((*r.stats(), *r.node().wave_stats(), *r.node().stats()))
 }
 
@@ -217,10 +251,10 @@ async fn in_the_loop(
     robot: usize,
     life: u32,
     transport: Transport,
-    stop: oneshot::Receiver<()>,
+    stop: Rc<Stop>,
 ) -> Result<Counters, String> {
     let (tx, rx) = Medium::attach(&shared.medium, robot).map_err(|e| e.to_string())?;
-    let clock = shared.clock;
+    let clock = shared.clock.clone();
     let config = Config {
         id: id_of(&shared, robot),
         ..config_of(shared.config, &shared.configs, robot)
@@ -229,7 +263,7 @@ async fn in_the_loop(
     let bridge = Bridge {
         robot,
         transport,
-        clock,
+        clock: clock.clone(),
         transmitter: Some(tx),
         receivers: rx,
         sensor: EmuSensor::new(
@@ -243,7 +277,17 @@ async fn in_the_loop(
         setup: setup_of(&config, setup_seed(seed)),
         timeouts: shared.hil_timeouts,
     };
-    let report = bridge.run(stop).await?;
+    // The bridge takes its stop as a oneshot (it selects on it among its link's inputs).
+    let (stop_tx, stop_rx) = tokio::sync::oneshot::channel();
+    let relay = async {
+        stop.wait().await;
+        let _ = stop_tx.send(());
+        std::future::pending::<()>().await;
+    };
+    let report = match select(bridge.run(stop_rx), relay).await {
+        Either::First(r) => r?,
+        Either::Second(()) => return Err("the bridge outlived its stop".into()),
+    };
     shared.hil_reports.borrow_mut().push(report);
     Ok(Default::default())
 }

@@ -169,7 +169,7 @@ async fn play(
     real_time: bool,
 ) -> Result<RunReport, Option<RobotFailure>> {
     let n = cfg.positions.len();
-    let shared = world(cfg);
+    let shared = world(cfg, real_time);
     let moves = Rc::new(RefCell::new(Vec::new()));
     if let Some(motion) = cfg.motion {
         tokio::task::spawn_local(motion::mover(shared.clone(), motion, moves.clone()));
@@ -216,22 +216,33 @@ async fn play(
 
 /// The world of a run: the medium with the robots' places and the adversaries (their tasks
 /// spawned), the environment, the LED record, and what the robots' boots need.
-fn world(cfg: &ArenaConfig) -> Rc<Shared> {
-    let clock = EmuClock::new(tokio::time::Instant::now());
+fn world(cfg: &ArenaConfig, real_time: bool) -> Rc<Shared> {
+    let clock = if real_time {
+        EmuClock::new(tokio::time::Instant::now())
+    } else {
+        let (clock, driver) = EmuClock::on_timeline();
+        tokio::task::spawn_local(driver);
+        clock
+    };
     let medium = Medium::new(
         cfg.medium,
-        clock,
+        clock.clone(),
         rng(cfg.seed, RNG_MEDIUM, 0, 0),
         &cfg.positions,
         cfg.robot.params.sectors,
         cfg.trace,
     );
     for (k, a) in cfg.adversaries.iter().enumerate() {
-        adversary::spawn(&medium, clock, a, rng(cfg.seed, RNG_ADVERSARY, k, 0));
+        adversary::spawn(
+            &medium,
+            clock.clone(),
+            a,
+            rng(cfg.seed, RNG_ADVERSARY, k, 0),
+        );
     }
     Rc::new(Shared {
         medium: medium.clone(),
-        clock,
+        clock: clock.clone(),
         surroundings: Rc::new(SwarmEnv::new(Rc::new(cfg.env.clone()))),
         leds: Rc::new(camera::LedLog::new(clock, medium.clone())),
         config: cfg.robot,

@@ -6,12 +6,11 @@ use std::rc::Rc;
 
 use firmware::{Clock, LedColor};
 use protocol::Instant;
-use tokio::sync::oneshot;
 use tokio::task::JoinHandle;
 
 use super::config::ArenaConfig;
 use super::error::RobotFailure;
-use super::lives::{Counters, Shared, life};
+use super::lives::{Counters, Shared, Stop, life};
 use crate::world::medium::TraceEvent;
 
 /// One scheduled change.
@@ -48,7 +47,7 @@ pub(super) fn controls(cfg: &ArenaConfig) -> Vec<(Instant, Control)> {
 pub(super) struct Robots {
     shared: Rc<Shared>,
     lives: Vec<u32>,
-    stops: Vec<Option<oneshot::Sender<()>>>,
+    stops: Vec<Option<Rc<Stop>>>,
     handles: Vec<Option<JoinHandle<Result<Counters, String>>>>,
     /// Each robot's counters, of its last life that ended.
     pub(super) stats: Vec<Counters>,
@@ -72,11 +71,11 @@ impl Robots {
 
     /// Boots robot `robot`'s next life.
     pub(super) fn boot(&mut self, robot: usize) {
-        let (tx, rx) = oneshot::channel();
-        let life = life(self.shared.clone(), robot, self.lives[robot], rx);
+        let stop = Rc::new(Stop::default());
+        let life = life(self.shared.clone(), robot, self.lives[robot], stop.clone());
         let h = tokio::task::spawn_local(life);
         self.lives[robot] += 1;
-        self.stops[robot] = Some(tx);
+        self.stops[robot] = Some(stop);
         self.handles[robot] = Some(h);
     }
 
@@ -84,7 +83,7 @@ impl Robots {
     /// counters, or its failure.
     pub(super) async fn stop(&mut self, robot: usize) {
         if let Some(s) = self.stops[robot].take() {
-            let _ = s.send(());
+            s.signal();
         }
         let Some(h) = self.handles[robot].take() else {
             return;
@@ -115,7 +114,7 @@ impl Robots {
 
     /// Carries out `controls` at their times, up to `end`, then waits for `end`.
     pub(super) async fn follow(&mut self, controls: Vec<(Instant, Control)>, end: Instant) {
-        let clock = self.shared.clock;
+        let clock = self.shared.clock.clone();
         for (t, c) in controls {
             if t > end {
                 break;

@@ -132,7 +132,7 @@ impl Bridge {
             ..HilReport::default()
         };
         let t0 = self.clock.now();
-        let ends = open(&self.transport, self.clock, self.config).await;
+        let ends = open(&self.transport, self.clock.clone(), self.config).await;
         let mut ends = ends.map_err(|e| format!("its link did not open: {e}"))?;
         let out = self
             .serve(&mut ends, &mut report, t0, stop)

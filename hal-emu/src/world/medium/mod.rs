@@ -41,7 +41,7 @@ use serde::Serialize;
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
 use crate::board::clock::EmuClock;
-use crate::board::light::{Air, EmuReceiver, EmuTransmitter};
+use crate::board::light::{self, Air, EmuReceiver, EmuTransmitter, Light};
 
 pub mod trace;
 
@@ -236,10 +236,14 @@ struct Node {
     alive: bool,
     /// The end of this node's current or last transmission.
     tx_until: Instant,
-    inboxes: Vec<UnboundedSender<Vec<u8>>>,
+    /// A robot's receivers, while it is attached.
+    light: Option<Light>,
     /// A replayer's captures.
     captures: Option<UnboundedSender<Capture>>,
 }
+
+/// The nodes a node's light reaches, each with the sector it arrives on.
+type Reach = Rc<[(usize, u8)]>;
 
 /// The shared medium: every robot's position, every frame in flight, the trace.
 #[derive(Debug)]
@@ -249,6 +253,8 @@ pub struct Medium {
     rng: Pcg32,
     nodes: Vec<Node>,
     pending: Vec<Arrival>,
+    /// Per node, who its light reaches ([`Medium::neighbours`]), worked out when it first sends.
+    neighbours: Vec<Option<Reach>>,
     next_id: u64,
     record: bool,
     trace: Vec<TraceEvent>,
@@ -277,7 +283,7 @@ impl Medium {
                 role: Role::Robot,
                 alive: false,
                 tx_until: Instant::ZERO,
-                inboxes: Vec::new(),
+                light: None,
                 captures: None,
             })
             .collect();
@@ -287,6 +293,7 @@ impl Medium {
             rng,
             nodes,
             pending: Vec::new(),
+            neighbours: Vec::new(),
             next_id: 0,
             record,
             trace: Vec::new(),
@@ -318,7 +325,7 @@ impl Medium {
 
     /// The clock the medium runs on (the run's).
     pub fn clock(&self) -> EmuClock {
-        self.clock
+        self.clock.clone()
     }
 
     /// Adds a rogue transmitter at `pos`; returns its node number.
@@ -350,7 +357,7 @@ impl Medium {
             role,
             alive: true,
             tx_until: Instant::ZERO,
-            inboxes: Vec::new(),
+            light: None,
             captures,
         });
         m.nodes.len() - 1
@@ -378,13 +385,10 @@ impl Medium {
             .nodes
             .get_mut(robot)
             .ok_or(NoSuchNode { node: robot, nodes })?;
-        let (senders, receivers): (Vec<_>, Vec<_>) = (0..node.sectors)
-            .map(|_| unbounded_channel())
-            .map(|(tx, rx)| (tx, EmuReceiver::new(rx)))
-            .unzip();
-        node.inboxes = senders;
+        let (feed, receivers) = light::receivers(usize::from(node.sectors));
+        node.light = Some(feed);
         node.alive = true;
-        let transmitter = EmuTransmitter::new(Box::new(this.clone()), m.clock, robot);
+        let transmitter = EmuTransmitter::new(Box::new(this.clone()), m.clock.clone(), robot);
         Ok((transmitter, receivers))
     }
 
@@ -392,7 +396,7 @@ impl Medium {
     pub fn detach(&mut self, robot: usize) {
         if let Some(n) = self.nodes.get_mut(robot) {
             n.alive = false;
-            n.inboxes.clear();
+            n.light = None;
         }
     }
 
@@ -413,18 +417,20 @@ impl Medium {
         };
         let t1 = t0 + m.params.airtime(bytes.len());
         sender.tx_until = t1;
-        let src = sender.pos;
         m.emitted(t0, from, bytes.len(), what);
         // Half duplex: what the sender was receiving is lost under its own light.
         for a in m.pending.iter_mut().filter(|a| a.to == from && a.end > t0) {
             a.fate = Fate::Deaf;
         }
-        for to in 0..m.nodes.len() {
-            let Some((sector, fate)) = m.reception(from, src, to, t0, t1) else {
+        let mut ids = Vec::new();
+        let reach = m.neighbours(from);
+        for &(to, sector) in reach.iter() {
+            let Some(fate) = m.reception(from, to, sector, t0, t1) else {
                 continue;
             };
             let id = m.next_id;
             m.next_id += 1;
+            ids.push(id);
             m.pending.push(Arrival {
                 id,
                 to,
@@ -434,13 +440,16 @@ impl Medium {
                 bytes: bytes.to_vec(),
                 fate,
             });
+        }
+        // One task per transmission delivers its arrivals, in order, when its airtime ends.
+        if !ids.is_empty() {
             let medium = this.clone();
-            let at = m.clock.to_tokio(t1);
+            let clock = m.clock.clone();
             tokio::task::spawn_local(async move {
-                if let Some(at) = at {
-                    tokio::time::sleep_until(at).await;
+                clock.sleep_until(t1).await;
+                for id in ids {
+                    Medium::deliver(&medium, id);
                 }
-                Medium::deliver(&medium, id);
             });
         }
         t1
@@ -482,27 +491,52 @@ impl Medium {
         }
     }
 
-    /// Whether node `to` receives what node `from` (at `src`) sends during `t0..t1`: the
-    /// sector it arrives on and its fate so far, or `None` if it does not reach `to` (out of
-    /// range, not a receiver, or dropped: counted and traced).
+    /// The nodes that node `from`'s light reaches and are not rogues, in node order, each with
+    /// the sector it arrives on (of the bearing from it to `from`). Worked out once per sender:
+    /// nodes never move in the medium (a swarm's move shifts the field under it), and a new
+    /// node clears them all.
+    fn neighbours(&mut self, from: usize) -> Reach {
+        if self.neighbours.len() != self.nodes.len() {
+            self.neighbours = vec![None; self.nodes.len()];
+        }
+        if let Some(n) = &self.neighbours[from] {
+            return n.clone();
+        }
+        let src = self.nodes[from].pos;
+        let list: Reach = self
+            .nodes
+            .iter()
+            .enumerate()
+            .filter(|&(to, node)| {
+                to != from
+                    && node.role != Role::Rogue
+                    && nalgebra::distance(&node.pos, &src) <= self.params.range
+            })
+            .map(|(to, node)| {
+                let d = src - node.pos;
+                let sector = Sector::from_bearing(d.y.atan2(d.x) as f32, node.sectors).index();
+                (to, sector)
+            })
+            .collect();
+        self.neighbours[from] = Some(list.clone());
+        list
+    }
+
+    /// Whether node `to`, within reach of node `from`, receives what `from` sends during
+    /// `t0..t1`: its fate so far, or `None` if it does not (dead, or dropped: counted and
+    /// traced).
     fn reception(
         &mut self,
         from: usize,
-        src: Point2<f64>,
         to: usize,
+        sector: u8,
         t0: Instant,
         t1: Instant,
-    ) -> Option<(u8, Fate)> {
+    ) -> Option<Fate> {
         let node = &self.nodes[to];
-        if to == from
-            || !node.alive
-            || node.role == Role::Rogue
-            || nalgebra::distance(&node.pos, &src) > self.params.range
-        {
+        if !node.alive {
             return None;
         }
-        let d = src - node.pos;
-        let sector = Sector::from_bearing(d.y.atan2(d.x) as f32, node.sectors).index();
         if node.tx_until > t0 {
             self.dropped(t1, to, from, DropReason::ReceiverTransmitting);
             return None;
@@ -511,7 +545,7 @@ impl Medium {
             self.dropped(t1, to, from, DropReason::Loss);
             return None;
         }
-        Some((sector, self.collide(to, sector, t0)))
+        Some(self.collide(to, sector, t0))
     }
 
     /// With collisions on, a frame arriving at `to`'s receiver `sector` from `t0` on garbles
@@ -616,8 +650,8 @@ impl Medium {
             garbled,
             corrupted,
         });
-        if let Some(inbox) = self.nodes[a.to].inboxes.get(usize::from(a.sector)) {
-            let _ = inbox.send(a.bytes);
+        if let Some(light) = &self.nodes[a.to].light {
+            light.put(usize::from(a.sector), a.bytes);
         }
     }
 

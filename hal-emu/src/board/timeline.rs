@@ -1,0 +1,263 @@
+//! Virtual time for a whole emulated run: one queue of deadlines for every robot, the medium
+//! and the schedule, driven by a single tokio timer.
+//!
+//! Under tokio's paused clock every `sleep` is a timer-wheel entry, every `now` a lock and a
+//! subtraction; a robot wakes about twice per emulated second, so with a thousand robots those
+//! dominated the run. Here a deadline is a heap entry, `now` a cell, and the one [`drive`]r
+//! task sleeps on tokio's clock until the earliest deadline, sets `now` and wakes whoever
+//! waited for it. Deadlines that fall on the same millisecond wake in the order they were
+//! set: a run is the same run for the same seed.
+
+use std::cell::{Cell, RefCell};
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::future::Future;
+use std::pin::Pin;
+use std::rc::Rc;
+use std::task::{Context, Poll, Waker};
+
+use protocol::Instant;
+use slab::Slab;
+
+/// The deadlines of a run and its time now.
+#[derive(Debug, Default)]
+pub struct Timeline {
+    now: Cell<Instant>,
+    /// Deadlines waited for, earliest first, ties in the order they were set: `(deadline,
+    /// sequence number, slot in `waiting`)`. Entries whose wait ended early stay here until
+    /// their time and are skipped then.
+    queue: RefCell<BinaryHeap<Reverse<(Instant, u64, usize)>>>,
+    /// Who waits: `(sequence number, waker)`, by slot.
+    waiting: RefCell<Slab<(u64, Waker)>>,
+    next_seq: Cell<u64>,
+    /// The deadline the driver sleeps until, and its waker (told when an earlier one is set).
+    armed: Cell<Instant>,
+    driver: RefCell<Option<Waker>>,
+    /// The wakers of one step, kept between steps.
+    due: RefCell<Vec<Waker>>,
+}
+
+/// One wait on a [`Timeline`]: its slot and sequence number.
+type Ticket = (usize, u64);
+
+impl Timeline {
+    /// The time now.
+    pub fn now(&self) -> Instant {
+        self.now.get()
+    }
+
+    fn wait(&self, deadline: Instant, waker: &Waker) -> Ticket {
+        let seq = self.next_seq.get();
+        self.next_seq.set(seq + 1);
+        let slot = self.waiting.borrow_mut().insert((seq, waker.clone()));
+        self.queue.borrow_mut().push(Reverse((deadline, seq, slot)));
+        if deadline < self.armed.get()
+            && let Some(d) = self.driver.borrow().as_ref()
+        {
+            d.wake_by_ref();
+        }
+        (slot, seq)
+    }
+
+    fn rewake(&self, (slot, seq): Ticket, waker: &Waker) {
+        if let Some(w) = self.waiting.borrow_mut().get_mut(slot)
+            && w.0 == seq
+            && !w.1.will_wake(waker)
+        {
+            w.1 = waker.clone();
+        }
+    }
+
+    fn cancel(&self, (slot, seq): Ticket) {
+        let mut waiting = self.waiting.borrow_mut();
+        if waiting.get(slot).is_some_and(|w| w.0 == seq) {
+            waiting.remove(slot);
+        }
+    }
+
+    /// The earliest deadline still waited for (dropping those whose wait ended), or `None`.
+    fn next(&self) -> Option<Instant> {
+        let mut queue = self.queue.borrow_mut();
+        let waiting = self.waiting.borrow();
+        while let Some(&Reverse((t, seq, slot))) = queue.peek() {
+            if waiting.get(slot).is_some_and(|w| w.0 == seq) {
+                return Some(t);
+            }
+            queue.pop();
+        }
+        None
+    }
+
+    /// Time moves to `t`: wakes every wait due by then, in deadline and then set order.
+    fn advance(&self, t: Instant) {
+        self.now.set(t);
+        let mut due = std::mem::take(&mut *self.due.borrow_mut());
+        {
+            let mut queue = self.queue.borrow_mut();
+            let mut waiting = self.waiting.borrow_mut();
+            while let Some(&Reverse((d, seq, slot))) = queue.peek() {
+                if d > t {
+                    break;
+                }
+                queue.pop();
+                if waiting.get(slot).is_some_and(|w| w.0 == seq) {
+                    due.push(waiting.remove(slot).1);
+                }
+            }
+        }
+        for w in due.drain(..) {
+            w.wake();
+        }
+        // The buffer is kept for the next time (no allocation per step).
+        *self.due.borrow_mut() = due;
+    }
+}
+
+/// A wait until `deadline` on a timeline.
+#[derive(Debug)]
+pub struct Sleep {
+    timeline: Rc<Timeline>,
+    deadline: Instant,
+    ticket: Option<Ticket>,
+}
+
+impl Sleep {
+    /// Waits on `timeline` until `deadline` ([`Instant::MAX`]: for ever).
+    pub fn until(timeline: Rc<Timeline>, deadline: Instant) -> Self {
+        Sleep {
+            timeline,
+            deadline,
+            ticket: None,
+        }
+    }
+}
+
+impl Future for Sleep {
+    type Output = ();
+
+    fn poll(self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<()> {
+        let this = self.get_mut();
+        if this.timeline.now() >= this.deadline {
+            if let Some(t) = this.ticket.take() {
+                this.timeline.cancel(t);
+            }
+            return Poll::Ready(());
+        }
+        if this.deadline == Instant::MAX {
+            return Poll::Pending;
+        }
+        match this.ticket {
+            Some(t) => this.timeline.rewake(t, cx.waker()),
+            None => this.ticket = Some(this.timeline.wait(this.deadline, cx.waker())),
+        }
+        Poll::Pending
+    }
+}
+
+impl Drop for Sleep {
+    fn drop(&mut self) {
+        if let Some(t) = self.ticket.take() {
+            self.timeline.cancel(t);
+        }
+    }
+}
+
+/// Drives `timeline` on tokio's clock (paused: virtual time), `epoch` being its zero: sleeps
+/// until the earliest deadline, then moves time there and wakes its waiters. Runs for ever;
+/// spawn it beside the run's tasks.
+pub async fn drive(timeline: Rc<Timeline>, epoch: tokio::time::Instant) {
+    let sleep = tokio::time::sleep_until(epoch);
+    tokio::pin!(sleep);
+    timeline.armed.set(Instant::MAX);
+    std::future::poll_fn(|cx| {
+        loop {
+            let Some(next) = timeline.next() else {
+                timeline.armed.set(Instant::MAX);
+                *timeline.driver.borrow_mut() = Some(cx.waker().clone());
+                return Poll::Pending;
+            };
+            if next != timeline.armed.get() {
+                let at = epoch + std::time::Duration::from_millis(next.as_millis());
+                sleep.as_mut().reset(at);
+                timeline.armed.set(next);
+            }
+            match sleep.as_mut().poll(cx) {
+                Poll::Ready(()) => {
+                    timeline.armed.set(Instant::MAX);
+                    timeline.advance(next);
+                }
+                Poll::Pending => {
+                    let mut d = timeline.driver.borrow_mut();
+                    if !d.as_ref().is_some_and(|w| w.will_wake(cx.waker())) {
+                        *d = Some(cx.waker().clone());
+                    }
+                    return Poll::Pending;
+                }
+            }
+        }
+    })
+    .await
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration as StdDuration;
+
+    #[tokio::test(flavor = "current_thread", start_paused = true)]
+    async fn waits_end_in_deadline_then_set_order_in_virtual_time() {
+        let local = tokio::task::LocalSet::new();
+        local
+            .run_until(async {
+                let tl = Rc::new(Timeline::default());
+                let epoch = tokio::time::Instant::now();
+                tokio::task::spawn_local(drive(tl.clone(), epoch));
+                let order = Rc::new(RefCell::new(Vec::new()));
+                for (name, ms) in [("c", 300), ("a", 100), ("b", 300), ("never", u64::MAX)] {
+                    let (tl, order) = (tl.clone(), order.clone());
+                    tokio::task::spawn_local(async move {
+                        let t = if ms == u64::MAX {
+                            Instant::MAX
+                        } else {
+                            Instant::from_millis(ms)
+                        };
+                        Sleep::until(tl.clone(), t).await;
+                        order.borrow_mut().push((name, tl.now().as_millis()));
+                    });
+                }
+                // A wait dropped before its time wakes nobody.
+                let dropped = Sleep::until(tl.clone(), Instant::from_millis(200));
+                let wall = std::time::Instant::now();
+                Sleep::until(tl.clone(), Instant::from_millis(3_600_000)).await;
+                drop(dropped);
+                assert_eq!(tl.now(), Instant::from_millis(3_600_000));
+                assert_eq!(
+                    tokio::time::Instant::now() - epoch,
+                    StdDuration::from_secs(3600)
+                );
+                assert!(wall.elapsed() < StdDuration::from_secs(5));
+                assert_eq!(*order.borrow(), vec![("a", 100), ("c", 300), ("b", 300)]);
+                // A deadline already past is no wait.
+                Sleep::until(tl.clone(), Instant::from_millis(5)).await;
+            })
+            .await;
+    }
+
+    #[tokio::test(flavor = "current_thread", start_paused = true)]
+    async fn an_earlier_deadline_set_later_rearms_the_driver() {
+        let local = tokio::task::LocalSet::new();
+        local
+            .run_until(async {
+                let tl = Rc::new(Timeline::default());
+                tokio::task::spawn_local(drive(tl.clone(), tokio::time::Instant::now()));
+                let late =
+                    tokio::task::spawn_local(Sleep::until(tl.clone(), Instant::from_secs(100)));
+                tokio::task::yield_now().await;
+                Sleep::until(tl.clone(), Instant::from_secs(1)).await;
+                assert_eq!(tl.now(), Instant::from_secs(1), "not at the later deadline");
+                late.await.unwrap();
+                assert_eq!(tl.now(), Instant::from_secs(100));
+            })
+            .await;
+    }
+}

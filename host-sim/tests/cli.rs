@@ -335,7 +335,7 @@ fn counts_and_sizes_beyond_their_limits_fail_naming_the_option() {
             &["arena", "sweep", "--swarm-runs", "100001"],
             "--swarm-runs",
         ),
-        (&["arena", "bench", "--robots", "4,5000"], "--robots"),
+        (&["arena", "bench", "--robots", "4,10001"], "--robots"),
     ] {
         let out = cimax(args);
         assert!(!out.status.success(), "{args:?}");

@@ -262,3 +262,6 @@ struct PlacementStats {
 
 /// Placements measured for [`PlacementStats`].
 const PLACEMENTS: u64 = 200;
+
+#[cfg(test)]
+mod tests;

@@ -13,32 +13,45 @@ pub struct Progress {
     bar: Option<ProgressBar>,
     /// Lines instead of a bar: the label, and the last tenth reported.
     log: Option<(String, AtomicU64)>,
+    /// What it counts: `runs`, or `units` for a shard of whole stages.
+    noun: &'static str,
 }
 
 impl Progress {
     /// A bar for `len` runs labelled `msg`, or nothing if stderr is not a terminal or `quiet`.
     pub fn new(len: u64, msg: &str, quiet: bool) -> Progress {
+        Progress::counting(len, msg, "runs", quiet)
+    }
+
+    /// As [`Progress::new`], counting `noun` (`units`, say) instead of runs.
+    fn counting(len: u64, msg: &str, noun: &'static str, quiet: bool) -> Progress {
         if quiet || !std::io::stderr().is_terminal() {
             return Progress::hidden();
         }
         let bar = ProgressBar::new(len);
-        if let Ok(style) =
-            ProgressStyle::with_template("{msg:>22} [{bar:40}] {pos}/{len} runs, {eta} left")
-        {
+        let template = format!("{{msg:>22}} [{{bar:40}}] {{pos}}/{{len}} {noun}, {{eta}} left");
+        if let Ok(style) = ProgressStyle::with_template(&template) {
             bar.set_style(style.progress_chars("=> "));
         }
         bar.set_message(msg.to_string());
         Progress {
             bar: Some(bar),
             log: None,
+            noun,
         }
     }
 
     /// As [`Progress::new`] on a terminal; elsewhere (a batch job's log) a line on stderr each
     /// tenth of the way: `LABEL: 12 of 30 runs, 1 minute left`. Nothing if `quiet`.
     pub fn logged(len: u64, label: &str, quiet: bool) -> Progress {
+        Progress::logged_counting(len, label, "runs", quiet)
+    }
+
+    /// As [`Progress::logged`], counting `noun` instead of runs: `LABEL: 6 of 19 units, 2
+    /// minutes left`.
+    pub fn logged_counting(len: u64, label: &str, noun: &'static str, quiet: bool) -> Progress {
         if quiet || std::io::stderr().is_terminal() {
-            return Progress::new(len, label, quiet);
+            return Progress::counting(len, label, noun, quiet);
         }
         Progress {
             bar: Some(ProgressBar::with_draw_target(
@@ -46,6 +59,7 @@ impl Progress {
                 ProgressDrawTarget::hidden(),
             )),
             log: Some((label.to_string(), AtomicU64::new(0))),
+            noun,
         }
     }
 
@@ -54,6 +68,7 @@ impl Progress {
         Progress {
             bar: None,
             log: None,
+            noun: "runs",
         }
     }
 
@@ -69,7 +84,8 @@ impl Progress {
         let last = reported.fetch_max(tenth, Ordering::Relaxed);
         if tenth > last && pos < len {
             eprintln!(
-                "{label}: {pos} of {len} runs, {} left",
+                "{label}: {pos} of {len} {}, {} left",
+                self.noun,
                 HumanDuration(b.eta())
             );
         }
@@ -80,8 +96,9 @@ impl Progress {
         if let Some(b) = &self.bar {
             if let Some((label, _)) = &self.log {
                 eprintln!(
-                    "{label}: {} runs in {}",
+                    "{label}: {} {} in {}",
                     b.position(),
+                    self.noun,
                     HumanDuration(b.elapsed())
                 );
             }

@@ -19,7 +19,8 @@ pub struct MergeArgs {
     #[arg(required = true, value_name = "PARTS")]
     pub parts: Vec<PathBuf>,
     /// The directory to write the command's outputs into (its `--out`; for `arena campaign`
-    /// the page goes to DIR/reliability.md with its figures in DIR/figures/).
+    /// the page goes to DIR/reliability.md with its figures in DIR/figures/, for `swarm
+    /// reproduce` to DIR/reproduction.md and DIR/figures/, as its `--docs DIR`).
     #[arg(long, value_name = "DIR")]
     pub out: PathBuf,
 }
@@ -29,10 +30,11 @@ pub struct MergeArgs {
 type MergeFn = fn(&Merged, &Path) -> Result<ExitCode, String>;
 
 /// The commands whose parts `cimax merge` reads, by the `job.command` of their headers.
-const COMMANDS: [(&str, MergeFn); 3] = [
+const COMMANDS: [(&str, MergeFn); 4] = [
     (arena::SWEEP_COMMAND, arena::merge_sweep),
     (arena::CAMPAIGN_COMMAND, arena::merge_campaign),
     (swarm::SWEEP_COMMAND, swarm::merge_sweep),
+    (swarm::REPRODUCE_COMMAND, swarm::merge_reproduce),
 ];
 
 /// Runs `cimax merge`: the merged command's exit code, or 2 (and nothing written) if the parts

@@ -1,9 +1,11 @@
 //! `cimax swarm run|sweep|field|reproduce|bench`: the options of the 2D simulator's commands
 //! and what each does with the library (run the experiment, write its CSV and SVG, print).
-//! `sweep`, which shards (`--shard I/N`), is [`sweep`].
+//! `sweep` and `reproduce`, which shard (`--shard I/N`), are [`sweep`] and [`reproduce`].
 
+mod reproduce;
 mod sweep;
 
+pub(crate) use reproduce::{COMMAND as REPRODUCE_COMMAND, merge as merge_reproduce};
 pub(crate) use sweep::{COMMAND as SWEEP_COMMAND, merge as merge_sweep};
 
 use std::path::{Path, PathBuf};
@@ -12,9 +14,7 @@ use std::time::Instant as Clock;
 use clap::{Args, Subcommand};
 use host_sim::pages::csv::{write_field_csv, write_run_csv};
 use host_sim::pages::figures;
-use host_sim::pages::reproduction as reproduce;
 use host_sim::progress::Progress;
-use host_sim::report;
 use host_sim::seeds;
 use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{
@@ -113,7 +113,8 @@ pub enum SwarmCommand {
         /// Base seed.
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// The docs directory (default: the workspace's docs/).
+        /// The docs directory (default: the workspace's docs/); with --shard, the directory of
+        /// the part.
         #[arg(long)]
         docs: Option<PathBuf>,
         /// No progress bars.
@@ -123,6 +124,12 @@ pub enum SwarmCommand {
         /// other one [default: lattice, as on the committed page].
         #[arg(long, value_name = "random|lattice", value_parser = parse_placement)]
         placement: Option<Placement>,
+        /// Run only shard I of N (1 <= I <= N) of the page's units of work (its stages, in a
+        /// fixed order; unit k is shard k % N + 1's) and write their results to
+        /// DOCS/part-I-of-N.jsonl, nothing else; `cimax merge PARTS --out DIR` then writes
+        /// DIR/reproduction.md and DIR/figures/ as `swarm reproduce --docs DIR` does.
+        #[arg(long, value_name = "I/N", requires = "docs")]
+        shard: Option<host_sim::shard::ShardSpec>,
     },
     /// Agent-steps per second for swarms of several sizes (one negotiation period each).
     Bench {
@@ -301,46 +308,6 @@ fn swarm_field(c: &Common) -> Res {
     Ok(())
 }
 
-fn swarm_reproduce(
-    seed: u64,
-    docs: Option<PathBuf>,
-    quiet: bool,
-    placement: Option<Placement>,
-) -> Res {
-    let opts = reproduce::Options {
-        seed,
-        docs: docs.unwrap_or_else(report::default_docs_dir),
-        quiet,
-        placement: placement.unwrap_or(DEFAULT_PLACEMENT),
-    };
-    println!(
-        "swarm reproduce: seed {seed}, {} placement, {} threads, writing {}",
-        opts.placement,
-        rayon::current_num_threads(),
-        opts.docs.display()
-    );
-    let s = reproduce::reproduce(&opts, &mut |line| println!("{line}"))?;
-    let fmt = |pts: &[experiment::SweepPoint]| {
-        pts.iter()
-            .map(|p| format!("{}: {:.2}", p.x_init, p.success_rate()))
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    let main = s.placement;
-    for (what, placement, pts) in [
-        ("sharp border", main, &s.sharp),
-        ("sharp border", main.other(), &s.sharp_other),
-        ("gradient", main, &s.gradient),
-        ("gradient", main.other(), &s.gradient_other),
-    ] {
-        println!("{what} sweep, {placement} placement (x_init: success rate):");
-        println!("  {}", fmt(pts));
-    }
-    println!("wrote {}", s.report.display());
-    println!("wall time {:.1} s", s.wall_s);
-    Ok(())
-}
-
 fn swarm_bench(agents: &[usize], seed: u64, scenario: &str) -> Res {
     let scn = Scenario::load(scenario)?;
     println!(
@@ -408,7 +375,14 @@ pub fn run(command: SwarmCommand) -> Res {
             docs,
             quiet,
             placement,
-        } => swarm_reproduce(seed, docs, quiet, placement),
+            shard,
+        } => reproduce::reproduce(&reproduce::ReproduceOptions {
+            seed,
+            docs,
+            quiet,
+            placement,
+            shard,
+        }),
         SwarmCommand::Bench {
             agents,
             seed,

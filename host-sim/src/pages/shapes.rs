@@ -6,7 +6,7 @@
 use protocol::direction::Opposite;
 use std::path::Path;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::pages::figures::{shapes_figure, write_shapes_csv};
 use crate::progress::Progress;
@@ -27,15 +27,16 @@ pub const TOLERANCE_DEG: f64 = 10.0;
 pub const CLAIM: f64 = 0.9;
 
 /// One formation's histograms (counts per bin, [`histogram`]) for the figure and the CSV file.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ShapeHistograms {
     /// The formation's name.
-    pub name: &'static str,
+    pub name: String,
     /// Number of agents.
     pub size: usize,
     /// Its extent in R, formatted.
     pub extent: String,
     /// Agents' offsets (x, y) in R (one placement for a random disk).
+    #[serde(with = "crate::swarm::json")]
     pub offsets: Vec<(f64, f64)>,
     /// The swarm's decided direction, one per run that moved.
     pub swarm: Vec<usize>,
@@ -84,10 +85,10 @@ impl Directions {
 }
 
 /// One row of a page table: the formation, then the four fractions on the axes.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ShapeRow {
     /// The formation's name.
-    pub name: &'static str,
+    pub name: String,
     /// Agents' preferences before diffusion.
     pub agents_preferred: String,
     /// Agents' decisions.
@@ -100,10 +101,10 @@ pub struct ShapeRow {
 
 impl ShapeRow {
     /// The row of `name` from its [`Directions::tallies`], each the share `count` picks.
-    fn of(name: &'static str, t: &[Tally; 4], count: fn(&Tally) -> usize) -> ShapeRow {
+    fn of(name: &str, t: &[Tally; 4], count: fn(&Tally) -> usize) -> ShapeRow {
         let [a, b, c, e] = t.map(|t| pct(t.frac(count(&t))));
         ShapeRow {
-            name,
+            name: name.to_owned(),
             agents_preferred: a,
             agents: b,
             swarm_preferred: c,
@@ -113,10 +114,10 @@ impl ShapeRow {
 }
 
 /// One formation on the page.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct FormationNote {
     /// The formation's name.
-    pub name: &'static str,
+    pub name: String,
     /// Number of agents.
     pub agents: usize,
     /// Extent in R.
@@ -128,7 +129,7 @@ pub struct FormationNote {
 }
 
 /// What the page's section shows (`templates/reproduction/shapes.md.j2`).
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct ShapesSection {
     /// Runs per formation.
     pub runs: u32,
@@ -169,7 +170,7 @@ pub struct ShapesSection {
     /// The mean of the cross's preferences lies on its four axes.
     pub cross_swarm_preferred_holds: bool,
     /// The figure's file name.
-    pub figure: &'static str,
+    pub figure: String,
     /// The line and the cross again with the other rule for an exactly opposite opinion
     /// ([`Opposite::Keep`]): their agents' decisions and their swarm's direction on their axes.
     pub keep: Vec<ShapeRow>,
@@ -179,11 +180,11 @@ pub struct ShapesSection {
     /// The same for the cross and its four arms.
     pub cross_holds_by_rule: [bool; 2],
     /// The CSV file's name.
-    pub csv: &'static str,
+    pub csv: String,
 }
 
 /// The numbers the section's text quotes.
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Key {
     /// The line: its agents' preferences, agents' decisions, mean of preferences and swarm's
     /// direction on 0° or 180°.
@@ -202,18 +203,24 @@ fn pct(v: f64) -> String {
     format!("{:.0} %", 100.0 * v)
 }
 
+/// What the shapes' runs give: the page's section and the figure's histograms.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ShapesResult {
+    /// The page's section.
+    pub section: ShapesSection,
+    /// One formation's histograms each, for the figure and the CSV file.
+    pub hists: Vec<ShapeHistograms>,
+    /// The diffusion rate, per cent, as the figure names it.
+    pub diffusion: String,
+}
+
 /// Runs every formation of [`formations`] [`RUNS`] times on X = 0 with `cfg` (formation `k`
-/// uses seed `derive(seed, [k])`), writes `figs/shapes-directions.svg` and `.csv`, and returns
-/// the page's section.
+/// uses seed `derive(seed, [k])`), and the line and the cross again with the other rule for an
+/// exactly opposite opinion; writes nothing ([`write`] does).
 ///
 /// # Errors
-/// If a run fails or a file cannot be written.
-pub fn reproduce(
-    figs: &Path,
-    cfg: RunConfig,
-    seed: u64,
-    progress: &Progress,
-) -> Result<ShapesSection, Error> {
+/// If a run fails.
+pub fn compute(cfg: RunConfig, seed: u64, progress: &Progress) -> Result<ShapesResult, Error> {
     let field = Field::default();
     let tol = TOLERANCE_DEG.to_radians();
     let mut tables = Tables::default();
@@ -224,9 +231,37 @@ pub fn reproduce(
     }
     let (keep, keep_holds) = with_keep(cfg, seed, tol, progress)?;
     let diffusion = format!("{:.0}", 100.0 * f64::from(cfg.params.diffusion));
-    write_shapes_csv(&figs.join(CSV), &tables.hists)?;
-    shapes_figure(&figs.join(FIGURE), &tables.hists, RUNS, &diffusion)?;
-    Ok(tables.section(diffusion, keep, keep_holds))
+    let hists = std::mem::take(&mut tables.hists);
+    Ok(ShapesResult {
+        section: tables.section(diffusion.clone(), keep, keep_holds),
+        hists,
+        diffusion,
+    })
+}
+
+/// Writes `figs/shapes-directions.svg` and `.csv` from `r`.
+///
+/// # Errors
+/// If a file cannot be written.
+pub fn write(figs: &Path, r: &ShapesResult) -> Result<(), Error> {
+    write_shapes_csv(&figs.join(CSV), &r.hists)?;
+    shapes_figure(&figs.join(FIGURE), &r.hists, RUNS, &r.diffusion)?;
+    Ok(())
+}
+
+/// [`compute`], then [`write`] into `figs`; the page's section.
+///
+/// # Errors
+/// If a run fails or a file cannot be written.
+pub fn reproduce(
+    figs: &Path,
+    cfg: RunConfig,
+    seed: u64,
+    progress: &Progress,
+) -> Result<ShapesSection, Error> {
+    let r = compute(cfg, seed, progress)?;
+    write(figs, &r)?;
+    Ok(r.section)
 }
 
 /// What [`reproduce`] gathers formation by formation: the histograms of the figure, the notes
@@ -274,14 +309,14 @@ impl Tables {
             e => e,
         };
         self.notes.push(FormationNote {
-            name: f.name(),
+            name: f.name().to_owned(),
             agents: f.agents(),
             extent: extent.clone(),
             degree: format!("{degree:.1}"),
             moved: d.swarm.len() as u32,
         });
         self.hists.push(ShapeHistograms {
-            name: f.name(),
+            name: f.name().to_owned(),
             size: f.agents(),
             extent,
             offsets: swarm0.offsets().iter().map(|o| (o.x, o.y)).collect(),
@@ -325,8 +360,8 @@ impl Tables {
             cross_swarm_preferred_holds: h("cross", 2),
             line_swarm_holds: h("line", 3),
             cross_swarm_holds: h("cross", 3),
-            figure: FIGURE,
-            csv: CSV,
+            figure: FIGURE.to_owned(),
+            csv: CSV.to_owned(),
             line_holds_by_rule: [h("line", 3), keep_holds.0],
             cross_holds_by_rule: [h("cross", 3), keep_holds.1],
             keep,

@@ -420,6 +420,17 @@ impl Merged {
             error: error.to_string(),
         }
     }
+
+    /// A problem with unit `unit`'s result found by the command (a result for another unit,
+    /// say), as a [`MergeError::BadResult`] naming the part it came from.
+    pub fn bad_result(&self, unit: usize, error: impl fmt::Display) -> MergeError {
+        let part = self.results.get(unit).map_or(0, |(i, _)| *i);
+        MergeError::BadResult {
+            file: self.parts.get(part).cloned().unwrap_or_default(),
+            unit: unit as u64,
+            error: error.to_string(),
+        }
+    }
 }
 
 #[cfg(test)]

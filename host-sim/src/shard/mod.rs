@@ -80,14 +80,66 @@ where
 {
     let wall = std::time::Instant::now();
     let units: Vec<u64> = shard.units(total).collect();
+    announce(&job, total, shard, dir, units.len(), "runs");
+    let progress = Progress::logged(units.len() as u64, &format!("shard {shard}"), quiet);
+    let results = compute(&units, &progress, f).map_err(|e| e.to_string())?;
+    write_shard(job, total, shard, dir, units, results, wall)
+}
+
+/// Runs shard `shard` of `job` as [`run_shard`] does, but its units one after another in unit
+/// order, each free to use every thread itself: for units that are whole stages, which run
+/// their own runs in parallel and time themselves (as `swarm reproduce`'s do). Its share and
+/// progress are counted in units: `shard 2/3: 18 of 55 units of ...`.
+///
+/// # Errors
+/// The first unit's error, or the part not written.
+pub fn run_shard_in_order<U, E, F>(
+    job: Job,
+    total: u64,
+    shard: ShardSpec,
+    dir: &Path,
+    quiet: bool,
+    mut f: F,
+) -> Result<PathBuf, String>
+where
+    U: Serialize,
+    E: Display,
+    F: FnMut(u64) -> Result<U, E>,
+{
+    let wall = std::time::Instant::now();
+    let units: Vec<u64> = shard.units(total).collect();
+    announce(&job, total, shard, dir, units.len(), "units");
+    let label = format!("shard {shard}");
+    let progress = Progress::logged_counting(units.len() as u64, &label, "units", quiet);
+    let mut results = Vec::with_capacity(units.len());
+    for &k in &units {
+        results.push(f(k).map_err(|e| e.to_string())?);
+        progress.inc();
+    }
+    progress.finish();
+    write_shard(job, total, shard, dir, units, results, wall)
+}
+
+/// Says on stderr which share of the job the shard runs, and where its part goes.
+fn announce(job: &Job, total: u64, shard: ShardSpec, dir: &Path, share: usize, noun: &str) {
     eprintln!(
-        "shard {shard}: {} of {total} runs of {}, into {}",
-        units.len(),
+        "shard {shard}: {share} of {total} {noun} of {}, into {}",
         job.command,
         dir.join(shard.file_name()).display()
     );
-    let progress = Progress::logged(units.len() as u64, &format!("shard {shard}"), quiet);
-    let results = compute(&units, &progress, f).map_err(|e| e.to_string())?;
+}
+
+/// Writes the part of shard `shard` of `job` into `dir`: `results` of `units`, in the same
+/// order, and the time since `wall`, with this process's threads.
+fn write_shard<U: Serialize>(
+    job: Job,
+    total: u64,
+    shard: ShardSpec,
+    dir: &Path,
+    units: Vec<u64>,
+    results: Vec<U>,
+    wall: std::time::Instant,
+) -> Result<PathBuf, String> {
     let header = part::Header {
         format: part::FORMAT.into(),
         version: part::VERSION,

@@ -8,6 +8,7 @@ use nalgebra::Point2;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use crate::progress::Progress;
 use crate::seeds::derive;
@@ -20,11 +21,12 @@ use crate::swarm::tap::Tap;
 pub type Error = Box<dyn std::error::Error + Send + Sync>;
 
 /// One run: the placement, every period, and when it first met the success criterion.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunOutput {
     /// The swarm's geometry.
     pub swarm: Swarm,
     /// The initial centre of mass.
+    #[serde(with = "crate::swarm::json")]
     pub start: Point2<f64>,
     /// Every period run.
     pub periods: Vec<Period>,
@@ -264,15 +266,17 @@ impl<'a> AnySim<'a> {
 }
 
 /// Success statistics at one initial position.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepPoint {
     /// Initial x of the centre of mass (y = 0).
+    #[serde(with = "crate::swarm::json")]
     pub x_init: f64,
     /// Runs made.
     pub runs: u32,
     /// Runs that met the criterion.
     pub successes: u32,
     /// Mean number of negotiation periods (moves) until success, over successful runs.
+    #[serde(with = "crate::swarm::json")]
     pub mean_success_periods: Option<f64>,
 }
 
@@ -352,13 +356,16 @@ pub fn sweep_points(xs: &[f64], runs: u32, outcomes: &[Option<u32>]) -> Vec<Swee
 }
 
 /// The swarm's preferred direction with its centre at one point.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Arrow {
     /// The swarm's centre.
+    #[serde(with = "crate::swarm::json")]
     pub at: Point2<f64>,
     /// Circular mean of the decided bearings (radians), if any agent decided.
+    #[serde(with = "crate::swarm::json")]
     pub direction: Option<f64>,
     /// Length of the mean resultant (0..1).
+    #[serde(with = "crate::swarm::json")]
     pub consensus: f64,
     /// Agents with a decision.
     pub decided: u32,
@@ -401,16 +408,19 @@ pub fn direction_map(
 }
 
 /// How strongly a swarm at distance `d` from a centre heads toward it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RadialPoint {
     /// Distance of the swarm's centre from the profile's centre.
+    #[serde(with = "crate::swarm::json")]
     pub distance: f64,
     /// Runs made.
     pub runs: u32,
     /// Mean of cos(angle between the decided direction and the direction to the centre); 0 for
     /// a run without a direction. +1: straight in, −1: straight out, about 0: no preference.
+    #[serde(with = "crate::swarm::json")]
     pub inward: f64,
     /// Standard error of `inward`.
+    #[serde(with = "crate::swarm::json")]
     pub inward_se: f64,
 }
 
@@ -484,17 +494,20 @@ pub fn waves_heard(scn: &Scenario, cfg: RunConfig, runs: u32, seed: u64) -> Resu
 }
 
 /// Agent-steps per second at one swarm size.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BenchResult {
     /// Agents.
     pub agents: usize,
     /// Mean neighbours per agent.
+    #[serde(with = "crate::swarm::json")]
     pub mean_degree: f64,
     /// Wall time to place the swarm and build its neighbour lists, seconds.
+    #[serde(with = "crate::swarm::json")]
     pub place_s: f64,
     /// Simulated seconds.
     pub sim_secs: u64,
     /// Wall time of the simulation, seconds.
+    #[serde(with = "crate::swarm::json")]
     pub wall_s: f64,
     /// Calls into the agents (`handle_timeout` + `handle_message`).
     pub calls: u64,

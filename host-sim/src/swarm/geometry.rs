@@ -8,6 +8,7 @@
 
 use nalgebra::{Point2, Vector2};
 use rand::Rng;
+use serde::{Deserialize, Serialize};
 
 /// The outline the agents are scattered in, centred on the origin. Lengths are in perception
 /// ranges R.
@@ -72,19 +73,22 @@ impl Shape {
 }
 
 /// One neighbour of a sender: who hears it and from which direction.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Link {
     /// The neighbour's index.
     pub agent: u32,
     /// The direction in which this neighbour hears the sender (direction of reception):
     /// `atan2(sender − neighbour)`, radians in `(−π, π]`, counter-clockwise from +x.
+    #[serde(with = "crate::swarm::json")]
     pub bearing: f32,
 }
 
 /// The agents' positions relative to the centre of mass and their neighbour lists.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Swarm {
+    #[serde(with = "crate::swarm::json")]
     offsets: Vec<Vector2<f64>>,
+    #[serde(with = "crate::swarm::json")]
     range: f64,
     start: Vec<u32>,
     links: Vec<Link>,

@@ -5,6 +5,7 @@
 
 pub mod experiment;
 pub mod geometry;
+pub mod json;
 pub mod measure;
 pub mod probe;
 pub mod reading;

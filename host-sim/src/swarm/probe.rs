@@ -14,6 +14,7 @@
 
 use nalgebra::Point2;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use crate::progress::Progress;
 use crate::seeds::derive;
@@ -61,7 +62,7 @@ pub fn tapped_runs(
 }
 
 /// The diversity at the plateau, three ways, over the runs that arrived.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Plateaus {
     /// Runs counted: those that met the criterion at least `min_after` periods before the end.
     pub runs: usize,
@@ -102,13 +103,15 @@ pub fn plateaus(runs: &[Tapped], min_after: u32) -> Plateaus {
 }
 
 /// The first gathering phase of one run.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StartRun {
     /// Where the swarm's centre started (y = 0).
+    #[serde(with = "crate::swarm::json")]
     pub x: f64,
     /// Agents with x ≥ 0 at the start: across the sharp border, or on the ramp.
     pub across: usize,
     /// The observer's average diversity (mean over agents of `V_k`) of the first period.
+    #[serde(with = "crate::swarm::json")]
     pub diversity: f64,
 }
 
@@ -152,13 +155,15 @@ pub fn across(swarm: &Swarm, centre: Point2<f64>) -> usize {
 }
 
 /// The mean squared displacement of the swarm's centre at one lag after arrival.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Msd {
     /// Periods between the two positions.
     pub lag: u32,
     /// Mean of Δx² over every pair of positions `lag` periods apart after arrival, R².
+    #[serde(with = "crate::swarm::json")]
     pub x: f64,
     /// Mean of Δy², R².
+    #[serde(with = "crate::swarm::json")]
     pub y: f64,
     /// Pairs averaged (over all runs that arrived).
     pub pairs: usize,

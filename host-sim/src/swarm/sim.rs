@@ -35,6 +35,7 @@ use protocol::three_phase::{SimEvent, SimMessage, ThreePhaseAgent};
 use protocol::{Instant, ParamError, Params, Sector, WaveState};
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
 
 use crate::stats::Resultant;
 use crate::swarm::geometry::Swarm;
@@ -190,24 +191,29 @@ impl RunConfig {
 }
 
 /// What happened in one negotiation period.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Period {
     /// Periods completed, counting this one (1 for the first).
     pub index: u32,
     /// Simulated second at which the period ended.
     pub end_s: u64,
     /// Centre of mass during the period.
+    #[serde(with = "crate::swarm::json")]
     pub from: Point2<f64>,
     /// Centre of mass after the move.
+    #[serde(with = "crate::swarm::json")]
     pub to: Point2<f64>,
     /// Direction moved (radians), if any.
+    #[serde(with = "crate::swarm::json")]
     pub direction: Option<f64>,
     /// Length of the mean resultant of the decided bearings (1 = unanimous, 0 = no agreement).
+    #[serde(with = "crate::swarm::json")]
     pub consensus: f64,
     /// Agents that had a decision.
     pub decided: u32,
     /// The observer's average diversity: the mean over agents of `V_k` from this period's
     /// gathering phase.
+    #[serde(with = "crate::swarm::json")]
     pub diversity: f64,
 }
 

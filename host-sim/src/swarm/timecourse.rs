@@ -8,7 +8,7 @@
 //! the paper's figures.
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::progress::Progress;
 use crate::seeds::derive;
@@ -17,15 +17,19 @@ use crate::swarm::experiment::{Error, RunOutput, run};
 use crate::swarm::scenario::Scenario;
 
 /// Mean and spread of one quantity over runs at one time.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Spread {
     /// Mean over runs.
+    #[serde(with = "crate::swarm::json")]
     pub mean: f64,
     /// 10 % quantile over runs.
+    #[serde(with = "crate::swarm::json")]
     pub q10: f64,
     /// 90 % quantile over runs.
+    #[serde(with = "crate::swarm::json")]
     pub q90: f64,
     /// Standard error of the mean.
+    #[serde(with = "crate::swarm::json")]
     pub se: f64,
 }
 
@@ -42,7 +46,7 @@ impl Spread {
 }
 
 /// One time of the averaged course.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TimePoint {
     /// Negotiation periods since the start.
     pub t: u32,
@@ -55,7 +59,7 @@ pub struct TimePoint {
 }
 
 /// Many full runs of one scenario from its start, averaged.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct TimeCourse {
     /// Runs averaged.
     pub runs: u32,
@@ -63,8 +67,10 @@ pub struct TimeCourse {
     pub points: Vec<TimePoint>,
     /// Diversity plateau: the mean over the runs that arrived at least `min_after` periods
     /// before the end of their mean diversity after arriving.
+    #[serde(with = "crate::swarm::json")]
     pub plateau: f64,
     /// Standard error of [`plateau`](Self::plateau) over those runs.
+    #[serde(with = "crate::swarm::json")]
     pub plateau_se: f64,
     /// Runs that count for the plateau.
     pub plateau_runs: usize,
@@ -72,13 +78,17 @@ pub struct TimeCourse {
     pub success_at: Vec<Option<u32>>,
     /// Mean over runs of the fraction of agents at x ≥ 0 at the start (the side of the sharp
     /// border and of the gradient's ramp).
+    #[serde(with = "crate::swarm::json")]
     pub across_at_start: f64,
     /// Over the runs that arrived: mean |y| of the centre at arrival (R).
+    #[serde(with = "crate::swarm::json")]
     pub y_at_arrival: f64,
     /// Over the runs that arrived: the x gained until arrival over the path's length (1: every
     /// move straight along +x).
+    #[serde(with = "crate::swarm::json")]
     pub straightness: f64,
     /// Over the runs that arrived: mean periods until arrival.
+    #[serde(with = "crate::swarm::json")]
     pub mean_arrival: f64,
 }
 

@@ -38,6 +38,7 @@ use nalgebra::Point2;
 use protocol::{Duration, Params, WaveState};
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
 
 use crate::seeds::derive;
 use crate::swarm::experiment::Error;
@@ -59,11 +60,12 @@ const MAX_REDRAWS: u64 = 100;
 const MAX_WAVE_S: u64 = 10_000;
 
 /// What one wave is run with.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WaveSpec {
     /// Number of agents.
     pub agents: usize,
     /// Diameter of the disk they are placed in, in perception ranges R.
+    #[serde(with = "crate::swarm::json")]
     pub diameter: f64,
     /// Refractory time `t_ref`, seconds.
     pub refractory_s: u64,
@@ -101,7 +103,7 @@ impl WaveSpec {
 }
 
 /// One wave from its initiation until every agent is inactive again.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Wave {
     /// What it was run with.
     pub spec: WaveSpec,
@@ -115,6 +117,7 @@ pub struct Wave {
     pub redraws: u64,
     /// `states[t][i]`: agent `i`'s `state()` as second t of the wave begins, for t from 0 to
     /// [`Wave::end_s`] (the first t > 0 at which every agent is inactive).
+    #[serde(with = "crate::swarm::json")]
     pub states: Vec<Vec<WaveState>>,
     /// Per agent, the second of the wave at which it transmitted (0 for the initiator), `None`
     /// if the wave did not reach it.

@@ -3,11 +3,15 @@
 //! [`SENS_X`] on both fields with each measure, and the agents' mean diversity along the
 //! gradient with each (where the entropy's plateau lies against its ceiling).
 
+use std::path::Path;
+
 use nalgebra::Point2;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::Stage;
+use super::results::Results;
 use super::sensitivity::{SENS_RUNS, SENS_X, cell};
+use super::units::Unit;
 use crate::report::csv_files::fixed;
 use crate::report::plot::{self, Line};
 use crate::swarm::experiment::{Error, SweepPoint, sweep};
@@ -92,23 +96,41 @@ fn with(scn: &Scenario, m: Measure) -> Scenario {
     s
 }
 
-/// Runs the section: success from [`SENS_X`] on `fields` with the variance and the entropy at
-/// each of [`BINS`], the mean diversity along the gradient (`fields[1]`) with both, and both at
-/// its success line against the slope; writes `beyond-diversity.svg`.
-///
-/// # Errors
-/// If a run fails or the figure cannot be written.
-pub(super) fn run(st: &mut Stage<'_>, fields: [&Scenario; 2]) -> Result<BeyondSection, Error> {
+/// The measures compared: the variance, then the entropy at each of [`BINS`]; and the index
+/// of the entropy at [`MAIN_BIN`].
+fn measures() -> Result<(Vec<Measure>, usize), Error> {
     let mut measures = vec![Measure::Variance];
     for b in BINS {
         measures.push(Measure::entropy(b).ok_or("bad bin width")?);
     }
     let main_m = 1 + BINS.iter().position(|&b| b == MAIN_BIN).unwrap_or(0);
-    let results = success(st, fields, &measures)?;
-    let both = [Measure::Variance, measures[main_m]];
-    let along = along_gradient(st, fields[1], both)?;
-    let (two_rows, two_same) = two_quantities(st, fields[0], both, &results, main_m)?;
-    let mut section = success_section(fields, &measures, &results, main_m);
+    Ok((measures, main_m))
+}
+
+/// The two measures of the profile and of two quantities: the variance and the entropy at
+/// [`MAIN_BIN`].
+fn both() -> Result<[Measure; 2], Error> {
+    let (measures, main_m) = measures()?;
+    Ok([Measure::Variance, measures[main_m]])
+}
+
+/// The section from the units [`Unit::BeyondSuccess`], [`Unit::BeyondAlong`] and
+/// [`Unit::BeyondTwo`]; writes `beyond-diversity.svg`.
+///
+/// # Errors
+/// If a unit has no result or the figure cannot be written.
+pub(super) fn write(
+    figs: &Path,
+    fields: [&Scenario; 2],
+    all: &Results,
+) -> Result<BeyondSection, Error> {
+    let (measures, main_m) = measures()?;
+    let both = both()?;
+    let results = all.beyond_success(Unit::BeyondSuccess)?;
+    let along = all.beyond_along(Unit::BeyondAlong)?;
+    along.figure(figs, fields[1], both)?;
+    let mut section = success_section(fields, &measures, results, main_m);
+    let (two_rows, two_same) = two_section(both, all.beyond_two(Unit::BeyondTwo)?, results, main_m);
     section.two_rows = two_rows;
     section.two_same = two_same;
     along.fill(&mut section);
@@ -116,11 +138,14 @@ pub(super) fn run(st: &mut Stage<'_>, fields: [&Scenario; 2]) -> Result<BeyondSe
 }
 
 /// Success from [`SENS_X`] per field and measure: `results[field][measure]`.
-fn success(
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn success(
     st: &mut Stage<'_>,
     fields: [&Scenario; 2],
-    measures: &[Measure],
 ) -> Result<Vec<Vec<SweepPoint>>, Error> {
+    let (measures, _) = measures()?;
     let p = st.start(
         "beyond the paper: entropy, success",
         (fields.len() * measures.len()) as u64 * u64::from(SENS_RUNS),
@@ -184,21 +209,25 @@ fn success_section(
 }
 
 /// Both measures along the gradient and at its success line against the slope.
-struct Along {
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct Along {
     /// Per measure, `(x, mean, s.e.)` per point of [`PROFILE_XS`].
+    #[serde(with = "crate::swarm::json")]
     prof: Vec<Vec<(f64, f64, f64)>>,
     /// Per slope of [`SLOPES`], both measures at the success line.
+    #[serde(with = "crate::swarm::json")]
     by_slope: Vec<[f64; 2]>,
+    /// The gradient's success line.
+    #[serde(with = "crate::swarm::json")]
     line_x: f64,
 }
 
-/// Runs both measures along the gradient and against the slope; writes
-/// `beyond-diversity.svg`.
-fn along_gradient(
-    st: &mut Stage<'_>,
-    gradient: &Scenario,
-    measures: [Measure; 2],
-) -> Result<Along, Error> {
+/// Runs both measures ([`both`]) along the gradient and against the slope.
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn along(st: &mut Stage<'_>, gradient: &Scenario) -> Result<Along, Error> {
+    let measures = both()?;
     let p = st.start(
         "beyond the paper: entropy, diversity along the gradient",
         (measures.len() * (PROFILE_XS.len() + SLOPES.len())) as u64 * u64::from(SENS_RUNS),
@@ -230,13 +259,11 @@ fn along_gradient(
         by_slope.push(v);
     }
     st.done(&p);
-    let along = Along {
+    Ok(Along {
         prof,
         by_slope,
         line_x,
-    };
-    along.figure(st, gradient, measures)?;
-    Ok(along)
+    })
 }
 
 /// log2 of a message's most readings with the scorer's own (33): the entropy's ceiling.
@@ -253,9 +280,10 @@ impl Along {
             .map_or(f64::NAN, |q| q.1)
     }
 
+    /// `beyond-diversity.svg`.
     fn figure(
         &self,
-        st: &Stage<'_>,
+        figs: &Path,
         gradient: &Scenario,
         measures: [Measure; 2],
     ) -> Result<(), Error> {
@@ -266,7 +294,7 @@ impl Along {
             .map(|q| q.1 + q.2)
             .fold(ceiling(), f64::max);
         plot::xy_figure(
-            &st.figs.join("beyond-diversity.svg"),
+            &figs.join("beyond-diversity.svg"),
             &format!(
                 "{}: the agents' mean diversity against the swarm's x, {SENS_RUNS} runs per point",
                 gradient.name
@@ -333,14 +361,12 @@ impl Along {
 }
 
 /// Two quantities, light uniform (no information) and oxygen the sharp border: success from
-/// [`SENS_X`] per measure, and whether it is within 0.15 of the sharp field alone.
-fn two_quantities(
-    st: &mut Stage<'_>,
-    sharp: &Scenario,
-    measures: [Measure; 2],
-    results: &[Vec<SweepPoint>],
-    main_m: usize,
-) -> Result<(Vec<[String; 2]>, Vec<bool>), Error> {
+/// [`SENS_X`] per measure of [`both`].
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn two(st: &mut Stage<'_>, sharp: &Scenario) -> Result<Vec<SweepPoint>, Error> {
+    let measures = both()?;
     let mut two = sharp.clone();
     two.field = hal_emu::world::field::Field::default();
     two.field2 = Some(sharp.field.clone());
@@ -348,16 +374,30 @@ fn two_quantities(
         "beyond the paper: two quantities",
         measures.len() as u64 * u64::from(SENS_RUNS),
     );
-    let mut two_rows = Vec::new();
-    let mut two_same = Vec::new();
+    let mut pts = Vec::new();
     for (m, &measure) in measures.iter().enumerate() {
         let s = with(&two, measure);
         let seed = st.seed(STAGE + 90 + m as u64);
-        let pt = sweep(&s, s.run, &[SENS_X], SENS_RUNS, seed, &p)?[0];
-        let alone = &results[0][if m == 0 { 0 } else { main_m }];
-        two_same.push((pt.success_rate() - alone.success_rate()).abs() <= 0.15);
-        two_rows.push([measure.to_string(), cell(&pt)]);
+        pts.push(sweep(&s, s.run, &[SENS_X], SENS_RUNS, seed, &p)?[0]);
     }
     st.done(&p);
-    Ok((two_rows, two_same))
+    Ok(pts)
+}
+
+/// Two quantities' rows, and per measure whether it is within 0.15 of the sharp field alone
+/// (`results`, the success per field and measure).
+fn two_section(
+    measures: [Measure; 2],
+    pts: &[SweepPoint],
+    results: &[Vec<SweepPoint>],
+    main_m: usize,
+) -> (Vec<[String; 2]>, Vec<bool>) {
+    let mut two_rows = Vec::new();
+    let mut two_same = Vec::new();
+    for (m, (measure, pt)) in measures.iter().zip(pts).enumerate() {
+        let alone = &results[0][if m == 0 { 0 } else { main_m }];
+        two_same.push((pt.success_rate() - alone.success_rate()).abs() <= 0.15);
+        two_rows.push([measure.to_string(), cell(pt)]);
+    }
+    (two_rows, two_same)
 }

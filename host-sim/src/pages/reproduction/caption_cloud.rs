@@ -2,9 +2,13 @@
 //! centre to 5 at the edge, noise in [0, 1)) beside the text's (`cloud`): its direction map
 //! and radial profile, their figures and CSV files, and the numbers the page compares.
 
+use std::path::Path;
+
 use nalgebra::Point2;
 use serde::Serialize;
 
+use super::results::Results;
+use super::units::Unit;
 use super::{
     CLOUD_REFINED, PROFILE_RUNS, Stage, builtin_placed, by_distance, outward_limit,
     perception_limit, refined,
@@ -43,12 +47,11 @@ pub(super) struct CaptionCloud {
     pub(super) placement: Placement,
 }
 
-/// Runs the caption's cloud's direction map and radial profile with the `main` placement and
-/// writes `cloud-caption-field.{csv,svg}` and `cloud-caption-profile.{csv,svg}`.
+/// The caption's cloud's direction map with the `main` placement.
 ///
 /// # Errors
-/// If a run fails or a file cannot be written.
-pub(super) fn run(st: &mut Stage<'_>, main: Placement) -> Result<CaptionCloud, Error> {
+/// If a run fails.
+pub(super) fn map(st: &mut Stage<'_>, main: Placement) -> Result<Vec<Arrow>, Error> {
     let scn = builtin_placed("cloud-caption", main)?;
     let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
     let p = st.start(
@@ -57,15 +60,15 @@ pub(super) fn run(st: &mut Stage<'_>, main: Placement) -> Result<CaptionCloud, E
     );
     let arrows = direction_map(&scn, grid, st.seed(MAP_STAGE), &p)?;
     st.done(&p);
-    write_field_csv(&st.figs.join("cloud-caption-field.csv"), &arrows)?;
-    figures::direction_figure(
-        &st.figs.join("cloud-caption-field.svg"),
-        &scn,
-        grid,
-        &arrows,
-        &marks::map(&scn.name),
-    )?;
+    Ok(arrows)
+}
 
+/// The caption's cloud's radial profile with the `main` placement, by increasing distance.
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn profile(st: &mut Stage<'_>, main: Placement) -> Result<Vec<RadialPoint>, Error> {
+    let scn = builtin_placed("cloud-caption", main)?;
     let distances = distances();
     let p = st.start(
         "cloud-caption radial profile",
@@ -82,18 +85,43 @@ pub(super) fn run(st: &mut Stage<'_>, main: Placement) -> Result<CaptionCloud, E
     )?;
     let profile = by_distance(profile);
     st.done(&p);
-    write_radial_csv(&st.figs.join("cloud-caption-profile.csv"), &profile)?;
+    Ok(profile)
+}
+
+/// Writes `cloud-caption-field.{csv,svg}` and `cloud-caption-profile.{csv,svg}` from the
+/// caption's cloud's units (run with the `main` placement); its results.
+///
+/// # Errors
+/// If a unit has no result or a file cannot be written.
+pub(super) fn write(
+    figs: &Path,
+    main: Placement,
+    results: &Results,
+) -> Result<CaptionCloud, Error> {
+    let scn = builtin_placed("cloud-caption", main)?;
+    let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
+    let arrows = results.map(Unit::CaptionMap)?;
+    write_field_csv(&figs.join("cloud-caption-field.csv"), arrows)?;
+    figures::direction_figure(
+        &figs.join("cloud-caption-field.svg"),
+        &scn,
+        grid,
+        arrows,
+        &marks::map(&scn.name),
+    )?;
+    let profile = results.profile(Unit::CaptionProfile)?;
+    write_radial_csv(&figs.join("cloud-caption-profile.csv"), profile)?;
     figures::radial_figure(
-        &st.figs.join("cloud-caption-profile.svg"),
+        &figs.join("cloud-caption-profile.svg"),
         &format!(
             "caption's cloud: heading of a swarm against its distance from the centre, {PROFILE_RUNS} runs per point"
         ),
-        &profile,
+        profile,
         &marks::profile_lines(&scn),
     )?;
     Ok(CaptionCloud {
-        arrows,
-        profile,
+        arrows: arrows.clone(),
+        profile: profile.clone(),
         placement: main,
     })
 }

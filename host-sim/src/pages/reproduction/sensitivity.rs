@@ -2,6 +2,8 @@
 //! (cycle, period, diffusion, noise), the gradient's diversity against its slope, and the
 //! swarm's extent against the perception edges.
 
+use super::results::Results;
+use super::units::Unit;
 use super::*;
 
 /// Runs per point of the sensitivity figures.
@@ -79,21 +81,23 @@ pub(super) fn cell(p: &SweepPoint) -> String {
     )
 }
 
-/// The sensitivity stage: success against each knob the paper leaves open (cycle, period,
+/// The sensitivity section from the units [`Unit::Knob`], [`Unit::Slope`] and
+/// [`Unit::Extent`]: success against each knob the paper leaves open (cycle, period,
 /// diffusion, noise), the gradient's diversity against its slope, and the perception edge of a
 /// smaller swarm; writes the `sensitivity-*.svg` figures.
 ///
 /// # Errors
-/// If a run fails or a figure cannot be written.
-pub(super) fn sensitivity(
-    st: &mut Stage<'_>,
+/// If a unit has no result or a figure cannot be written.
+pub(super) fn write(
+    figs: &Path,
     main: Placement,
     sharp: &Scenario,
     gradient: &Scenario,
+    results: &Results,
 ) -> Result<SensitivitySection, Error> {
-    let tables = knob_tables(st, main, sharp, gradient)?;
-    let slope_rows = slope_rows(st, main, gradient)?;
-    let extent = extent_rows(st, main, sharp, gradient)?;
+    let tables = knob_tables(figs, main, sharp, gradient, results)?;
+    let slope_rows = slope_rows(figs, main, gradient, results.slope(Unit::Slope)?)?;
+    let extent = extent_rows(figs, main, sharp, gradient, results.extent(Unit::Extent)?)?;
     let edge = |k: usize| extent[k].edge_se.map_or(0.0, |e| e.0);
     let extent_big_matches = {
         use crate::pages::{claims::Id, verdict::Verdict};
@@ -153,43 +157,80 @@ fn knob_specs() -> [SensSpec; 4] {
     ]
 }
 
-/// One table and figure per knob of [`knob_specs`]: success from [`SENS_X`] per value, per
-/// field (and placement, for the cycle).
-fn knob_tables(
-    st: &mut Stage<'_>,
+/// The cases of a knob's table, by label: each field with the main placement, and with the
+/// other too if `both_placements` (the sharp border's other placement after its main one).
+fn cases(
     main: Placement,
     sharp: &Scenario,
     gradient: &Scenario,
-) -> Result<Vec<SensTable>, Error> {
-    let sharp_o = builtin_placed(&sharp.name, main.other())?;
-    let gradient_o = builtin_placed(&gradient.name, main.other())?;
+    both_placements: bool,
+) -> Result<Vec<(String, Scenario)>, Error> {
     let name = |s: &Scenario, p: Placement| format!("{}, {p}", s.name);
+    let mut cases = vec![
+        (name(sharp, main), sharp.clone()),
+        (name(gradient, main), gradient.clone()),
+    ];
+    if both_placements {
+        let sharp_o = builtin_placed(&sharp.name, main.other())?;
+        let gradient_o = builtin_placed(&gradient.name, main.other())?;
+        cases.insert(1, (name(&sharp_o, main.other()), sharp_o));
+        cases.push((name(&gradient_o, main.other()), gradient_o));
+    }
+    Ok(cases)
+}
+
+/// Knob `k` of [`knob_specs`]: success from [`SENS_X`] per value, per case (field, and
+/// placement for the cycle).
+///
+/// # Errors
+/// If `k` is no knob or a run fails.
+pub(super) fn knob(
+    st: &mut Stage<'_>,
+    main: Placement,
+    k: u8,
+    sharp: &Scenario,
+    gradient: &Scenario,
+) -> Result<Vec<Vec<SweepPoint>>, Error> {
+    let k = usize::from(k);
+    let (key, _, values, _, both_placements) = knob_specs()
+        .into_iter()
+        .nth(k)
+        .ok_or_else(|| format!("no knob {k}"))?;
+    let cases = cases(main, sharp, gradient, both_placements)?;
+    let knobs: Vec<Knob> = values.iter().map(|v| v.1).collect();
+    let p = st.start(
+        &format!("sensitivity: {key}"),
+        (cases.len() * knobs.len()) as u64 * u64::from(SENS_RUNS),
+    );
+    let mut results = Vec::new();
+    for (j, (_, scn)) in cases.iter().enumerate() {
+        let seed = st.seed(500 + 10 * k as u64 + j as u64);
+        results.push(success_against(scn, &knobs, SENS_X, SENS_RUNS, seed, &p)?);
+    }
+    st.done(&p);
+    Ok(results)
+}
+
+/// One table and figure per knob of [`knob_specs`], from its unit's results.
+fn knob_tables(
+    figs: &Path,
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+    all: &Results,
+) -> Result<Vec<SensTable>, Error> {
     let mut tables = Vec::new();
     for (k, (key, what, values, log_x, both_placements)) in knob_specs().into_iter().enumerate() {
-        let mut cases: Vec<(String, &Scenario)> =
-            vec![(name(sharp, main), sharp), (name(gradient, main), gradient)];
-        if both_placements {
-            cases.insert(1, (name(&sharp_o, main.other()), &sharp_o));
-            cases.push((name(&gradient_o, main.other()), &gradient_o));
-        }
-        let knobs: Vec<Knob> = values.iter().map(|v| v.1).collect();
-        let p = st.start(
-            &format!("sensitivity: {key}"),
-            (cases.len() * knobs.len()) as u64 * u64::from(SENS_RUNS),
-        );
-        let mut results = Vec::new();
-        for (j, (_, scn)) in cases.iter().enumerate() {
-            let seed = st.seed(500 + 10 * k as u64 + j as u64);
-            results.push(success_against(scn, &knobs, SENS_X, SENS_RUNS, seed, &p)?);
-        }
-        st.done(&p);
+        let cases = cases(main, sharp, gradient, both_placements)?;
+        let labels: Vec<String> = cases.into_iter().map(|c| c.0).collect();
+        let results = all.knob(Unit::Knob(k as u8))?;
         let figure = format!("sensitivity-{key}.svg");
-        knob_figure(st, &figure, key, what, &cases, &values, &results, log_x)?;
+        knob_figure(figs, &figure, key, what, &labels, &values, results, log_x)?;
         tables.push(SensTable {
             key,
             what,
             figure,
-            cases: cases.iter().map(|c| c.0.clone()).collect(),
+            cases: labels,
             rows: values
                 .iter()
                 .enumerate()
@@ -207,19 +248,19 @@ fn knob_tables(
 /// One knob's figure: success against the knob's value, one line per case.
 #[allow(clippy::too_many_arguments)]
 fn knob_figure(
-    st: &Stage<'_>,
+    figs: &Path,
     figure: &str,
     key: &str,
     what: &str,
-    cases: &[(String, &Scenario)],
+    labels: &[String],
     values: &[(f64, Knob)],
     results: &[Vec<SweepPoint>],
     log_x: bool,
 ) -> Result<(), Error> {
-    let lines: Vec<Line> = cases
+    let lines: Vec<Line> = labels
         .iter()
         .zip(results)
-        .map(|((label, _), pts)| Line {
+        .map(|(label, pts)| Line {
             label: label.clone(),
             points: values
                 .iter()
@@ -229,7 +270,7 @@ fn knob_figure(
         })
         .collect();
     plot::xy_figure(
-        &st.figs.join(figure),
+        &figs.join(figure),
         &format!("success from x = {SENS_X} against the {key}, {SENS_RUNS} runs per point"),
         what,
         "success rate",
@@ -241,41 +282,74 @@ fn knob_figure(
     Ok(())
 }
 
-/// The gradient's slope: success from [`SENS_X`] and the diversity at the success line, per
-/// slope; writes `sensitivity-slope.svg`.
-fn slope_rows(
-    st: &mut Stage<'_>,
-    main: Placement,
-    gradient: &Scenario,
-) -> Result<Vec<[String; 4]>, Error> {
-    let slopes = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0];
-    let knobs: Vec<Knob> = slopes.iter().map(|&k| Knob::Slope(k)).collect();
-    let p = st.start(
-        "sensitivity: slope",
-        2 * slopes.len() as u64 * u64::from(SENS_RUNS),
-    );
-    let success = success_against(gradient, &knobs, SENS_X, SENS_RUNS, st.seed(550), &p)?;
-    let line_x = match &gradient.success {
+/// Slopes of the gradient's sensitivity to its slope, per R.
+const SLOPES: [f64; 6] = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0];
+
+/// The gradient against its slope: per slope of [`SLOPES`], success from [`SENS_X`] and the
+/// diversity at the success line.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct SlopeRuns {
+    /// Success per slope.
+    success: Vec<SweepPoint>,
+    /// `(slope, mean, s.e.)` of the diversity at the success line, per slope.
+    #[serde(with = "crate::swarm::json")]
+    diversity: Vec<(f64, f64, f64)>,
+}
+
+/// The gradient's success line.
+fn line_x(gradient: &Scenario) -> f64 {
+    match &gradient.success {
         Some(crate::swarm::scenario::Success::BeyondX { x }) => *x,
         _ => 2.33,
-    };
-    let mut slope_rows = Vec::new();
-    let mut div_line = Vec::new();
+    }
+}
+
+/// The gradient's slope: success from [`SENS_X`] and the diversity at the success line, per
+/// slope of [`SLOPES`].
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn slope(st: &mut Stage<'_>, gradient: &Scenario) -> Result<SlopeRuns, Error> {
+    let knobs: Vec<Knob> = SLOPES.iter().map(|&k| Knob::Slope(k)).collect();
+    let p = st.start(
+        "sensitivity: slope",
+        2 * SLOPES.len() as u64 * u64::from(SENS_RUNS),
+    );
+    let success = success_against(gradient, &knobs, SENS_X, SENS_RUNS, st.seed(550), &p)?;
+    let at = Point2::new(line_x(gradient), 0.0);
+    let mut diversity = Vec::new();
     for (k, knob) in knobs.iter().enumerate() {
         let s = knob.apply(gradient)?;
-        let at = Point2::new(line_x, 0.0);
         let (m, se) = diversity_at(&s, at, SENS_RUNS, st.seed(560 + k as u64), &p)?;
-        div_line.push((slopes[k], m, se));
-        slope_rows.push([
-            slopes[k].to_string(),
-            format!("{} ± {}", fixed(m, 1), fixed(se, 1)),
-            fixed(success[k].success_rate(), 2),
-            opt(success[k].mean_success_periods, 1),
-        ]);
+        diversity.push((SLOPES[k], m, se));
     }
     st.done(&p);
+    Ok(SlopeRuns { success, diversity })
+}
+
+/// The slope's rows, and `sensitivity-slope.svg`.
+fn slope_rows(
+    figs: &Path,
+    main: Placement,
+    gradient: &Scenario,
+    runs: &SlopeRuns,
+) -> Result<Vec<[String; 4]>, Error> {
+    let line_x = line_x(gradient);
+    let slope_rows = runs
+        .diversity
+        .iter()
+        .zip(&runs.success)
+        .map(|(&(slope, m, se), success)| {
+            [
+                slope.to_string(),
+                format!("{} ± {}", fixed(m, 1), fixed(se, 1)),
+                fixed(success.success_rate(), 2),
+                opt(success.mean_success_periods, 1),
+            ]
+        })
+        .collect();
     plot::xy_figure(
-        &st.figs.join("sensitivity-slope.svg"),
+        &figs.join("sensitivity-slope.svg"),
         &format!(
             "gradient: the agents' mean diversity with the swarm at x = {line_x}, {SENS_RUNS} runs per slope"
         ),
@@ -283,7 +357,7 @@ fn slope_rows(
         "mean V_k",
         &[Line {
             label: format!("{} placement", main),
-            points: div_line,
+            points: runs.diversity.clone(),
         }],
         (0.0, 30.0),
         &[],
@@ -292,52 +366,89 @@ fn slope_rows(
     Ok(slope_rows)
 }
 
-/// The swarm's extent: 6 R against 5 R across, the heading of the first move against the
-/// start and its edge, per field; writes `sensitivity-extent.svg`.
-fn extent_rows(
+/// Diameters of the swarm's extent, R: the page's and a smaller one.
+const DIAMETERS: [f64; 2] = [6.0, 5.0];
+
+/// One field and extent: the heading of the first move against the start.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct ExtentRun {
+    /// The swarm's agents.
+    agents: usize,
+    /// `(x, mean cos, s.e.)` by increasing x.
+    #[serde(with = "crate::swarm::json")]
+    profile: Vec<(f64, f64, f64)>,
+}
+
+/// The swarm's extent: the heading of the first move against the start, per field and
+/// diameter of [`DIAMETERS`] (sharp 6 R, sharp 5 R, gradient 6 R, gradient 5 R).
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn extent(
     st: &mut Stage<'_>,
-    main: Placement,
     sharp: &Scenario,
     gradient: &Scenario,
-) -> Result<Vec<ExtentRow>, Error> {
+) -> Result<Vec<ExtentRun>, Error> {
     let xs = refined(
         (1..=9).map(|k| -0.5 * f64::from(k)).rev().collect(),
         &EXTENT_REFINED,
     );
-    let mut extent = Vec::new();
-    let mut lines = Vec::new();
+    let mut runs = Vec::new();
     let p = st.start(
         "sensitivity: extent",
         4 * xs.len() as u64 * u64::from(EXTENT_RUNS),
     );
     for (k, scn) in [sharp, gradient].into_iter().enumerate() {
-        for (j, d) in [6.0, 5.0].into_iter().enumerate() {
+        for (j, d) in DIAMETERS.into_iter().enumerate() {
             let s = Knob::Extent(d).apply(scn)?;
             let seed = st.seed(570 + 2 * k as u64 + j as u64);
-            let mut prof = heading_against_x(&s, &xs, EXTENT_RUNS, seed, &p)?;
-            prof.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let edge = extent_edge(&prof);
-            let id = [
-                crate::pages::claims::Id::SharpEdge,
-                crate::pages::claims::Id::GradientEdge,
-            ][k];
-            extent.push(ExtentRow {
-                field: scn.name.clone(),
-                diameter: d.to_string(),
+            let mut profile = heading_against_x(&s, &xs, EXTENT_RUNS, seed, &p)?;
+            profile.sort_by(|a, b| a.0.total_cmp(&b.0));
+            runs.push(ExtentRun {
                 agents: s.agents,
-                edge: edge.map(|e| format!("{} ± {}", fixed(e.0, 2), fixed(e.1, 2))),
-                edge_se: edge,
-                verdict: verdicts::edge_verdict(edge, id).words(),
-            });
-            lines.push(Line {
-                label: format!("{}, diameter {d} R ({} agents)", scn.name, s.agents),
-                points: prof,
+                profile,
             });
         }
     }
     st.done(&p);
+    Ok(runs)
+}
+
+/// The extent's rows (edges and verdicts), and `sensitivity-extent.svg`.
+fn extent_rows(
+    figs: &Path,
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+    runs: &[ExtentRun],
+) -> Result<Vec<ExtentRow>, Error> {
+    let mut extent = Vec::new();
+    let mut lines = Vec::new();
+    let cases = [sharp, gradient]
+        .into_iter()
+        .enumerate()
+        .flat_map(|(k, scn)| DIAMETERS.map(|d| (k, scn, d)));
+    for ((k, scn, d), run) in cases.zip(runs) {
+        let edge = extent_edge(&run.profile);
+        let id = [
+            crate::pages::claims::Id::SharpEdge,
+            crate::pages::claims::Id::GradientEdge,
+        ][k];
+        extent.push(ExtentRow {
+            field: scn.name.clone(),
+            diameter: d.to_string(),
+            agents: run.agents,
+            edge: edge.map(|e| format!("{} ± {}", fixed(e.0, 2), fixed(e.1, 2))),
+            edge_se: edge,
+            verdict: verdicts::edge_verdict(edge, id).words(),
+        });
+        lines.push(Line {
+            label: format!("{}, diameter {d} R ({} agents)", scn.name, run.agents),
+            points: run.profile.clone(),
+        });
+    }
     plot::xy_figure(
-        &st.figs.join("sensitivity-extent.svg"),
+        &figs.join("sensitivity-extent.svg"),
         &format!(
             "heading of the first move toward +x against the start, {EXTENT_RUNS} runs per point ({main})"
         ),
@@ -349,4 +460,21 @@ fn extent_rows(
         false,
     )?;
     Ok(extent)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn there_is_a_unit_per_knob() {
+        let knobs: Vec<u8> = super::super::UNITS
+            .iter()
+            .filter_map(|u| match u {
+                Unit::Knob(k) => Some(*k),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(knobs, (0..knob_specs().len() as u8).collect::<Vec<_>>());
+    }
 }

@@ -3,15 +3,17 @@
 //! way, the periods a drift at that heading would take per 0.25 R, and the periods the runs
 //! spent there.
 
-use serde::Serialize;
+use std::path::Path;
 
-use super::{CourseRuns, STAGE, Stage, pm, write_csv};
+use serde::{Deserialize, Serialize};
+
+use super::{STAGE, Stage, pm, write_csv};
 use crate::pages::claims::{Id, claim};
 use crate::report::csv_files::fixed;
 use crate::report::plot::{self, Line};
 use crate::stats;
 use crate::swarm::experiment::{Error, RunOutput};
-use crate::swarm::probe::{Tapped, periods_per_bin};
+use crate::swarm::probe::periods_per_bin;
 use crate::swarm::scenario::{Scenario, Success};
 use crate::swarm::sensitivity::heading_against_x;
 
@@ -85,47 +87,80 @@ pub(super) struct ArrivalPart {
     step_r: String,
 }
 
-/// Runs the heading profiles of both fields and reads the courses' runs; writes
-/// `settle-arrival.{csv,svg}`.
-///
-/// # Errors
-/// If a run fails or a file cannot be written.
-pub(super) fn run(
-    st: &mut Stage<'_>,
-    scns: [&Scenario; 2],
-    courses: &CourseRuns,
-) -> Result<(ArrivalPart, ArrivalFacts), Error> {
-    let mut profiles = Vec::new();
-    for (k, (scn, runs)) in scns
-        .into_iter()
-        .zip([&courses.sharp, &courses.gradient])
-        .enumerate()
-    {
-        let end = scn
-            .success
-            .as_ref()
-            .map_or(0.0, |s| success_x(s, scn.start.x));
-        let xs = steps(scn.start.x, end);
-        let p = st.start(
-            &format!("{}: heading along the way", scn.name),
-            xs.len() as u64 * u64::from(RUNS),
-        );
-        let heading = heading_against_x(scn, &xs, RUNS, st.seed(STAGE + 20 + k as u64), &p)?;
-        st.done(&p);
-        let outs: Vec<RunOutput> = runs.iter().map(|t: &Tapped| t.out.clone()).collect();
-        let lo = scn.start.x - 0.5 * STEP;
-        let spent = periods_per_bin(&outs, lo, lo + STEP * xs.len() as f64, STEP);
-        let arrivals = outs
+/// Where a field's averaged courses' runs spent their periods on the way to the line.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct Way {
+    /// `(bin's centre, mean periods there)` per step from the start.
+    #[serde(with = "crate::swarm::json")]
+    spent: Vec<(f64, f64)>,
+    /// Arrival periods of the runs that arrived.
+    #[serde(with = "crate::swarm::json")]
+    arrivals: Vec<f64>,
+}
+
+/// The starts from `scn`'s start to its line, every [`STEP`].
+fn way_xs(scn: &Scenario) -> Vec<f64> {
+    let end = scn
+        .success
+        .as_ref()
+        .map_or(0.0, |s| success_x(s, scn.start.x));
+    steps(scn.start.x, end)
+}
+
+/// Where the runs `outs` of `scn` spent their periods, per step of [`way_xs`], and when they
+/// arrived.
+pub(super) fn way(scn: &Scenario, outs: &[RunOutput]) -> Way {
+    let n = way_xs(scn).len();
+    let lo = scn.start.x - 0.5 * STEP;
+    Way {
+        spent: periods_per_bin(outs, lo, lo + STEP * n as f64, STEP),
+        arrivals: outs
             .iter()
             .filter_map(|o| o.success_at.map(f64::from))
-            .collect();
-        profiles.push(Profile {
-            heading,
-            spent,
-            arrivals,
-        });
+            .collect(),
     }
-    figure(st, scns, &profiles)?;
+}
+
+/// The first move's heading from every step of the way of field `k` (`scn`).
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn heading(
+    st: &mut Stage<'_>,
+    k: usize,
+    scn: &Scenario,
+) -> Result<Vec<(f64, f64, f64)>, Error> {
+    let xs = way_xs(scn);
+    let p = st.start(
+        &format!("{}: heading along the way", scn.name),
+        xs.len() as u64 * u64::from(RUNS),
+    );
+    let heading = heading_against_x(scn, &xs, RUNS, st.seed(STAGE + 20 + k as u64), &p)?;
+    st.done(&p);
+    Ok(heading)
+}
+
+/// The part from both fields' headings and the ways of their courses' runs; writes
+/// `settle-arrival.csv` and its two figures.
+///
+/// # Errors
+/// If a file cannot be written.
+pub(super) fn write(
+    figs: &Path,
+    scns: [&Scenario; 2],
+    headings: [&Vec<(f64, f64, f64)>; 2],
+    ways: [&Way; 2],
+) -> Result<(ArrivalPart, ArrivalFacts), Error> {
+    let profiles: Vec<Profile> = headings
+        .into_iter()
+        .zip(ways)
+        .map(|(h, w)| Profile {
+            heading: h.clone(),
+            spent: w.spent.clone(),
+            arrivals: w.arrivals.clone(),
+        })
+        .collect();
+    figure(figs, scns, &profiles)?;
     let rows = rows(&profiles[1]);
     let mut csv_rows = Vec::new();
     for (scn, p) in scns.iter().zip(&profiles) {
@@ -134,7 +169,7 @@ pub(super) fn run(
         }
     }
     write_csv(
-        st,
+        figs,
         "settle-arrival.csv",
         &["field", "x", "heading", "drift_periods", "spent_periods"],
         &csv_rows,
@@ -303,7 +338,7 @@ fn summary(scns: [&Scenario; 2], profiles: &[Profile], rows: Vec<Vec<String>>) -
 }
 
 /// Heading and periods against x, both fields.
-fn figure(st: &Stage<'_>, scns: [&Scenario; 2], profiles: &[Profile]) -> Result<(), Error> {
+fn figure(figs: &Path, scns: [&Scenario; 2], profiles: &[Profile]) -> Result<(), Error> {
     let mut heading = Vec::new();
     let mut periods = Vec::new();
     for (scn, p) in scns.iter().zip(profiles) {
@@ -320,7 +355,7 @@ fn figure(st: &Stage<'_>, scns: [&Scenario; 2], profiles: &[Profile]) -> Result<
         });
     }
     plot::xy_figure(
-        &st.figs.join("settle-arrival-heading.svg"),
+        &figs.join("settle-arrival-heading.svg"),
         &format!("the way to the border: heading ({RUNS} one-period runs per point)"),
         "x of the swarm's centre / R",
         "mean cos(decided direction)",
@@ -334,7 +369,7 @@ fn figure(st: &Stage<'_>, scns: [&Scenario; 2], profiles: &[Profile]) -> Result<
         .flat_map(|p| p.spent.iter().map(|s| s.1))
         .fold(1.0, f64::max);
     plot::xy_figure(
-        &st.figs.join("settle-arrival-periods.svg"),
+        &figs.join("settle-arrival-periods.svg"),
         "the way to the border: where the periods go (the averaged courses' runs)",
         "x of the swarm's centre at the period's start / R",
         "periods per 0.25 R",

@@ -3,9 +3,11 @@
 //! heading for the border means heading out inside it and in outside it: the radial profile's
 //! inward alignment, its sign turned inside the edge.
 
+use std::path::Path;
+
 use serde::Serialize;
 
-use super::{Stage, pm, write_csv};
+use super::{pm, write_csv};
 use crate::pages::claims::{Id, claim};
 use crate::pages::marks;
 use crate::report::csv_files::fixed;
@@ -64,10 +66,7 @@ fn span<'a>(points: impl Iterator<Item = &'a (f64, f64, f64)>) -> Option<[String
 ///
 /// # Errors
 /// If the scenario is missing or a file cannot be written.
-pub(super) fn run(
-    st: &mut Stage<'_>,
-    cloud: &CaptionCloud,
-) -> Result<(CaptionPart, TowardBorder), Error> {
+pub(super) fn run(figs: &Path, cloud: &CaptionCloud) -> Result<(CaptionPart, TowardBorder), Error> {
     let scn = super::super::builtin_placed("cloud-caption", cloud.placement)?;
     let (edge, _) = marks::cloud_reach(&scn).ok_or("the caption's cloud has no edge")?;
     let reach = claim(Id::CaptionToward)
@@ -89,13 +88,13 @@ pub(super) fn run(
         .map(|&(d, m, se)| vec![fixed(d, 2), pm(m, se, 2)])
         .collect();
     write_csv(
-        st,
+        figs,
         "settle-caption.csv",
         &["distance", "toward_border"],
         &rows,
     )?;
     plot::xy_figure(
-        &st.figs.join("settle-caption.svg"),
+        &figs.join("settle-caption.svg"),
         "caption's cloud: heading for its border (radius 5) against the distance",
         "distance of the swarm's centre from the cloud's centre / R",
         "mean alignment toward the border",

@@ -2,9 +2,14 @@
 //! the way diversity is taken: the page's mean over agents of `V_k` (the paper's definition),
 //! the mean variance per scored message, and the variance of all scored readings pooled.
 
+use std::path::Path;
+
 use serde::Serialize;
 
-use super::{CourseRuns, STAGE, Stage, pm, write_csv};
+use super::super::compute::placement;
+use super::super::results::Results;
+use super::super::units::{Side, Unit};
+use super::{CourseDigest, STAGE, Stage, pm, write_csv};
 use crate::pages::claims::{Id, claim};
 use crate::report::csv_files::fixed;
 use crate::report::plot::{self, Line};
@@ -14,7 +19,7 @@ use crate::swarm::scenario::{Placement, Scenario};
 use crate::swarm::sensitivity::Knob;
 
 /// Cycle lengths t_p^max tried, seconds (the page's 1000 among them).
-const CYCLES: [u64; 4] = [250, 500, 1000, 2000];
+pub(super) const CYCLES: [u64; 4] = [250, 500, 1000, 2000];
 /// Runs per cycle and placement other than the courses' own (which has the courses' runs).
 const RUNS: u32 = 20;
 
@@ -62,35 +67,65 @@ pub(super) struct PlateauPart {
     cycles: String,
 }
 
-/// Runs the sharp plateau at every cycle and placement (the courses' runs stand for the
-/// page's), and the gradient's courses for comparison; writes `settle-plateau.{csv,svg}`.
+/// The sharp border's cycle, seconds.
+fn default_cycle(sharp: &Scenario) -> u64 {
+    sharp.run.params.wave.cycle.as_millis() / 1000
+}
+
+/// Runs the sharp plateau at cycle `k` of [`CYCLES`] with placement `side` (`sharp` is placed
+/// by `main`); `None` for the page's own cycle with the main placement: the courses' runs stand
+/// for it.
 ///
 /// # Errors
-/// If a run fails or a file cannot be written.
-pub(super) fn run(
+/// If `k` is no cycle or a run fails.
+pub(super) fn one(
     st: &mut Stage<'_>,
     main: Placement,
+    side: Side,
+    k: usize,
+    sharp: &Scenario,
+) -> Result<Option<Plateaus>, Error> {
+    let cycle_s = *CYCLES
+        .get(k)
+        .ok_or_else(|| format!("no plateau cycle {k}"))?;
+    let placement = placement(main, side);
+    if placement == main && cycle_s == default_cycle(sharp) {
+        return Ok(None);
+    }
+    let placed = super::super::builtin_placed(&sharp.name, placement)?;
+    let scn = Knob::Cycle(cycle_s).apply(&placed)?;
+    let seed = st.seed(STAGE + 10 * side.index() as u64 + k as u64);
+    let pr = st.start(
+        &format!("sharp plateau, {placement}, cycle {cycle_s} s"),
+        u64::from(RUNS),
+    );
+    let t = tapped_runs(&scn, scn.run, scn.start.x, scn.periods, RUNS, seed, &pr)?;
+    st.done(&pr);
+    Ok(Some(plateaus(&t, super::super::PLATEAU_MIN_AFTER)))
+}
+
+/// The part from the plateau units' results and the courses' tapped runs (`courses`, per
+/// field), which stand for the page's own cycle and give the gradient's row; writes
+/// `settle-plateau.{csv,svg}`.
+///
+/// # Errors
+/// If a unit has no result or a file cannot be written.
+pub(super) fn write(
+    figs: &Path,
+    main: Placement,
     scns: [&Scenario; 2],
-    courses: &CourseRuns,
+    results: &Results,
+    courses: [&CourseDigest; 2],
 ) -> Result<(PlateauPart, PlateauFacts), Error> {
     let sharp = scns[0];
-    let default_cycle = sharp.run.params.wave.cycle.as_millis() / 1000;
+    let default_cycle = default_cycle(sharp);
     let mut rows = Vec::new();
-    for (j, placement) in [main, main.other()].into_iter().enumerate() {
-        let placed = super::super::builtin_placed(&sharp.name, placement)?;
+    for side in Side::BOTH {
+        let placement = placement(main, side);
         for (k, &cycle_s) in CYCLES.iter().enumerate() {
-            let p = if placement == main && cycle_s == default_cycle {
-                plateaus(&courses.sharp, super::super::PLATEAU_MIN_AFTER)
-            } else {
-                let scn = Knob::Cycle(cycle_s).apply(&placed)?;
-                let seed = st.seed(STAGE + 10 * j as u64 + k as u64);
-                let pr = st.start(
-                    &format!("sharp plateau, {placement}, cycle {cycle_s} s"),
-                    u64::from(RUNS),
-                );
-                let t = tapped_runs(&scn, scn.run, scn.start.x, scn.periods, RUNS, seed, &pr)?;
-                st.done(&pr);
-                plateaus(&t, super::super::PLATEAU_MIN_AFTER)
+            let p = match results.plateau(Unit::Plateau(side, k as u8))? {
+                Some(p) => *p,
+                None => courses[0].plateaus,
             };
             rows.push(Row {
                 field: sharp.name.clone(),
@@ -104,13 +139,13 @@ pub(super) fn run(
         field: scns[1].name.clone(),
         placement: main,
         cycle_s: scns[1].run.params.wave.cycle.as_millis() / 1000,
-        p: plateaus(&courses.gradient, super::super::PLATEAU_MIN_AFTER),
+        p: courses[1].plateaus,
     };
-    figure(st, &rows, main)?;
+    figure(figs, &rows, main)?;
     rows.push(gradient);
     let table: Vec<Vec<String>> = rows.iter().map(cells).collect();
     write_csv(
-        st,
+        figs,
         "settle-plateau.csv",
         &[
             "field",
@@ -220,7 +255,7 @@ fn csv_cells(r: &Row) -> Vec<String> {
 
 /// The sharp plateau against the cycle: the three measures with the main placement, the page's
 /// measure with the other, and the paper's value.
-fn figure(st: &Stage<'_>, rows: &[Row], main: Placement) -> Result<(), Error> {
+fn figure(figs: &Path, rows: &[Row], main: Placement) -> Result<(), Error> {
     let line = |label: String, placement: Placement, pick: fn(&Plateaus) -> (f64, f64)| Line {
         label,
         points: rows
@@ -258,7 +293,7 @@ fn figure(st: &Stage<'_>, rows: &[Row], main: Placement) -> Result<(), Error> {
         },
     ];
     plot::xy_figure(
-        &st.figs.join("settle-plateau.svg"),
+        &figs.join("settle-plateau.svg"),
         "sharp border: the diversity plateau, three ways, against the cycle",
         "cycle length t_p^max / s",
         "diversity at the plateau",

@@ -4,7 +4,9 @@
 //! the wave is run by [`crate::swarm::probe::flood`], the simulator's delivery rule as a model;
 //! where the protocol takes the time, the model's wave is checked to be the protocol's.
 
-use serde::Serialize;
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
 
 use super::{Stage, write_csv};
 use crate::report::csv_files::fixed;
@@ -49,13 +51,35 @@ pub(super) struct RefractoryPart {
     smallest: Option<u64>,
 }
 
-/// Runs each refractory time on the swarm of the paper's Fig. 2; writes
-/// `settle-refractory.{csv,svg}`.
+/// One refractory time on the swarm of the paper's Fig. 2.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(in super::super) struct RefractoryRun {
+    /// t_ref, seconds.
+    refractory_s: u64,
+    /// What the protocol does with it.
+    answer: String,
+    /// Where the protocol runs it: whether every agent sent exactly once.
+    once: Option<bool>,
+    /// The model's transmissions per second from the initiation to [`HORIZON`].
+    sends: Vec<u32>,
+}
+
+/// Each refractory time of [`REFRACTORY`] on the swarm of the paper's Fig. 2.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(in super::super) struct RefractoryRuns {
+    /// The swarm's agents.
+    agents: usize,
+    /// The relay delay, seconds.
+    relay_s: u64,
+    /// One per refractory time.
+    runs: Vec<RefractoryRun>,
+}
+
+/// Runs each refractory time on the swarm of the paper's Fig. 2.
 ///
 /// # Errors
-/// If a wave cannot be run, the model differs from the protocol where both run, or a file
-/// cannot be written.
-pub(super) fn run(st: &mut Stage<'_>) -> Result<(RefractoryPart, Flooding), Error> {
+/// If a wave cannot be run, or the model differs from the protocol where both run.
+pub(super) fn runs(st: &mut Stage<'_>) -> Result<RefractoryRuns, Error> {
     let p = st.start("refractory time, off and on", REFRACTORY.len() as u64);
     let seed = st.seed(WAVE_STAGE);
     let paper = one_wave(&WaveSpec::paper(), seed)?;
@@ -66,6 +90,41 @@ pub(super) fn run(st: &mut Stage<'_>) -> Result<(RefractoryPart, Flooding), Erro
         .relay_delay
         .as_millis()
         / 1000;
+    let mut runs = Vec::new();
+    for refractory_s in REFRACTORY {
+        let spec = WaveSpec {
+            refractory_s,
+            ..WaveSpec::paper()
+        };
+        let (answer, once) = protocol_answer(&spec, seed, relay_s)?;
+        let sends = flood(
+            &paper.swarm,
+            paper.initiator,
+            relay_s,
+            refractory_s,
+            HORIZON,
+        );
+        runs.push(RefractoryRun {
+            refractory_s,
+            answer,
+            once,
+            sends,
+        });
+        p.inc();
+    }
+    st.done(&p);
+    Ok(RefractoryRuns {
+        agents: paper.len(),
+        relay_s,
+        runs,
+    })
+}
+
+/// The part from the runs; writes `settle-refractory.{csv,svg}`.
+///
+/// # Errors
+/// If a file cannot be written.
+pub(super) fn write(figs: &Path, r: &RefractoryRuns) -> Result<(RefractoryPart, Flooding), Error> {
     let (mut rows, mut lines, mut smallest) = (Vec::new(), Vec::new(), None);
     let mut flooding = Flooding {
         floods_without: false,
@@ -74,34 +133,23 @@ pub(super) fn run(st: &mut Stage<'_>) -> Result<(RefractoryPart, Flooding), Erro
         once_with: false,
         horizon: HORIZON,
     };
-    for refractory_s in REFRACTORY {
-        let spec = WaveSpec {
-            refractory_s,
-            ..WaveSpec::paper()
-        };
-        let (answer, once) = protocol_answer(&spec, seed, relay_s)?;
-        if let (None, Some(once)) = (smallest, once) {
+    for run in &r.runs {
+        let (refractory_s, sends) = (run.refractory_s, &run.sends);
+        if let (None, Some(once)) = (smallest, run.once) {
             smallest = Some(refractory_s);
             flooding.smallest = Some(refractory_s);
             flooding.once_with = once;
         }
-        let sends = flood(
-            &paper.swarm,
-            paper.initiator,
-            relay_s,
-            refractory_s,
-            HORIZON,
-        );
         let total: u32 = sends.iter().sum();
         let last = sends.iter().rposition(|&k| k > 0).unwrap_or(0);
         if refractory_s == 0 {
             flooding.floods_without = last as u64 == HORIZON;
-            flooding.sends_without = f64::from(total) / paper.len() as f64;
+            flooding.sends_without = f64::from(total) / r.agents as f64;
         }
         rows.push(vec![
             refractory_s.to_string(),
-            answer,
-            fixed(f64::from(total) / paper.len() as f64, 2),
+            run.answer.clone(),
+            fixed(f64::from(total) / r.agents as f64, 2),
             if last as u64 == HORIZON {
                 format!("{HORIZON} (still going)")
             } else {
@@ -116,13 +164,11 @@ pub(super) fn run(st: &mut Stage<'_>) -> Result<(RefractoryPart, Flooding), Erro
                     .collect(),
             });
         }
-        p.inc();
     }
-    st.done(&p);
-    write(st, &rows, &lines, paper.len())?;
+    write_files(figs, &rows, &lines, r.agents)?;
     let part = RefractoryPart {
-        agents: paper.len(),
-        relay_s,
+        agents: r.agents,
+        relay_s: r.relay_s,
         horizon: HORIZON,
         rows,
         smallest,
@@ -131,15 +177,20 @@ pub(super) fn run(st: &mut Stage<'_>) -> Result<(RefractoryPart, Flooding), Erro
 }
 
 /// Writes the table as CSV and the lines as the figure.
-fn write(st: &Stage<'_>, rows: &[Vec<String>], lines: &[Line], agents: usize) -> Result<(), Error> {
+fn write_files(
+    figs: &Path,
+    rows: &[Vec<String>],
+    lines: &[Line],
+    agents: usize,
+) -> Result<(), Error> {
     write_csv(
-        st,
+        figs,
         "settle-refractory.csv",
         &["refractory_s", "protocol", "sends_per_agent", "last_send_s"],
         rows,
     )?;
     plot::xy_figure(
-        &st.figs.join("settle-refractory.svg"),
+        &figs.join("settle-refractory.svg"),
         &format!("one initiation in the {agents} agents of Fig. 2: transmissions per second"),
         "t / s since the initiation",
         "agents transmitting",

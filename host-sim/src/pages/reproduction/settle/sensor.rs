@@ -4,9 +4,11 @@
 //! averaged courses again with the same seeds, and the comparison's level rows (starting
 //! diversity, arrival, plateau) are judged under both.
 
-use serde::Serialize;
+use std::path::Path;
 
-use super::{CourseRuns, Stage, pm, write_csv};
+use serde::{Deserialize, Serialize};
+
+use super::{Stage, pm, write_csv};
 use crate::stats;
 use crate::swarm::experiment::Error;
 use crate::swarm::probe::{Tapped, plateaus, tapped_runs};
@@ -14,13 +16,16 @@ use crate::swarm::scenario::Scenario;
 use crate::swarm::sim::Sensor;
 
 /// One field's levels under one sensor model: `(mean, s.e.)` each.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 pub(in super::super) struct Levels {
     /// The first period's diversity.
+    #[serde(with = "crate::swarm::json")]
     pub(in super::super) start: (f64, f64),
     /// Periods until arrival, over the runs that arrived.
+    #[serde(with = "crate::swarm::json")]
     pub(in super::super) arrival: (f64, f64),
     /// The plateau (mean over agents of `V_k` after arrival).
+    #[serde(with = "crate::swarm::json")]
     pub(in super::super) plateau: (f64, f64),
     /// Runs that arrived, of all.
     pub(in super::super) arrived: usize,
@@ -42,7 +47,7 @@ pub(super) struct SensorPart {
 }
 
 /// The levels of a set of runs.
-fn levels(runs: &[Tapped]) -> Levels {
+pub(super) fn levels(runs: &[Tapped]) -> Levels {
     let start: Vec<f64> = runs
         .iter()
         .filter_map(|t| t.out.periods.first().map(|p| p.diversity))
@@ -67,38 +72,41 @@ fn levels(runs: &[Tapped]) -> Levels {
     }
 }
 
-/// Runs the averaged courses again with one sample per period (the same seeds); writes
-/// `settle-sensor.csv`.
+/// Runs `scn`'s averaged course again with one sample per period (its seed `seed`, the
+/// course's); their levels.
 ///
 /// # Errors
-/// If a run fails or the file cannot be written.
-pub(super) fn run(
-    st: &mut Stage<'_>,
+/// If a run fails.
+pub(super) fn per_period(st: &mut Stage<'_>, scn: &Scenario, seed: u64) -> Result<Levels, Error> {
+    let runs = super::super::COURSE_RUNS;
+    let p = st.start(
+        &format!("{}: the courses, one reading per period", scn.name),
+        u64::from(runs),
+    );
+    let cfg = crate::swarm::sim::RunConfig {
+        sensor: Sensor::PerPeriod,
+        ..scn.run
+    };
+    let held = tapped_runs(scn, cfg, scn.start.x, scn.periods, runs, seed, &p)?;
+    st.done(&p);
+    Ok(levels(&held))
+}
+
+/// The part from both fields' levels per activation (`fresh`, the courses' runs) and per
+/// period (`held`); writes `settle-sensor.csv`.
+///
+/// # Errors
+/// If the file cannot be written.
+pub(super) fn write(
+    figs: &Path,
     scns: [&Scenario; 2],
-    seeds: [u64; 2],
-    courses: &CourseRuns,
+    fresh: [&Levels; 2],
+    held: [Levels; 2],
 ) -> Result<(SensorPart, SensorFacts), Error> {
-    let mut per_period = Vec::new();
     let mut rows = Vec::new();
-    for (k, (scn, fresh)) in scns
-        .into_iter()
-        .zip([&courses.sharp, &courses.gradient])
-        .enumerate()
-    {
-        let runs = super::super::COURSE_RUNS;
-        let p = st.start(
-            &format!("{}: the courses, one reading per period", scn.name),
-            u64::from(runs),
-        );
-        let cfg = crate::swarm::sim::RunConfig {
-            sensor: Sensor::PerPeriod,
-            ..scn.run
-        };
-        let held = tapped_runs(scn, cfg, scn.start.x, scn.periods, runs, seeds[k], &p)?;
-        st.done(&p);
-        let (a, b) = (levels(fresh), levels(&held));
+    for ((scn, a), b) in scns.into_iter().zip(fresh).zip(&held) {
         let row = |what: &str, pick: fn(&Levels) -> (f64, f64), digits| {
-            let (x, y) = (pick(&a), pick(&b));
+            let (x, y) = (pick(a), pick(b));
             [
                 scn.name.clone(),
                 what.to_string(),
@@ -115,20 +123,18 @@ pub(super) fn run(
             format!("{} of {}", a.arrived, a.runs),
             format!("{} of {}", b.arrived, b.runs),
         ]);
-        per_period.push(b);
     }
     write_csv(
-        st,
+        figs,
         "settle-sensor.csv",
         &["field", "quantity", "per_activation", "per_period"],
         &rows.iter().map(|r| r.to_vec()).collect::<Vec<_>>(),
     )?;
-    let per_period: [Levels; 2] = per_period.try_into().map_err(|_| "two fields")?;
     Ok((
         SensorPart {
             runs: super::super::COURSE_RUNS,
             rows,
         },
-        SensorFacts { per_period },
+        SensorFacts { per_period: held },
     ))
 }

@@ -1,8 +1,13 @@
 //! The starting diversity (ours 0.52 on the sharp border and 0.09 on the gradient, the paper's
 //! 0.2 and 0.3) per run, against the agents that stand across x = 0 at the start.
 
+use std::path::Path;
+
 use serde::Serialize;
 
+use super::super::compute::placement;
+use super::super::results::Results;
+use super::super::units::{Field, Side, Unit};
 use super::{STAGE, Stage, write_csv};
 use crate::pages::claims::{Id, claim};
 use crate::report::csv_files::fixed;
@@ -64,30 +69,46 @@ pub(super) struct StartPart {
     gradient_most_mean: String,
 }
 
-/// Runs one period from each start of [`XS`] for both fields and placements; writes
+/// Runs one period from each start of [`XS`] for field `k` (`scn`) with `placement`, the
+/// main one (`j` 0) or the other (1).
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn runs(
+    st: &mut Stage<'_>,
+    placement: Placement,
+    k: usize,
+    j: usize,
+    scn: &Scenario,
+) -> Result<Vec<StartRun>, Error> {
+    let placed = super::super::builtin_placed(&scn.name, placement)?;
+    let p = st.start(
+        &format!("{}: starting diversity, {placement}", scn.name),
+        XS.len() as u64 * u64::from(RUNS),
+    );
+    let seed = st.seed(STAGE + 30 + 2 * k as u64 + j as u64);
+    let runs = start_diversity(&placed, &XS, RUNS, seed, &p)?;
+    st.done(&p);
+    Ok(runs)
+}
+
+/// The part from the units [`Unit::Start`], both fields and placements; writes
 /// `settle-start.{csv,svg}`.
 ///
 /// # Errors
-/// If a run fails or a file cannot be written.
-pub(super) fn run(
-    st: &mut Stage<'_>,
+/// If a unit has no result or a file cannot be written.
+pub(super) fn write(
+    figs: &Path,
     main: Placement,
     scns: [&Scenario; 2],
+    results: &Results,
 ) -> Result<(StartPart, StartFacts), Error> {
     let mut cols = Vec::new();
-    for (k, scn) in scns.into_iter().enumerate() {
-        for (j, placement) in [main, main.other()].into_iter().enumerate() {
-            let placed = super::super::builtin_placed(&scn.name, placement)?;
-            let p = st.start(
-                &format!("{}: starting diversity, {placement}", scn.name),
-                XS.len() as u64 * u64::from(RUNS),
-            );
-            let seed = st.seed(STAGE + 30 + 2 * k as u64 + j as u64);
-            let runs = start_diversity(&placed, &XS, RUNS, seed, &p)?;
-            st.done(&p);
+    for (f, scn) in Field::BOTH.into_iter().zip(scns) {
+        for side in Side::BOTH {
             cols.push(Column {
-                label: format!("{}, {placement}", scn.name),
-                runs,
+                label: format!("{}, {}", scn.name, placement(main, side)),
+                runs: results.start(Unit::Start(f, side))?.clone(),
             });
         }
     }
@@ -107,8 +128,8 @@ pub(super) fn run(
                 .collect()
         })
         .collect();
-    write(st, &cols)?;
-    figure(st, &cols, most)?;
+    write_files(figs, &cols)?;
+    figure(figs, &cols, most)?;
     let by_count = |c: &Column| -> Vec<(usize, f64, usize)> {
         (0..=most)
             .filter_map(|n| mean_at(c, n).map(|(m, k)| (n, m, k)))
@@ -209,7 +230,7 @@ fn summary(cols: &[Column], rows: Vec<Vec<String>>, scns: [&Scenario; 2]) -> Sta
     }
 }
 
-fn write(st: &Stage<'_>, cols: &[Column]) -> Result<(), Error> {
+fn write_files(figs: &Path, cols: &[Column]) -> Result<(), Error> {
     let rows: Vec<Vec<String>> = cols
         .iter()
         .flat_map(|c| {
@@ -224,7 +245,7 @@ fn write(st: &Stage<'_>, cols: &[Column]) -> Result<(), Error> {
         })
         .collect();
     write_csv(
-        st,
+        figs,
         "settle-start.csv",
         &["field_placement", "x_init", "agents_across", "diversity"],
         &rows,
@@ -232,7 +253,7 @@ fn write(st: &Stage<'_>, cols: &[Column]) -> Result<(), Error> {
 }
 
 /// Mean starting diversity against the agents across, one line per field and placement.
-fn figure(st: &Stage<'_>, cols: &[Column], most: usize) -> Result<(), Error> {
+fn figure(figs: &Path, cols: &[Column], most: usize) -> Result<(), Error> {
     let lines: Vec<Line> = cols
         .iter()
         .map(|c| Line {
@@ -251,7 +272,7 @@ fn figure(st: &Stage<'_>, cols: &[Column], most: usize) -> Result<(), Error> {
         .flat_map(|l| l.points.iter().map(|p| p.1 + p.2))
         .fold(0.5, f64::max);
     plot::xy_figure(
-        &st.figs.join("settle-start.svg"),
+        &figs.join("settle-start.svg"),
         &format!(
             "the first period's diversity against the agents across x = 0 ({RUNS} runs per start)"
         ),

@@ -4,10 +4,14 @@
 //! scenario's criterion, and to the same line for all (within 0.33 R of x = 0, the border or
 //! the ramp's start), since the gradient's criterion (x ≥ 2.33) lies 2.33 R farther.
 
+use std::path::Path;
+
 use nalgebra::Point2;
 use rayon::prelude::*;
 use serde::Serialize;
 
+use super::super::results::Results;
+use super::super::units::Unit;
 use super::{STAGE, Stage, pm, write_csv};
 use crate::report::csv_files::fixed;
 use crate::report::plot::{self, Line};
@@ -18,14 +22,14 @@ use crate::swarm::scenario::Scenario;
 use crate::swarm::sensitivity::Knob;
 
 /// Slopes of the ramp, per R (the page's 2.5 among them).
-const SLOPES: [f64; 5] = [1.0, 2.5, 5.0, 10.0, 20.0];
+pub(super) const SLOPES: [f64; 5] = [1.0, 2.5, 5.0, 10.0, 20.0];
 /// Runs per slope.
 const RUNS: u32 = 50;
 /// The common line: within this of x = 0 (the sharp border's criterion).
 const NEAR: f64 = 0.33;
 
 /// One run's periods to the criterion and to the common line (`None`: not met).
-type Times = (Option<u32>, Option<u32>);
+pub(in super::super) type Times = (Option<u32>, Option<u32>);
 
 /// Which of a run's [`Times`].
 type Pick = fn(&Times) -> Option<u32>;
@@ -76,52 +80,87 @@ pub(super) struct SteepPart {
     to_criterion: [String; 2],
 }
 
-/// Runs every slope and the sharp border from the page's start; writes `settle-steep.{csv,svg}`.
+/// The slope of case `k`: none for the sharp border (0), then [`SLOPES`].
+fn slope_of(k: usize) -> Result<Option<f64>, Error> {
+    match k {
+        0 => Ok(None),
+        _ => Ok(Some(
+            *SLOPES
+                .get(k - 1)
+                .ok_or_else(|| format!("no steepness case {k}"))?,
+        )),
+    }
+}
+
+/// The label of the case with `slope` (none: the sharp border).
+fn label(sharp: &Scenario, slope: Option<f64>) -> String {
+    match slope {
+        None => format!("{} border", sharp.name),
+        Some(s) => format!("ramp of slope {s}"),
+    }
+}
+
+/// Runs case `k` (0 the sharp border, then each slope of [`SLOPES`]) from the page's start.
 ///
 /// # Errors
-/// If a run fails or a file cannot be written.
-pub(super) fn run(
+/// If `k` is no case or a run fails.
+pub(super) fn case(
     st: &mut Stage<'_>,
+    k: usize,
     scns: [&Scenario; 2],
+) -> Result<Vec<Times>, Error> {
+    let [sharp, gradient] = scns;
+    let slope = slope_of(k)?;
+    let scn = match slope {
+        None => sharp.clone(),
+        Some(s) => Knob::Slope(s).apply(gradient)?,
+    };
+    let p = st.start(
+        &format!("steepness: {}", label(sharp, slope)),
+        u64::from(RUNS),
+    );
+    let seed = st.seed(STAGE + 40 + k as u64);
+    let runs = (0..RUNS)
+        .into_par_iter()
+        .map(|r| {
+            let start = Point2::new(gradient.start.x, 0.0);
+            let s = derive(seed, &[u64::from(r)]);
+            let out = crate::swarm::experiment::run(&scn, scn.run, start, scn.periods, s, true)?;
+            p.inc();
+            let near = out.periods.iter().find(|q| q.to.x > -NEAR).map(|q| q.index);
+            Ok((out.success_at, near))
+        })
+        .collect::<Result<Vec<_>, Error>>()?;
+    st.done(&p);
+    Ok(runs)
+}
+
+/// The part from the units [`Unit::Steep`]; writes `settle-steep.{csv,svg}`.
+///
+/// # Errors
+/// If a unit has no result or a file cannot be written.
+pub(super) fn write(
+    figs: &Path,
+    scns: [&Scenario; 2],
+    results: &Results,
 ) -> Result<(SteepPart, Steepness), Error> {
     let [sharp, gradient] = scns;
     let page_slope =
         gradient.field.mean(Point2::new(1.0, 0.0)) - gradient.field.mean(Point2::origin());
     let mut cases = Vec::new();
-    for (k, slope) in std::iter::once(None)
-        .chain(SLOPES.iter().map(|&s| Some(s)))
-        .enumerate()
-    {
-        let scn = match slope {
-            None => sharp.clone(),
-            Some(s) => Knob::Slope(s).apply(gradient)?,
-        };
-        let label = match slope {
-            None => format!("{} border", scn.name),
-            Some(s) => format!("ramp of slope {s}"),
-        };
-        let p = st.start(&format!("steepness: {label}"), u64::from(RUNS));
-        let seed = st.seed(STAGE + 40 + k as u64);
-        let runs = (0..RUNS)
-            .into_par_iter()
-            .map(|r| {
-                let start = Point2::new(gradient.start.x, 0.0);
-                let s = derive(seed, &[u64::from(r)]);
-                let out =
-                    crate::swarm::experiment::run(&scn, scn.run, start, scn.periods, s, true)?;
-                p.inc();
-                let near = out.periods.iter().find(|q| q.to.x > -NEAR).map(|q| q.index);
-                Ok((out.success_at, near))
-            })
-            .collect::<Result<Vec<_>, Error>>()?;
-        st.done(&p);
-        cases.push(Case { label, slope, runs });
+    for k in 0..=SLOPES.len() {
+        let slope = slope_of(k)?;
+        cases.push(Case {
+            label: label(sharp, slope),
+            slope,
+            runs: results.steep(Unit::Steep(k as u8))?.clone(),
+        });
     }
     let steep = steepness(&cases);
-    figure(st, &cases)?;
+    figure(figs, &cases)?;
     let rows: Vec<Vec<String>> = cases.iter().map(cells).collect();
     write_csv(
-        st,
+        figs,
         "settle-steep.csv",
         &[
             "case",
@@ -208,7 +247,7 @@ fn steepness(cases: &[Case]) -> Steepness {
 }
 
 /// Mean times against the slope (log axis), both ways; the sharp border as a level.
-fn figure(st: &Stage<'_>, cases: &[Case]) -> Result<(), Error> {
+fn figure(figs: &Path, cases: &[Case]) -> Result<(), Error> {
     let ramps: Vec<&Case> = cases.iter().filter(|c| c.slope.is_some()).collect();
     let line = |label: &str, pick: Pick| Line {
         label: label.into(),
@@ -235,7 +274,7 @@ fn figure(st: &Stage<'_>, cases: &[Case]) -> Result<(), Error> {
         .filter(|v| v.is_finite())
         .fold(1.0, f64::max);
     plot::xy_figure(
-        &st.figs.join("settle-steep.svg"),
+        &figs.join("settle-steep.svg"),
         &format!("steeper ramps: time from x = −2.5 ({RUNS} runs per slope)"),
         "slope of the ramp / per R",
         "mean periods (runs that got there)",

@@ -3,9 +3,11 @@
 //! squared displacement of the swarm's centre along x and along y against the lag, from the
 //! position at arrival on, over the averaged courses' runs.
 
+use std::path::Path;
+
 use serde::Serialize;
 
-use super::{CourseRuns, Stage, pm, write_csv};
+use super::{pm, write_csv};
 use crate::report::csv_files::fixed;
 use crate::report::plot::{self, Line};
 use crate::stats;
@@ -55,19 +57,22 @@ pub(super) struct WanderPart {
     gradient_ratio: String,
 }
 
-/// Reads the walks after arrival off the courses' runs; writes `settle-wander.{csv,svg}`.
+/// The walk after arrival of the runs `outs`: the mean squared displacements up to
+/// [`MAX_LAG`].
+pub(super) fn msd(outs: &[RunOutput]) -> Vec<Msd> {
+    msd_after_arrival(outs, MAX_LAG)
+}
+
+/// The part from the walks after arrival of both fields' courses' runs ([`msd`]); writes
+/// `settle-wander.{csv,svg}`.
 ///
 /// # Errors
 /// If a file cannot be written.
-pub(super) fn run(st: &mut Stage<'_>, courses: &CourseRuns) -> Result<(WanderPart, Walks), Error> {
-    let outs = |runs: &[crate::swarm::probe::Tapped]| -> Vec<RunOutput> {
-        runs.iter().map(|t| t.out.clone()).collect()
-    };
-    let sharp = msd_after_arrival(&outs(&courses.sharp), MAX_LAG);
-    let gradient = msd_after_arrival(&outs(&courses.gradient), MAX_LAG);
+pub(super) fn write(figs: &Path, msds: [&Vec<Msd>; 2]) -> Result<(WanderPart, Walks), Error> {
+    let [sharp, gradient] = msds;
     let walks = Walks {
-        sharp: walk(&sharp),
-        gradient: walk(&gradient),
+        sharp: walk(sharp),
+        gradient: walk(gradient),
     };
     let rows = SHOWN
         .iter()
@@ -87,7 +92,7 @@ pub(super) fn run(st: &mut Stage<'_>, courses: &CourseRuns) -> Result<(WanderPar
         .collect();
     let csv_rows: Vec<Vec<String>> = sharp
         .iter()
-        .zip(&gradient)
+        .zip(gradient)
         .map(|(s, g)| {
             vec![
                 s.lag.to_string(),
@@ -101,7 +106,7 @@ pub(super) fn run(st: &mut Stage<'_>, courses: &CourseRuns) -> Result<(WanderPar
         })
         .collect();
     write_csv(
-        st,
+        figs,
         "settle-wander.csv",
         &[
             "lag",
@@ -114,7 +119,7 @@ pub(super) fn run(st: &mut Stage<'_>, courses: &CourseRuns) -> Result<(WanderPar
         ],
         &csv_rows,
     )?;
-    figure(st, &sharp, &gradient)?;
+    figure(figs, sharp, gradient)?;
     let slope = |s: (f64, f64)| pm(s.0, s.1, 4);
     let ratio = |w: &Walk| fixed(w.at_max.1 / w.at_max.0.max(1e-12), 1);
     let part = WanderPart {
@@ -146,7 +151,7 @@ fn walk(msd: &[Msd]) -> Walk {
     }
 }
 
-fn figure(st: &Stage<'_>, sharp: &[Msd], gradient: &[Msd]) -> Result<(), Error> {
+fn figure(figs: &Path, sharp: &[Msd], gradient: &[Msd]) -> Result<(), Error> {
     let line = |label: &str, msd: &[Msd], pick: fn(&Msd) -> f64| Line {
         label: label.into(),
         points: msd
@@ -165,7 +170,7 @@ fn figure(st: &Stage<'_>, sharp: &[Msd], gradient: &[Msd]) -> Result<(), Error> 
         .flat_map(|l| l.points.iter().map(|p| p.1))
         .fold(1.0, f64::max);
     plot::xy_figure(
-        &st.figs.join("settle-wander.svg"),
+        &figs.join("settle-wander.svg"),
         "after arrival: mean squared displacement of the swarm's centre",
         "lag / periods",
         "mean squared displacement / R²",

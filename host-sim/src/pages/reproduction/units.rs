@@ -1,0 +1,286 @@
+//! The units of work of `swarm reproduce`: one per stage (one progress bar, one seed or a
+//! fixed set of seeds), each computed on its own ([`super::compute`]) from the options alone,
+//! in the fixed order of [`UNITS`]. A unit's name ([`Unit::name`]) is how part files and logs
+//! name it.
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+/// One of the paper's two fields.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Field {
+    /// The sharp border (`sharp`).
+    Sharp,
+    /// The gradient (`gradient`).
+    Gradient,
+}
+
+impl Field {
+    /// Both, in the page's order.
+    pub const BOTH: [Field; 2] = [Field::Sharp, Field::Gradient];
+
+    /// 0 for the sharp border, 1 for the gradient: the index of the page's arrays and seeds.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    fn name(self) -> &'static str {
+        ["sharp", "gradient"][self.index()]
+    }
+}
+
+/// Which placement a unit runs with: the page's ([`super::Options::placement`]) or the other.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Side {
+    /// The page's placement.
+    Main,
+    /// The other one.
+    Other,
+}
+
+impl Side {
+    /// Both, main first.
+    pub const BOTH: [Side; 2] = [Side::Main, Side::Other];
+
+    /// 0 for the main placement, 1 for the other.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    fn name(self) -> &'static str {
+        ["main", "other"][self.index()]
+    }
+}
+
+/// The scenario of a direction map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Scene {
+    /// `sharp`.
+    Sharp,
+    /// `gradient`.
+    Gradient,
+    /// `cloud`, the text's cloud.
+    Cloud,
+}
+
+impl Scene {
+    /// 0, 1, 2 as listed: the index of the page's maps and their seeds.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    fn name(self) -> &'static str {
+        ["sharp", "gradient", "cloud"][self.index()]
+    }
+}
+
+/// One unit of work of `swarm reproduce`. Those with an index count from 0 over a list of the
+/// stage's module: plateau cycles 250, 500, 1000, 2000 s; steepness cases the sharp border,
+/// then slopes 1, 2.5, 5, 10, 20; knobs cycle, period, diffusion, noise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Unit {
+    /// Figs. 4 and 7: the first successful of up to [`super::RUN_TRIES`] runs.
+    Run(Field),
+    /// Figs. 5 and 8: a sweep of starts.
+    Sweep(Field, Side),
+    /// Figs. 6, 9, 10: a direction map.
+    Map(Scene),
+    /// The text's cloud's radial profile.
+    CloudProfile,
+    /// The caption's cloud's direction map.
+    CaptionMap,
+    /// The caption's cloud's radial profile.
+    CaptionProfile,
+    /// Figs. 4b and 7b averaged.
+    Course(Field, Side),
+    /// The averaged courses' runs (main placement) again, tapped.
+    Tapped(Field),
+    /// The averaged courses with one sensor reading per period.
+    Sensor(Field),
+    /// The sharp plateau at one cycle (the page's own cycle with the main placement is the
+    /// courses' runs: that unit runs nothing).
+    Plateau(Side, u8),
+    /// The first move's heading along the way to the line.
+    Heading(Field),
+    /// The starting diversity against the agents across.
+    Start(Field, Side),
+    /// Steeper ramps: one case.
+    Steep(u8),
+    /// The refractory time, off and on.
+    Refractory,
+    /// The cycle length (sharp).
+    Cycle,
+    /// Sensitivity to one knob.
+    Knob(u8),
+    /// Sensitivity to the gradient's slope.
+    Slope,
+    /// The swarm's extent against the perception edges.
+    Extent,
+    /// The discussion's shapes on a random field.
+    Shapes,
+    /// Beyond the paper: success with the entropy.
+    BeyondSuccess,
+    /// Beyond the paper: both measures along the gradient.
+    BeyondAlong,
+    /// Beyond the paper: two quantities.
+    BeyondTwo,
+    /// One wave (Fig. 2).
+    Waves,
+    /// The simulator's speed (wall-clock figures).
+    Speed,
+    /// Neighbour counts of random placements.
+    Placements,
+}
+
+use Field::{Gradient as G, Sharp as S};
+use Side::{Main as M, Other as O};
+
+/// Every unit, in the order the unsharded command computes them.
+pub const UNITS: [Unit; 55] = [
+    Unit::Run(S),
+    Unit::Run(G),
+    Unit::Sweep(S, M),
+    Unit::Sweep(S, O),
+    Unit::Sweep(G, M),
+    Unit::Sweep(G, O),
+    Unit::Map(Scene::Sharp),
+    Unit::Map(Scene::Gradient),
+    Unit::Map(Scene::Cloud),
+    Unit::CloudProfile,
+    Unit::CaptionMap,
+    Unit::CaptionProfile,
+    Unit::Course(S, M),
+    Unit::Course(S, O),
+    Unit::Course(G, M),
+    Unit::Course(G, O),
+    Unit::Tapped(S),
+    Unit::Tapped(G),
+    Unit::Sensor(S),
+    Unit::Sensor(G),
+    Unit::Plateau(M, 0),
+    Unit::Plateau(M, 1),
+    Unit::Plateau(M, 2),
+    Unit::Plateau(M, 3),
+    Unit::Plateau(O, 0),
+    Unit::Plateau(O, 1),
+    Unit::Plateau(O, 2),
+    Unit::Plateau(O, 3),
+    Unit::Heading(S),
+    Unit::Heading(G),
+    Unit::Start(S, M),
+    Unit::Start(S, O),
+    Unit::Start(G, M),
+    Unit::Start(G, O),
+    Unit::Steep(0),
+    Unit::Steep(1),
+    Unit::Steep(2),
+    Unit::Steep(3),
+    Unit::Steep(4),
+    Unit::Steep(5),
+    Unit::Refractory,
+    Unit::Cycle,
+    Unit::Knob(0),
+    Unit::Knob(1),
+    Unit::Knob(2),
+    Unit::Knob(3),
+    Unit::Slope,
+    Unit::Extent,
+    Unit::Shapes,
+    Unit::BeyondSuccess,
+    Unit::BeyondAlong,
+    Unit::BeyondTwo,
+    Unit::Waves,
+    Unit::Speed,
+    Unit::Placements,
+];
+
+/// Every unit of `swarm reproduce`, in a fixed order ([`UNITS`]).
+pub fn units() -> &'static [Unit] {
+    &UNITS
+}
+
+impl Unit {
+    /// The unit's name: `run/sharp`, `sweep/gradient/other`, `map/cloud`, `plateau/main/2`,
+    /// `steep/0`, `knob/3`, `cloud-profile`, …; [`FromStr`] reads it back.
+    pub fn name(self) -> String {
+        match self {
+            Unit::Run(f) => format!("run/{}", f.name()),
+            Unit::Sweep(f, s) => format!("sweep/{}/{}", f.name(), s.name()),
+            Unit::Map(m) => format!("map/{}", m.name()),
+            Unit::Course(f, s) => format!("course/{}/{}", f.name(), s.name()),
+            Unit::Tapped(f) => format!("tapped/{}", f.name()),
+            Unit::Sensor(f) => format!("sensor/{}", f.name()),
+            Unit::Plateau(s, k) => format!("plateau/{}/{k}", s.name()),
+            Unit::Heading(f) => format!("heading/{}", f.name()),
+            Unit::Start(f, s) => format!("start/{}/{}", f.name(), s.name()),
+            Unit::Steep(k) => format!("steep/{k}"),
+            Unit::Knob(k) => format!("knob/{k}"),
+            Unit::CloudProfile => "cloud-profile".into(),
+            Unit::CaptionMap => "caption-map".into(),
+            Unit::CaptionProfile => "caption-profile".into(),
+            Unit::Refractory => "refractory".into(),
+            Unit::Cycle => "cycle".into(),
+            Unit::Slope => "slope".into(),
+            Unit::Extent => "extent".into(),
+            Unit::Shapes => "shapes".into(),
+            Unit::BeyondSuccess => "beyond-success".into(),
+            Unit::BeyondAlong => "beyond-along".into(),
+            Unit::BeyondTwo => "beyond-two".into(),
+            Unit::Waves => "waves".into(),
+            Unit::Speed => "speed".into(),
+            Unit::Placements => "placements".into(),
+        }
+    }
+}
+
+impl fmt::Display for Unit {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.name())
+    }
+}
+
+impl FromStr for Unit {
+    type Err = String;
+
+    /// The unit of [`UNITS`] with this [`Unit::name`].
+    fn from_str(s: &str) -> Result<Unit, String> {
+        UNITS
+            .iter()
+            .copied()
+            .find(|u| u.name() == s)
+            .ok_or_else(|| format!("no unit of swarm reproduce is named {s:?}"))
+    }
+}
+
+impl Serialize for Unit {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(&self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Unit {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Unit, D::Error> {
+        String::deserialize(d)?
+            .parse()
+            .map_err(serde::de::Error::custom)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_unit_has_its_own_name_and_reads_back() {
+        let mut names: Vec<String> = UNITS.iter().map(|u| u.name()).collect();
+        for u in UNITS {
+            assert_eq!(u.name().parse::<Unit>(), Ok(u));
+        }
+        names.sort();
+        names.dedup();
+        assert_eq!(names.len(), UNITS.len());
+        assert!("plateau/main/4".parse::<Unit>().is_err());
+    }
+}

@@ -298,7 +298,7 @@ fn three_shards_merge_to_the_unsharded_page() {
         }
     }
     let page = text(&got[Path::new("reproduction.md")]);
-    let said = format!("` in {wall:.0} s on {threads} threads; do not edit by hand.");
+    let said = format!("swarm reproduce --seed 1` in {wall:.0} s on {threads} threads (");
     assert!(page.contains(&said), "{said}");
     assert!(page.contains(&format!(
         "; the whole page in {wall:.0} s on {threads} threads."

@@ -6,11 +6,10 @@
 
 mod common;
 
-use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-use common::scratch;
+use common::{cimax_in, files, scratch, text};
 
 /// A small `cimax arena sweep`: 2 positions, 2 runs of 4 robots, 2 moves, 2 runs of the 2D
 /// simulator (8 units).
@@ -71,44 +70,9 @@ const BOTH_RULES: &[&str] = &[
     "1",
 ];
 
-/// Runs `cimax ARGS...` in `dir` (created).
-fn cimax_in(dir: &Path, args: &[&str]) -> Output {
-    std::fs::create_dir_all(dir).unwrap();
-    Command::new(env!("CARGO_BIN_EXE_cimax"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("cimax runs")
-}
-
 /// `a` then `b`.
 fn with<'a>(a: &[&'a str], b: &[&'a str]) -> Vec<&'a str> {
     a.iter().chain(b).copied().collect()
-}
-
-fn text(b: &[u8]) -> String {
-    String::from_utf8_lossy(b).into_owned()
-}
-
-/// Every file under `dir`, by its path relative to `dir`, with its bytes.
-fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
-    let mut out = BTreeMap::new();
-    let mut todo = vec![dir.to_path_buf()];
-    while let Some(d) = todo.pop() {
-        let Ok(entries) = std::fs::read_dir(&d) else {
-            continue;
-        };
-        for e in entries {
-            let p = e.unwrap().path();
-            if p.is_dir() {
-                todo.push(p);
-            } else {
-                let rel = p.strip_prefix(dir).unwrap().to_path_buf();
-                out.insert(rel, std::fs::read(&p).unwrap());
-            }
-        }
-    }
-    out
 }
 
 /// Runs shards 1 to `n` of `args` (each `--shard I/N --out DIR`) into `dir`; returns the

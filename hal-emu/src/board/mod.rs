@@ -7,7 +7,8 @@
 //! - [`sensor`]: the environmental [`Sensor`](firmware::Sensor);
 //! - [`leds`]: the top-cap [`Leds`](firmware::Leds);
 //! - [`clock`]: the [`Clock`](firmware::Clock), virtual time on tokio's paused clock, one value
-//!   shared by every robot of a run and by the world around them.
+//!   shared by every robot of a run and by the world around them;
+//! - [`timeline`]: the deadlines of a virtual-time run, one heap driven by one tokio timer.
 //!
 //! ## Layering
 //! The board is the bottom layer of hal-emu: it imports nothing of [`crate::world`]. What a

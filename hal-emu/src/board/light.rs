@@ -69,7 +69,7 @@ impl Write for EmuTransmitter {
 /// The world feeds a robot's receivers through one [`Light`] (one shared inbox for all of
 /// them, [`receivers`]): a frame wakes the robot's task once, and a robot with nothing to read
 /// costs a look at one small struct, not one channel per sector. A receiver can also read a
-/// channel of byte chunks ([`EmuReceiver::new`]): a serial link, as the robot in the loop's.
+/// channel of byte chunks: a serial link, as the robot in the loop's.
 #[derive(Debug)]
 pub struct EmuReceiver {
     source: Source,

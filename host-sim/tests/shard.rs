@@ -7,9 +7,8 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Output;
 
-use common::{cimax_in, files, scratch, text};
+use common::{cimax_in, files, merge_in, refused, scratch, text};
 
 /// A small `cimax arena sweep`: 2 positions, 2 runs of 4 robots, 2 moves, 2 runs of the 2D
 /// simulator (8 units).
@@ -90,14 +89,6 @@ fn shards(args: &[&str], n: u32, dir: &Path, total: u64) -> Vec<PathBuf> {
             dir.join(format!("part-{i}-of-{n}.jsonl"))
         })
         .collect()
-}
-
-/// `cimax merge PARTS --out out` in `dir`.
-fn merge_in(dir: &Path, parts: &[&PathBuf]) -> Output {
-    let mut args: Vec<&str> = vec!["merge"];
-    args.extend(parts.iter().map(|p| p.to_str().unwrap()));
-    args.extend(["--out", "out"]);
-    cimax_in(dir, &args)
 }
 
 /// The unsharded command in `root/whole` (writing into `out`), three shards in `root/parts`,
@@ -233,19 +224,6 @@ fn a_campaign_of_both_rules_merges_to_the_unsharded_page() {
         0,
         campaign_wall,
     );
-}
-
-/// A merge that must fail: exit code 2, `message` on stderr, and `out` left as it was.
-fn refused(dir: &Path, parts: &[&PathBuf], message: &str) {
-    let out = dir.join("out");
-    std::fs::create_dir_all(&out).unwrap();
-    std::fs::write(out.join("keep.txt"), "mine").unwrap();
-    let m = merge_in(dir, parts);
-    assert_eq!(m.status.code(), Some(2), "{}", text(&m.stdout));
-    assert!(text(&m.stderr).contains(message), "{}", text(&m.stderr));
-    assert!(m.stdout.is_empty(), "{}", text(&m.stdout));
-    let left: Vec<PathBuf> = files(&out).into_keys().collect();
-    assert_eq!(left, [PathBuf::from("keep.txt")], "nothing written");
 }
 
 #[test]

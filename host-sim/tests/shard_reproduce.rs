@@ -8,10 +8,9 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::Output;
 use std::time::Instant;
 
-use common::{cimax_in, files, scratch, text};
+use common::{cimax_in, files, merge_in, scratch, text};
 use serde_json::Value;
 
 /// Units of the page.
@@ -44,25 +43,10 @@ fn shard(dir: &Path, i: u32, n: u32, extra: &[&str]) -> PathBuf {
     part
 }
 
-/// `cimax merge PARTS --out out` in `dir`.
-fn merge_in(dir: &Path, parts: &[&PathBuf]) -> Output {
-    let mut args: Vec<&str> = vec!["merge"];
-    args.extend(parts.iter().map(|p| p.to_str().unwrap()));
-    args.extend(["--out", "out"]);
-    cimax_in(dir, &args)
-}
-
-/// A merge that must fail: exit code 2, `message` on stderr, and `out` left as it was.
+/// A merge that must fail ([`common::refused`]), and nothing written beside `out` either (the
+/// reproduce merge writes into a folder beside it first).
 fn refused(dir: &Path, parts: &[&PathBuf], message: &str) {
-    let out = dir.join("out");
-    std::fs::create_dir_all(&out).unwrap();
-    std::fs::write(out.join("keep.txt"), "mine").unwrap();
-    let m = merge_in(dir, parts);
-    assert_eq!(m.status.code(), Some(2), "{}", text(&m.stdout));
-    assert!(text(&m.stderr).contains(message), "{}", text(&m.stderr));
-    assert!(m.stdout.is_empty(), "{}", text(&m.stdout));
-    let left: Vec<PathBuf> = files(&out).into_keys().collect();
-    assert_eq!(left, [PathBuf::from("keep.txt")], "nothing written");
+    common::refused(dir, parts, message);
     let beside: Vec<PathBuf> = files(dir).into_keys().collect();
     assert_eq!(beside, [PathBuf::from("out/keep.txt")], "nothing beside it");
 }

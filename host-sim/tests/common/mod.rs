@@ -66,3 +66,25 @@ pub fn files(dir: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     }
     out
 }
+
+/// `cimax merge PARTS... --out out`, run in `dir`.
+pub fn merge_in(dir: &Path, parts: &[&PathBuf]) -> Output {
+    let mut args: Vec<&str> = vec!["merge"];
+    args.extend(parts.iter().map(|p| p.to_str().unwrap()));
+    args.extend(["--out", "out"]);
+    cimax_in(dir, &args)
+}
+
+/// A merge in `dir` that must fail: exit code 2, `message` on stderr, and `dir/out` left as it
+/// was.
+pub fn refused(dir: &Path, parts: &[&PathBuf], message: &str) {
+    let out = dir.join("out");
+    std::fs::create_dir_all(&out).unwrap();
+    std::fs::write(out.join("keep.txt"), "mine").unwrap();
+    let m = merge_in(dir, parts);
+    assert_eq!(m.status.code(), Some(2), "{}", text(&m.stdout));
+    assert!(text(&m.stderr).contains(message), "{}", text(&m.stderr));
+    assert!(m.stdout.is_empty(), "{}", text(&m.stdout));
+    let left: Vec<PathBuf> = files(&out).into_keys().collect();
+    assert_eq!(left, [PathBuf::from("keep.txt")], "nothing written");
+}

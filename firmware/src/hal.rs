@@ -3,14 +3,16 @@
 //! | Hardware                         | Trait                                          |
 //! |----------------------------------|------------------------------------------------|
 //! | modulated-light transmitter (one, broadcasting) | [`embedded_io_async::Write`]    |
-//! | modulated-light receiver (one per sector)       | [`embedded_io_async::Read`]     |
+//! | modulated-light receivers (one per sector)      | [`Receivers`]: an array of [`embedded_io_async::Read`] |
 //! | environmental sensor (ambient light, oxygen)    | [`Sensor`]                      |
 //! | top-cap LEDs (green = left, blue = right)       | [`Leds`]                        |
 //! | time                                            | [`Clock`]                       |
 //!
 //! The light link is a byte stream both ways, so a UART driver (embassy-stm32's `UartTx` and
 //! `RingBufferedUartRx`, an `embassy_sync::pipe::Pipe`, a tokio stream behind
-//! `embedded-io-adapters`) plugs in with no glue. The other traits follow embedded-hal-async:
+//! `embedded-io-adapters`) plugs in with no glue: an array of receivers, one per sector, is
+//! [`Receivers`], read as one. A board that hears every sector through one source (the
+//! emulator's light) implements [`Receivers`] itself. The other traits follow embedded-hal-async:
 //! fallible `async fn`s, an associated error type whose [`Error::kind`] says what went wrong,
 //! and blanket implementations for `&mut T` (and `&T` for the clock).
 //!
@@ -20,7 +22,86 @@
 // The traits are used generically on one executor; callers never need `Send` futures.
 #![allow(async_fn_in_trait)]
 
+use embassy_futures::select::select_array;
 use protocol::{Instant, Level, Sector};
+
+/// A robot's light receivers, one per sector, read as one: a read waits until some sector has
+/// bytes (or an error, or the end of its stream) and returns that sector's.
+///
+/// One future for every sector: the robot waits on "a receiver OR the next deadline", one
+/// look at one source per wake, instead of one listener per sector joined beside it.
+///
+/// An array of byte streams, `[R; N]` with `R:` [`embedded_io_async::Read`], is
+/// `Receivers`, receiver `i` facing sector `i`; see its implementation for what it needs of
+/// `R`. Sector numbers are indices: with two sectors, 0 is [`Sector::RIGHT`] and 1
+/// [`Sector::LEFT`].
+pub trait Receivers {
+    /// Returned by a receiver that failed.
+    type Error: embedded_io_async::Error;
+
+    /// Waits until one of the sectors in `sectors` (bit `i` for sector `i`) has bytes, an
+    /// error, or the end of its stream, and returns that sector with what it read into `buf`:
+    /// `Ok(n)` bytes (`n >= 1` for a non-empty `buf`), `Ok(0)` at the end of its stream (it is
+    /// not read again), or its error. With no sector in `sectors` it waits for ever. When more
+    /// than one sector has something, the lowest-numbered goes first.
+    ///
+    /// Cancel-safe: the robot drops this future when its next deadline comes first, and a
+    /// read dropped before it completed must lose no byte.
+    async fn read(&mut self, sectors: u8, buf: &mut [u8]) -> (usize, Result<usize, Self::Error>);
+}
+
+/// `N` byte streams, one per sector, indexed by sector: each read polls the streams of the
+/// sectors asked for, lowest first, each into its share of `buf` (`buf.len() / N` bytes, so
+/// `buf` needs at least one byte per sector: with fewer, the last sectors are not read), and
+/// returns the first that has something, its bytes copied to the front of `buf`.
+///
+/// `R::read` must be cancel-safe (the other streams' reads are dropped): embassy-stm32's
+/// `RingBufferedUartRx` and `BufferedUartRx`, embassy-sync's `Pipe` and a tokio channel's
+/// receiver are.
+impl<R: embedded_io_async::Read, const N: usize> Receivers for [R; N] {
+    type Error = R::Error;
+
+    async fn read(&mut self, sectors: u8, buf: &mut [u8]) -> (usize, Result<usize, R::Error>) {
+        let share = (buf.len() / N.max(1)).max(1);
+        let (winner, got) = {
+            let mut streams = self.iter_mut();
+            let mut shares = buf.chunks_mut(share);
+            let mut i = 0;
+            let reads: [_; N] = core::array::from_fn(|_| {
+                let asked = i < 8 && sectors & (1 << i) != 0;
+                i += 1;
+                let (rx, out) = (streams.next(), shares.next());
+                async move {
+                    match (rx, out) {
+                        (Some(rx), Some(out)) if asked => rx.read(out).await,
+                        _ => core::future::pending().await,
+                    }
+                }
+            });
+            let (got, winner) = select_array(reads).await;
+            (winner, got)
+        };
+        let got = got.map(|n| {
+            // `min`: a driver claiming more than its share cannot make us index out of bounds.
+            let n = n.min(share);
+            // Shares do not overlap the front (`n <= share <= start`): a copy, not a move.
+            let (front, rest) = buf.split_at_mut((winner * share).min(buf.len()));
+            if let (Some(to), Some(from)) = (front.get_mut(..n), rest.get(..n)) {
+                to.copy_from_slice(from);
+            }
+            n
+        });
+        (winner, got)
+    }
+}
+
+impl<T: Receivers + ?Sized> Receivers for &mut T {
+    type Error = T::Error;
+
+    async fn read(&mut self, sectors: u8, buf: &mut [u8]) -> (usize, Result<usize, T::Error>) {
+        T::read(self, sectors, buf).await
+    }
+}
 
 /// What kind of failure a [`Sensor`] or [`Leds`] error is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

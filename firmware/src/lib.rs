@@ -2,8 +2,9 @@
 //!
 //! This crate turns [`protocol::FusedNode`] (fused CIMAX, sans-IO) into a robot:
 //!
-//! - [`hal`]: the hardware seam. Light transmitter and receivers are
-//!   [`embedded_io_async::Write`] and [`Read`](embedded_io_async::Read) byte streams; the
+//! - [`hal`]: the hardware seam. The light transmitter is an [`embedded_io_async::Write`]
+//!   byte stream, the receivers one [`Receivers`] (an array of
+//!   [`Read`](embedded_io_async::Read) byte streams, one per sector, is one); the
 //!   environmental [`Sensor`], the top-cap [`Leds`] and the [`Clock`] are small traits in the
 //!   embedded-hal-async style. Boards and the emulator (`hal-emu`) implement these and nothing
 //!   else.
@@ -53,5 +54,5 @@ pub mod wired;
 pub use embedded_io_async;
 pub use protocol;
 
-pub use hal::{Clock, ErrorKind, LedColor, Leds, Quantity, Sensor};
+pub use hal::{Clock, ErrorKind, LedColor, Leds, Quantity, Receivers, Sensor};
 pub use robot::{Config, Hardware, Observer, Robot, SetupError, Stats};

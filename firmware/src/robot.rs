@@ -1,27 +1,27 @@
 //! The robot program: fused CIMAX ([`protocol::FusedNode`]) bound to the [hardware traits](crate::hal).
 //!
-//! [`Robot::run`] is one `async fn` made of `N + 1` futures joined together (no tasks, no
-//! spawning, no `'static`):
+//! [`Robot::run`] is one `async fn`, one loop (no tasks, no spawning, no `'static`):
 //!
 //! ```text
-//!  receiver[0] ──bytes──▶ listener 0: Deframer ──┐
-//!  receiver[1] ──bytes──▶ listener 1: Deframer ──┼──(sector, message | frame error | rx error)
-//!      ⋮                                         ┘                        │
-//!                                                                   inbox (INBOX slots)
-//!                                                                         ▼
+//!  receivers ──(sector, bytes)──▶ deframer[sector] ──(message | frame error)──┐
+//!  (one future over every sector,                                              │
+//!   hal::Receivers)                                                            ▼
 //!  sensor ──every sample_period──▶ main loop: FusedNode ──poll_transmit──▶ encode ──▶ transmitter
-//!                                   │  sleeps until the inbox has something or
+//!                                   │  sleeps until a receiver has bytes or
 //!                                   │  min(poll_timeout, next sample) is reached
 //!                                   └──Event::Decided──▶ LEDs
 //! ```
 //!
-//! With a swarm key ([`Config::key`], feature `keyed`) the listeners' deframers are keyed
+//! With a swarm key ([`Config::key`], feature `keyed`) the deframers are keyed
 //! (`Deframer::with_key`): frames without the swarm's MAC are dropped and counted in
 //! [`Stats::bad_mac`] before the protocol sees them, and `encode` is `encode_keyed`.
 //!
-//! A listener is never cancelled, so a receiver need not be cancel-safe: each one reads for as
-//! long as the robot runs. The main loop waits on "a message in the inbox OR the next
-//! deadline" with [`embassy_futures::select`], which works the same under embassy and tokio.
+//! The loop waits on "a receiver has something OR the next deadline" with
+//! [`embassy_futures::select`], which works the same under embassy and tokio; so a read of
+//! the [`Receivers`] must be cancel-safe. The bytes of one read go through their sector's
+//! deframer one message at a time: each message is handled, and what it makes the protocol
+//! send is sent, before the next is deframed. A receiver that fails is not read for
+//! [`Config::rx_error_backoff`]; one whose stream ended is not read again.
 //!
 //! # What it never does
 //! - panic on input: a corrupt frame, a receiver error, a failed or hung sensor, LED or
@@ -31,29 +31,24 @@
 //! - allocate, spawn, or touch global state: everything lives in [`Robot`] and the future
 //!   returned by [`Robot::run`] (whose size is fixed at compile time).
 //!
-//! The future is not `Send` (its listeners and main loop share a channel in its own frame):
-//! run it on an embassy executor, with `block_on`, or under tokio on a `LocalSet` or
-//! current-thread runtime.
+//! The hardware traits' futures need not be `Send`: run the robot on an embassy executor,
+//! with `block_on`, or under tokio on a `LocalSet` or current-thread runtime.
 
 use core::convert::Infallible;
 use core::future::Future;
+use core::pin::pin;
 
-use embassy_futures::join::{join, join_array};
 use embassy_futures::select::{Either, select};
-use embassy_sync::blocking_mutex::raw::NoopRawMutex;
-use embassy_sync::channel::Channel;
-use embedded_io_async::{Error as _, Read, Write};
+use embedded_io_async::{Error as _, Write};
 use protocol::frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode};
 use protocol::{
     Duration, Event, FusedNode, Instant, Message, ParamError, Params, Sector, SwarmKey, Tag,
 };
 use rand_core::RngCore;
 
-use crate::hal::{Clock, Error as _, LedColor, Leds, Quantity, Sensor};
+use crate::hal::{Clock, Error as _, LedColor, Leds, Quantity, Receivers, Sensor};
 
-/// Messages (or errors) the listeners can hand over before they wait for the main loop.
-pub const INBOX: usize = 4;
-/// Bytes a listener asks its receiver for at a time.
+/// Bytes the robot asks its receivers for at a time: a whole light frame.
 const RX_CHUNK: usize = 32;
 
 /// How a robot runs, beyond the protocol's parameters.
@@ -188,11 +183,12 @@ pub struct Stats {
 /// `receivers[0]` is the right one ([`Sector::RIGHT`]) and `receivers[1]` the left one; use
 /// [`Hardware::line`] to avoid getting them the wrong way round.
 #[derive(Debug)]
-pub struct Hardware<T, R, S, L, C, const N: usize> {
+pub struct Hardware<T, R, S, L, C> {
     /// The broadcasting light transmitter.
     pub transmitter: T,
-    /// One light receiver per sector, indexed by sector.
-    pub receivers: [R; N],
+    /// The light receivers, one per sector ([`Receivers`]): an array of byte streams indexed
+    /// by sector, or a board's one source for all of them.
+    pub receivers: R,
     /// The environmental sensor.
     pub sensor: S,
     /// The top-cap LEDs.
@@ -201,7 +197,7 @@ pub struct Hardware<T, R, S, L, C, const N: usize> {
     pub clock: C,
 }
 
-impl<T, R, S, L, C> Hardware<T, R, S, L, C, 2> {
+impl<T, R, S, L, C> Hardware<T, [R; 2], S, L, C> {
     /// The hardware of a robot in a line: one receiver facing left, one facing right.
     pub fn line(transmitter: T, left: R, right: R, sensor: S, leds: L, clock: C) -> Self {
         // Receivers are indexed by sector.
@@ -216,7 +212,7 @@ impl<T, R, S, L, C> Hardware<T, R, S, L, C, 2> {
     }
 }
 
-/// What a listener hands to the main loop.
+/// What the receivers gave the main loop.
 enum Inbound {
     Message(Sector, Message),
     Corrupt(Sector, FrameError),
@@ -224,7 +220,133 @@ enum Inbound {
     Closed(Sector),
 }
 
-type Inbox = Channel<NoopRawMutex, Inbound, INBOX>;
+/// The receiving side of a running robot: one deframer per sector, and the bytes of the last
+/// read not yet deframed.
+struct Rx<const N: usize> {
+    deframers: [Deframer; N],
+    buf: [u8; RX_CHUNK],
+    /// `buf[at..len]` came from sector `from` and is still to be deframed.
+    at: usize,
+    len: usize,
+    from: usize,
+    /// Sectors still read (bit `i` for sector `i`): a receiver whose stream ended is not.
+    open: u8,
+    /// Per sector, when a receiver that failed is read again.
+    resume: [Instant; N],
+}
+
+impl<const N: usize> Rx<N> {
+    fn new(config: &Config) -> Self {
+        Rx {
+            deframers: core::array::from_fn(|_| match config.key {
+                #[cfg(feature = "keyed")]
+                Some(key) => Deframer::with_key(key),
+                // Without `keyed`, `Robot::new` refused every key.
+                _ => Deframer::new(),
+            }),
+            buf: [0; RX_CHUNK],
+            at: 0,
+            len: 0,
+            from: 0,
+            // `validate` checked N <= MAX_SECTORS (8).
+            open: (0..N).fold(0, |m, i| m | 1u8.checked_shl(i as u32).unwrap_or(0)),
+            resume: [Instant::ZERO; N],
+        }
+    }
+
+    /// The next message or frame error in the bytes read, if they hold one.
+    fn next(&mut self) -> Option<Inbound> {
+        let from = sector(self.from);
+        let deframer = self.deframers.get_mut(self.from)?;
+        while self.at < self.len {
+            let byte = self.buf.get(self.at).copied()?;
+            self.at += 1;
+            match deframer.push(byte) {
+                None => {}
+                Some(Ok(msg)) => return Some(Inbound::Message(from, msg)),
+                Some(Err(e)) => return Some(Inbound::Corrupt(from, e)),
+            }
+        }
+        None
+    }
+
+    /// The sectors to read at `now`: open ones, not resting after an error.
+    fn sectors(&self, now: Instant) -> u8 {
+        (0..N).fold(self.open, |m, i| {
+            if self.resume.get(i).is_some_and(|&t| t > now) {
+                m & !(1u8.checked_shl(i as u32).unwrap_or(0))
+            } else {
+                m
+            }
+        })
+    }
+
+    /// When the next resting receiver is read again, after `now` ([`Instant::MAX`]: none).
+    fn next_resume(&self, now: Instant) -> Instant {
+        self.resume
+            .iter()
+            .copied()
+            .filter(|&t| t > now)
+            .min()
+            .unwrap_or(Instant::MAX)
+    }
+
+    /// Waits until the receivers give something to handle (a message, a frame error, a
+    /// receiver's error or end) or `deadline` comes (`None`; also when a resting receiver is
+    /// to be read again). One wait on the clock for all the reads it takes.
+    async fn receive<R: Receivers, C: Clock>(
+        &mut self,
+        receivers: &mut R,
+        clock: &C,
+        deadline: Instant,
+        backoff: Duration,
+    ) -> Option<Inbound> {
+        if let Some(inbound) = self.next() {
+            return Some(inbound);
+        }
+        let now = clock.now();
+        let mut sleep = pin!(clock.sleep_until(deadline.min(self.next_resume(now))));
+        loop {
+            let read = receivers.read(self.sectors(clock.now()), &mut self.buf);
+            let (i, got) = match select(read, sleep.as_mut()).await {
+                Either::First(got) => got,
+                Either::Second(()) => return None,
+            };
+            let from = sector(i);
+            match got {
+                Ok(0) => {
+                    self.open &= !(1u8.checked_shl(i as u32).unwrap_or(0));
+                    return Some(Inbound::Closed(from));
+                }
+                Ok(n) => {
+                    // `min`: a driver claiming more bytes than the buffer holds cannot panic us.
+                    (self.at, self.len, self.from) = (0, n.min(RX_CHUNK), i);
+                    if let Some(inbound) = self.next() {
+                        return Some(inbound);
+                    }
+                }
+                Err(e) => {
+                    if let Some(d) = self.deframers.get_mut(i) {
+                        d.resync();
+                    }
+                    if let Some(t) = self.resume.get_mut(i) {
+                        *t = clock.now() + backoff;
+                    }
+                    return Some(Inbound::RxError(from, e.kind()));
+                }
+            }
+        }
+    }
+}
+
+/// Sector `i` (receivers are indexed by sector; `Robot::new` checked there are at most
+/// [`protocol::MAX_SECTORS`]).
+fn sector(i: usize) -> Sector {
+    u8::try_from(i)
+        .ok()
+        .and_then(Sector::new)
+        .unwrap_or(Sector::RIGHT)
+}
 
 /// One robot: its protocol node, randomness and counters. Everything it knows lives here, so
 /// any number of robots can share a process.
@@ -233,7 +355,6 @@ pub struct Robot<G: RngCore, const N: usize> {
     config: Config,
     node: FusedNode,
     rng: G,
-    sectors: [Sector; N],
     stats: Stats,
     shown: Option<LedColor>,
 }
@@ -269,13 +390,10 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
             params.max_hops = params.max_hops.min(KEYED_MAX_HOPS as u8);
         }
         let node = FusedNode::new(params, Tag::from_id(config.id), now, &mut rng)?;
-        // `validate` checked 2 <= N <= MAX_SECTORS, so every index is a sector.
-        let sectors = core::array::from_fn(|i| Sector::new(i as u8).unwrap_or(Sector::RIGHT));
         Ok(Robot {
             config,
             node,
             rng,
-            sectors,
             stats: Stats::default(),
             shown: None,
         })
@@ -308,10 +426,10 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
 
     /// Runs the robot on `hw` for ever; [`run_observed`](Self::run_observed) without an
     /// observer.
-    pub async fn run<T, R, S, L, C>(&mut self, hw: &mut Hardware<T, R, S, L, C, N>) -> Infallible
+    pub async fn run<T, R, S, L, C>(&mut self, hw: &mut Hardware<T, R, S, L, C>) -> Infallible
     where
         T: Write,
-        R: Read,
+        R: Receivers,
         S: Sensor,
         L: Leds,
         C: Clock,
@@ -322,18 +440,21 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
     /// Runs the robot on `hw` for ever, telling `observer` every protocol event (wave state
     /// changes, preference changes, decisions) with its time: for traces and test harnesses.
     ///
+    /// `hw.receivers` has the robot's `N` sectors (an array of `N` byte streams, or a board's
+    /// source for them); a sector beyond them is never asked for.
+    ///
     /// To stop it (tests, emulation, a supervisor), drop the future, e.g. by racing it against
     /// something else with `select`; the robot keeps its state and counters and may be run
-    /// again (a frame half received at that moment is lost). See the [module docs](self) for
-    /// what it does.
+    /// again (bytes read but not yet deframed at that moment are lost). See the
+    /// [module docs](self) for what it does.
     pub async fn run_observed<T, R, S, L, C, O>(
         &mut self,
-        hw: &mut Hardware<T, R, S, L, C, N>,
+        hw: &mut Hardware<T, R, S, L, C>,
         observer: &mut O,
     ) -> Infallible
     where
         T: Write,
-        R: Read,
+        R: Receivers,
         S: Sensor,
         L: Leds,
         C: Clock,
@@ -346,16 +467,6 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
             leds,
             clock,
         } = hw;
-        let clock = &*clock;
-        let inbox = Inbox::new();
-        let backoff = self.config.rx_error_backoff;
-        let key = self.config.key;
-        let mut i = 0;
-        let listeners = receivers.each_mut().map(|rx| {
-            let from = self.sectors.get(i).copied().unwrap_or(Sector::RIGHT);
-            i += 1;
-            listen(rx, from, key, &inbox, clock, backoff)
-        });
         let mut main = Main {
             config: &self.config,
             node: &mut self.node,
@@ -364,54 +475,9 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
             shown: &mut self.shown,
             observer,
         };
-        let (never, _) = join(
-            main.run(transmitter, sensor, leds, clock, &inbox),
-            join_array(listeners),
-        )
-        .await;
-        never
-    }
-}
-
-/// Reads one receiver for ever, deframing its bytes into the inbox (keyed frames only if the
-/// robot has a swarm key).
-async fn listen<R: Read, C: Clock>(
-    rx: &mut R,
-    from: Sector,
-    key: Option<SwarmKey>,
-    inbox: &Inbox,
-    clock: &C,
-    backoff: Duration,
-) -> Infallible {
-    let mut deframer = match key {
-        #[cfg(feature = "keyed")]
-        Some(key) => Deframer::with_key(key),
-        // Without `keyed`, `Robot::new` refused every key.
-        _ => Deframer::new(),
-    };
-    let mut buf = [0u8; RX_CHUNK];
-    loop {
-        match rx.read(&mut buf).await {
-            Ok(0) => {
-                inbox.send(Inbound::Closed(from)).await;
-                return core::future::pending().await;
-            }
-            Ok(n) => {
-                // `take(n)`: a driver claiming more bytes than the buffer holds cannot panic us.
-                for &byte in buf.iter().take(n) {
-                    match deframer.push(byte) {
-                        None => {}
-                        Some(Ok(msg)) => inbox.send(Inbound::Message(from, msg)).await,
-                        Some(Err(e)) => inbox.send(Inbound::Corrupt(from, e)).await,
-                    }
-                }
-            }
-            Err(e) => {
-                deframer.resync();
-                inbox.send(Inbound::RxError(from, e.kind())).await;
-                clock.sleep_until(clock.now() + backoff).await;
-            }
-        }
+        let mut rx = Rx::<N>::new(main.config);
+        main.run(transmitter, receivers, &mut rx, sensor, leds, &*clock)
+            .await
     }
 }
 
@@ -487,13 +553,14 @@ struct Main<'r, G, O> {
 }
 
 impl<G: RngCore, O: Observer> Main<'_, G, O> {
-    async fn run<T: Write, S: Sensor, L: Leds, C: Clock>(
+    async fn run<T: Write, R: Receivers, S: Sensor, L: Leds, C: Clock, const N: usize>(
         &mut self,
         tx: &mut T,
+        receivers: &mut R,
+        rx: &mut Rx<N>,
         sensor: &mut S,
         leds: &mut L,
         clock: &C,
-        inbox: &Inbox,
     ) -> Infallible {
         let id = self.config.id;
         info!(
@@ -524,9 +591,8 @@ impl<G: RngCore, O: Observer> Main<'_, G, O> {
                 .poll_timeout()
                 .min(next_sample)
                 .max(now + Duration::from_millis(1));
-            if let Either::First(inbound) =
-                select(inbox.receive(), clock.sleep_until(wake_at)).await
-            {
+            let backoff = self.config.rx_error_backoff;
+            if let Some(inbound) = rx.receive(receivers, clock, wake_at, backoff).await {
                 self.receive(inbound, clock);
             }
         }

@@ -180,7 +180,7 @@ impl Leds for FakeLeds {
     }
 }
 
-type FakeHardware = Hardware<RecordingTx, ScriptRx, FakeSensor, FakeLeds, TokioClock, 2>;
+type FakeHardware = Hardware<RecordingTx, [ScriptRx; 2], FakeSensor, FakeLeds, TokioClock>;
 
 // ---------------------------------------------------------------------------------------------
 // Scripted neighbours
@@ -750,4 +750,80 @@ async fn the_main_loop_comes_round_at_least_every_few_seconds() {
         hung <= 3_000,
         "with hung devices the longest round gap is {hung} ms"
     );
+}
+
+#[tokio::test(start_paused = true)]
+async fn a_failing_receiver_rests_between_reads_and_the_other_still_hears() {
+    let (mut robot, mut hw) = scene(Sector::LEFT, 5);
+    // The right receiver fails every 5 ms for the whole run.
+    let errors: Vec<Step> = (0..TWO_PERIODS_MS)
+        .step_by(5)
+        .map(|t| (t, Err(IoKind::Other)))
+        .collect();
+    let scripted = errors.len() as u64;
+    hw.receivers[Sector::RIGHT.index() as usize] = ScriptRx::new(hw.clock, errors);
+    let left_frames = hw.receivers[Sector::LEFT.index() as usize].steps.len() as u32;
+    run_for(&mut robot, &mut hw, TWO_PERIODS_MS).await;
+    let s = *robot.stats();
+    // Read again only after each back-off (100 ms): one error per back-off, not per 5 ms.
+    let backoff = Config::robots().rx_error_backoff.as_millis();
+    let rests = TWO_PERIODS_MS / backoff;
+    let errors = u64::from(s.rx_errors);
+    assert!(errors <= rests + 1 && errors >= rests * 9 / 10, "{s:?}");
+    assert!(errors < scripted / 10, "{errors} of {scripted}");
+    // The left receiver is read all along: every frame of the lit neighbour is heard, and
+    // followed.
+    assert!(left_frames > 25);
+    assert_eq!(s.messages, left_frames, "{s:?}");
+    expect_decided(&robot, &hw, L, 5);
+}
+
+#[tokio::test(start_paused = true)]
+async fn an_array_of_streams_is_read_as_one_lowest_sector_first() {
+    use firmware::hal::Receivers;
+    let clock = TokioClock::new();
+    let at = |t: u64, bytes: &[u8]| (t, Ok(bytes.to_vec()));
+    let mut rx = [
+        ScriptRx::new(clock, vec![at(10, b"right"), at(30, b"r2")]),
+        ScriptRx::new(
+            clock,
+            vec![at(10, b"left"), at(20, b"l2"), (40, Err(IoKind::Other))],
+        ),
+    ];
+    rx[0].close_at_end = true;
+    let mut buf = [0u8; 32];
+    let mut got = Vec::new();
+    for k in 0..6 {
+        // After its end the right stream is not asked for again, as the robot does.
+        let asked = if k < 5 { 0b11 } else { 0b10 };
+        let (i, r) = rx.read(asked, &mut buf).await;
+        got.push((clock.now().as_millis(), i, r.map(|n| buf[..n].to_vec())));
+    }
+    let ok = |t: u64, i: usize, b: &[u8]| (t, i, Ok(b.to_vec()));
+    assert_eq!(
+        got,
+        [
+            // Both have bytes at 10 ms: the right (sector 0) first.
+            ok(10, 0, b"right"),
+            ok(10, 1, b"left"),
+            ok(20, 1, b"l2"),
+            ok(30, 0, b"r2"),
+            // The right stream ended; the left fails at 40 ms.
+            ok(30, 0, b""),
+            (40, 1, Err(IoKind::Other)),
+        ]
+    );
+    // Only the sectors asked for are read; each gets half of a buffer: 16 bytes.
+    let mut rx = [
+        ScriptRx::new(clock, vec![at(50, b"not asked")]),
+        ScriptRx::new(clock, vec![at(60, &[7; 20])]),
+    ];
+    let (i, r) = rx.read(0b10, &mut buf).await;
+    assert_eq!((clock.now().as_millis(), i, r), (60, 1, Ok(16)));
+    assert_eq!(buf[..16], [7; 16]);
+    assert_eq!(rx[0].steps.len(), 1, "the right one was not read");
+    // A buffer with room for one byte reads the lowest sector only.
+    let mut one = [0u8; 1];
+    assert_eq!(rx.read(0b11, &mut one).await, (0, Ok(1)));
+    assert_eq!(one, [b'n']);
 }

@@ -400,7 +400,7 @@ async fn main(_spawner: Spawner) {
             },
             ..Config::robots()
         };
-        let mut robot = match Robot::new(config, hw.clock.now(), rng) {
+        let mut robot = match Robot::<_, 2>::new(config, hw.clock.now(), rng) {
             Ok(robot) => robot,
             Err(e) => defmt::panic!("setup: {}", e),
         };

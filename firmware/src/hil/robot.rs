@@ -251,14 +251,8 @@ impl<W: Write, const N: usize> Link<W, N> {
     pub fn hardware<C: Clock>(
         &self,
         clock: C,
-    ) -> Hardware<
-        HilTransmitter<'_, W, N>,
-        &Pipe<NoopRawMutex, RX_PIPE>,
-        HilSensor<'_, W, N>,
-        HilLeds<'_, W, N>,
-        C,
-        N,
-    > {
+    ) -> Hardware<HilTransmitter<'_, W, N>, Pipes<'_, N>, HilSensor<'_, W, N>, HilLeds<'_, W, N>, C>
+    {
         Hardware {
             transmitter: HilTransmitter { link: self },
             receivers: core::array::from_fn(|i| &self.pipes[i]),
@@ -268,6 +262,9 @@ impl<W: Write, const N: usize> Link<W, N> {
         }
     }
 }
+
+/// The receivers of a robot in the loop: one pipe per sector, fed by the pump.
+pub type Pipes<'a, const N: usize> = [&'a Pipe<NoopRawMutex, RX_PIPE>; N];
 
 /// What the beat owes the host.
 #[derive(Clone, Copy, Debug)]

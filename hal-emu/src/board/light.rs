@@ -2,8 +2,8 @@
 //! byte streams ([`embedded_io_async::Write`] and [`Read`]).
 //!
 //! A transmitter broadcasts each write as one frame into the [`Air`] and returns when its
-//! airtime is over; a receiver reads the bytes of the frames that reached its sector, one frame
-//! after the other, from a channel. What happens on the way (range, airtime, collisions, loss)
+//! airtime is over; the receivers ([`EmuReceivers`], the firmware's `Receivers`) read the
+//! bytes of the frames that reached each sector, one frame after the other. What happens on the way (range, airtime, collisions, loss)
 //! is the world's business: the world's light medium implements [`Air`], makes these types
 //! when a robot boots and feeds the receivers' channels. These types only hand bytes over.
 
@@ -11,10 +11,11 @@ use std::cell::RefCell;
 use std::collections::VecDeque;
 use std::fmt;
 use std::rc::Rc;
-use std::task::{Poll, Waker};
+use std::task::{Context, Poll, Waker};
 
 use embedded_io_async::{ErrorKind, ErrorType, Read, Write};
 use firmware::Clock;
+use firmware::hal::Receivers;
 use protocol::Instant;
 use tokio::sync::mpsc::UnboundedReceiver;
 
@@ -63,27 +64,17 @@ impl Write for EmuTransmitter {
     }
 }
 
-/// A robot's light receiver for one sector: an [`embedded_io_async::Read`] of the bytes that
-/// reached it.
+/// A robot's light receivers, one per sector, read as one ([`firmware::hal::Receivers`]): the
+/// bytes of the frames that reached each sector, one frame after the other.
 ///
-/// The world feeds a robot's receivers through one [`Light`] (one shared inbox for all of
-/// them, [`receivers`]): a frame wakes the robot's task once, and a robot with nothing to read
-/// costs a look at one small struct, not one channel per sector. A receiver can also read a
-/// channel of byte chunks: a serial link, as the robot in the loop's.
+/// The world feeds them through one [`Light`] (one inbox for all sectors, [`receivers`]): a
+/// frame wakes the robot once, and a robot with nothing to read costs a look at one bit mask.
 #[derive(Debug)]
-pub struct EmuReceiver {
-    source: Source,
-    buf: Vec<u8>,
-    pos: usize,
-}
-
-#[derive(Debug)]
-enum Source {
-    Channel(UnboundedReceiver<Vec<u8>>),
-    Light {
-        light: Rc<RefCell<Inbox>>,
-        sector: usize,
-    },
+pub struct EmuReceivers {
+    light: Rc<RefCell<Inbox>>,
+    /// The rest of a frame longer than the read that took it: its sector, bytes and how far
+    /// they were read.
+    rest: Option<(usize, Vec<u8>, usize)>,
 }
 
 /// What the world has put into a robot's receivers and not yet read: frames per sector, in
@@ -91,7 +82,9 @@ enum Source {
 #[derive(Debug, Default)]
 struct Inbox {
     frames: Vec<VecDeque<Vec<u8>>>,
-    wakers: Vec<Option<Waker>>,
+    /// Bit `s` set: sector `s` has frames.
+    ready: u8,
+    waker: Option<Waker>,
     /// The robot is detached from the light: its receivers read to the end of what came, then
     /// end (`Ok(0)`), as a channel whose senders are gone.
     closed: bool,
@@ -103,7 +96,7 @@ struct Inbox {
 pub struct Light(Rc<RefCell<Inbox>>);
 
 impl Light {
-    /// Puts `frame` into receiver `sector` and wakes its reader; a sector the robot does not
+    /// Puts `frame` into receiver `sector` and wakes the robot; a sector the robot does not
     /// have gets nothing.
     pub fn put(&self, sector: usize, frame: Vec<u8>) {
         let waker = {
@@ -112,7 +105,8 @@ impl Light {
                 return;
             };
             q.push_back(frame);
-            inbox.wakers.get_mut(sector).and_then(Option::take)
+            inbox.ready |= bit(sector);
+            inbox.waker.take()
         };
         if let Some(w) = waker {
             w.wake();
@@ -121,12 +115,12 @@ impl Light {
 
     /// Closes every receiver: each reads what it still has, then ends.
     pub fn close(&self) {
-        let wakers: Vec<Waker> = {
+        let waker = {
             let mut inbox = self.0.borrow_mut();
             inbox.closed = true;
-            inbox.wakers.iter_mut().filter_map(Option::take).collect()
+            inbox.waker.take()
         };
-        for w in wakers {
+        if let Some(w) = waker {
             w.wake();
         }
     }
@@ -138,61 +132,114 @@ impl Drop for Light {
     }
 }
 
-/// `sectors` receivers fed through one [`Light`], indexed by sector.
-pub fn receivers(sectors: usize) -> (Light, Vec<EmuReceiver>) {
+/// Sector `s`'s bit in a mask (none beyond the eighth).
+fn bit(s: usize) -> u8 {
+    u32::try_from(s)
+        .ok()
+        .and_then(|s| 1u8.checked_shl(s))
+        .unwrap_or(0)
+}
+
+/// `sectors` receivers (at most 8) fed through one [`Light`], indexed by sector.
+pub fn receivers(sectors: usize) -> (Light, EmuReceivers) {
     let inbox = Rc::new(RefCell::new(Inbox {
-        frames: (0..sectors).map(|_| VecDeque::new()).collect(),
-        wakers: vec![None; sectors],
+        frames: (0..sectors.min(8)).map(|_| VecDeque::new()).collect(),
+        ready: 0,
+        waker: None,
         closed: false,
     }));
-    let rx = (0..sectors)
-        .map(|sector| EmuReceiver {
-            source: Source::Light {
-                light: inbox.clone(),
-                sector,
-            },
-            buf: Vec::new(),
-            pos: 0,
-        })
-        .collect();
+    let rx = EmuReceivers {
+        light: inbox.clone(),
+        rest: None,
+    };
     (Light(inbox), rx)
+}
+
+impl EmuReceivers {
+    /// How many sectors the receivers have.
+    pub fn sectors(&self) -> usize {
+        self.light.borrow().frames.len()
+    }
+
+    /// What a read of `sectors` into `out` finds now, if anything.
+    fn poll_read(
+        &mut self,
+        sectors: u8,
+        out: &mut [u8],
+        cx: &mut Context<'_>,
+    ) -> Poll<(usize, Result<usize, ErrorKind>)> {
+        if let Some((s, bytes, pos)) = &mut self.rest
+            && sectors & bit(*s) != 0
+        {
+            let s = *s;
+            let n = copy(bytes, pos, out);
+            if *pos >= bytes.len() {
+                self.rest = None;
+            }
+            return Poll::Ready((s, Ok(n)));
+        }
+        let mut inbox = self.light.borrow_mut();
+        let all = bit(inbox.frames.len()).wrapping_sub(1);
+        let ready = inbox.ready & sectors;
+        if ready != 0 {
+            let s = ready.trailing_zeros() as usize;
+            let q = &mut inbox.frames[s];
+            let frame = q.pop_front().unwrap_or_default();
+            if q.is_empty() {
+                inbox.ready &= !bit(s);
+            }
+            let mut pos = 0;
+            let n = copy(&frame, &mut pos, out);
+            if pos < frame.len() {
+                self.rest = Some((s, frame, pos));
+            }
+            return Poll::Ready((s, Ok(n)));
+        }
+        let asked = sectors & all;
+        if inbox.closed && asked != 0 {
+            return Poll::Ready((asked.trailing_zeros() as usize, Ok(0)));
+        }
+        match &inbox.waker {
+            Some(w) if w.will_wake(cx.waker()) => {}
+            _ => inbox.waker = Some(cx.waker().clone()),
+        }
+        Poll::Pending
+    }
+}
+
+/// Copies what `out` holds of `bytes[*pos..]` and moves `pos` on; how many.
+fn copy(bytes: &[u8], pos: &mut usize, out: &mut [u8]) -> usize {
+    let rest = bytes.get(*pos..).unwrap_or(&[]);
+    let n = rest.len().min(out.len());
+    out[..n].copy_from_slice(&rest[..n]);
+    *pos += n;
+    n
+}
+
+impl Receivers for EmuReceivers {
+    type Error = ErrorKind;
+
+    async fn read(&mut self, sectors: u8, buf: &mut [u8]) -> (usize, Result<usize, ErrorKind>) {
+        std::future::poll_fn(|cx| self.poll_read(sectors, buf, cx)).await
+    }
+}
+
+/// A byte stream over a channel of byte chunks ([`embedded_io_async::Read`]): what a light
+/// receiver is, for the robot in the loop's link in this process.
+#[derive(Debug)]
+pub struct EmuReceiver {
+    rx: UnboundedReceiver<Vec<u8>>,
+    buf: Vec<u8>,
+    pos: usize,
 }
 
 impl EmuReceiver {
     /// A receiver reading what the world puts into `rx`, one chunk of bytes per message.
     pub(crate) fn new(rx: UnboundedReceiver<Vec<u8>>) -> Self {
         EmuReceiver {
-            source: Source::Channel(rx),
+            rx,
             buf: Vec::new(),
             pos: 0,
-        }
-    }
-
-    /// The next frame (or chunk), `None` at the end.
-    async fn next(&mut self) -> Option<Vec<u8>> {
-        match &mut self.source {
-            Source::Channel(rx) => rx.recv().await,
-            Source::Light { light, sector } => {
-                let sector = *sector;
-                std::future::poll_fn(|cx| {
-                    let mut inbox = light.borrow_mut();
-                    if let Some(frame) = inbox.frames.get_mut(sector).and_then(VecDeque::pop_front)
-                    {
-                        return Poll::Ready(Some(frame));
-                    }
-                    if inbox.closed {
-                        return Poll::Ready(None);
-                    }
-                    if let Some(slot) = inbox.wakers.get_mut(sector) {
-                        match slot {
-                            Some(w) if w.will_wake(cx.waker()) => {}
-                            _ => *slot = Some(cx.waker().clone()),
-                        }
-                    }
-                    Poll::Pending
-                })
-                .await
-            }
         }
     }
 }
@@ -207,7 +254,7 @@ impl Read for EmuReceiver {
             return Ok(0);
         }
         while self.pos >= self.buf.len() {
-            match self.next().await {
+            match self.rx.recv().await {
                 Some(b) => {
                     self.buf = b;
                     self.pos = 0;
@@ -215,9 +262,36 @@ impl Read for EmuReceiver {
                 None => return Ok(0),
             }
         }
-        let n = out.len().min(self.buf.len() - self.pos);
-        out[..n].copy_from_slice(&self.buf[self.pos..self.pos + n]);
-        self.pos += n;
-        Ok(n)
+        Ok(copy(&self.buf, &mut self.pos, out))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[tokio::test(flavor = "current_thread")]
+    async fn receivers_read_lowest_sector_first_then_end_when_closed() {
+        let (light, mut rx) = receivers(3);
+        assert_eq!(rx.sectors(), 3);
+        light.put(2, b"two".to_vec());
+        light.put(0, b"zero".to_vec());
+        light.put(2, vec![9; 40]);
+        light.put(7, b"no such sector".to_vec());
+        let mut buf = [0u8; 32];
+        let mut read = async |asked: u8| {
+            let (s, r) = rx.read(asked, &mut buf).await;
+            (s, r.map(|n| buf[..n].to_vec()))
+        };
+        assert_eq!(read(0b111).await, (0, Ok(b"zero".to_vec())));
+        // Only the sectors asked for.
+        assert_eq!(read(0b110).await, (2, Ok(b"two".to_vec())));
+        // A frame longer than the buffer comes in two reads.
+        assert_eq!(read(0b111).await, (2, Ok(vec![9; 32])));
+        assert_eq!(read(0b111).await, (2, Ok(vec![9; 8])));
+        drop(light);
+        // Closed and empty: each sector asked for ends, lowest first.
+        assert_eq!(read(0b110).await, (1, Ok(vec![])));
+        assert_eq!(read(0b100).await, (2, Ok(vec![])));
     }
 }

@@ -195,8 +195,12 @@ async fn life_of<const N: usize>(
 ) -> Result<Counters, String> {
     let (tx, rx) = Medium::attach(&shared.medium, robot).map_err(|e| e.to_string())?;
     // Receivers come indexed by sector (with two: right, left).
-    let receivers = <[_; N]>::try_from(rx)
-        .map_err(|rx| format!("the medium gave {} receivers for {N} sectors", rx.len()))?;
+    if rx.sectors() != N {
+        return Err(format!(
+            "the medium gave {} receivers for {N} sectors",
+            rx.sectors()
+        ));
+    }
     let clock = shared.clock.clone();
     let sensor = EmuSensor::new(
         shared.surroundings.clone(),
@@ -207,7 +211,7 @@ async fn life_of<const N: usize>(
     let leds = EmuLeds::new(shared.leds.clone(), robot);
     let mut hw = Hardware {
         transmitter: tx,
-        receivers,
+        receivers: rx,
         sensor,
         leds,
         clock: clock.clone(),
@@ -265,7 +269,7 @@ async fn in_the_loop(
         transport,
         clock: clock.clone(),
         transmitter: Some(tx),
-        receivers: rx,
+        receivers: Some(rx),
         sensor: EmuSensor::new(
             shared.surroundings.clone(),
             robot,

@@ -2,7 +2,7 @@
 //! `Hello`, sends the run's `Setup`, then carries the robot's light into the medium and back,
 //! its sensor's readings, its LEDs and heartbeats, until the run ends or the robot fails.
 
-use embedded_io_async::{Read, Write};
+use embedded_io_async::Write;
 use firmware::hil::robot::led_decision;
 use firmware::hil::{
     CHUNK_MAX, LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkError, LinkMsg, Setup,
@@ -18,8 +18,9 @@ use super::link::open;
 use super::transport::Transport;
 use crate::board::clock::EmuClock;
 use crate::board::leds::EmuLeds;
-use crate::board::light::{EmuReceiver, EmuTransmitter};
+use crate::board::light::{EmuReceivers, EmuTransmitter};
 use crate::board::sensor::EmuSensor;
+use firmware::hal::Receivers as _;
 
 /// What the bridge of one robot needs from the run.
 pub(crate) struct Bridge {
@@ -27,7 +28,7 @@ pub(crate) struct Bridge {
     pub(crate) transport: Transport,
     pub(crate) clock: EmuClock,
     pub(crate) transmitter: Option<EmuTransmitter>,
-    pub(crate) receivers: Vec<EmuReceiver>,
+    pub(crate) receivers: Option<EmuReceivers>,
     pub(crate) sensor: EmuSensor,
     pub(crate) leds: EmuLeds,
     pub(crate) config: Config,
@@ -320,19 +321,27 @@ impl Bridge {
         }
     }
 
-    /// Starts the robot's light: a task per receiver handing what reaches it to the returned
-    /// channel, and one putting the frames sent into the returned one on air, one at a time
-    /// as from the robot's own transmitter. The tasks end when the guard is dropped.
+    /// Starts the robot's light: a task handing what reaches its receivers to the returned
+    /// channel, with the sector, and one putting the frames sent into the returned one on air,
+    /// one at a time as from the robot's own transmitter. The tasks end when the guard is
+    /// dropped.
     fn start_light(&mut self) -> (Heard, UnboundedSender<Vec<u8>>, AbortAll) {
         let (heard_tx, heard) = unbounded_channel::<(usize, Vec<u8>)>();
         let mut tasks = Vec::new();
-        for (sector, mut rx) in std::mem::take(&mut self.receivers).into_iter().enumerate() {
-            let tx = heard_tx.clone();
+        if let Some(mut rx) = self.receivers.take() {
             tasks.push(tokio::task::spawn_local(async move {
                 let mut buf = [0u8; CHUNK_MAX];
-                while let Ok(n @ 1..) = rx.read(&mut buf).await {
-                    if tx.send((sector, buf[..n].to_vec())).is_err() {
-                        return;
+                // Every sector until its stream ends.
+                let mut open = u8::MAX;
+                while open != 0 {
+                    let (sector, got) = rx.read(open, &mut buf).await;
+                    match got {
+                        Ok(n @ 1..) => {
+                            if heard_tx.send((sector, buf[..n].to_vec())).is_err() {
+                                return;
+                            }
+                        }
+                        _ => open &= !(1u8.checked_shl(sector as u32).unwrap_or(0)),
                     }
                 }
             }));

@@ -41,7 +41,7 @@ use serde::Serialize;
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
 use crate::board::clock::EmuClock;
-use crate::board::light::{self, Air, EmuReceiver, EmuTransmitter, Light};
+use crate::board::light::{self, Air, EmuReceivers, EmuTransmitter, Light};
 
 pub mod trace;
 
@@ -368,8 +368,8 @@ impl Medium {
         self.nodes.get(node).map_or(Instant::ZERO, |n| n.tx_until)
     }
 
-    /// Brings robot `robot` (back) to life: returns its new transmitter and one receiver per
-    /// sector, indexed by sector.
+    /// Brings robot `robot` (back) to life: returns its new transmitter and its receivers, one
+    /// per sector.
     ///
     /// # Errors
     /// [`NoSuchNode`] if the medium has no node `robot`; nothing changes then. An error, not a
@@ -378,7 +378,7 @@ impl Medium {
     pub fn attach(
         this: &SharedMedium,
         robot: usize,
-    ) -> Result<(EmuTransmitter, Vec<EmuReceiver>), NoSuchNode> {
+    ) -> Result<(EmuTransmitter, EmuReceivers), NoSuchNode> {
         let mut m = this.borrow_mut();
         let nodes = m.nodes.len();
         let node = m
@@ -729,7 +729,7 @@ mod tests {
         assert!(e.to_string().contains("no node 2"), "{e}");
         assert!(Medium::attach(&m, usize::MAX).is_err());
         let (_, receivers) = Medium::attach(&m, 1).expect("robot 1 exists");
-        assert_eq!(receivers.len(), 2, "one receiver per sector");
+        assert_eq!(receivers.sectors(), 2, "one receiver per sector");
     }
 
     #[test]

@@ -29,7 +29,7 @@ impl EmuClock {
 
     /// A clock on a new [`Timeline`] whose zero is now, and the timeline's driver, to be
     /// spawned on the run's runtime (paused: virtual time). Every user of the clock then waits
-    /// on one heap of deadlines instead of tokio's timer wheel.
+    /// on one queue of deadlines instead of tokio's timer wheel.
     pub fn on_timeline() -> (Self, impl std::future::Future<Output = ()>) {
         let epoch = tokio::time::Instant::now();
         let timeline = Rc::new(Timeline::default());

@@ -8,7 +8,8 @@
 //! - [`leds`]: the top-cap [`Leds`](firmware::Leds);
 //! - [`clock`]: the [`Clock`](firmware::Clock), virtual time on tokio's paused clock, one value
 //!   shared by every robot of a run and by the world around them;
-//! - [`timeline`]: the deadlines of a virtual-time run, one heap driven by one tokio timer.
+//! - [`timeline`]: the deadlines of a virtual-time run, one queue (a wheel of
+//!   milliseconds, a heap beyond) driven by one tokio timer.
 //!
 //! ## Layering
 //! The board is the bottom layer of hal-emu: it imports nothing of [`crate::world`]. What a

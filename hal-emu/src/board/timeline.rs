@@ -3,9 +3,9 @@
 //!
 //! Under tokio's paused clock every `sleep` is a timer-wheel entry, every `now` a lock and a
 //! subtraction; a robot wakes about twice per emulated second, so with a thousand robots those
-//! dominated the run. Here a deadline is a heap entry, `now` a cell, and the one [`drive`]r
-//! task sleeps on tokio's clock until the earliest deadline, sets `now` and wakes whoever
-//! waited for it. Deadlines that fall on the same millisecond wake in the order they were
+//! dominated the run. Here a deadline is an entry in a wheel of one bucket per millisecond for
+//! the next four seconds (a heap beyond), `now` a cell, and the one [`drive`]r task sleeps on
+//! tokio's clock until the earliest deadline, sets `now` and wakes whoever waited for it. Deadlines that fall on the same millisecond wake in the order they were
 //! set: a run is the same run for the same seed.
 
 use std::cell::{Cell, RefCell};
@@ -19,21 +19,82 @@ use std::task::{Context, Poll, Waker};
 use protocol::Instant;
 use slab::Slab;
 
+/// Milliseconds ahead that a deadline goes straight into the [`Wheel`] (a robot's deadlines
+/// are its next sample, a second ahead, its wave timers and its frames' airtimes); later ones
+/// wait in a heap until they come within it.
+const WHEEL_MS: u64 = 4096;
+
+/// A wait on the timeline: its sequence number and slot in `Timeline::waiting`.
+type Entry = (u64, usize);
+
+/// The deadlines of the next [`WHEEL_MS`] milliseconds, one bucket per millisecond (bucket
+/// `ms % WHEEL_MS`), each in the order its waits were set, with a bit per bucket that has any:
+/// setting a deadline is a push, finding the next a scan of 64 words.
+#[derive(Debug)]
+struct Wheel {
+    buckets: Vec<Vec<Entry>>,
+    occupied: [u64; (WHEEL_MS / 64) as usize],
+}
+
+impl Default for Wheel {
+    fn default() -> Self {
+        Wheel {
+            buckets: vec![Vec::new(); WHEEL_MS as usize],
+            occupied: [0; (WHEEL_MS / 64) as usize],
+        }
+    }
+}
+
+impl Wheel {
+    fn push(&mut self, ms: u64, e: Entry) {
+        let b = (ms % WHEEL_MS) as usize;
+        self.buckets[b].push(e);
+        self.occupied[b / 64] |= 1 << (b % 64);
+    }
+
+    /// The first occupied bucket at or after `ms`, within `span` milliseconds: its millisecond.
+    fn first(&self, ms: u64, span: u64) -> Option<u64> {
+        let mut off = 0;
+        while off < span {
+            let b = ((ms + off) % WHEEL_MS) as usize;
+            let bits = self.occupied[b / 64] >> (b % 64);
+            if bits != 0 {
+                let at = off + u64::from(bits.trailing_zeros());
+                return (at < span).then_some(ms + at);
+            }
+            off += 64 - (b % 64) as u64;
+        }
+        None
+    }
+
+    /// Empties the bucket of `ms`, keeping its allocation: the caller drains `into`.
+    fn take(&mut self, ms: u64, into: &mut Vec<Entry>) {
+        let b = (ms % WHEEL_MS) as usize;
+        into.append(&mut self.buckets[b]);
+        self.occupied[b / 64] &= !(1 << (b % 64));
+    }
+}
+
 /// The deadlines of a run and its time now.
 #[derive(Debug, Default)]
 pub struct Timeline {
     now: Cell<Instant>,
-    /// Deadlines waited for, earliest first, ties in the order they were set: `(deadline,
-    /// sequence number, slot in `waiting`)`. Entries whose wait ended early stay here until
-    /// their time and are skipped then.
-    queue: RefCell<BinaryHeap<Reverse<(Instant, u64, usize)>>>,
+    /// Deadlines waited for within [`WHEEL_MS`] of now. Entries whose wait ended early stay
+    /// until their time and are skipped then.
+    wheel: RefCell<Wheel>,
+    /// Deadlines further away, earliest first, ties in the order they were set: `(deadline,
+    /// sequence number, slot)`. They move into the wheel as time comes near them, before any
+    /// wait for the same millisecond can be set there, so every millisecond's waits stay in the
+    /// order they were set.
+    far: RefCell<BinaryHeap<Reverse<(Instant, u64, usize)>>>,
     /// Who waits: `(sequence number, waker)`, by slot.
     waiting: RefCell<Slab<(u64, Waker)>>,
     next_seq: Cell<u64>,
     /// The deadline the driver sleeps until, and its waker (told when an earlier one is set).
     armed: Cell<Instant>,
     driver: RefCell<Option<Waker>>,
-    /// The wakers of one step, kept between steps.
+    /// The entries and wakers of one step, kept between steps.
+    step: RefCell<Vec<Entry>>,
     due: RefCell<Vec<Waker>>,
 }
 
@@ -50,7 +111,15 @@ impl Timeline {
         let seq = self.next_seq.get();
         self.next_seq.set(seq + 1);
         let slot = self.waiting.borrow_mut().insert((seq, waker.clone()));
-        self.queue.borrow_mut().push(Reverse((deadline, seq, slot)));
+        let now = self.now.get().as_millis();
+        // A `Sleep` waits only for deadlines after now; one that is not would wake at the
+        // next millisecond.
+        let ms = deadline.as_millis().max(now + 1);
+        if ms - now < WHEEL_MS {
+            self.wheel.borrow_mut().push(ms, (seq, slot));
+        } else {
+            self.far.borrow_mut().push(Reverse((deadline, seq, slot)));
+        }
         if deadline < self.armed.get()
             && let Some(d) = self.driver.borrow().as_ref()
         {
@@ -77,38 +146,79 @@ impl Timeline {
 
     /// The earliest deadline still waited for (dropping those whose wait ended), or `None`.
     fn next(&self) -> Option<Instant> {
-        let mut queue = self.queue.borrow_mut();
         let waiting = self.waiting.borrow();
-        while let Some(&Reverse((t, seq, slot))) = queue.peek() {
-            if waiting.get(slot).is_some_and(|w| w.0 == seq) {
+        let live = |&(seq, slot): &Entry| waiting.get(slot).is_some_and(|w| w.0 == seq);
+        let now = self.now.get().as_millis();
+        let mut wheel = self.wheel.borrow_mut();
+        let mut from = now + 1;
+        while let Some(ms) = wheel.first(from, now + WHEEL_MS - from) {
+            let b = (ms % WHEEL_MS) as usize;
+            if wheel.buckets[b].iter().any(live) {
+                return Some(Instant::from_millis(ms));
+            }
+            // Only ended waits: forget them.
+            wheel.buckets[b].clear();
+            wheel.occupied[b / 64] &= !(1 << (b % 64));
+            from = ms + 1;
+        }
+        let mut far = self.far.borrow_mut();
+        while let Some(&Reverse((t, seq, slot))) = far.peek() {
+            if live(&(seq, slot)) {
                 return Some(t);
             }
-            queue.pop();
+            far.pop();
         }
         None
     }
 
-    /// Time moves to `t`: wakes every wait due by then, in deadline and then set order.
+    /// Time moves to `t` (the earliest deadline waited for, [`next`](Self::next)): wakes every
+    /// wait due by then, in deadline and then set order.
     fn advance(&self, t: Instant) {
+        let before = self.now.get().as_millis();
+        let ms = t.as_millis();
         self.now.set(t);
+        let mut step = std::mem::take(&mut *self.step.borrow_mut());
         let mut due = std::mem::take(&mut *self.due.borrow_mut());
         {
-            let mut queue = self.queue.borrow_mut();
+            let mut wheel = self.wheel.borrow_mut();
+            let mut far = self.far.borrow_mut();
             let mut waiting = self.waiting.borrow_mut();
-            while let Some(&Reverse((d, seq, slot))) = queue.peek() {
+            // The wheel's milliseconds up to `t`, in order (only `t`'s can hold live waits).
+            let span = ms.saturating_sub(before).min(WHEEL_MS - 1);
+            let mut from = before + 1;
+            while let Some(m) = wheel.first(from, before + 1 + span - from) {
+                wheel.take(m, &mut step);
+                from = m + 1;
+            }
+            // Or the far heap's, when `t` was beyond the wheel.
+            while let Some(&Reverse((d, seq, slot))) = far.peek() {
                 if d > t {
                     break;
                 }
-                queue.pop();
+                far.pop();
+                step.push((seq, slot));
+            }
+            for (seq, slot) in step.drain(..) {
                 if waiting.get(slot).is_some_and(|w| w.0 == seq) {
                     due.push(waiting.remove(slot).1);
+                }
+            }
+            // What comes within the wheel now moves into it.
+            while let Some(&Reverse((d, seq, slot))) = far.peek() {
+                if d.as_millis() - ms >= WHEEL_MS {
+                    break;
+                }
+                far.pop();
+                if waiting.get(slot).is_some_and(|w| w.0 == seq) {
+                    wheel.push(d.as_millis(), (seq, slot));
                 }
             }
         }
         for w in due.drain(..) {
             w.wake();
         }
-        // The buffer is kept for the next time (no allocation per step).
+        // The buffers are kept for the next time (no allocation per step).
+        *self.step.borrow_mut() = step;
         *self.due.borrow_mut() = due;
     }
 }
@@ -257,6 +367,48 @@ mod tests {
                 assert_eq!(tl.now(), Instant::from_secs(1), "not at the later deadline");
                 late.await.unwrap();
                 assert_eq!(tl.now(), Instant::from_secs(100));
+            })
+            .await;
+    }
+
+    #[tokio::test(flavor = "current_thread", start_paused = true)]
+    async fn far_deadlines_keep_their_order_as_they_come_near() {
+        let local = tokio::task::LocalSet::new();
+        local
+            .run_until(async {
+                let tl = Rc::new(Timeline::default());
+                tokio::task::spawn_local(drive(tl.clone(), tokio::time::Instant::now()));
+                let order = Rc::new(RefCell::new(Vec::new()));
+                let at = |name: &'static str, ms: u64| {
+                    let (tl, order) = (tl.clone(), order.clone());
+                    tokio::task::spawn_local(async move {
+                        Sleep::until(tl.clone(), Instant::from_millis(ms)).await;
+                        order.borrow_mut().push((name, tl.now().as_millis()));
+                    })
+                };
+                // Beyond the wheel when set: "far" and "farther" wait in the heap.
+                let far = at("far", 5_000);
+                let farther = at("farther", 3 * WHEEL_MS + 7);
+                tokio::task::yield_now().await;
+                // At 2 s, 5 s is within the wheel: "near" is set straight into it, after "far".
+                Sleep::until(tl.clone(), Instant::from_secs(2)).await;
+                let near = at("near", 5_000);
+                // A wait set and ended before its time wakes nobody.
+                drop(Sleep::until(tl.clone(), Instant::from_millis(4_000)));
+                for h in [far, near, farther] {
+                    h.await.unwrap();
+                }
+                assert_eq!(
+                    *order.borrow(),
+                    vec![
+                        ("far", 5_000),
+                        ("near", 5_000),
+                        ("farther", 3 * WHEEL_MS + 7)
+                    ]
+                );
+                // Time jumps over whole turns of the wheel to a lone far deadline.
+                Sleep::until(tl.clone(), Instant::from_secs(1_000_000)).await;
+                assert_eq!(tl.now(), Instant::from_secs(1_000_000));
             })
             .await;
     }

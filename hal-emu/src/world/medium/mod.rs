@@ -252,7 +252,9 @@ pub struct Medium {
     clock: EmuClock,
     rng: Pcg32,
     nodes: Vec<Node>,
-    pending: Vec<Arrival>,
+    /// Frames in flight, by the node they are arriving at: a transmission looks only at its
+    /// receivers' (collisions, half duplex), not at every frame in the air.
+    pending: Vec<Vec<Arrival>>,
     /// Per node, who its light reaches ([`Medium::neighbours`]), worked out when it first sends.
     neighbours: Vec<Option<Reach>>,
     next_id: u64,
@@ -419,8 +421,10 @@ impl Medium {
         sender.tx_until = t1;
         m.emitted(t0, from, bytes.len(), what);
         // Half duplex: what the sender was receiving is lost under its own light.
-        for a in m.pending.iter_mut().filter(|a| a.to == from && a.end > t0) {
-            a.fate = Fate::Deaf;
+        if let Some(arriving) = m.pending.get_mut(from) {
+            for a in arriving.iter_mut().filter(|a| a.end > t0) {
+                a.fate = Fate::Deaf;
+            }
         }
         let mut ids = Vec::new();
         let reach = m.neighbours(from);
@@ -430,8 +434,8 @@ impl Medium {
             };
             let id = m.next_id;
             m.next_id += 1;
-            ids.push(id);
-            m.pending.push(Arrival {
+            ids.push((to, id));
+            m.arriving(to).push(Arrival {
                 id,
                 to,
                 sector,
@@ -447,8 +451,8 @@ impl Medium {
             let clock = m.clock.clone();
             tokio::task::spawn_local(async move {
                 clock.sleep_until(t1).await;
-                for id in ids {
-                    Medium::deliver(&medium, id);
+                for (to, id) in ids {
+                    Medium::deliver(&medium, to, id);
                 }
             });
         }
@@ -554,9 +558,9 @@ impl Medium {
         let mut fate = Fate::Clear;
         if self.params.collisions {
             for a in self
-                .pending
+                .arriving(to)
                 .iter_mut()
-                .filter(|a| a.to == to && a.sector == sector && a.end > t0)
+                .filter(|a| a.sector == sector && a.end > t0)
             {
                 if a.fate == Fate::Clear {
                     a.fate = Fate::Collided;
@@ -583,14 +587,25 @@ impl Medium {
         });
     }
 
-    /// The airtime of arrival `id` is over: hand its bytes to the receiver.
-    fn deliver(this: &SharedMedium, id: u64) {
+    /// The frames arriving at node `to`.
+    fn arriving(&mut self, to: usize) -> &mut Vec<Arrival> {
+        if self.pending.len() <= to {
+            self.pending.resize_with(to + 1, Vec::new);
+        }
+        &mut self.pending[to]
+    }
+
+    /// The airtime of arrival `id` at node `to` is over: hand its bytes to the receiver.
+    fn deliver(this: &SharedMedium, to: usize, id: u64) {
         let mut guard = this.borrow_mut();
         let m = &mut *guard;
-        let Some(i) = m.pending.iter().position(|a| a.id == id) else {
+        let Some(arriving) = m.pending.get_mut(to) else {
             return;
         };
-        let mut a = m.pending.swap_remove(i);
+        let Some(i) = arriving.iter().position(|a| a.id == id) else {
+            return;
+        };
+        let mut a = arriving.swap_remove(i);
         if !m.nodes[a.to].alive {
             return m.dropped(a.end, a.to, a.from, DropReason::ReceiverDead);
         }

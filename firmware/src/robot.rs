@@ -258,16 +258,12 @@ impl<const N: usize> Rx<N> {
     fn next(&mut self) -> Option<Inbound> {
         let from = sector(self.from);
         let deframer = self.deframers.get_mut(self.from)?;
-        while self.at < self.len {
-            let byte = self.buf.get(self.at).copied()?;
-            self.at += 1;
-            match deframer.push(byte) {
-                None => {}
-                Some(Ok(msg)) => return Some(Inbound::Message(from, msg)),
-                Some(Err(e)) => return Some(Inbound::Corrupt(from, e)),
-            }
+        let (out, rest) = deframer.feed(self.buf.get(self.at..self.len)?);
+        self.at = self.len - rest.len();
+        match out? {
+            Ok(msg) => Some(Inbound::Message(from, msg)),
+            Err(e) => Some(Inbound::Corrupt(from, e)),
         }
-        None
     }
 
     /// The sectors to read at `now`: open ones, not resting after an error.

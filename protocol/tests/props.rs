@@ -234,3 +234,57 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    /// `Deframer::feed` (which with `bulk-deframe`, turned on in any workspace build with
+    /// hal-emu, copies a body's bytes at once) gives the same results, in the same order, with
+    /// the same counters, as `push` byte by byte: over noise rich in delimiters, over-long
+    /// bodies and real frames, fed in chunks of any size.
+    #[test]
+    fn feeding_slices_is_pushing_bytes(
+        parts in proptest::collection::vec(
+            prop_oneof![
+                // Noise, with plenty of delimiters.
+                proptest::collection::vec(prop_oneof![Just(b's'), any::<u8>()], 0..80),
+                // A long run with no delimiter (overflows a body).
+                (1usize..200).prop_map(|n| vec![b'x'; n]),
+                // A real frame.
+                (0u8..=255, 1u8..12).prop_map(|(r, hops)| {
+                    let hops: Vec<protocol::Hop> = (0..hops)
+                        .map(|i| protocol::Hop {
+                            tag: protocol::Tag::from_id(u16::from(i)),
+                            reading: protocol::Level(r.wrapping_add(i)),
+                            pref: None,
+                        })
+                        .collect();
+                    let m = protocol::Message::from_hops(&hops).unwrap();
+                    protocol::frame::encode(&m).unwrap().to_vec()
+                }),
+            ],
+            0..12,
+        ),
+        chunk in 1usize..40,
+    ) {
+        let bytes: Vec<u8> = parts.concat();
+        let mut one = protocol::frame::Deframer::new();
+        let by_byte: Vec<_> = bytes.iter().filter_map(|&b| one.push(b)).collect();
+        let mut many = protocol::frame::Deframer::new();
+        let mut by_slice = Vec::new();
+        for c in bytes.chunks(chunk) {
+            let mut rest = c;
+            loop {
+                let (r, more) = many.feed(rest);
+                match r {
+                    Some(r) => by_slice.push(r),
+                    None => break,
+                }
+                rest = more;
+            }
+        }
+        prop_assert_eq!(&by_slice, &by_byte);
+        prop_assert_eq!(many.stats(), one.stats());
+        // Same state: the same bytes next give the same results.
+        let tail = b"xss12ssyy";
+        prop_assert_eq!(many.frames(tail).collect::<Vec<_>>(), one.frames(tail).collect::<Vec<_>>());
+    }
+}

@@ -249,7 +249,7 @@ impl<const N: usize> Rx<N> {
             len: 0,
             from: 0,
             // `validate` checked N <= MAX_SECTORS (8).
-            open: (0..N).fold(0, |m, i| m | 1u8.checked_shl(i as u32).unwrap_or(0)),
+            open: (0..N).fold(0, |m, i| m | bit(i)),
             resume: [Instant::ZERO; N],
         }
     }
@@ -270,7 +270,7 @@ impl<const N: usize> Rx<N> {
     fn sectors(&self, now: Instant) -> u8 {
         (0..N).fold(self.open, |m, i| {
             if self.resume.get(i).is_some_and(|&t| t > now) {
-                m & !(1u8.checked_shl(i as u32).unwrap_or(0))
+                m & !bit(i)
             } else {
                 m
             }
@@ -311,7 +311,7 @@ impl<const N: usize> Rx<N> {
             let from = sector(i);
             match got {
                 Ok(0) => {
-                    self.open &= !(1u8.checked_shl(i as u32).unwrap_or(0));
+                    self.open &= !bit(i);
                     return Some(Inbound::Closed(from));
                 }
                 Ok(n) => {
@@ -333,6 +333,11 @@ impl<const N: usize> Rx<N> {
             }
         }
     }
+}
+
+/// Sector `i`'s bit in a mask of sectors (none beyond the eighth).
+fn bit(i: usize) -> u8 {
+    if i < 8 { 1 << i } else { 0 }
 }
 
 /// Sector `i` (receivers are indexed by sector; `Robot::new` checked there are at most

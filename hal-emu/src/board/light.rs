@@ -3,8 +3,8 @@
 //!
 //! A transmitter broadcasts each write as one frame into the [`Air`] and returns when its
 //! airtime is over; the receivers ([`EmuReceivers`], the firmware's `Receivers`) read the
-//! bytes of the frames that reached each sector, one frame after the other. What happens on the way (range, airtime, collisions, loss)
-//! is the world's business: the world's light medium implements [`Air`], makes these types
+//! bytes of the frames that reached each sector, one frame after the other. What happens on
+//! the way (range, airtime, collisions, loss) is the world's business: the world's light medium implements [`Air`], makes these types
 //! when a robot boots and feeds the receivers' channels. These types only hand bytes over.
 
 use std::cell::RefCell;
@@ -133,7 +133,7 @@ impl Drop for Light {
 }
 
 /// Sector `s`'s bit in a mask (none beyond the eighth).
-fn bit(s: usize) -> u8 {
+pub(crate) fn bit(s: usize) -> u8 {
     u32::try_from(s)
         .ok()
         .and_then(|s| 1u8.checked_shl(s))

@@ -5,8 +5,9 @@
 //! subtraction; a robot wakes about twice per emulated second, so with a thousand robots those
 //! dominated the run. Here a deadline is an entry in a wheel of one bucket per millisecond for
 //! the next four seconds (a heap beyond), `now` a cell, and the one [`drive`]r task sleeps on
-//! tokio's clock until the earliest deadline, sets `now` and wakes whoever waited for it. Deadlines that fall on the same millisecond wake in the order they were
-//! set: a run is the same run for the same seed.
+//! tokio's clock until the earliest deadline, sets `now` and wakes whoever waited for it.
+//! Deadlines that fall on the same millisecond wake in the order they were set: a run is the
+//! same run for the same seed.
 
 use std::cell::{Cell, RefCell};
 use std::cmp::Reverse;

@@ -18,7 +18,7 @@ use super::link::open;
 use super::transport::Transport;
 use crate::board::clock::EmuClock;
 use crate::board::leds::EmuLeds;
-use crate::board::light::{EmuReceivers, EmuTransmitter};
+use crate::board::light::{EmuReceivers, EmuTransmitter, bit};
 use crate::board::sensor::EmuSensor;
 use firmware::hal::Receivers as _;
 
@@ -341,7 +341,7 @@ impl Bridge {
                                 return;
                             }
                         }
-                        _ => open &= !(1u8.checked_shl(sector as u32).unwrap_or(0)),
+                        _ => open &= !bit(sector),
                     }
                 }
             }));

@@ -9,7 +9,8 @@
 //! - [`clock`]: the [`Clock`](firmware::Clock), virtual time on tokio's paused clock, one value
 //!   shared by every robot of a run and by the world around them;
 //! - [`timeline`]: the deadlines of a virtual-time run, one queue (a wheel of
-//!   milliseconds, a heap beyond) driven by one tokio timer.
+//!   milliseconds, a heap beyond) driven by one tokio timer, or running the run's tasks
+//!   itself ([`exec`]).
 //!
 //! ## Layering
 //! The board is the bottom layer of hal-emu: it imports nothing of [`crate::world`]. What a
@@ -21,6 +22,7 @@
 //! light; the run makes its sensor and LEDs).
 
 pub mod clock;
+pub mod exec;
 pub mod leds;
 pub mod light;
 pub mod sensor;

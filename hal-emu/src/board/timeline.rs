@@ -20,6 +20,8 @@ use std::task::{Context, Poll, Waker};
 use protocol::Instant;
 use slab::Slab;
 
+use super::exec::Executor;
+
 /// Milliseconds ahead that a deadline goes straight into the [`Wheel`] (a robot's deadlines
 /// are its next sample, a second ahead, its wave timers and its frames' airtimes); later ones
 /// wait in a heap until they come within it.
@@ -104,6 +106,12 @@ pub struct Timeline {
     /// The entries and wakers of one step, kept between steps.
     step: RefCell<Vec<Entry>>,
     due: RefCell<Vec<Waker>>,
+    /// The run's tasks, when the timeline runs them itself ([`Timeline::block_on`]) instead of
+    /// a tokio runtime.
+    exec: Executor,
+    /// Under [`Timeline::block_on`]: the time the driver's alarm last went off (a paused
+    /// tokio clock's time).
+    fired: Cell<Instant>,
 }
 
 /// One wait on a [`Timeline`]: its slot and sequence number.
@@ -113,6 +121,26 @@ impl Timeline {
     /// The time now.
     pub fn now(&self) -> Instant {
         self.now.get()
+    }
+
+    /// The run queue of [`Timeline::block_on`].
+    pub fn executor(&self) -> &Executor {
+        &self.exec
+    }
+
+    /// No task can run: the driver's alarm goes off (a paused runtime's clock jumps to its
+    /// timer). `false` if no alarm is set.
+    pub(super) fn fire(&self) -> bool {
+        let at = self.armed.get();
+        let driver = self.driver.borrow();
+        match driver.as_ref() {
+            Some(d) if at != Instant::MAX => {
+                self.fired.set(at);
+                d.wake_by_ref();
+                true
+            }
+            _ => false,
+        }
     }
 
     fn wait(&self, deadline: Instant, waker: &Waker) -> Ticket {
@@ -315,6 +343,34 @@ pub async fn drive(timeline: Rc<Timeline>, epoch: tokio::time::Instant) {
                     return Poll::Pending;
                 }
             }
+        }
+    })
+    .await
+}
+
+/// Drives `timeline` when it runs its own tasks ([`Timeline::block_on`]): as [`drive`], with
+/// the executor's alarm for tokio's timer, so that a run takes the same steps in the same
+/// order as under tokio. Runs for ever; spawn it first.
+pub async fn drive_virtual(timeline: Rc<Timeline>) {
+    timeline.armed.set(Instant::MAX);
+    std::future::poll_fn(|cx| {
+        loop {
+            let Some(next) = timeline.next() else {
+                timeline.armed.set(Instant::MAX);
+                *timeline.driver.borrow_mut() = Some(cx.waker().clone());
+                return Poll::Pending;
+            };
+            timeline.armed.set(next);
+            if timeline.fired.get() >= next {
+                timeline.armed.set(Instant::MAX);
+                timeline.advance(next);
+                continue;
+            }
+            let mut d = timeline.driver.borrow_mut();
+            if !d.as_ref().is_some_and(|w| w.will_wake(cx.waker())) {
+                *d = Some(cx.waker().clone());
+            }
+            return Poll::Pending;
         }
     })
     .await

@@ -153,17 +153,21 @@ impl Adversary {
     }
 }
 
-/// Puts `adversary` into `medium` and spawns its task on the current `LocalSet`; the task
+/// Puts `adversary` into `medium` and spawns its task beside the run's ([`EmuClock::spawn`]); the task
 /// runs until the run ends.
 pub(crate) fn spawn(medium: &SharedMedium, clock: EmuClock, adversary: &Adversary, rng: Pcg32) {
     match adversary.kind {
         AdversaryKind::Rogue(r) => {
             let node = Medium::add_rogue(medium, adversary.position);
-            tokio::task::spawn_local(rogue(medium.clone(), clock, node, r, rng));
+            clock
+                .clone()
+                .spawn(rogue(medium.clone(), clock, node, r, rng));
         }
         AdversaryKind::Replayer(r) => {
             let (node, captures) = Medium::add_replayer(medium, adversary.position);
-            tokio::task::spawn_local(replayer(medium.clone(), clock, node, r, captures, rng));
+            clock
+                .clone()
+                .spawn(replayer(medium.clone(), clock, node, r, captures, rng));
         }
     }
 }

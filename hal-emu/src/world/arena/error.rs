@@ -2,6 +2,8 @@
 
 use firmware::SetupError;
 
+use crate::board::clock::TaskEnd;
+
 /// Why a run could not start.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ArenaError {
@@ -61,17 +63,10 @@ impl RobotFailure {
     }
 
     /// The failure of robot `robot`'s task in the run with `seed`, from how it ended.
-    pub(super) fn from_join(robot: usize, seed: u64, e: tokio::task::JoinError) -> Self {
-        let panicked = e.is_panic();
-        let message = if panicked {
-            let payload = e.into_panic();
-            payload
-                .downcast_ref::<&str>()
-                .map(|s| (*s).to_string())
-                .or_else(|| payload.downcast_ref::<String>().cloned())
-                .unwrap_or_else(|| "a panic without a message".to_string())
-        } else {
-            "its task was cancelled".to_string()
+    pub(super) fn from_join(robot: usize, seed: u64, e: TaskEnd) -> Self {
+        let (panicked, message) = match e {
+            TaskEnd::Panicked(m) => (true, m),
+            TaskEnd::Cancelled => (false, "its task was cancelled".to_string()),
         };
         RobotFailure {
             robot,

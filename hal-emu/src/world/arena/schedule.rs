@@ -6,11 +6,11 @@ use std::rc::Rc;
 
 use firmware::{Clock, LedColor};
 use protocol::Instant;
-use tokio::task::JoinHandle;
 
 use super::config::ArenaConfig;
 use super::error::RobotFailure;
 use super::lives::{Counters, Shared, Stop, life};
+use crate::board::clock::EmuTask;
 use crate::world::medium::TraceEvent;
 
 /// One scheduled change.
@@ -48,7 +48,7 @@ pub(super) struct Robots {
     shared: Rc<Shared>,
     lives: Vec<u32>,
     stops: Vec<Option<Rc<Stop>>>,
-    handles: Vec<Option<JoinHandle<Result<Counters, String>>>>,
+    handles: Vec<Option<EmuTask<Result<Counters, String>>>>,
     /// Each robot's counters, of its last life that ended.
     pub(super) stats: Vec<Counters>,
     /// The first robot that stopped on its own (a panic, or no boot), if any: the run goes
@@ -73,7 +73,7 @@ impl Robots {
     pub(super) fn boot(&mut self, robot: usize) {
         let stop = Rc::new(Stop::default());
         let life = life(self.shared.clone(), robot, self.lives[robot], stop.clone());
-        let h = tokio::task::spawn_local(life);
+        let h = self.shared.clock.spawn_joined(life);
         self.lives[robot] += 1;
         self.stops[robot] = Some(stop);
         self.handles[robot] = Some(h);

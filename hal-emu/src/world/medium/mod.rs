@@ -449,7 +449,7 @@ impl Medium {
         if !ids.is_empty() {
             let medium = this.clone();
             let clock = m.clock.clone();
-            tokio::task::spawn_local(async move {
+            m.clock.spawn(async move {
                 clock.sleep_until(t1).await;
                 for (to, id) in ids {
                     Medium::deliver(&medium, to, id);

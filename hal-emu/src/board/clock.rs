@@ -1,4 +1,5 @@
-//! The board's [`Clock`]: tokio time, measured from the start of the run. Every robot of a run
+//! The board's [`Clock`]: a run's virtual time (its [`Timeline`]) or tokio's, measured from the
+//! start of the run. Every robot of a run
 //! and the world around them (its medium, adversaries and schedule) share one value of it, so
 //! they all live in the same virtual time.
 
@@ -13,7 +14,8 @@ use protocol::Instant;
 use super::exec::{Join, Panic};
 use super::timeline::{self, Sleep, Timeline};
 
-/// A [`Clock`] over tokio's clock, or over a run's [`Timeline`] driven by it. Under a paused
+/// A [`Clock`] over a run's [`Timeline`], which runs the run's tasks itself
+/// ([`EmuClock::virtual_run`]) or is driven by tokio's clock; or over tokio's clock. Under a paused
 /// runtime (`start_paused`) time only moves when every task waits, straight to the next timer:
 /// virtual time, as fast as the CPU allows.
 #[derive(Clone, Debug)]

@@ -6,7 +6,7 @@
 //!   ([`embedded_io_async::Write`] and [`Read`](embedded_io_async::Read));
 //! - [`sensor`]: the environmental [`Sensor`](firmware::Sensor);
 //! - [`leds`]: the top-cap [`Leds`](firmware::Leds);
-//! - [`clock`]: the [`Clock`](firmware::Clock), virtual time on tokio's paused clock, one value
+//! - [`clock`]: the [`Clock`](firmware::Clock), virtual time on a [`timeline`], one value
 //!   shared by every robot of a run and by the world around them;
 //! - [`timeline`]: the deadlines of a virtual-time run, one queue (a wheel of
 //!   milliseconds, a heap beyond) driven by one tokio timer, or running the run's tasks

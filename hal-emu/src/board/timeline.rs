@@ -1,5 +1,7 @@
 //! Virtual time for a whole emulated run: one queue of deadlines for every robot, the medium
-//! and the schedule, driven by a single tokio timer.
+//! and the schedule. Without robots in the loop the timeline also runs the run's tasks
+//! ([`Timeline::block_on`], `board::exec`) and its driver is [`drive_virtual`]; with them, a
+//! single tokio timer drives it ([`drive`]).
 //!
 //! Under tokio's paused clock every `sleep` is a timer-wheel entry, every `now` a lock and a
 //! subtraction; a robot wakes about twice per emulated second, so with a thousand robots those

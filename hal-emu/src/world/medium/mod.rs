@@ -426,8 +426,9 @@ impl Medium {
                 a.fate = Fate::Deaf;
             }
         }
-        let mut ids = Vec::new();
         let reach = m.neighbours(from);
+        // Sized once: growing it cost a reallocation or two per transmission.
+        let mut ids = Vec::with_capacity(reach.len());
         for &(to, sector) in reach.iter() {
             let Some(fate) = m.reception(from, to, sector, t0, t1) else {
                 continue;

@@ -74,14 +74,14 @@ pub struct EmuReceivers {
     light: Rc<RefCell<Inbox>>,
     /// The rest of a frame longer than the read that took it: its sector, bytes and how far
     /// they were read.
-    rest: Option<(usize, Vec<u8>, usize)>,
+    rest: Option<(usize, Rc<[u8]>, usize)>,
 }
 
 /// What the world has put into a robot's receivers and not yet read: frames per sector, in
 /// the order they arrived, and who to wake.
 #[derive(Debug, Default)]
 struct Inbox {
-    frames: Vec<VecDeque<Vec<u8>>>,
+    frames: Vec<VecDeque<Rc<[u8]>>>,
     /// Bit `s` set: sector `s` has frames.
     ready: u8,
     waker: Option<Waker>,
@@ -98,7 +98,8 @@ pub struct Light(Rc<RefCell<Inbox>>);
 impl Light {
     /// Puts `frame` into receiver `sector` and wakes the robot; a sector the robot does not
     /// have gets nothing.
-    pub fn put(&self, sector: usize, frame: Vec<u8>) {
+    pub fn put(&self, sector: usize, frame: impl Into<Rc<[u8]>>) {
+        let frame = frame.into();
         let waker = {
             let mut inbox = self.0.borrow_mut();
             let Some(q) = inbox.frames.get_mut(sector) else {

@@ -224,7 +224,9 @@ struct Arrival {
     sector: u8,
     from: usize,
     end: Instant,
-    bytes: Vec<u8>,
+    /// Shared by the transmission's arrivals until the light damages one (one allocation a
+    /// transmission, not one an arrival).
+    bytes: Rc<[u8]>,
     fate: Fate,
 }
 
@@ -429,6 +431,7 @@ impl Medium {
         let reach = m.neighbours(from);
         // Sized once: growing it cost a reallocation or two per transmission.
         let mut ids = Vec::with_capacity(reach.len());
+        let shared: Rc<[u8]> = Rc::from(bytes);
         for &(to, sector) in reach.iter() {
             let Some(fate) = m.reception(from, to, sector, t0, t1) else {
                 continue;
@@ -442,7 +445,7 @@ impl Medium {
                 sector,
                 from,
                 end: t1,
-                bytes: bytes.to_vec(),
+                bytes: shared.clone(),
                 fate,
             });
         }
@@ -626,10 +629,23 @@ impl Medium {
         }
     }
 
+    /// What the light does to `bytes` on the way ([`damage_bytes`](Self::damage_bytes)), on a
+    /// copy of its own if it can do anything.
+    fn damage(&mut self, bytes: &mut Rc<[u8]>, garbled: bool) -> u32 {
+        let errors = self.params.byte_error_rate > 0.0;
+        if !garbled && !errors {
+            return 0;
+        }
+        let mut own = bytes.to_vec();
+        let corrupted = self.damage_bytes(&mut own, garbled);
+        *bytes = Rc::from(own);
+        corrupted
+    }
+
     /// What the light does to `bytes` on the way: if `garbled` by a collision, about half of
     /// them replaced by noise; then each corrupted at the byte error rate. Returns how many
     /// were corrupted.
-    fn damage(&mut self, bytes: &mut [u8], garbled: bool) -> u32 {
+    fn damage_bytes(&mut self, bytes: &mut [u8], garbled: bool) -> u32 {
         if garbled {
             for b in bytes.iter_mut() {
                 if self.rng.random_bool(0.5) {
@@ -690,7 +706,7 @@ impl Medium {
             let _ = c.send(Capture {
                 t: a.end,
                 from: a.from,
-                bytes: a.bytes,
+                bytes: a.bytes.to_vec(),
             });
         }
     }

@@ -1,7 +1,6 @@
 //! The board's [`Clock`]: a run's virtual time (its [`Timeline`]) or tokio's, measured from the
-//! start of the run. Every robot of a run
-//! and the world around them (its medium, adversaries and schedule) share one value of it, so
-//! they all live in the same virtual time.
+//! start of the run. Every robot of a run and the world around them (its medium, adversaries
+//! and schedule) share one value of it, so they all live in the same virtual time.
 
 use std::future::Future;
 use std::pin::Pin;
@@ -15,9 +14,9 @@ use super::exec::{Join, Panic};
 use super::timeline::{self, Sleep, Timeline};
 
 /// A [`Clock`] over a run's [`Timeline`], which runs the run's tasks itself
-/// ([`EmuClock::virtual_run`]) or is driven by tokio's clock; or over tokio's clock. Under a paused
-/// runtime (`start_paused`) time only moves when every task waits, straight to the next timer:
-/// virtual time, as fast as the CPU allows.
+/// ([`EmuClock::virtual_run`]) or is driven by tokio's clock; or over tokio's clock. Either way
+/// time only moves when every task waits, straight to the next deadline: virtual time, as fast
+/// as the CPU allows (tokio's clock must be paused for that, `start_paused`).
 #[derive(Clone, Debug)]
 pub struct EmuClock {
     epoch: tokio::time::Instant,

@@ -254,12 +254,18 @@ impl Timeline {
     /// If `main` panics; or if nothing can run and nobody waits for a time (a run that would
     /// wait for ever).
     pub fn block_on<F: Future>(self: &Rc<Self>, main: F) -> F::Output {
+        /// Ends the run however `main` ends, a panic included.
+        struct Running<'a>(&'a Executor);
+        impl Drop for Running<'_> {
+            fn drop(&mut self) {
+                self.0.running.set(false);
+                self.0.clear();
+            }
+        }
         let exec = self.executor();
         exec.running.set(true);
-        let out = self.run_main(main);
-        exec.running.set(false);
-        exec.clear();
-        out
+        let _running = Running(exec);
+        self.run_main(main)
     }
 
     fn run_main<F: Future>(self: &Rc<Self>, main: F) -> F::Output {

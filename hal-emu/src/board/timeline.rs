@@ -321,31 +321,13 @@ pub async fn drive(timeline: Rc<Timeline>, epoch: tokio::time::Instant) {
     tokio::pin!(sleep);
     timeline.armed.set(Instant::MAX);
     std::future::poll_fn(|cx| {
-        loop {
-            let Some(next) = timeline.next() else {
-                timeline.armed.set(Instant::MAX);
-                *timeline.driver.borrow_mut() = Some(cx.waker().clone());
-                return Poll::Pending;
-            };
-            if next != timeline.armed.get() {
+        poll_drive(&timeline, cx, |next, armed, cx| {
+            if next != armed {
                 let at = epoch + std::time::Duration::from_millis(next.as_millis());
                 sleep.as_mut().reset(at);
-                timeline.armed.set(next);
             }
-            match sleep.as_mut().poll(cx) {
-                Poll::Ready(()) => {
-                    timeline.armed.set(Instant::MAX);
-                    timeline.advance(next);
-                }
-                Poll::Pending => {
-                    let mut d = timeline.driver.borrow_mut();
-                    if !d.as_ref().is_some_and(|w| w.will_wake(cx.waker())) {
-                        *d = Some(cx.waker().clone());
-                    }
-                    return Poll::Pending;
-                }
-            }
-        }
+            sleep.as_mut().poll(cx).is_ready()
+        })
     })
     .await
 }
@@ -355,27 +337,36 @@ pub async fn drive(timeline: Rc<Timeline>, epoch: tokio::time::Instant) {
 /// order as under tokio. Runs for ever; spawn it first.
 pub async fn drive_virtual(timeline: Rc<Timeline>) {
     timeline.armed.set(Instant::MAX);
-    std::future::poll_fn(|cx| {
-        loop {
-            let Some(next) = timeline.next() else {
-                timeline.armed.set(Instant::MAX);
-                *timeline.driver.borrow_mut() = Some(cx.waker().clone());
-                return Poll::Pending;
-            };
-            timeline.armed.set(next);
-            if timeline.fired.get() >= next {
-                timeline.armed.set(Instant::MAX);
-                timeline.advance(next);
-                continue;
-            }
-            let mut d = timeline.driver.borrow_mut();
-            if !d.as_ref().is_some_and(|w| w.will_wake(cx.waker())) {
-                *d = Some(cx.waker().clone());
-            }
+    std::future::poll_fn(|cx| poll_drive(&timeline, cx, |next, _, _| timeline.fired.get() >= next))
+        .await
+}
+
+/// One poll of a driver: while the earliest deadline is due, time moves there; then the
+/// driver waits. `due(next, armed, cx)` sets the driver's alarm for `next` (it was set for
+/// `armed`) and says whether it went off.
+fn poll_drive(
+    timeline: &Timeline,
+    cx: &mut Context<'_>,
+    mut due: impl FnMut(Instant, Instant, &mut Context<'_>) -> bool,
+) -> Poll<()> {
+    loop {
+        let Some(next) = timeline.next() else {
+            timeline.armed.set(Instant::MAX);
+            *timeline.driver.borrow_mut() = Some(cx.waker().clone());
             return Poll::Pending;
+        };
+        let armed = timeline.armed.replace(next);
+        if due(next, armed, cx) {
+            timeline.armed.set(Instant::MAX);
+            timeline.advance(next);
+            continue;
         }
-    })
-    .await
+        let mut d = timeline.driver.borrow_mut();
+        if !d.as_ref().is_some_and(|w| w.will_wake(cx.waker())) {
+            *d = Some(cx.waker().clone());
+        }
+        return Poll::Pending;
+    }
 }
 
 #[cfg(test)]

@@ -153,8 +153,8 @@ impl Adversary {
     }
 }
 
-/// Puts `adversary` into `medium` and spawns its task beside the run's ([`EmuClock::spawn`]); the task
-/// runs until the run ends.
+/// Puts `adversary` into `medium` and spawns its task beside the run's ([`EmuClock::spawn`]);
+/// the task runs until the run ends.
 pub(crate) fn spawn(medium: &SharedMedium, clock: EmuClock, adversary: &Adversary, rng: Pcg32) {
     match adversary.kind {
         AdversaryKind::Rogue(r) => {

@@ -41,10 +41,15 @@
 //!
 //! ## What it never does
 //! Read the wall clock or an unseeded RNG (except to report wall time), share state between
-//! runs, or use threads: one run is one current-thread tokio runtime, so runs can be spread
-//! over threads by the caller and stay reproducible.
+//! runs, or use threads: one run runs on one thread (its timeline's own executor, or a
+//! current-thread tokio runtime with robots in the loop), so runs can be spread over threads by
+//! the caller and stay reproducible.
+//!
+//! It has one `unsafe` block: the executor's cache prefetch (`board::exec`), a hint that can
+//! neither fault nor change what a run does. Everything else is safe code (`deny`, not
+//! `forbid`, so that this one block can say so).
 
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 
 pub mod board;
 pub mod judge;

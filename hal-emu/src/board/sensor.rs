@@ -3,7 +3,6 @@
 //! environment where the swarm is: a light pattern, or a field over the plane), with the
 //! noise drawn from the robot's own RNG.
 
-use std::cell::RefCell;
 use std::fmt;
 use std::rc::Rc;
 
@@ -29,8 +28,6 @@ pub struct EmuSensor {
     robot: usize,
     clock: EmuClock,
     rng: Pcg32,
-    /// Reads that fail from now on (to test a failing sensor); shared so a test can flip it.
-    pub failing: Rc<RefCell<bool>>,
 }
 
 impl EmuSensor {
@@ -46,7 +43,6 @@ impl EmuSensor {
             robot,
             clock,
             rng,
-            failing: Rc::new(RefCell::new(false)),
         }
     }
 }
@@ -57,9 +53,6 @@ impl ErrorType for EmuSensor {
 
 impl Sensor for EmuSensor {
     async fn ambient_light(&mut self) -> Result<Level, ErrorKind> {
-        if *self.failing.borrow() {
-            return Err(ErrorKind::Bus);
-        }
         let now = self.clock.now();
         Ok(self
             .surroundings
@@ -67,9 +60,6 @@ impl Sensor for EmuSensor {
     }
 
     async fn oxygen(&mut self) -> Result<Level, ErrorKind> {
-        if *self.failing.borrow() {
-            return Err(ErrorKind::Bus);
-        }
         Ok(self.surroundings.oxygen(self.robot, &mut self.rng))
     }
 }

@@ -98,7 +98,9 @@ impl Body {
         }
     }
 
-    /// Asks the CPU to start loading every cache line of the body, and goes on at once.
+    /// Asks the CPU to start loading the body's cache lines, and goes on at once: every other
+    /// line, the second-level cache's adjacent-line prefetcher fetching its pair (as fast,
+    /// measured, as every line, for half the instructions).
     #[allow(unsafe_code)]
     fn prefetch(self) {
         #[cfg(target_arch = "x86_64")]
@@ -112,7 +114,7 @@ impl Body {
                 // can observe, whatever the address (`_mm_prefetch` is `unsafe` only because
                 // it takes a pointer). The body is a live task's future anyway.
                 unsafe { _mm_prefetch::<_MM_HINT_T0>(self.at.wrapping_add(line - first).cast()) };
-                line += 64;
+                line += 128;
             }
         }
     }

@@ -66,7 +66,7 @@ enum State {
 /// A task: its future (out of the slot while it is polled), waker, state and generation.
 struct Slot {
     future: Option<Pin<Box<dyn Future<Output = ()>>>>,
-    /// Where the task's state is ([`prefetch`]ed before the task runs).
+    /// Where the task's state is ([`Body::prefetch`]ed before the task runs).
     body: Body,
     waker: Waker,
     state: State,
@@ -173,22 +173,26 @@ impl Woken {
         }
     }
 
-    /// This executor runs on this thread from now on, until the guard is dropped.
+    /// This executor runs on this thread from now on, until the guard is dropped (which
+    /// gives the thread back to the executor it had, if one run runs inside another).
     fn enter(&self) -> Entered {
-        let previous = RUNNING.with(|r| r.replace(self.exec));
-        LOCAL_WAKES.with_borrow_mut(Vec::clear);
-        Entered { previous }
+        Entered {
+            previous: RUNNING.with(|r| r.replace(self.exec)),
+            wakes: LOCAL_WAKES.take(),
+        }
     }
 }
 
-/// While it lives, an executor runs on this thread ([`Woken::enter`]).
+/// While it lives, an executor runs on this thread ([`Woken::enter`]); it keeps the executor
+/// that ran before, and that one's wakes not yet read.
 struct Entered {
     previous: u64,
+    wakes: Vec<TaskId>,
 }
 
 impl Drop for Entered {
     fn drop(&mut self) {
-        LOCAL_WAKES.with_borrow_mut(Vec::clear);
+        LOCAL_WAKES.set(std::mem::take(&mut self.wakes));
         RUNNING.with(|r| r.set(self.previous));
     }
 }
@@ -319,8 +323,8 @@ impl Executor {
         scratch.clear();
     }
 
-    /// Asks the CPU to load the state of the task that runs after the next one, while the
-    /// next one runs. A robot's task (its whole program and state, 4.3 KB) is out of the
+    /// Asks the CPU to load the state of the task queued next, while the one just taken from
+    /// the queue runs. A robot's task (its whole program and state, 4.3 KB) is out of the
     /// caches by the time it runs again when a thousand robots take turns, and its poll
     /// stalled on each line it read; prefetched, the lines come in together.
     fn prefetch_next(&self) {
@@ -618,6 +622,40 @@ mod tests {
             1,
             "the stale wake polled the second run's task"
         );
+    }
+
+    /// A run inside a task of another run keeps the outer run's wakes: a task that woke
+    /// itself before the inner run is polled again after it.
+    #[test]
+    fn a_run_inside_a_run_keeps_the_outer_wakes() {
+        let outer = Rc::new(Timeline::default());
+        let polls = Rc::new(Cell::new(0));
+        outer.block_on({
+            let tl = outer.clone();
+            let polls = polls.clone();
+            async move {
+                tl.executor().spawn(drive_virtual(tl.clone()));
+                let p = polls.clone();
+                let task = tl.executor().spawn_joined(std::future::poll_fn(move |cx| {
+                    p.set(p.get() + 1);
+                    if p.get() > 1 {
+                        return Poll::Ready(());
+                    }
+                    cx.waker().wake_by_ref();
+                    let inner = Rc::new(Timeline::default());
+                    inner.block_on({
+                        let tl = inner.clone();
+                        async move {
+                            tl.executor().spawn(drive_virtual(tl.clone()));
+                            Sleep::until(tl.clone(), Instant::from_millis(5)).await;
+                        }
+                    });
+                    Poll::Pending
+                }));
+                assert!(task.await.is_ok());
+            }
+        });
+        assert_eq!(polls.get(), 2);
     }
 
     #[test]

@@ -7,6 +7,12 @@ Markdown table of successful runs. Build first: `cargo build --release -p host-s
 
     python3 scripts/lines_table.py [--runs 50] [--seed 1] [--cimax target/release/cimax]
 
+With `--grid`, the table of docs/lab-experiment.md ("Ties, flickers and time"): ties and
+non-ties of 4 to 64 robots; full, binary and 3-level readings; 0 % and 10 % loss; both rules;
+`--runs` seeds each (100 in the docs). Each cell: runs right, robots that flickered (changed
+their LEDs after showing their side), median and 95th percentile of the time to consensus. Runs
+two `cimax` processes at a time (`--jobs`).
+
 With `--sweep`, every line of 2 to 64 robots in the list below, every border whose majority is
 at least 55 % and the exact tie, lit on either side, `--runs` seeds each (docs: `--sweep --runs 5
 --seed 7000`, once with `--loss 0` and once with `--loss 0.1`); prints the totals and each
@@ -14,6 +20,7 @@ failing run. `--readings KIND` passes `cimax arena --readings` (full, binary, le
 gain:G,offset:B); `--decide` the decision rule.
 """
 import argparse
+import concurrent.futures
 import json
 import subprocess
 import sys
@@ -59,6 +66,67 @@ def run(cimax, pattern, runs, seed, loss):
 
 TIMES = {}
 
+# --grid: (robots, lit) per row; ties first, then the border nearest the middle that is no tie
+# (and the issue's 13/20 and 9/40).
+GRID_TIES = ((4, 2), (8, 4), (10, 5), (16, 8), (20, 10), (32, 16), (64, 32))
+GRID_MAJORITIES = ((4, 1), (8, 3), (16, 7), (20, 13), (32, 14), (40, 9), (64, 28))
+GRID_READINGS = ("full", "binary", "levels:3")
+
+
+def quantile(xs, q):
+    """Nearest rank, as the campaign's tables."""
+    if not xs:
+        return None
+    xs = sorted(xs)
+    k = max(0, min(len(xs) - 1, int(round(q * len(xs) + 0.5)) - 1))
+    return xs[k]
+
+
+def grid_cell(cimax, pattern, runs, seed, loss, rule, readings):
+    """One cell: (right, flickers, times, failing seeds) of `runs` seeds."""
+    out = subprocess.run(
+        [cimax, "arena", "--lights", pattern, "--runs", str(runs), "--seed", str(seed),
+         "--loss", str(loss), "--decide", rule, "--readings", readings, "--json"],
+        capture_output=True, text=True, check=False)
+    if out.returncode not in (0, 1):
+        sys.exit(f"cimax failed on {pattern}: {out.stderr}")
+    d = json.loads(out.stdout)
+    right = sum(1 for r in d["runs"] if r["success"])
+    flickers = sum(r.get("flickers", 0) for r in d["runs"])
+    times = [r["consensus_s"] for r in d["runs"] if r["consensus_s"] is not None]
+    failed = [r["seed"] for r in d["runs"] if not r["success"]]
+    return right, len(d["runs"]), flickers, times, failed
+
+
+def grid(a):
+    rows = [(n, b, True) for n, b in GRID_TIES] + [(n, b, False) for n, b in GRID_MAJORITIES]
+    rules = (a.decide,) if a.only_rule else ("fixed", "adaptive")
+    jobs = {}
+    with concurrent.futures.ThreadPoolExecutor(max_workers=a.jobs) as pool:
+        for n, b, _ in rows:
+            pattern = "1" * b + "0" * (n - b)
+            for readings in GRID_READINGS:
+                for loss in (0.0, 0.1):
+                    for rule in rules:
+                        key = (n, b, readings, loss, rule)
+                        jobs[key] = pool.submit(grid_cell, a.cimax, pattern, a.runs, a.seed,
+                                                loss, rule, readings)
+    print("| robots | lit | readings | loss | rule | right | flickers | median s | p95 s |")
+    print("|---:|---:|---|---:|---|---:|---:|---:|---:|")
+    fails = []
+    for (n, b, readings, loss, rule), f in jobs.items():
+        right, total, flickers, times, failed = f.result()
+        med, p95 = quantile(times, 0.5), quantile(times, 0.95)
+        tie = " (tie)" if 2 * b == n else ""
+        fmt = lambda t: "-" if t is None else f"{t:.0f}"
+        print(f"| {n} | {b}{tie} | {readings} | {loss:.0%} | {rule} | {right}/{total} | "
+              f"{flickers} | {fmt(med)} | {fmt(p95)} |")
+        pattern = "1" * b + "0" * (n - b)
+        fails += [f"cimax arena --lights {pattern} --seed {s} --runs 1 --loss {loss} "
+                  f"--decide {rule} --readings {readings}" for s in failed]
+    for f in fails:
+        print(f"FAILED: {f}", file=sys.stderr)
+
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -66,6 +134,10 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--cimax", default="target/release/cimax")
     ap.add_argument("--sweep", action="store_true")
+    ap.add_argument("--grid", action="store_true", help="the ties, flickers and time table")
+    ap.add_argument("--jobs", type=int, default=2, help="with --grid: cimax processes at once")
+    ap.add_argument("--only-rule", action="store_true",
+                    help="with --grid: only the rule of --decide")
     ap.add_argument("--loss", type=float, default=0.0, help="with --sweep")
     ap.add_argument("--decide", choices=["fixed", "adaptive"], default="fixed",
                     help="the robots' decision rule (cimax arena --decide)")
@@ -75,6 +147,9 @@ def main():
     global DECIDE, READINGS
     DECIDE = a.decide
     READINGS = a.readings
+    if a.grid:
+        grid(a)
+        return
     if a.sweep:
         sweep(a)
         return

@@ -177,11 +177,16 @@ pub struct LabRun {
     /// Seconds from the start (or the last pattern change) until the LEDs reached the state
     /// they kept to the end, if it was the expected one.
     pub consensus_s: Option<f64>,
-    /// The first LED change after the LEDs had reached the expected state, if any (seconds
-    /// from the start, robot): a flicker, and the run fails. Changes from the first kill of a
-    /// robot on do not count (it goes dark, decides anew after a restart, and its neighbours
-    /// may follow; the campaign's reboot scenario judges the recovery by its own bar).
+    /// The first flicker, if any (seconds from the start, robot): a robot's LED change after
+    /// that robot had shown its expected colour, before the lights changed. The run fails.
+    /// Changes from the first kill of a robot on do not count (it goes dark, decides anew
+    /// after a restart, and its neighbours may follow; the campaign's reboot scenario judges
+    /// the recovery by its own bar).
     pub flicker: Option<(f64, usize)>,
+    /// How many robots flickered, counted once per robot and lights phase: a change after
+    /// the whole swarm agreed is one, and so is a robot that showed its side and changed away
+    /// while others were still deciding.
+    pub flickers: usize,
     /// The seed that replays it.
     pub seed: u64,
     /// The whole report (LED log, medium counters, trace if asked).
@@ -209,7 +214,8 @@ pub fn judge(cfg: &ArenaConfig) -> Result<LabRun, ArenaError> {
     let mut success = exp.as_ref().is_none_or(|e| report.final_leds == *e);
     // Every earlier pattern must have been reached before it changed, and no LED may change
     // once the expected state was reached, until the pattern changes.
-    let mut flicker = None;
+    let mut flicker: Option<(f64, usize)> = None;
+    let mut flickers = 0;
     let mut phases: Vec<(Instant, Instant, Option<Vec<LedColor>>)> = schedule
         .windows(2)
         .map(|w| (w[0].0, w[1].0, expected_without(&w[0].1, &absent)))
@@ -223,9 +229,9 @@ pub fn judge(cfg: &ArenaConfig) -> Result<LabRun, ArenaError> {
         if i + 1 < phases.len() {
             success &= report.leds_at(*to - Duration::from_millis(1)) == *e;
         }
-        if flicker.is_none() {
-            flicker = first_change_after_consensus(&report, e, *from, *to, &cfg.kills);
-        }
+        let phase = flickers_in(&report, e, *from, *to, &cfg.kills);
+        flickers += phase.len();
+        flicker = flicker.into_iter().chain(phase).min_by(|a, b| a.0.total_cmp(&b.0));
     }
     success &= flicker.is_none();
     let consensus_s = exp
@@ -243,38 +249,44 @@ pub fn judge(cfg: &ArenaConfig) -> Result<LabRun, ArenaError> {
         success,
         consensus_s,
         flicker,
+        flickers,
         seed: cfg.seed,
         report,
     })
 }
 
-/// The first LED change in `[from, to)` after the LEDs first showed `expected` there, as
-/// (seconds from the start, robot); changes at or after the first kill do not count.
-fn first_change_after_consensus(
+/// Each robot's first flicker in `[from, to)`, as (seconds from the start, robot): its first
+/// LED change after it first showed its colour of `expected` there (or showed it at `from`).
+/// Changes at or after the first kill do not count.
+fn flickers_in(
     report: &RunReport,
     expected: &[LedColor],
     from: Instant,
     to: Instant,
     kills: &[(Instant, usize)],
-) -> Option<(f64, usize)> {
-    let in_window: Vec<_> = report
+) -> Vec<(f64, usize)> {
+    let first_kill = kills.iter().map(|&(k, _)| k).min();
+    let start = report.leds_at(from);
+    let mut shown: Vec<bool> = start.iter().zip(expected).map(|(a, b)| a == b).collect();
+    let mut out: Vec<(f64, usize)> = Vec::new();
+    let window = report
         .leds
         .iter()
-        .filter(|c| c.t >= from && c.t < to)
-        .collect();
-    let reached = if report.leds_at(from) == expected {
-        Some(from)
-    } else {
-        in_window
-            .iter()
-            .map(|c| c.t)
-            .find(|&t| report.leds_at(t) == expected)
-    }?;
-    in_window
-        .iter()
-        .filter(|c| c.t > reached)
-        .find(|c| !kills.iter().any(|&(k, _)| c.t >= k))
-        .map(|c| (c.t.saturating_since(Instant::ZERO).as_secs_f64(), c.robot))
+        .filter(|c| c.t > from && c.t < to)
+        .take_while(|c| first_kill.is_none_or(|k| c.t < k));
+    for c in window {
+        let Some(seen) = shown.get_mut(c.robot) else {
+            continue;
+        };
+        if *seen {
+            if !out.iter().any(|&(_, r)| r == c.robot) {
+                out.push((c.t.saturating_since(Instant::ZERO).as_secs_f64(), c.robot));
+            }
+        } else {
+            *seen = expected.get(c.robot) == Some(&c.color);
+        }
+    }
+    out
 }
 
 #[cfg(test)]

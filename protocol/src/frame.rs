@@ -668,6 +668,7 @@ mod tests {
             sum: 460,
             sum_sq: 81800,
             votes,
+            closed: false,
         }
     }
 
@@ -679,6 +680,7 @@ mod tests {
             sum: 0x7373,
             sum_sq: 0x70_0473,
             votes: [10, 20, 30, 40, 50, 0, 50, 0],
+            closed: false,
         }
     }
 
@@ -1073,13 +1075,11 @@ mod tests {
             ),
             ("sector = sectors", &[0x22, 1, 7, 0, 49, 0, 0, 1, 0]),
             ("sector > sectors", &[0x52, 1, 7, 0, 49, 0, 0, 1, 0]),
+            // Bit 7 is the closed flag (revision 3.1): sector bits 6–4 must still be below K.
+            ("closed, sector = sectors", &[0xA2, 1, 7, 0, 49, 0, 0, 1, 0]),
             (
-                "sector 8 of 8",
-                &[0x88, 1, 7, 0, 49, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0],
-            ),
-            (
-                "sector 15",
-                &[0xF8, 1, 7, 0, 49, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0],
+                "closed, sector 7 of 7",
+                &[0xF7, 1, 7, 0, 49, 0, 0, 1, 0, 0, 0, 0, 0, 0],
             ),
             ("robots 0", &[0x02, 0, 0, 0, 0, 0, 0, 0, 0]),
             // 256 for one robot, with its square.
@@ -1178,6 +1178,7 @@ mod tests {
                         sum: 3 * 255,
                         sum_sq: 3 * 255 * 255,
                         votes,
+                        closed: sector % 2 == 1,
                     };
                     let ray_len = 7 + usize::from(k);
                     let room = (PAYLOAD_BUDGET - 1 - ray_len) / 2;

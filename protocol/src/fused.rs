@@ -114,7 +114,9 @@ struct Seen {
 /// The digest of the decision-relevant part of a ray from `sender`: robots and votes.
 fn ray_digest(ray: &Ray, sender: Tag) -> u32 {
     let mut h: u32 = 0x811c_9dc5;
-    let bytes = [sender.index(), ray.robots].into_iter().chain(ray.votes);
+    let bytes = [sender.index(), ray.robots, u8::from(ray.closed)]
+        .into_iter()
+        .chain(ray.votes);
     for b in bytes {
         h = (h ^ u32::from(b)).wrapping_mul(0x0100_0193);
     }
@@ -244,6 +246,12 @@ pub struct FusedNode<D: Diversity = Variance> {
     heard: u8,
     /// Adaptive rule: sectors any message was heard from this period (a neighbour is there).
     neighbours: u8,
+    /// Adaptive rule: when a message was last heard from each sector (when the node started,
+    /// if never): a sector without a ray that stays silent for a longest cycle is empty.
+    heard_at: [Instant; MAX_SECTORS],
+    /// Adaptive rule: the next instant at which a silent sector becomes empty
+    /// ([`is_empty_side`](Self::is_empty_side)), or `Instant::MAX`.
+    next_quiet: Instant,
     /// Adaptive rule: the direction the held votes give now ([`FusedNode::tally`]).
     candidate: Option<Sector>,
     /// Adaptive rule: the sectors whose rays confirmed `candidate` after it was last set.
@@ -317,6 +325,8 @@ impl<D: Diversity> FusedNode<D> {
             born: now,
             heard: 0,
             neighbours: 0,
+            heard_at: [now; MAX_SECTORS],
+            next_quiet: Instant::MAX,
             candidate: None,
             confirmed: 0,
             differs_since: None,
@@ -406,6 +416,7 @@ impl<D: Diversity> FusedNode<D> {
             let confirming = (self.stats.rays != rays).then_some(from);
             self.settle(now, confirming);
             self.spread_news(now, rng);
+            self.update_quiet(now);
         }
         r
     }
@@ -417,6 +428,9 @@ impl<D: Diversity> FusedNode<D> {
             return Reception::UnknownSector;
         }
         self.neighbours |= 1 << from.index();
+        if let Some(t) = self.heard_at.get_mut(usize::from(from.index())) {
+            *t = now;
+        }
         if msg.has_tag(self.tag) {
             self.stats.own_tag = self.stats.own_tag.wrapping_add(1);
             return Reception::OwnTag;
@@ -490,12 +504,68 @@ impl<D: Diversity> FusedNode<D> {
     /// Does whatever is due at `now`: relays, initiations, the end of the refractory time,
     /// cycle and period ends.
     pub fn handle_timeout(&mut self, now: Instant, rng: &mut impl RngCore) {
+        let quiet = self.params.decide == DecisionRule::Adaptive && now >= self.next_quiet;
+        if quiet {
+            // A silent side became empty: the rays sent that way are now closed (news, unless
+            // an initiation due now carries them), and the robot may see to the end of every
+            // side.
+            let k = self.params.sectors.min(MAX_SECTORS as u8);
+            for s in 0..k {
+                if self.is_empty_side(s, now) {
+                    self.fresh_rays &= !(1 << s);
+                }
+            }
+        }
         self.poll_wave(now, rng);
         if self.wave.owed() > 0 && !self.wave.extra_pending() {
             // An initiation that fell while the robot was busy is deferred, not lost (both
             // rules): the paper's robots initiate at least once per cycle.
             let at = self.deferred_initiation_at(now, rng);
             self.wave.initiate_extra(at);
+        }
+        if quiet {
+            self.settle(now, None);
+            self.spread_news(now, rng);
+            self.update_quiet(now);
+        }
+    }
+
+    /// Adaptive rule: the next instant after `now` at which a sector without a ray has been
+    /// silent for a longest cycle ([`is_empty_side`](Self::is_empty_side)).
+    fn update_quiet(&mut self, now: Instant) {
+        let longest = self.longest_cycle();
+        let k = usize::from(self.params.sectors.min(MAX_SECTORS as u8));
+        self.next_quiet = self
+            .rays
+            .iter()
+            .zip(&self.heard_at)
+            .take(k)
+            .filter(|(r, _)| r.is_none())
+            .map(|(_, &t)| t + longest)
+            .filter(|&t| t > now)
+            .min()
+            .unwrap_or(Instant::MAX);
+    }
+
+    /// Adaptive rule: nothing lies in `sector`: no ray is held from it, and nothing was heard
+    /// from it for a whole longest cycle (within which every neighbour initiates), counting from
+    /// the node's start.
+    fn is_empty_side(&self, sector: u8, now: Instant) -> bool {
+        let i = usize::from(sector);
+        self.rays.get(i).is_some_and(Option::is_none)
+            && self
+                .heard_at
+                .get(i)
+                .is_some_and(|&t| now - t >= self.longest_cycle())
+    }
+
+    /// Adaptive rule: the robot knows every robot in `sector`: the ray it holds from there is
+    /// [`closed`](Ray::closed), or the side is empty.
+    fn sees_to_the_end(&self, sector: u8, now: Instant) -> bool {
+        match self.rays.get(usize::from(sector)) {
+            Some(Some(h)) => h.ray.closed,
+            Some(None) => self.is_empty_side(sector, now),
+            None => false,
         }
     }
 
@@ -526,6 +596,20 @@ impl<D: Diversity> FusedNode<D> {
             (u64::from(rng.next_u32()) % (spread + 1)).saturating_mul(tick),
         );
         now + w.relay_delay + w.refractory + jitter
+    }
+
+    /// When an initiation carrying news goes (adaptive rule): as soon as the robot is free
+    /// (inactive: now; else once its relay and refractory time are over), plus a random wait of
+    /// 1 to `relay_delay` (in ticks), so that neighbours freed by the same wave do not send
+    /// together.
+    fn news_initiation_at(&self, now: Instant, rng: &mut impl RngCore) -> Instant {
+        let w = &self.params.wave;
+        let tick = w.tick.as_millis().max(1);
+        let spread = (w.relay_delay.as_millis() / tick).max(1);
+        let jitter = crate::time::Duration::from_millis(
+            (1 + u64::from(rng.next_u32()) % spread).saturating_mul(tick),
+        );
+        self.wave.free_at(now) + jitter
     }
 
     fn poll_wave(&mut self, now: Instant, rng: &mut impl RngCore) {
@@ -615,7 +699,7 @@ impl<D: Diversity> FusedNode<D> {
 
     /// When [`handle_timeout`](Self::handle_timeout) must be called next.
     pub fn poll_timeout(&self) -> Instant {
-        self.wave.poll_timeout()
+        self.wave.poll_timeout().min(self.next_quiet)
     }
 
     /// The next message to broadcast, if any; frame it with [`crate::frame::encode`].
@@ -645,9 +729,14 @@ impl<D: Diversity> FusedNode<D> {
             self.fresh_rays = 0;
         }
         self.fresh_rays |= 1 << sector.index();
+        let closed = self.params.decide == DecisionRule::Adaptive
+            && self.is_empty_side(sector.index(), now);
         let ray = match self.ray_from(sector) {
             Some(r) => Some(r.extended(self.reading, vote)),
-            None => Ray::single(sector, self.params.sectors, self.reading, vote),
+            None => Ray::single(sector, self.params.sectors, self.reading, vote).map(|mut r| {
+                r.closed = closed;
+                r
+            }),
         };
         let mut dropped = m.set_ray(ray);
         // The payload a frame of `max_hops` plain hops would have (keyed frames: 11 hops).
@@ -757,7 +846,9 @@ impl<D: Diversity> FusedNode<D> {
                 }
                 seen[RAY_HISTORY - 1] = Seen { digest, at: now };
             }
-            if slot.is_none_or(|h| h.ray.robots != ray.robots || h.ray.votes != ray.votes) {
+            if slot.is_none_or(|h| {
+                h.ray.robots != ray.robots || h.ray.votes != ray.votes || h.ray.closed != ray.closed
+            }) {
                 self.fresh_rays &= !(1 << from.index());
             }
             *slot = Some(Held {
@@ -814,9 +905,11 @@ impl<D: Diversity> FusedNode<D> {
             .longest_cycle()
             .saturating_mul(u64::from(self.params.negotiation_cycles));
         let cutoff = now - period;
-        for slot in &mut self.rays {
+        for (i, slot) in self.rays.iter_mut().enumerate() {
             if slot.is_some_and(|h| h.at < cutoff) {
                 *slot = None;
+                // The ray sent that way changes (adaptive rule: news).
+                self.fresh_rays &= !(1 << i);
             }
         }
     }
@@ -890,9 +983,12 @@ impl<D: Diversity> FusedNode<D> {
     fn vote(&self, now: Instant) -> Option<Sector> {
         match self.params.decide {
             DecisionRule::Fixed => self.pref,
-            DecisionRule::Adaptive => self
-                .pref
-                .filter(|_| self.is_informed(now) && self.is_clear()),
+            DecisionRule::Adaptive => self.pref.filter(|p| {
+                let k = self.params.sectors.min(MAX_SECTORS as u8);
+                self.is_informed(now)
+                    && self.is_clear()
+                    && (0..k).all(|s| s == p.index() || self.sees_to_the_end(s, now))
+            }),
         }
     }
 
@@ -946,7 +1042,7 @@ impl<D: Diversity> FusedNode<D> {
         let Some(s) = needed.and_then(Sector::new) else {
             return;
         };
-        let at = self.extra_initiation_at(now, rng);
+        let at = self.news_initiation_at(now, rng);
         if self.wave.initiate_extra(at) {
             self.trigger = Some(s);
             self.triggered_in_cycle += 1;
@@ -997,10 +1093,12 @@ impl<D: Diversity> FusedNode<D> {
         } else if let Some(s) = confirming {
             self.confirmed |= 1 << s.index();
         }
+        let k = self.params.sectors.min(MAX_SECTORS as u8);
         if candidate.is_none()
             || candidate == self.decision
             || self.pref.is_none()
             || !self.is_informed(now)
+            || !(0..k).all(|s| self.sees_to_the_end(s, now))
         {
             return;
         }
@@ -1020,7 +1118,7 @@ impl<D: Diversity> FusedNode<D> {
         if held == 0 || (self.decision.is_some() && held & !self.confirmed != 0) {
             return;
         }
-        let k = usize::from(self.params.sectors);
+        let k = usize::from(k);
         let overturned = undecided > 0
             && (0..k).any(|s| {
                 let mut v = votes;
@@ -1137,7 +1235,10 @@ mod tests {
         from: Sector,
         msg: &[Hop],
     ) -> Message {
-        *t += Duration::from_secs(6);
+        *t += Duration::from_secs(12);
+        // What went out meanwhile (the adaptive rule's news) is not the relay.
+        n.handle_timeout(*t, rng);
+        while n.poll_transmit().is_some() {}
         let m = Message::from_hops(msg).unwrap();
         assert_eq!(n.handle_message(*t, from, &m, rng), Reception::Accepted);
         n.handle_timeout(*t + Duration::from_secs(1), rng);
@@ -1261,6 +1362,12 @@ mod tests {
             .fold(first, |ray, &(r, p)| ray.extended(Level(r), p))
     }
 
+    /// `ray` as a ray that reaches the end of its side ([`Ray::closed`]).
+    fn closed(mut ray: Ray) -> Ray {
+        ray.closed = true;
+        ray
+    }
+
     /// Like [`hear`], for a message carrying `ray`.
     fn hear_ray(
         n: &mut FusedNode,
@@ -1270,7 +1377,9 @@ mod tests {
         msg: &[Hop],
         ray: Ray,
     ) -> Message {
-        *t += Duration::from_secs(6);
+        *t += Duration::from_secs(12);
+        n.handle_timeout(*t, rng);
+        while n.poll_transmit().is_some() {}
         let mut m = Message::from_hops(msg).unwrap();
         m.set_ray(Some(ray));
         assert_eq!(n.handle_message(*t, from, &m, rng), Reception::Accepted);
@@ -1559,12 +1668,12 @@ mod tests {
     }
 
     #[test]
-    fn adaptive_decides_as_soon_as_both_sides_are_heard_and_the_votes_are_clear() {
+    fn adaptive_decides_as_soon_as_both_sides_are_heard_to_their_ends_and_the_votes_are_clear() {
         // Robot 1 of `1000`: left the lit robot 0 (pref R), right robots 2 and 3 (L, L).
         let (mut n, mut rng) = adaptive(10);
         let mut t = Instant::from_secs(1);
-        let left = || ray(Sector::LEFT, &[(200, R)]);
-        let right = || ray(Sector::RIGHT, &[(30, L), (30, L)]);
+        let left = || closed(ray(Sector::LEFT, &[(200, R)]));
+        let right = || closed(ray(Sector::RIGHT, &[(30, L), (30, L)]));
         hear_ray(
             &mut n,
             &mut rng,
@@ -1576,6 +1685,18 @@ mod tests {
         assert_eq!(n.preference(), L);
         // One side heard, and less than a cycle gone: not informed, no decision.
         assert_eq!(decisions(&mut n), []);
+        // The right's ray does not reach its end yet: robots beyond robot 2 may still come
+        // (in a tie they are what decides), so 2 L to 1 R is no decision.
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 30, L)],
+            ray(Sector::RIGHT, &[(30, L)]),
+        );
+        assert_eq!(n.votes()[..2], [1, 2]);
+        assert_eq!(decisions(&mut n), [], "an open ray");
         hear_ray(
             &mut n,
             &mut rng,
@@ -1584,7 +1705,8 @@ mod tests {
             &[hop(2, 30, L)],
             right(),
         );
-        // Both sides heard, votes 3 L to 1 R, nobody without a vote: decided, 13 s in.
+        // Both sides heard to their ends, votes 3 L to 1 R, nobody without a vote: decided,
+        // 19 s in.
         assert_eq!(
             decisions(&mut n),
             [(1, L)],
@@ -1617,7 +1739,7 @@ mod tests {
     fn adaptive_a_message_without_a_ray_stands_for_its_side() {
         let (mut n, mut rng) = adaptive(10);
         let mut t = Instant::from_secs(1);
-        let left = ray(Sector::LEFT, &[(200, R)]);
+        let left = closed(ray(Sector::LEFT, &[(200, R)]));
         hear_ray(
             &mut n,
             &mut rng,
@@ -1627,9 +1749,20 @@ mod tests {
             left,
         );
         // A message from the right without a ray: the robots it passed stand for that side
-        // until a ray comes (1 L), with the own preference (L).
+        // until a ray comes (1 L), with the own preference (L); they are not known to be the
+        // whole side, so no decision yet.
         hear(&mut n, &mut rng, &mut t, Sector::RIGHT, &[hop(2, 30, L)]);
         assert_eq!(n.votes()[..2], [1, 2]);
+        assert_eq!(decisions(&mut n), []);
+        // The right's ray, to its end: 3 L to 1 R.
+        hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 30, L)],
+            closed(ray(Sector::RIGHT, &[(30, L), (30, L)])),
+        );
         assert_eq!(decisions(&mut n), [(1, L)]);
     }
 
@@ -1637,7 +1770,7 @@ mod tests {
     fn adaptive_waits_for_a_side_it_hears_but_holds_no_ray_from() {
         let (mut n, mut rng) = adaptive(10);
         let mut t = Instant::from_secs(1);
-        let left = ray(Sector::LEFT, &[(200, R)]);
+        let left = closed(ray(Sector::LEFT, &[(200, R)]));
         hear_ray(
             &mut n,
             &mut rng,
@@ -1670,8 +1803,8 @@ mod tests {
         let mut t = Instant::from_secs(1);
         // Left one robot for R; right two robots without a preference yet: 1 L (own) to 1 R,
         // and two undecided robots could tip it either way.
-        let left = || ray(Sector::LEFT, &[(200, R)]);
-        let right = || ray(Sector::RIGHT, &[(30, None), (30, None)]);
+        let left = || closed(ray(Sector::LEFT, &[(200, R)]));
+        let right = || closed(ray(Sector::RIGHT, &[(30, None), (30, None)]));
         for _ in 0..4 {
             hear_ray(
                 &mut n,
@@ -1706,10 +1839,10 @@ mod tests {
     fn adaptive_changes_a_shown_decision_only_once_every_side_confirmed_the_change() {
         let (mut n, mut rng) = adaptive(10);
         let mut t = Instant::from_secs(1);
-        let left = || ray(Sector::LEFT, &[(200, R)]);
-        let right_l = || ray(Sector::RIGHT, &[(30, L), (30, L)]);
+        let left = || closed(ray(Sector::LEFT, &[(200, R)]));
+        let right_l = || closed(ray(Sector::RIGHT, &[(30, L), (30, L)]));
         // Three robots on the right, now all for R: 4 R to 1 L.
-        let right_r = || ray(Sector::RIGHT, &[(30, R), (30, R), (30, R)]);
+        let right_r = || closed(ray(Sector::RIGHT, &[(30, R), (30, R), (30, R)]));
         hear_ray(
             &mut n,
             &mut rng,
@@ -1781,19 +1914,22 @@ mod tests {
         );
         assert_eq!(n.preference(), L);
         assert_eq!(out.ray().unwrap().votes[..2], [1, 0], "robot 0's vote only");
-        // Heard from both sides: informed, its vote goes out; the relay carried it to the
-        // right, and one extra initiation carries it back to the left (the ray of the right).
+        // Heard from both sides, the right (the side it does not prefer) to its end: its vote
+        // goes out (the left may still grow; it holds the border whatever lies beyond); the
+        // relay carried it to the right, and one extra initiation carries it back to the left
+        // (the ray of the right).
         let out = hear_ray(
             &mut n,
             &mut rng,
             &mut t,
             Sector::RIGHT,
             &[hop(2, 30, L)],
-            ray(Sector::RIGHT, &[(30, L)]),
+            closed(ray(Sector::RIGHT, &[(30, L)])),
         );
         assert_eq!(out.ray().unwrap().votes[..2], [0, 2]);
-        // Within relay delay + refractory + a tenth of the 600 s cycle.
-        let soon = t + Duration::from_secs(1 + 4 + 60);
+        assert!(out.ray().unwrap().closed, "the relay extends the right's closed ray");
+        // As soon as it is free: relay delay + refractory + a relay delay at most.
+        let soon = t + Duration::from_secs(1 + 4 + 1);
         let extra = loop {
             let at = n.poll_timeout();
             assert!(at <= soon, "no extra initiation in time");
@@ -1805,8 +1941,55 @@ mod tests {
         assert_eq!(extra.len(), 1, "an initiation");
         let r = extra.ray().unwrap();
         assert_eq!(
-            (r.sector, r.robots, r.votes[..2].to_vec()),
-            (Sector::RIGHT, 2, std::vec![0, 2])
+            (r.sector, r.robots, r.votes[..2].to_vec(), r.closed),
+            (Sector::RIGHT, 2, std::vec![0, 2], true)
+        );
+    }
+
+    #[test]
+    fn adaptive_an_end_robot_knows_its_outward_side_is_empty_after_a_silent_longest_cycle() {
+        // Robot 0 of `1000` (lit; its cycle is 600 s, no spread): it hears only its right, whose
+        // ray reaches robot 3 (L, L, L). It prefers R (the right is diverse with itself).
+        let (mut n, mut rng) = adaptive(10);
+        n.handle_reading(Level(200));
+        let mut t = Instant::from_secs(1);
+        let right = closed(ray(Sector::RIGHT, &[(30, L), (30, L), (30, L)]));
+        let out = hear_ray(
+            &mut n,
+            &mut rng,
+            &mut t,
+            Sector::RIGHT,
+            &[hop(2, 30, L)],
+            right,
+        );
+        assert_eq!(n.preference(), R);
+        assert!(out.ray().unwrap().closed, "the right's ray is closed");
+        // Nothing lies to its left that it knows of, but a neighbour there may still initiate
+        // within a longest cycle: no vote, no decision, and it wakes when that cycle is over.
+        while n.poll_timeout() < Instant::from_secs(600) {
+            let at = n.poll_timeout();
+            n.handle_timeout(at, &mut rng);
+            while n.poll_transmit().is_some() {}
+        }
+        assert_eq!(decisions(&mut n), []);
+        assert_eq!(n.poll_timeout(), Instant::from_secs(600));
+        n.handle_timeout(Instant::from_secs(600), &mut rng);
+        // Now its left is empty: 3 L to its 1 R, every side known to its end.
+        assert_eq!(decisions(&mut n), [(1, L)]);
+        // And it tells the right at once (here its cycle's own initiation, due now, carries it):
+        // its ray of the (empty) left, closed, with its vote.
+        let m = loop {
+            if let Some(m) = n.poll_transmit() {
+                break m;
+            }
+            let at = n.poll_timeout();
+            assert!(at <= Instant::from_secs(601), "news at {at:?}");
+            n.handle_timeout(at, &mut rng);
+        };
+        let r = m.ray().unwrap();
+        assert_eq!(
+            (r.sector, r.robots, r.votes[..2].to_vec(), r.closed),
+            (Sector::LEFT, 1, std::vec![1, 0], true)
         );
     }
 

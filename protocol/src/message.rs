@@ -135,6 +135,9 @@ impl<'de> Deserialize<'de> for Hop {
 pub const FORMAT_BITS: u8 = 0x40;
 /// Header bit set when a [`Ray`] follows the hops.
 const RAY_BIT: u8 = 0x10;
+/// Bit of a ray's sector byte set when the ray is [`closed`](Ray::closed) (revision 3.1; the
+/// sector takes bits 6–4, as a sector is below 8).
+const CLOSED_BIT: u8 = 0x80;
 /// Mask of the header's hop count.
 const COUNT_MASK: u8 = 0x0F;
 /// Mask of the header's version bits.
@@ -153,8 +156,8 @@ pub const PAYLOAD_BUDGET: usize = 1 + MAX_HOPS * 2;
 /// from each of its sectors and, when it transmits, extends the ray of one sector by itself
 /// ([`Ray::extended`]).
 ///
-/// On the wire `7 + sectors` bytes: `sector << 4 | sectors`, `robots`, `sum` (u16 LE),
-/// `sum_sq` (u24 LE), then `votes[..sectors]`, one byte each.
+/// On the wire `7 + sectors` bytes: `closed << 7 | sector << 4 | sectors`, `robots`, `sum`
+/// (u16 LE), `sum_sq` (u24 LE), then `votes[..sectors]`, one byte each.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Ray {
@@ -171,6 +174,11 @@ pub struct Ray {
     pub sum_sq: u32,
     /// Robots preferring each sector (saturating); entries `sectors..` are zero.
     pub votes: [u8; MAX_SECTORS],
+    /// The ray reaches the end of the swarm that way: its farthest robot knew that it had no
+    /// neighbour beyond (it heard nothing from that side for a whole longest cycle), so
+    /// `robots` counts every robot of the chain. Kept by [`Ray::extended`]. Only the adaptive
+    /// rule sets it (`docs/protocol.md` §5.4, revision 3.1); bit 7 of the sector byte.
+    pub closed: bool,
 }
 
 impl Ray {
@@ -193,6 +201,7 @@ impl Ray {
             sum: x,
             sum_sq: u32::from(x * x),
             votes: [0; MAX_SECTORS],
+            closed: false,
         };
         ray.vote(pref);
         Some(ray)
@@ -335,7 +344,8 @@ impl Serialize for Message {
         }
         if let Some(r) = &self.ray {
             let k = usize::from(r.sectors);
-            t.serialize_element(&(r.sector.index() << 4 | r.sectors))?;
+            let closed = if r.closed { CLOSED_BIT } else { 0 };
+            t.serialize_element(&(closed | r.sector.index() << 4 | r.sectors))?;
             t.serialize_element(&r.robots)?;
             t.serialize_element(&r.sum.to_le_bytes())?;
             let q = r.sum_sq.to_le_bytes();
@@ -351,7 +361,8 @@ impl Serialize for Message {
 /// Serde's "expected" text for a bad header.
 const HEADER_EXPECTED: &str = "a header 0b010r_nnnn with 1..=12 hops";
 /// Serde's "expected" text for a bad ray.
-const RAY_EXPECTED: &str = "a ray with 2..=8 sectors, sector < sectors, robots >= votes >= 0";
+const RAY_EXPECTED: &str =
+    "a ray byte closed << 7 | sector << 4 | sectors with 2..=8 sectors, sector < sectors, robots >= votes >= 0";
 
 struct MessageVisitor;
 
@@ -387,12 +398,13 @@ impl<'de> serde::de::Visitor<'de> for MessageVisitor {
             let bad =
                 || A::Error::invalid_value(Unexpected::Unsigned(u64::from(sk)), &RAY_EXPECTED);
             let mut ray = Ray {
-                sector: Sector::new(sk >> 4).ok_or_else(bad)?,
+                sector: Sector::new((sk >> 4) & 0x07).ok_or_else(bad)?,
                 sectors,
                 robots,
                 sum: u16::from_le_bytes(sum),
                 sum_sq: u32::from_le_bytes([sum_sq[0], sum_sq[1], sum_sq[2], 0]),
                 votes: [0; MAX_SECTORS],
+                closed: sk & CLOSED_BIT != 0,
             };
             if !(2..=MAX_SECTORS as u8).contains(&sectors) {
                 return Err(bad());

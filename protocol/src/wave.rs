@@ -164,6 +164,18 @@ impl WaveNode {
         self.cycle_end
     }
 
+    /// The first instant, at or after `now`, at which the node is inactive again if nothing
+    /// else arrives: `now` if it is inactive, the end of its refractory time otherwise (for an
+    /// active node, after the relay it owes).
+    pub fn free_at(&self, now: Instant) -> Instant {
+        match self.state {
+            WaveState::Inactive => now,
+            WaveState::Active => self.relay_at + self.params.refractory,
+            WaveState::Refractory => self.refractory_until,
+        }
+        .max(now)
+    }
+
     /// True while an extra initiation is pending.
     pub fn extra_pending(&self) -> bool {
         self.extra_at.is_some()

@@ -37,6 +37,7 @@ fn a_corrupted_byte_that_passes_the_crc() {
             sum: readings.iter().sum::<u32>() as u16,
             sum_sq: readings.iter().map(|x| x * x).sum(),
             votes,
+            closed: false,
         };
         let mut m = Message::from_hops(&hops).unwrap();
         m.set_ray(Some(ray));

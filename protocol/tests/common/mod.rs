@@ -24,6 +24,8 @@ pub fn ray() -> impl Strategy<Value = Ray> {
                     sum: sum as u16,
                     sum_sq,
                     votes,
+                    // Both values of the closed bit (revision 3.1).
+                    closed: robots % 2 == 0,
                 }
             })
     })

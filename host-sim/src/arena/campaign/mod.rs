@@ -212,7 +212,7 @@ fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<Outcome, String
     let expected = run.expected.clone();
     let mut success = run.success;
     let mut why = (!success).then(|| match run.flicker {
-        Some((t, r)) => format!("robot {r}'s LEDs changed at {t:.0} s, after consensus"),
+        Some((t, r)) => format!("robot {r}'s LEDs changed at {t:.0} s, after it showed its side"),
         None => "wrong LEDs at the end".to_string(),
     });
     let mut restore_s = None;

@@ -343,7 +343,7 @@ fn lab_header(cfg: &ArenaConfig, run: &LabRun, args: &ArenaArgs) -> host_sim::vi
         ),
         (Some(x), false) => match run.flicker {
             Some((t, r)) => format!(
-                "FAILED: robot {r} changed its LEDs at {t:.0} s after the swarm agreed; at the end {leds}, expected {x}"
+                "FAILED: robot {r} changed its LEDs at {t:.0} s after it showed its side; at the end {leds}, expected {x}"
             ),
             None => format!("FAILED: LEDs at the end {leds}, expected {x}"),
         },

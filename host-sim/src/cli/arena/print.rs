@@ -21,6 +21,9 @@ pub(super) struct JsonRun {
     leds: String,
     success: bool,
     consensus_s: Option<f64>,
+    /// Robots that flickered: changed their LEDs after showing their side, before the lights
+    /// changed (`hal_emu::judge::LabRun::flickers`).
+    flickers: usize,
     seed: u64,
     emulated_s: f64,
     wall_s: f64,
@@ -63,6 +66,7 @@ pub(super) fn print_json(
                 leds: leds_str(&r.leds),
                 success: r.success,
                 consensus_s: r.consensus_s,
+                flickers: r.flickers,
                 seed: r.seed,
                 emulated_s: r.report.emulated.as_secs_f64(),
                 wall_s: r.report.wall.as_secs_f64(),
@@ -173,7 +177,7 @@ pub(super) fn print_failures(
         let flicker = r
             .flicker
             .map(|(t, robot)| {
-                format!("; robot {robot}'s LEDs changed at {t:.0} s, after consensus")
+                format!("; robot {robot}'s LEDs changed at {t:.0} s, after it showed its side")
             })
             .unwrap_or_default();
         eprintln!(
@@ -239,6 +243,7 @@ impl Crashed {
             leds: String::new(),
             success: false,
             consensus_s: None,
+            flickers: 0,
             seed: self.failure.seed,
             emulated_s: 0.0,
             wall_s: 0.0,

@@ -99,6 +99,10 @@ pub const TIE_TOLERANCE: f32 = 1.0 / 1024.0;
 /// stretch of a long line) that noisy levels tipped ties (`docs/protocol.md` §5.4).
 const CLEAR_RATIO: f32 = 4.0;
 
+/// Adaptive rule: extra initiations carrying news (`FusedNode::spread_news`) a robot may ask
+/// for per cycle, per sector.
+const NEWS_PER_SECTOR: u8 = 4;
+
 /// Rays taken per sector remembered by the adaptive rule (`FusedNode::take_ray`).
 const RAY_HISTORY: usize = 4;
 
@@ -221,6 +225,8 @@ pub struct FusedNode<D: Diversity = Variance> {
     diversity: D,
     wave: WaveNode,
     reading: Level,
+    /// Adaptive rule: the reading in the last ray this robot sent.
+    sent_reading: Level,
     pref: Option<Sector>,
     decision: Option<Sector>,
     weights: DirectionWeights<Sector, MAX_SECTORS>,
@@ -312,6 +318,7 @@ impl<D: Diversity> FusedNode<D> {
             diversity,
             wave: WaveNode::new(params.wave, now, rng),
             reading: Level::default(),
+            sent_reading: Level::default(),
             pref: None,
             decision: None,
             weights: DirectionWeights::default(),
@@ -393,7 +400,24 @@ impl<D: Diversity> FusedNode<D> {
     }
 
     /// A new sensor reading; it goes into every hop this robot adds from now on.
+    ///
+    /// Under the adaptive rule a reading that moved, since the last ray this robot sent, by
+    /// more than the spread of what it holds (the squared change above the variance of every
+    /// held ray: a light switched, not sensor noise; ratios only, §5.6) makes every ray it
+    /// sends news ([`spread_news`](Self::spread_news), at its next reception or timeout).
     pub fn handle_reading(&mut self, reading: Level) {
+        if self.params.decide == DecisionRule::Adaptive {
+            let d = f32::from(reading.0) - f32::from(self.sent_reading.0);
+            let spread = self
+                .rays
+                .iter()
+                .flatten()
+                .map(|h| h.ray.variance())
+                .fold(None, |m: Option<f32>, v| Some(m.map_or(v, |m| m.max(v))));
+            if spread.is_some_and(|v| d * d > v) {
+                self.fresh_rays = 0;
+            }
+        }
         self.reading = reading;
     }
 
@@ -600,12 +624,12 @@ impl<D: Diversity> FusedNode<D> {
 
     /// When an initiation carrying news goes (adaptive rule): as soon as the robot is free
     /// (inactive: now; else once its relay and refractory time are over), plus a random wait of
-    /// 1 to `relay_delay` (in ticks), so that neighbours freed by the same wave do not send
-    /// together.
+    /// 1 tick to a quarter of `relay_delay` (in ticks), so that neighbours freed by the same
+    /// wave do not send together.
     fn news_initiation_at(&self, now: Instant, rng: &mut impl RngCore) -> Instant {
         let w = &self.params.wave;
         let tick = w.tick.as_millis().max(1);
-        let spread = (w.relay_delay.as_millis() / tick).max(1);
+        let spread = (w.relay_delay.as_millis() / 4 / tick).max(1);
         let jitter = crate::time::Duration::from_millis(
             (1 + u64::from(rng.next_u32()) % spread).saturating_mul(tick),
         );
@@ -729,6 +753,7 @@ impl<D: Diversity> FusedNode<D> {
             self.fresh_rays = 0;
         }
         self.fresh_rays |= 1 << sector.index();
+        self.sent_reading = self.reading;
         let closed = self.params.decide == DecisionRule::Adaptive
             && self.is_empty_side(sector.index(), now);
         let ray = match self.ray_from(sector) {
@@ -1021,12 +1046,21 @@ impl<D: Diversity> FusedNode<D> {
     /// Adaptive rule: if the ray this robot would send for some side is news (its own vote, or
     /// the robots or votes of the ray it holds, changed since it last sent that ray) and the
     /// neighbours that ray serves exist (a ray is held from the opposite sector), asks for one
-    /// extra initiation carrying it ([`extra_initiation_at`](Self::extra_initiation_at)), at
-    /// most K per cycle and one at a time. A relay carries news only ahead of its wave; the
-    /// robots behind it would otherwise wait for this robot's next initiation.
+    /// extra initiation carrying it ([`news_initiation_at`](Self::news_initiation_at)), at
+    /// most [`NEWS_PER_SECTOR`] · K per cycle and one at a time. A relay carries news only
+    /// ahead of its wave; the robots behind it would otherwise wait for this robot's next
+    /// initiation. A pending extra initiation that would fall while the robot is busy (a wave
+    /// arrived since it was asked for) would be skipped: it is moved to when the robot is free.
     fn spread_news(&mut self, now: Instant, rng: &mut impl RngCore) {
         let k = self.params.sectors.clamp(1, MAX_SECTORS as u8);
-        if self.triggered_in_cycle >= k || self.wave.extra_pending() {
+        if self.triggered_in_cycle >= k.saturating_mul(NEWS_PER_SECTOR) {
+            return;
+        }
+        if self
+            .wave
+            .extra_at()
+            .is_some_and(|at| at >= self.wave.free_at(now))
+        {
             return;
         }
         let vote = self.vote(now);

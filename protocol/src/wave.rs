@@ -176,6 +176,11 @@ impl WaveNode {
         .max(now)
     }
 
+    /// When the pending extra initiation is due, if one is.
+    pub fn extra_at(&self) -> Option<Instant> {
+        self.extra_at
+    }
+
     /// True while an extra initiation is pending.
     pub fn extra_pending(&self) -> bool {
         self.extra_at.is_some()

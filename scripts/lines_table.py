@@ -111,19 +111,24 @@ def grid(a):
                         key = (n, b, readings, loss, rule)
                         jobs[key] = pool.submit(grid_cell, a.cimax, pattern, a.runs, a.seed,
                                                 loss, rule, readings)
-    print("| robots | lit | readings | loss | rule | right | flickers | median s | p95 s |")
-    print("|---:|---:|---|---:|---|---:|---:|---:|---:|")
+    fmt = lambda t: "-" if t is None else f"{t:.0f}"
+    head = " | ".join(f"{r}: right | flickers | median s | p95 s" for r in rules)
+    print(f"| robots | lit | readings | loss | {head} |")
+    print("|---:|---:|---|---:|" + "---:|---:|---:|---:|" * len(rules))
     fails = []
-    for (n, b, readings, loss, rule), f in jobs.items():
-        right, total, flickers, times, failed = f.result()
-        med, p95 = quantile(times, 0.5), quantile(times, 0.95)
-        tie = " (tie)" if 2 * b == n else ""
-        fmt = lambda t: "-" if t is None else f"{t:.0f}"
-        print(f"| {n} | {b}{tie} | {readings} | {loss:.0%} | {rule} | {right}/{total} | "
-              f"{flickers} | {fmt(med)} | {fmt(p95)} |")
+    for n, b, _ in rows:
         pattern = "1" * b + "0" * (n - b)
-        fails += [f"cimax arena --lights {pattern} --seed {s} --runs 1 --loss {loss} "
-                  f"--decide {rule} --readings {readings}" for s in failed]
+        tie = " (tie)" if 2 * b == n else ""
+        for readings in GRID_READINGS:
+            for loss in (0.0, 0.1):
+                cells = []
+                for rule in rules:
+                    right, total, flickers, times, failed = jobs[(n, b, readings, loss, rule)].result()
+                    cells.append(f"{right}/{total} | {flickers} | {fmt(quantile(times, 0.5))} | "
+                                 f"{fmt(quantile(times, 0.95))}")
+                    fails += [f"cimax arena --lights {pattern} --seed {s} --runs 1 --loss {loss} "
+                              f"--decide {rule} --readings {readings}" for s in failed]
+                print(f"| {n} | {b}{tie} | {readings} | {loss:.0%} | {' | '.join(cells)} |")
     for f in fails:
         print(f"FAILED: {f}", file=sys.stderr)
 

@@ -559,6 +559,7 @@ pub fn roundtrip() -> Vec<(&'static str, roundtrip::Input)> {
                     sum: 0x7373,
                     sum_sq: 147 * 147 * 45 + 148 * 148 * 155,
                     votes: [10, 20, 30, 40, 50, 0, 50, 0],
+                    closed: true,
                 }),
                 ..input((0..20).map(|r| hop(r, Some(r % 8))).collect(), 17, 0x73)
             },
@@ -627,6 +628,7 @@ pub fn fused_node() -> Vec<(&'static str, fused_node::Input)> {
             sum: (a * (n - c) + b * c) as u16,
             sum_sq: a * a * (n - c) + b * b * c,
             votes,
+            closed: false,
         }
     };
     // The robot is tag 9 unless a seed says otherwise; `hop` is tag 0.

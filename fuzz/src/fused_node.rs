@@ -469,7 +469,11 @@ pub fn ray_matches(
             h.ray.sum_sq + x * x,
         )
     };
-    ray.robots == robots && u32::from(ray.sum) == sum && ray.sum_sq == sum_sq && ray.votes == votes
+    ray.robots == robots
+        && u32::from(ray.sum) == sum
+        && ray.sum_sq == sum_sq
+        && ray.votes == votes
+        && ray.closed == h.ray.closed
 }
 
 /// True if a ray's sums are those of some 8-bit readings. Since wire format 3 every ray that

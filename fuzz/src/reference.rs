@@ -118,6 +118,7 @@ pub fn ray_left_k2() -> Ray {
         sum: 460,
         sum_sq: 81800,
         votes,
+        closed: false,
     }
 }
 
@@ -205,6 +206,7 @@ impl<'a> Arbitrary<'a> for ArbRay {
                 r % (robots + 1)
             };
         }
+        let closed = u.arbitrary::<bool>()?;
         Ok(ArbRay(Ray {
             sector: sector(s),
             sectors: k,
@@ -212,6 +214,7 @@ impl<'a> Arbitrary<'a> for ArbRay {
             sum,
             sum_sq,
             votes,
+            closed,
         }))
     }
 }
@@ -307,10 +310,13 @@ pub fn payload_of(msg: &Message) -> Vec<u8> {
     p
 }
 
-/// A ray's bytes: `sector << 4 | sectors`, robots, sum LE (2), sum of squares LE (3),
-/// `votes[..sectors]`.
+/// A ray's bytes: `closed << 7 | sector << 4 | sectors`, robots, sum LE (2), sum of squares
+/// LE (3), `votes[..sectors]`.
 pub fn ray_bytes(r: &Ray) -> Vec<u8> {
-    let mut p = vec![r.sector.index() << 4 | r.sectors, r.robots];
+    let mut p = vec![
+        u8::from(r.closed) << 7 | r.sector.index() << 4 | r.sectors,
+        r.robots,
+    ];
     p.extend_from_slice(&r.sum.to_le_bytes());
     p.extend_from_slice(&r.sum_sq.to_le_bytes()[..3]);
     p.extend_from_slice(&r.votes[..usize::from(r.sectors).min(MAX_SECTORS)]);
@@ -369,7 +375,12 @@ pub fn parse_prefix(data: &[u8]) -> Result<(Message, usize), ParseError> {
     let mut used = 1 + 2 * n;
     let ray = if header & RAY_BIT != 0 {
         let fixed = data.get(used..used + 7).ok_or(ParseError::Short)?;
-        let (s, k) = (fixed[0] >> 4, fixed[0] & 0x0F);
+        // Bit 7: the ray is closed (revision 3.1); bits 6-4 the sector, 3-0 K.
+        let (s, k, closed) = (
+            (fixed[0] >> 4) & 0x07,
+            fixed[0] & 0x0F,
+            fixed[0] & 0x80 != 0,
+        );
         let robots = fixed[1];
         // The sector byte is checked before the votes are read: its K says how many follow.
         if !(2..=MAX_SECTORS as u8).contains(&k) || s >= k || robots == 0 {
@@ -399,6 +410,7 @@ pub fn parse_prefix(data: &[u8]) -> Result<(Message, usize), ParseError> {
             sum,
             sum_sq,
             votes,
+            closed,
         })
     } else {
         None

@@ -275,6 +275,7 @@ mod tests {
                 sum: 255 * 128,
                 sum_sq: 255 * 255 * 128,
                 votes,
+                closed: k % 2 == 0,
             };
             let with = Input {
                 ray: Some(ray),

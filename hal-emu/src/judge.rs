@@ -231,7 +231,10 @@ pub fn judge(cfg: &ArenaConfig) -> Result<LabRun, ArenaError> {
         }
         let phase = flickers_in(&report, e, *from, *to, &cfg.kills);
         flickers += phase.len();
-        flicker = flicker.into_iter().chain(phase).min_by(|a, b| a.0.total_cmp(&b.0));
+        flicker = flicker
+            .into_iter()
+            .chain(phase)
+            .min_by(|a, b| a.0.total_cmp(&b.0));
     }
     success &= flicker.is_none();
     let consensus_s = exp

@@ -92,7 +92,7 @@ fn a_missed_bar_exits_1_names_it_and_its_replay_reproduces_the_run() {
         "--loss",
         "0.9",
         "--seeds",
-        "2",
+        "4",
         "--out",
         out.to_str().unwrap(),
     ]);

@@ -275,6 +275,8 @@ pub struct FusedNode<D: Diversity = Variance> {
     trigger: Option<Sector>,
     /// Adaptive rule: extra initiations asked for in the cycle under way.
     triggered_in_cycle: u8,
+    /// Adaptive rule: the sector `spread_news` looks at first (the one after its last).
+    next_news: u8,
     /// The accepted message waiting for its relay, and the sector it came from.
     pending: Option<(Message, Sector)>,
     outbox: Deque<Message, OUTBOX>,
@@ -342,6 +344,7 @@ impl<D: Diversity> FusedNode<D> {
             fresh_rays: 0,
             trigger: None,
             triggered_in_cycle: 0,
+            next_news: 0,
             pending: None,
             outbox: Deque::new(),
             events: Deque::new(),
@@ -754,8 +757,8 @@ impl<D: Diversity> FusedNode<D> {
         }
         self.fresh_rays |= 1 << sector.index();
         self.sent_reading = self.reading;
-        let closed = self.params.decide == DecisionRule::Adaptive
-            && self.is_empty_side(sector.index(), now);
+        let closed =
+            self.params.decide == DecisionRule::Adaptive && self.is_empty_side(sector.index(), now);
         let ray = match self.ray_from(sector) {
             Some(r) => Some(r.extended(self.reading, vote)),
             None => Ray::single(sector, self.params.sectors, self.reading, vote).map(|mut r| {
@@ -1069,7 +1072,10 @@ impl<D: Diversity> FusedNode<D> {
         } else {
             0
         };
-        let needed = (0..k).find(|&s| {
+        // Round robin from the sector after the last one sent as news: a side whose ray keeps
+        // changing must not starve the others.
+        let start = self.next_news % k;
+        let needed = (0..k).map(|j| (start + j) % k).find(|&s| {
             let opposite = usize::from((s + k / 2) % k);
             current & (1 << s) == 0 && self.rays.get(opposite).is_some_and(|h| h.is_some())
         });
@@ -1079,6 +1085,7 @@ impl<D: Diversity> FusedNode<D> {
         let at = self.news_initiation_at(now, rng);
         if self.wave.initiate_extra(at) {
             self.trigger = Some(s);
+            self.next_news = (s.index() + 1) % k;
             self.triggered_in_cycle += 1;
         }
     }
@@ -1949,9 +1956,9 @@ mod tests {
         assert_eq!(n.preference(), L);
         assert_eq!(out.ray().unwrap().votes[..2], [1, 0], "robot 0's vote only");
         // Heard from both sides, the right (the side it does not prefer) to its end: its vote
-        // goes out (the left may still grow; it holds the border whatever lies beyond); the
-        // relay carried it to the right, and one extra initiation carries it back to the left
-        // (the ray of the right).
+        // goes out (the left may still grow; it holds the border whatever lies beyond). The
+        // relay of the right's wave carries it to the left (the ray of the right, closed); one
+        // extra initiation carries it to the right (the ray of the left, still open).
         let out = hear_ray(
             &mut n,
             &mut rng,
@@ -1961,7 +1968,10 @@ mod tests {
             closed(ray(Sector::RIGHT, &[(30, L)])),
         );
         assert_eq!(out.ray().unwrap().votes[..2], [0, 2]);
-        assert!(out.ray().unwrap().closed, "the relay extends the right's closed ray");
+        assert!(
+            out.ray().unwrap().closed,
+            "the relay extends the right's closed ray"
+        );
         // As soon as it is free: relay delay + refractory + a relay delay at most.
         let soon = t + Duration::from_secs(1 + 4 + 1);
         let extra = loop {
@@ -1976,7 +1986,7 @@ mod tests {
         let r = extra.ray().unwrap();
         assert_eq!(
             (r.sector, r.robots, r.votes[..2].to_vec(), r.closed),
-            (Sector::RIGHT, 2, std::vec![0, 2], true)
+            (Sector::LEFT, 2, std::vec![1, 1], false)
         );
     }
 

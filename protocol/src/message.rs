@@ -361,8 +361,7 @@ impl Serialize for Message {
 /// Serde's "expected" text for a bad header.
 const HEADER_EXPECTED: &str = "a header 0b010r_nnnn with 1..=12 hops";
 /// Serde's "expected" text for a bad ray.
-const RAY_EXPECTED: &str =
-    "a ray byte closed << 7 | sector << 4 | sectors with 2..=8 sectors, sector < sectors, robots >= votes >= 0";
+const RAY_EXPECTED: &str = "a ray byte closed << 7 | sector << 4 | sectors with 2..=8 sectors, sector < sectors, robots >= votes >= 0";
 
 struct MessageVisitor;
 
@@ -612,6 +611,40 @@ mod tests {
         assert_eq!(
             Message::from_hops(&[hop(1); MAX_HOPS]).unwrap().len(),
             MAX_HOPS
+        );
+    }
+
+    #[test]
+    fn the_closed_bit_is_bit_7_of_the_ray_byte_and_extension_keeps_it() {
+        // Robot 9 (reading 3, for LEFT) alone on an empty LEFT side: 0x80 | 1 << 4 | 2.
+        let mut ray = Ray::single(Sector::LEFT, 2, Level(3), Some(Sector::LEFT)).unwrap();
+        ray.closed = true;
+        let mut m = Message::initiate(hop(3));
+        m.set_ray(Some(ray));
+        let mut buf = [0u8; PAYLOAD_BUDGET];
+        let out = postcard::to_slice(&m, &mut buf).unwrap();
+        assert_eq!(out, &[0x51, 3, 0, 0x92, 1, 3, 0, 9, 0, 0, 0, 1]);
+        assert_eq!(postcard::from_bytes::<Message>(out).unwrap(), m);
+        // The same ray open: only bit 7 differs.
+        ray.closed = false;
+        m.set_ray(Some(ray));
+        let open = postcard::to_slice(&m, &mut buf).unwrap();
+        assert_eq!(open[3], 0x12);
+        // Extending keeps the bit either way.
+        assert!(!ray.extended(Level(1), None).closed);
+        ray.closed = true;
+        assert!(ray.extended(Level(1), None).closed);
+        // Bits 6-4 are still the sector: closed with sector 2 of K = 2 is refused.
+        let mut bad = [0x51, 3, 0, 0xA2, 1, 3, 0, 9, 0, 0, 0, 1];
+        assert!(postcard::from_bytes::<Message>(&bad).is_err());
+        bad[3] = 0x82;
+        assert_eq!(
+            postcard::from_bytes::<Message>(&bad)
+                .unwrap()
+                .ray()
+                .unwrap()
+                .sector,
+            Sector::RIGHT
         );
     }
 

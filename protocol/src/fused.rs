@@ -246,18 +246,20 @@ pub struct FusedNode<D: Diversity = Variance> {
     /// Negotiation periods completed, as [`NodeStats::periods`]: a counter of its own here
     /// keeps the robot image 280 B smaller than reading the stats' (measured, 2026-11-24).
     periods: u32,
-    /// When the node started: a whole cycle later every neighbour has initiated once.
-    born: Instant,
+    /// Adaptive rule: a whole listening window (a longest cycle) has passed since the node
+    /// started: every neighbour in range has initiated once.
+    listened: bool,
     /// Sectors a ray was ever taken from (bit `i` for sector `i`).
     heard: u8,
-    /// Adaptive rule: sectors any message was heard from this period (a neighbour is there).
-    neighbours: u8,
-    /// Adaptive rule: when a message was last heard from each sector (when the node started,
-    /// if never): a sector without a ray that stays silent for a longest cycle is empty.
-    heard_at: [Instant; MAX_SECTORS],
-    /// Adaptive rule: the next instant at which a silent sector becomes empty
-    /// ([`is_empty_side`](Self::is_empty_side)), or `Instant::MAX`.
-    next_quiet: Instant,
+    /// Adaptive rule: sectors any message was heard from in the listening window under way
+    /// (one longest cycle, the first starting when the node starts).
+    heard_window: u8,
+    /// Adaptive rule: sectors nothing was heard from in the last whole window, nor since
+    /// ([`is_empty_side`](Self::is_empty_side)).
+    silent: u8,
+    /// Adaptive rule: when the listening window under way ends (`Instant::MAX` for the fixed
+    /// rule).
+    window_end: Instant,
     /// Adaptive rule: the direction the held votes give now ([`FusedNode::tally`]).
     candidate: Option<Sector>,
     /// Adaptive rule: the sectors whose rays confirmed `candidate` after it was last set.
@@ -331,11 +333,15 @@ impl<D: Diversity> FusedNode<D> {
             next_period_initiations: 0,
             decide_pending: false,
             periods: 0,
-            born: now,
+            listened: false,
             heard: 0,
-            neighbours: 0,
-            heard_at: [now; MAX_SECTORS],
-            next_quiet: Instant::MAX,
+            heard_window: 0,
+            silent: 0,
+            window_end: if params.decide == DecisionRule::Adaptive {
+                now + params.longest_cycle()
+            } else {
+                Instant::MAX
+            },
             candidate: None,
             confirmed: 0,
             differs_since: None,
@@ -410,14 +416,14 @@ impl<D: Diversity> FusedNode<D> {
     /// sends news ([`spread_news`](Self::spread_news), at its next reception or timeout).
     pub fn handle_reading(&mut self, reading: Level) {
         if self.params.decide == DecisionRule::Adaptive {
-            let d = f32::from(reading.0) - f32::from(self.sent_reading.0);
-            let spread = self
-                .rays
-                .iter()
-                .flatten()
-                .map(|h| h.ray.variance())
-                .fold(None, |m: Option<f32>, v| Some(m.map_or(v, |m| m.max(v))));
-            if spread.is_some_and(|v| d * d > v) {
+            // The adaptive rule's weights are the held rays' variances with the own reading;
+            // the preferred side's is the largest.
+            let d = f32::from(reading.0.abs_diff(self.sent_reading.0));
+            if self
+                .pref
+                .and_then(|p| self.weights.weight(p))
+                .is_some_and(|w| d * d > w)
+            {
                 self.fresh_rays = 0;
             }
         }
@@ -429,6 +435,7 @@ impl<D: Diversity> FusedNode<D> {
     /// Whatever was due up to `now` is done first (as by
     /// [`handle_timeout`](Self::handle_timeout)), so a message that arrives just as the
     /// refractory time ends is heard, whichever of the two the caller learnt of first.
+    #[inline(never)]
     pub fn handle_message(
         &mut self,
         now: Instant,
@@ -443,7 +450,6 @@ impl<D: Diversity> FusedNode<D> {
             let confirming = (self.stats.rays != rays).then_some(from);
             self.settle(now, confirming);
             self.spread_news(now, rng);
-            self.update_quiet(now);
         }
         r
     }
@@ -454,10 +460,8 @@ impl<D: Diversity> FusedNode<D> {
             self.stats.unknown_sector = self.stats.unknown_sector.wrapping_add(1);
             return Reception::UnknownSector;
         }
-        self.neighbours |= 1 << from.index();
-        if let Some(t) = self.heard_at.get_mut(usize::from(from.index())) {
-            *t = now;
-        }
+        self.heard_window |= 1 << from.index();
+        self.silent &= !(1 << from.index());
         if msg.has_tag(self.tag) {
             self.stats.own_tag = self.stats.own_tag.wrapping_add(1);
             return Reception::OwnTag;
@@ -531,17 +535,18 @@ impl<D: Diversity> FusedNode<D> {
     /// Does whatever is due at `now`: relays, initiations, the end of the refractory time,
     /// cycle and period ends.
     pub fn handle_timeout(&mut self, now: Instant, rng: &mut impl RngCore) {
-        let quiet = self.params.decide == DecisionRule::Adaptive && now >= self.next_quiet;
+        let quiet = now >= self.window_end;
         if quiet {
-            // A silent side became empty: the rays sent that way are now closed (news, unless
-            // an initiation due now carries them), and the robot may see to the end of every
-            // side.
-            let k = self.params.sectors.min(MAX_SECTORS as u8);
-            for s in 0..k {
-                if self.is_empty_side(s, now) {
-                    self.fresh_rays &= !(1 << s);
-                }
-            }
+            // A listening window ended: the sectors silent all through it are empty. Those
+            // that just became so change the ray sent that way (now closed): news, unless an
+            // initiation due now carries it. The robot may now see to the end of every side.
+            let silent = self.all_sectors() & !self.heard_window;
+            self.fresh_rays &= !(silent & !self.silent);
+            self.silent = silent;
+            self.heard_window = 0;
+            self.listened = true;
+            let next = self.window_end + self.longest_cycle();
+            self.window_end = next.max(now + crate::time::Duration::from_millis(1));
         }
         self.poll_wave(now, rng);
         if self.wave.owed() > 0 && !self.wave.extra_pending() {
@@ -553,47 +558,38 @@ impl<D: Diversity> FusedNode<D> {
         if quiet {
             self.settle(now, None);
             self.spread_news(now, rng);
-            self.update_quiet(now);
         }
-    }
-
-    /// Adaptive rule: the next instant after `now` at which a sector without a ray has been
-    /// silent for a longest cycle ([`is_empty_side`](Self::is_empty_side)).
-    fn update_quiet(&mut self, now: Instant) {
-        let longest = self.longest_cycle();
-        let k = usize::from(self.params.sectors.min(MAX_SECTORS as u8));
-        self.next_quiet = self
-            .rays
-            .iter()
-            .zip(&self.heard_at)
-            .take(k)
-            .filter(|(r, _)| r.is_none())
-            .map(|(_, &t)| t + longest)
-            .filter(|&t| t > now)
-            .min()
-            .unwrap_or(Instant::MAX);
     }
 
     /// Adaptive rule: nothing lies in `sector`: no ray is held from it, and nothing was heard
-    /// from it for a whole longest cycle (within which every neighbour initiates), counting from
-    /// the node's start.
-    fn is_empty_side(&self, sector: u8, now: Instant) -> bool {
-        let i = usize::from(sector);
-        self.rays.get(i).is_some_and(Option::is_none)
+    /// from it for a whole listening window of a longest cycle (within which every neighbour
+    /// initiates; the first window starts with the node), nor since.
+    fn is_empty_side(&self, sector: u8) -> bool {
+        self.silent & (1 << sector) != 0
             && self
-                .heard_at
-                .get(i)
-                .is_some_and(|&t| now - t >= self.longest_cycle())
+                .rays
+                .get(usize::from(sector))
+                .is_some_and(Option::is_none)
     }
 
-    /// Adaptive rule: the robot knows every robot in `sector`: the ray it holds from there is
-    /// [`closed`](Ray::closed), or the side is empty.
-    fn sees_to_the_end(&self, sector: u8, now: Instant) -> bool {
-        match self.rays.get(usize::from(sector)) {
-            Some(Some(h)) => h.ray.closed,
-            Some(None) => self.is_empty_side(sector, now),
-            None => false,
+    /// Adaptive rule: the sectors below K in which the robot knows every robot (bit `i` for
+    /// sector `i`): the ray it holds from there is [`closed`](Ray::closed), or the side is
+    /// empty ([`is_empty_side`](Self::is_empty_side)).
+    fn known_to_the_end(&self) -> u8 {
+        let mut known = 0u8;
+        for s in 0..self.params.sectors.min(MAX_SECTORS as u8) {
+            let closed = match self.rays.get(usize::from(s)) {
+                Some(Some(h)) => h.ray.closed,
+                _ => self.is_empty_side(s),
+            };
+            known |= u8::from(closed) << s;
         }
+        known
+    }
+
+    /// The mask of sectors `0..K`.
+    fn all_sectors(&self) -> u8 {
+        ((1u16 << self.params.sectors.min(MAX_SECTORS as u8)) - 1) as u8
     }
 
     /// When a skipped initiation is made up: as [`extra_initiation_at`](Self::extra_initiation_at),
@@ -632,9 +628,11 @@ impl<D: Diversity> FusedNode<D> {
     fn news_initiation_at(&self, now: Instant, rng: &mut impl RngCore) -> Instant {
         let w = &self.params.wave;
         let tick = w.tick.as_millis().max(1);
-        let spread = (w.relay_delay.as_millis() / 4 / tick).max(1);
+        let spread = u32::try_from(w.relay_delay.as_millis() / 4 / tick)
+            .unwrap_or(u32::MAX)
+            .max(1);
         let jitter = crate::time::Duration::from_millis(
-            (1 + u64::from(rng.next_u32()) % spread).saturating_mul(tick),
+            u64::from(1 + rng.next_u32() % spread).saturating_mul(tick),
         );
         self.wave.free_at(now) + jitter
     }
@@ -659,7 +657,7 @@ impl<D: Diversity> FusedNode<D> {
                         None => self.initiation_ray(),
                     };
                     let m = Message::initiate(self.own_hop());
-                    self.send_with_ray(now, m, sector);
+                    self.send_with_ray(m, sector);
                     if self.params.decide == DecisionRule::Adaptive {
                         self.spread_news(now, rng);
                     }
@@ -678,7 +676,7 @@ impl<D: Diversity> FusedNode<D> {
                         // Cannot evict: no ray, and at most cap - 1 < MAX_HOPS hops remain.
                         m.push_evicting(self.own_hop());
                         self.count_evicted(dropped);
-                        self.send_with_ray(now, m, from);
+                        self.send_with_ray(m, from);
                     }
                 }
                 WaveAction::Rested => self.push_event(Event::State(WaveState::Inactive)),
@@ -726,7 +724,7 @@ impl<D: Diversity> FusedNode<D> {
 
     /// When [`handle_timeout`](Self::handle_timeout) must be called next.
     pub fn poll_timeout(&self) -> Instant {
-        self.wave.poll_timeout().min(self.next_quiet)
+        self.wave.poll_timeout().min(self.window_end)
     }
 
     /// The next message to broadcast, if any; frame it with [`crate::frame::encode`].
@@ -749,8 +747,8 @@ impl<D: Diversity> FusedNode<D> {
 
     /// Attaches the ray of `sector` extended by this robot (what lies that way, and itself),
     /// trims the message to the payload budget of `max_hops` and transmits it.
-    fn send_with_ray(&mut self, now: Instant, mut m: Message, sector: Sector) {
-        let vote = self.vote(now);
+    fn send_with_ray(&mut self, mut m: Message, sector: Sector) {
+        let vote = self.vote();
         if vote != self.last_vote {
             self.last_vote = vote;
             self.fresh_rays = 0;
@@ -758,7 +756,7 @@ impl<D: Diversity> FusedNode<D> {
         self.fresh_rays |= 1 << sector.index();
         self.sent_reading = self.reading;
         let closed =
-            self.params.decide == DecisionRule::Adaptive && self.is_empty_side(sector.index(), now);
+            self.params.decide == DecisionRule::Adaptive && self.is_empty_side(sector.index());
         let ray = match self.ray_from(sector) {
             Some(r) => Some(r.extended(self.reading, vote)),
             None => Ray::single(sector, self.params.sectors, self.reading, vote).map(|mut r| {
@@ -933,11 +931,9 @@ impl<D: Diversity> FusedNode<D> {
             .longest_cycle()
             .saturating_mul(u64::from(self.params.negotiation_cycles));
         let cutoff = now - period;
-        for (i, slot) in self.rays.iter_mut().enumerate() {
+        for slot in &mut self.rays {
             if slot.is_some_and(|h| h.at < cutoff) {
                 *slot = None;
-                // The ray sent that way changes (adaptive rule: news).
-                self.fresh_rays &= !(1 << i);
             }
         }
     }
@@ -1008,14 +1004,12 @@ impl<D: Diversity> FusedNode<D> {
     /// once it [`is_informed`](Self::is_informed) and the preference
     /// [`is_clear`](Self::is_clear) (a preference formed from one side of a line, or between
     /// near-equal diversities, is no vote yet).
-    fn vote(&self, now: Instant) -> Option<Sector> {
+    fn vote(&self) -> Option<Sector> {
         match self.params.decide {
             DecisionRule::Fixed => self.pref,
             DecisionRule::Adaptive => self.pref.filter(|p| {
-                let k = self.params.sectors.min(MAX_SECTORS as u8);
-                self.is_informed(now)
-                    && self.is_clear()
-                    && (0..k).all(|s| s == p.index() || self.sees_to_the_end(s, now))
+                let others = self.all_sectors() & !(1 << p.index());
+                self.is_informed() && self.is_clear() && self.known_to_the_end() & others == others
             }),
         }
     }
@@ -1041,9 +1035,8 @@ impl<D: Diversity> FusedNode<D> {
     /// True once the robot has taken a ray from each of its K sectors, or a whole longest
     /// cycle has passed since it started (by then every neighbour in range initiated once; a
     /// robot at the swarm's edge never hears its outward sides).
-    fn is_informed(&self, now: Instant) -> bool {
-        let all = (1u16 << self.params.sectors.min(MAX_SECTORS as u8)) - 1;
-        u16::from(self.heard) == all || now - self.born >= self.longest_cycle()
+    fn is_informed(&self) -> bool {
+        self.heard == self.all_sectors() || self.listened
     }
 
     /// Adaptive rule: if the ray this robot would send for some side is news (its own vote, or
@@ -1056,17 +1049,14 @@ impl<D: Diversity> FusedNode<D> {
     /// arrived since it was asked for) would be skipped: it is moved to when the robot is free.
     fn spread_news(&mut self, now: Instant, rng: &mut impl RngCore) {
         let k = self.params.sectors.clamp(1, MAX_SECTORS as u8);
-        if self.triggered_in_cycle >= k.saturating_mul(NEWS_PER_SECTOR) {
-            return;
-        }
-        if self
-            .wave
-            .extra_at()
-            .is_some_and(|at| at >= self.wave.free_at(now))
+        // A pending extra initiation stays, unless the robot is busy: a wave that arrived since
+        // it was asked for would make it skip it, so it is asked for again, for when it is free.
+        if self.triggered_in_cycle >= k.saturating_mul(NEWS_PER_SECTOR)
+            || (self.wave.extra_pending() && self.wave.state() == WaveState::Inactive)
         {
             return;
         }
-        let vote = self.vote(now);
+        let vote = self.vote();
         let current = if vote == self.last_vote {
             self.fresh_rays
         } else {
@@ -1096,7 +1086,6 @@ impl<D: Diversity> FusedNode<D> {
     fn end_period(&mut self, now: Instant) {
         self.expire_rays(now);
         self.count_period();
-        self.neighbours = 0;
         let period = self
             .longest_cycle()
             .saturating_mul(u64::from(self.params.negotiation_cycles));
@@ -1134,12 +1123,11 @@ impl<D: Diversity> FusedNode<D> {
         } else if let Some(s) = confirming {
             self.confirmed |= 1 << s.index();
         }
-        let k = self.params.sectors.min(MAX_SECTORS as u8);
         if candidate.is_none()
             || candidate == self.decision
             || self.pref.is_none()
-            || !self.is_informed(now)
-            || !(0..k).all(|s| self.sees_to_the_end(s, now))
+            || !self.is_informed()
+            || self.known_to_the_end() != self.all_sectors()
         {
             return;
         }
@@ -1152,14 +1140,11 @@ impl<D: Diversity> FusedNode<D> {
                 undecided = undecided.saturating_add(u16::from(h.ray.robots).saturating_sub(voted));
             }
         }
-        if self.neighbours & !held != 0 {
-            return;
-        }
         // A first decision needs no confirmation; a change needs every side's.
         if held == 0 || (self.decision.is_some() && held & !self.confirmed != 0) {
             return;
         }
-        let k = usize::from(k);
+        let k = usize::from(self.params.sectors);
         let overturned = undecided > 0
             && (0..k).any(|s| {
                 let mut v = votes;

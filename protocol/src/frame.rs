@@ -1544,6 +1544,32 @@ mod tests {
     }
 
     #[test]
+    fn a_corrupted_shared_delimiter_gives_lone_delimiter_and_loses_both_frames() {
+        // Three frames back to back, each pair sharing one `ss`: FOUR ss TWELVE ss FOUR.
+        let four = GOLDEN_TAGGED_FOUR;
+        let twelve = &GOLDEN_TAGGED_TWELVE[2..];
+        let mut stream = StdVec::from(four);
+        stream.extend_from_slice(twelve);
+        stream.extend_from_slice(&four[2..]);
+        let shared = four.len() - 2;
+        let clean: StdVec<_> = Deframer::new().frames(&stream).collect();
+        assert_eq!(clean.len(), 3, "{clean:?}");
+        assert!(clean.iter().all(Result::is_ok));
+        for i in [shared, shared + 1] {
+            let mut bad = stream.clone();
+            bad[i] = 0x00;
+            let got: StdVec<_> = Deframer::new().frames(&bad).collect();
+            // The two frames beside it are lost, as one error: `s` followed by a body byte is a
+            // lone delimiter (§2.1 rule 2), not a body that ran on past `BODY_MAX`.
+            assert_eq!(
+                got,
+                [Err(FrameError::LoneDelimiter), Ok(tagged_four())],
+                "byte {i}"
+            );
+        }
+    }
+
+    #[test]
     fn a_count_of_zero_is_undecodable_and_resync_forgets_only_the_partial_body() {
         // Header 0x20: format 2, no ray, no hop; the CRC is right.
         let zero = frame_of(&[0x20], None);

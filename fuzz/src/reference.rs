@@ -251,6 +251,7 @@ impl ArbRay {
         for v in r.votes {
             w.u8(v);
         }
+        w.u8(u8::from(r.closed));
     }
 }
 

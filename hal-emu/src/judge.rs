@@ -148,8 +148,8 @@ impl LabExperiment {
 /// Mirroring a pattern mirrors its decisions and swaps left and right ([`expected`]), so the
 /// LEDs of `1000>0001` go from `LLLL` to `RRRR` and back for `0001>1000`. The border in the
 /// middle (`1100`, `0011`) stays in the middle: every robot's reading flips but its decision
-/// (`RRLL`) does not, and the LEDs must hold through the change (any change after consensus
-/// is a flicker and fails the run).
+/// (`RRLL`) does not, and the LEDs must hold through the change (any robot changing its LEDs
+/// after it showed its side is a flicker and fails the run).
 pub fn paper_suite() -> Vec<LabExperiment> {
     let six = protocol::lab::PAPER.map(|p| p.lit().to_vec());
     let plain = six.iter().map(|p| LabExperiment {

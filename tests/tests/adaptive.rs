@@ -1,7 +1,7 @@
 //! The adaptive decision rule (`Params::decide = DecisionRule::Adaptive`, docs/protocol.md
-//! §5.4) over the emulated medium: the four-robot lab decides in about two cycles instead of
-//! ten, with no LED change after consensus (the judge fails a run that flickers), and keeps the
-//! majority in a long line.
+//! §5.4) over the emulated medium: the four-robot lab decides in about 1.5 cycles instead of
+//! ten, with no robot changing its LEDs after it showed its side (the judge fails a run that
+//! flickers), decides every tie right, and keeps the majority in a long line.
 
 use hal_emu::ArenaConfig;
 use hal_emu::judge::{PAPER_PATTERNS, judge, leds_str, parse_pattern};

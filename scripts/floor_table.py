@@ -23,17 +23,12 @@ import json
 import os
 import subprocess
 import sys
+
+from readings_table import quantile  # nearest rank, as the campaign's tables
 import tempfile
 
 PATTERNS = ("1000", "0111", "0001", "1110", "1100", "0011")
 LONGEST_S = 70.0
-
-
-def quantile(xs, q):
-    """Nearest rank, as the campaign's tables."""
-    xs = sorted(xs)
-    k = max(0, min(len(xs) - 1, int(round(q * len(xs) + 0.5)) - 1))
-    return xs[k]
 
 
 def floor_of(trace_path, robots):

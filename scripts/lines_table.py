@@ -25,6 +25,8 @@ import json
 import subprocess
 import sys
 
+from readings_table import quantile  # nearest rank, as the campaign's tables
+
 LINES = {8: (1, 2, 3), 16: (2, 4, 7), 32: (4, 8, 14), 64: (8, 16, 28)}
 SWEEP = (2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 16, 17, 20, 24, 31, 32, 40, 48, 63, 64)
 
@@ -71,15 +73,6 @@ TIMES = {}
 GRID_TIES = ((4, 2), (8, 4), (10, 5), (16, 8), (20, 10), (32, 16), (64, 32))
 GRID_MAJORITIES = ((4, 1), (8, 3), (16, 7), (20, 13), (32, 14), (40, 9), (64, 28))
 GRID_READINGS = ("full", "binary", "levels:3")
-
-
-def quantile(xs, q):
-    """Nearest rank, as the campaign's tables."""
-    if not xs:
-        return None
-    xs = sorted(xs)
-    k = max(0, min(len(xs) - 1, int(round(q * len(xs) + 0.5)) - 1))
-    return xs[k]
 
 
 def grid_cell(cimax, pattern, runs, seed, loss, rule, readings):

@@ -53,13 +53,15 @@
 //! `docs/protocol.md` §5.3 says why rays and not the other designs measured.
 //!
 //! # The adaptive rule
-//! After every reception and cycle end the robot tallies its votes into a candidate and shows
-//! it once it is informed (every sector heard, or a whole cycle gone), every side it hears has a
-//! ray, the robots without a vote could not overturn it, and, for a change of what it shows,
-//! every side has confirmed it. Its rays carry its vote only once it is informed and its
-//! preference clear; a side is scored by its latest ray; news its relays cannot carry back goes
-//! out in extra initiations; stale (replayed) rays are refused. `docs/protocol.md` §5.4 gives
-//! each rule, why it is safe and what was measured.
+//! After every reception, cycle end and listening window's end the robot tallies its votes into
+//! a candidate and shows it once it is informed (every sector heard, or its first listening
+//! window of a longest cycle over), every side is known to its end (a [`Ray::closed`] ray, or
+//! an empty side: silent for a whole window), the robots without a vote could not overturn it,
+//! and, for a change of what it shows, every side has confirmed it. Its rays carry its vote
+//! only once it is informed, its preference clear and every side it does not prefer known to
+//! its end; a side is scored by its latest ray; news its relays cannot carry back goes out in
+//! extra initiations as soon as it is free; stale (replayed) rays are refused.
+//! `docs/protocol.md` §5.4 gives each rule, why it is safe and what was measured.
 //!
 //! **Tie rule**: if several sectors share the most votes, the robot keeps its own preference if
 //! it is one of them, else its previous decision if that is one of them, else it is undecided.
@@ -413,7 +415,7 @@ impl<D: Diversity> FusedNode<D> {
     /// Under the adaptive rule a reading that moved, since the last ray this robot sent, by
     /// more than the spread of what it sees (the squared change above the preferred side's
     /// diversity, that side's ray with the own reading: a light switched, not sensor noise;
-    /// ratios only, §5.6) makes every ray it sends news ([`spread_news`](Self::spread_news), at
+    /// ratios only, §5.6) makes every ray it sends news (docs/protocol.md §5.4, at
     /// its next reception or timeout).
     pub fn handle_reading(&mut self, reading: Level) {
         if self.params.decide == DecisionRule::Adaptive {
@@ -1005,9 +1007,11 @@ impl<D: Diversity> FusedNode<D> {
     }
 
     /// What this robot votes in the rays it sends: its preference; under the adaptive rule only
-    /// once it [`is_informed`](Self::is_informed) and the preference
-    /// [`is_clear`](Self::is_clear) (a preference formed from one side of a line, or between
-    /// near-equal diversities, is no vote yet).
+    /// once it [`is_informed`](Self::is_informed), the preference is
+    /// [`is_clear`](Self::is_clear) and every side it does not prefer is
+    /// [known to its end](Self::known_to_the_end) (a preference formed from one side of a line,
+    /// between near-equal diversities, or before a border could be ruled out on the other
+    /// sides, is no vote yet).
     fn vote(&self) -> Option<Sector> {
         match self.params.decide {
             DecisionRule::Fixed => self.pref,
@@ -1036,9 +1040,9 @@ impl<D: Diversity> FusedNode<D> {
             })
     }
 
-    /// True once the robot has taken a ray from each of its K sectors, or a whole longest
-    /// cycle has passed since it started (by then every neighbour in range initiated once; a
-    /// robot at the swarm's edge never hears its outward sides).
+    /// True once the robot has taken a ray from each of its K sectors, or its first listening
+    /// window (a whole longest cycle since it started) is over: by then every neighbour in
+    /// range initiated once; a robot at the swarm's edge never hears its outward sides.
     fn is_informed(&self) -> bool {
         self.heard == self.all_sectors() || self.listened
     }
@@ -1049,8 +1053,8 @@ impl<D: Diversity> FusedNode<D> {
     /// extra initiation carrying it ([`news_initiation_at`](Self::news_initiation_at)), at
     /// most [`NEWS_PER_SECTOR`] · K per cycle and one at a time. A relay carries news only
     /// ahead of its wave; the robots behind it would otherwise wait for this robot's next
-    /// initiation. A pending extra initiation that would fall while the robot is busy (a wave
-    /// arrived since it was asked for) would be skipped: it is moved to when the robot is free.
+    /// initiation. A pending extra initiation is asked for again while the robot is busy (a wave
+    /// that arrived since would make it skip the first), for when it is free.
     fn spread_news(&mut self, now: Instant, rng: &mut impl RngCore) {
         let k = self.params.sectors.clamp(1, MAX_SECTORS as u8);
         // A pending extra initiation stays, unless the robot is busy: a wave that arrived since
@@ -1109,10 +1113,10 @@ impl<D: Diversity> FusedNode<D> {
     /// gives the same candidate again confirms it for its sector. The robot shows the candidate
     /// once (`docs/protocol.md` §5.4)
     /// 1. it is informed ([`is_informed`](Self::is_informed)) and has a preference;
-    /// 2. every sector it holds a ray from confirmed the candidate after it was last set;
-    /// 3. the robots it holds without a vote could not overturn it, even all for one sector.
-    ///
-    /// A shown decision changes only by the same test: a new candidate confirmed by every side.
+    /// 2. every side is [known to its end](Self::known_to_the_end) and it holds a ray;
+    /// 3. the robots it holds without a vote could not overturn it, even all for one sector;
+    /// 4. for a change of what it shows: every sector it holds a ray from confirmed the
+    ///    candidate after it was last set.
     fn settle(&mut self, now: Instant, confirming: Option<Sector>) {
         let votes = self.votes();
         let candidate = self.tally(&votes);

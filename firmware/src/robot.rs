@@ -41,8 +41,10 @@ use core::pin::pin;
 use embassy_futures::select::{Either, select};
 use embedded_io_async::{Error as _, Write};
 use protocol::frame::{Deframer, FrameError, KEYED_MAX_HOPS, encode};
+use protocol::fused::{AnyRule, Rule};
 use protocol::{
     Duration, Event, FusedNode, Instant, Message, ParamError, Params, Sector, SwarmKey, Tag,
+    Variance,
 };
 use rand_core::RngCore;
 
@@ -351,16 +353,20 @@ fn sector(i: usize) -> Sector {
 
 /// One robot: its protocol node, randomness and counters. Everything it knows lives here, so
 /// any number of robots can share a process.
+///
+/// `Rl` is the decision rule: by default the one `config.params.decide` names, chosen at run
+/// time ([`AnyRule`]); an image that ships one rule names it ([`protocol::fused::Adaptive`] on
+/// the Nucleo) and carries no other rule's code.
 #[derive(Debug)]
-pub struct Robot<G: RngCore, const N: usize> {
+pub struct Robot<G: RngCore, const N: usize, Rl: Rule = AnyRule> {
     config: Config,
-    node: FusedNode,
+    node: FusedNode<Variance, Rl>,
     rng: G,
     stats: Stats,
     shown: Option<LedColor>,
 }
 
-impl<G: RngCore, const N: usize> Robot<G, N> {
+impl<G: RngCore, const N: usize, Rl: Rule> Robot<G, N, Rl> {
     /// A robot with `N` receivers whose protocol starts its first cycle at `now` (take it from
     /// the clock the robot will run on).
     ///
@@ -390,7 +396,7 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
             // What a keyed frame holds: relays never build a message encode_keyed refuses.
             params.max_hops = params.max_hops.min(KEYED_MAX_HOPS as u8);
         }
-        let node = FusedNode::new(params, Tag::from_id(config.id), now, &mut rng)?;
+        let node = FusedNode::with_rule(params, Tag::from_id(config.id), Variance, now, &mut rng)?;
         Ok(Robot {
             config,
             node,
@@ -406,7 +412,7 @@ impl<G: RngCore, const N: usize> Robot<G, N> {
     }
 
     /// The protocol node (preference, decision, its own counters).
-    pub fn node(&self) -> &FusedNode {
+    pub fn node(&self) -> &FusedNode<Variance, Rl> {
         &self.node
     }
 
@@ -523,7 +529,7 @@ pub trait Observer {
     /// `event` happened at `now` in `node`, whose state (reading, diversity per sector) an
     /// observer may read: a trace records the scores behind a decision. The default passes
     /// the event to [`event`](Self::event).
-    fn event_at(&mut self, now: Instant, event: &Event, node: &FusedNode) {
+    fn event_at<Rl: Rule>(&mut self, now: Instant, event: &Event, node: &FusedNode<Variance, Rl>) {
         let _ = node;
         self.event(now, event);
     }
@@ -544,16 +550,16 @@ impl Observer for () {
 }
 
 /// The robot's main loop, borrowing the robot's state while it runs.
-struct Main<'r, G, O> {
+struct Main<'r, G, O, Rl: Rule> {
     config: &'r Config,
-    node: &'r mut FusedNode,
+    node: &'r mut FusedNode<Variance, Rl>,
     rng: &'r mut G,
     stats: &'r mut Stats,
     shown: &'r mut Option<LedColor>,
     observer: &'r mut O,
 }
 
-impl<G: RngCore, O: Observer> Main<'_, G, O> {
+impl<G: RngCore, O: Observer, Rl: Rule> Main<'_, G, O, Rl> {
     async fn run<T: Write, R: Receivers, S: Sensor, L: Leds, C: Clock, const N: usize>(
         &mut self,
         tx: &mut T,

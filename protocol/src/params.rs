@@ -230,6 +230,9 @@ pub enum ParamError {
     BadDiffusion,
     /// `max_hops` is not in `1..=MAX_HOPS`.
     BadHopCapacity,
+    /// `decide` names another rule than the node's type runs
+    /// ([`FusedNode::with_rule`](crate::FusedNode::with_rule)).
+    RuleMismatch,
 }
 
 impl fmt::Display for ParamError {
@@ -250,6 +253,7 @@ impl fmt::Display for ParamError {
             ParamError::ZeroPeriod => "negotiation periods and phases must last at least one cycle",
             ParamError::BadDiffusion => "the diffusion fraction must be in (0, 1]",
             ParamError::BadHopCapacity => "the hops per message must be between 1 and 12",
+            ParamError::RuleMismatch => "the decision rule differs from the one the node runs",
         })
     }
 }

@@ -59,6 +59,7 @@ use embassy_stm32::wdg::IndependentWatchdog;
 use embassy_stm32::{bind_interrupts, dma, pac, peripherals};
 use firmware::hal::{EmbassyClock, ErrorType, LedColor, Leds, Sensor};
 use firmware::identity::{id_from_uid, rng_seed};
+use firmware::protocol::fused::Adaptive;
 use firmware::protocol::params::DecisionRule;
 use firmware::protocol::{Event, Instant, KeyError, Level, Params, SwarmKey};
 use firmware::{Clock, Config, Hardware, Observer, Robot};
@@ -400,7 +401,7 @@ async fn main(_spawner: Spawner) {
             },
             ..Config::robots()
         };
-        let mut robot = match Robot::<_, 2>::new(config, hw.clock.now(), rng) {
+        let mut robot = match Robot::<_, 2, Adaptive>::new(config, hw.clock.now(), rng) {
             Ok(robot) => robot,
             Err(e) => defmt::panic!("setup: {}", e),
         };

@@ -10,8 +10,9 @@ use std::task::{Poll, Waker};
 use embassy_futures::select::{Either, select};
 use firmware::{Clock, Config, Hardware, Observer, Robot, SetupError, Stats};
 use protocol::fused::NodeStats;
+use protocol::fused::Rule;
 use protocol::wave::WaveStats;
-use protocol::{Event, FusedNode, Instant, Sector, WaveState};
+use protocol::{Event, FusedNode, Instant, Sector, Variance, WaveState};
 use rand_pcg::Pcg32;
 
 use super::camera::LedLog;
@@ -52,7 +53,7 @@ struct Tracer {
 }
 
 impl Observer for Tracer {
-    fn event_at(&mut self, now: Instant, event: &Event, node: &FusedNode) {
+    fn event_at<Rl: Rule>(&mut self, now: Instant, event: &Event, node: &FusedNode<Variance, Rl>) {
         if let Event::Decided {
             period,
             decision,

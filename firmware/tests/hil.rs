@@ -34,6 +34,7 @@ fn setup(id: u16) -> Setup {
         negotiation: 10,
         adaptive: false,
         sample_ms: 40,
+        host_clock: false,
     }
 }
 
@@ -110,9 +111,10 @@ async fn it_says_hello_until_set_up_then_runs_and_answers_heartbeats() {
     assert_eq!(
         hellos[0],
         &LinkMsg::Hello {
-            version: 1,
+            version: 2,
             id: 9,
-            sectors: 2
+            sectors: 2,
+            host_clock: false,
         }
     );
     assert_eq!(
@@ -304,9 +306,10 @@ async fn a_running_robot_says_hello_when_asked_and_restarts_at_the_next_setup() 
     // asks who it is, the robot says hello, and the new setup restarts it.
     let t = Instant::from_millis;
     let ask = frame(&LinkMsg::Hello {
-        version: 1,
+        version: 2,
         id: 0,
         sectors: 0,
+        host_clock: false,
     });
     let script = vec![
         (

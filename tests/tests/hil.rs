@@ -16,6 +16,7 @@ fn lab(pattern: &str, seed: u64, in_loop: &[usize]) -> ArenaConfig {
     c.hil = in_loop
         .iter()
         .map(|&robot| HilRobot {
+            clock: hal_emu::world::hil::HilClock::Wall,
             robot,
             transport: Transport::InProcess,
         })
@@ -122,6 +123,7 @@ fn scripted(script: Vec<Vec<u8>>, keep_open: bool) -> String {
     });
     let mut cfg = lab("1100", 1, &[]);
     cfg.hil = vec![HilRobot {
+        clock: hal_emu::world::hil::HilClock::Wall,
         robot: 0,
         transport: Transport::Tcp(format!("127.0.0.1:{port}")),
     }];
@@ -150,6 +152,7 @@ fn hello(version: u8, sectors: u8) -> Vec<u8> {
         version,
         id: 0,
         sectors,
+        host_clock: false,
     })
 }
 
@@ -165,19 +168,19 @@ fn a_robot_that_never_says_hello_fails_the_run_by_name() {
 
 #[test]
 fn another_link_version_or_other_sectors_are_refused_by_name() {
-    let e = scripted(vec![hello(2, 2)], true);
-    assert!(e.contains("speaks link version 2"), "{e}");
-    assert!(e.contains("this host speaks 1"), "{e}");
-    let e = scripted(vec![hello(1, 3)], true);
+    let e = scripted(vec![hello(1, 2)], true);
+    assert!(e.contains("speaks link version 1"), "{e}");
+    assert!(e.contains("this host speaks 2"), "{e}");
+    let e = scripted(vec![hello(2, 3)], true);
     assert!(e.contains("has 3 receivers"), "{e}");
 }
 
 #[test]
 fn a_robot_that_disconnects_or_goes_silent_fails_the_run() {
-    let e = scripted(vec![hello(1, 2)], false);
+    let e = scripted(vec![hello(2, 2)], false);
     assert!(e.contains("link ended (disconnected)"), "{e}");
     let e = scripted(
-        vec![hello(1, 2), frame(&firmware::hil::LinkMsg::Heartbeat(0))],
+        vec![hello(2, 2), frame(&firmware::hil::LinkMsg::Heartbeat(0))],
         true,
     );
     assert!(e.contains("stopped its heartbeat"), "{e}");
@@ -187,9 +190,9 @@ fn a_robot_that_disconnects_or_goes_silent_fails_the_run() {
 fn a_robot_that_reboots_during_the_run_fails_it() {
     let e = scripted(
         vec![
-            hello(1, 2),
+            hello(2, 2),
             frame(&firmware::hil::LinkMsg::Heartbeat(0)),
-            hello(1, 2),
+            hello(2, 2),
         ],
         true,
     );
@@ -200,6 +203,7 @@ fn a_robot_that_reboots_during_the_run_fails_it() {
 fn a_transport_that_cannot_open_fails_the_run_by_name() {
     let mut cfg = lab("1100", 1, &[]);
     cfg.hil = vec![HilRobot {
+        clock: hal_emu::world::hil::HilClock::Wall,
         robot: 1,
         transport: Transport::Qemu("/nonexistent/hil".into()),
     }];
@@ -220,7 +224,7 @@ fn responder(on_setup: Vec<u8>) -> String {
     let port = listener.local_addr().unwrap().port();
     let robot = std::thread::spawn(move || {
         let (mut s, _) = listener.accept().unwrap();
-        s.write_all(&hello(1, 2)).unwrap();
+        s.write_all(&hello(2, 2)).unwrap();
         let mut d = LinkDecoder::new();
         let mut buf = [0u8; 256];
         while let Ok(n @ 1..) = s.read(&mut buf) {
@@ -244,6 +248,7 @@ fn responder(on_setup: Vec<u8>) -> String {
     w.refractory = Duration::from_millis(150);
     cfg.duration = Duration::from_secs(8);
     cfg.hil = vec![HilRobot {
+        clock: hal_emu::world::hil::HilClock::Wall,
         robot: 0,
         transport: Transport::Tcp(format!("127.0.0.1:{port}")),
     }];

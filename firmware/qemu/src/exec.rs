@@ -22,7 +22,14 @@ fn drop(_: *const ()) {}
 static VTABLE: RawWakerVTable = RawWakerVTable::new(clone, wake, wake, drop);
 
 /// Runs `future` to completion on this core.
+#[allow(dead_code)] // the four-robot image's; the HIL images use `block_on_idle`
 pub fn block_on<F: Future>(future: F) -> F::Output {
+    block_on_idle(future, || {})
+}
+
+/// Runs `future` to completion on this core, calling `idle` whenever it is not woken, before
+/// sleeping (`idle` may wake it: then it is polled again at once).
+pub fn block_on_idle<F: Future>(future: F, mut idle: impl FnMut()) -> F::Output {
     let mut future = pin!(future);
     #[allow(unsafe_code)]
     // SAFETY: the vtable's functions ignore the (null) data pointer and only touch an atomic,
@@ -35,6 +42,10 @@ pub fn block_on<F: Future>(future: F) -> F::Output {
                 return out;
             }
         } else {
+            idle();
+            if WOKEN.load(Ordering::Acquire) {
+                continue;
+            }
             // Interrupts masked between the check and WFI, so a wake-up cannot slip in between;
             // WFI still returns on a pending interrupt, which runs once they are unmasked.
             cortex_m::interrupt::free(|_| {

@@ -1,7 +1,8 @@
 //! What the QEMU board's HIL images share (`bin/hil.rs`, two receivers like the lab's robots;
 //! `bin/hil6.rs`, six like the paper's 2D agents): the robot in the loop, the unchanged robot
 //! program ([`firmware::Robot::run`]) over the link of `docs/hil.md` on UART0 ([`uart`]), in
-//! wall-clock time (a 1 kHz SysTick, [`tick`]; run without `-icount`). It joins the emulated
+//! wall-clock time (a 1 kHz SysTick, [`tick`]; run without `-icount`), or on the host's
+//! clock when its `Setup` asks (no SysTick: the host's `Sync`s move the time). It joins the emulated
 //! arena: `cimax arena --hil qemu:N` starts one QEMU process per robot, its UART0 a TCP client
 //! of the host (`hal_emu::world::hil::qemu_args`); its semihosting log goes to QEMU's stdout.
 //!
@@ -46,17 +47,26 @@ pub fn main<const N: usize>() -> ! {
         "cimax hil: one robot with {} receivers on UART0, waiting for the host's setup",
         N
     );
-    let link = Link::<_, N>::new(tx);
+    // Its clock follows the host's when a `Setup` asks (docs/hil.md, "Time").
+    let link = Link::<_, N>::with_host_clock(tx, tick::HOST_CLOCK);
     let base = Config {
         id: ID,
         ..Config::robots()
     };
-    match exec::block_on(run(
+    let mut observer = ();
+    let robot = run(
         &link,
         rx,
         &EmbassyClock,
         base,
         |seed| Pcg32::new(u64::from(seed), RNG_STREAM),
-        &mut (),
-    )) {}
+        &mut observer,
+    );
+    // Nothing to run and no byte waiting to go: an `Idle` owed to the host can be sent.
+    let idle = || {
+        if !uart::tx_busy() {
+            link.on_idle();
+        }
+    };
+    match exec::block_on_idle(robot, idle) {}
 }

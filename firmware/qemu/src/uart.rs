@@ -125,6 +125,11 @@ pub fn on_interrupt(irqn: i16) {
     });
 }
 
+/// True while a writer waits for the transmitter (a byte of a frame is still to go).
+pub fn tx_busy() -> bool {
+    critical_section::with(|cs| STATE_.borrow_ref(cs).writer.is_some())
+}
+
 /// UART0's receiving half.
 pub struct UartRx;
 

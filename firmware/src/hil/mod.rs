@@ -1,4 +1,4 @@
-//! The hardware-in-the-loop link, version 1 (`docs/hil.md`): what a robot and the host say to
+//! The hardware-in-the-loop link, version 2 (`docs/hil.md`): what a robot and the host say to
 //! each other over one byte stream (a UART, a QEMU serial port, a TCP socket), so that a robot
 //! running the real image can sit in the emulated light medium among virtual robots.
 //!
@@ -22,17 +22,17 @@ use heapless::Vec;
 use serde::{Deserialize, Serialize};
 
 /// The link's version, sent in [`LinkMsg::Hello`]; a decoder refuses any other.
-pub const LINK_VERSION: u8 = 1;
+pub const LINK_VERSION: u8 = 2;
 
 /// Most light bytes one [`LinkMsg::Tx`] or [`LinkMsg::Rx`] carries: a whole light frame
 /// (`protocol::frame::FRAME_MAX`, 32). A stream of more is sent as several messages.
 pub const CHUNK_MAX: usize = 32;
 
-/// Largest payload: a [`LinkMsg::Setup`] with every field at its longest varint (38 bytes:
+/// Largest payload: a [`LinkMsg::Setup`] with every field at its longest varint (39 bytes:
 /// the tag, 3 for the id, 5 for each of the seed and five durations, 3 for the negotiation
-/// period, 1 for the rule). An `Rx` of [`CHUNK_MAX`] bytes takes 35, a `Hello` at most 6, a
-/// `Heartbeat` at most 6.
-pub const PAYLOAD_MAX: usize = 38;
+/// period, 1 for the rule, 1 for the clock). An `Rx` of [`CHUNK_MAX`] bytes takes 35, an
+/// `Idle` at most 21, a `Sync` at most 11, a `Hello` at most 7, a `Heartbeat` at most 6.
+pub const PAYLOAD_MAX: usize = 39;
 
 /// Bytes of the frame check.
 const CRC_LEN: usize = 2;
@@ -57,6 +57,8 @@ pub enum LinkMsg {
         id: u16,
         /// Its receive sectors K, `2..=8`.
         sectors: u8,
+        /// True if its clock can follow the host's ([`Setup::host_clock`], [`LinkMsg::Sync`]).
+        host_clock: bool,
     },
     /// 1, robot → host: bytes its light transmitter sent, in order.
     Tx(Vec<u8, CHUNK_MAX>),
@@ -86,6 +88,20 @@ pub enum LinkMsg {
     /// waits for another. The code says why: 1 bad protocol parameters, 2 receivers and
     /// sectors differ, 3 a zero duration, 4 a swarm key without keyed framing, 0 anything else.
     Refused(u8),
+    /// 8, host → robot, on the host's clock ([`Setup::host_clock`]): the time is now this many
+    /// milliseconds since the run's start. The robot takes what came since the last `Sync`
+    /// (held until now) at this instant, runs every timer due by then, and once nothing is
+    /// left to do says [`LinkMsg::Idle`].
+    Sync(u64),
+    /// 9, robot → host, on the host's clock: everything up to `now` is done (what the robot
+    /// sent for it came before this), and nothing is due before `next` (`u64::MAX`: no timer
+    /// set) unless the host sends something.
+    Idle {
+        /// The instant of the `Sync` answered, milliseconds.
+        now: u64,
+        /// The robot's next timer, milliseconds.
+        next: u64,
+    },
 }
 
 /// What [`LinkMsg::Setup`] tells a robot: who it is in this run, its seed, and the protocol's
@@ -112,6 +128,10 @@ pub struct Setup {
     pub adaptive: bool,
     /// How often the robot reads its sensor, milliseconds.
     pub sample_ms: u32,
+    /// True: the robot's clock follows the host's from this `Setup` on (it starts at 0, moves
+    /// only at each [`LinkMsg::Sync`], and the robot answers each with [`LinkMsg::Idle`]);
+    /// false: its own clock (a robot whose `Hello` says it cannot follow refuses true).
+    pub host_clock: bool,
 }
 
 /// What went wrong with one frame of the link.
@@ -324,14 +344,16 @@ mod tests {
         negotiation: u16::MAX,
         adaptive: true,
         sample_ms: u32::MAX,
+        host_clock: true,
     };
 
-    fn every_kind() -> [LinkMsg; 9] {
+    fn every_kind() -> [LinkMsg; 12] {
         [
             LinkMsg::Hello {
                 version: LINK_VERSION,
                 id: 300,
                 sectors: 2,
+                host_clock: true,
             },
             LinkMsg::Tx(chunk(b"ss\x70\x32\x72\x70\x43\xa6ss")),
             LinkMsg::Rx {
@@ -350,6 +372,12 @@ mod tests {
             LinkMsg::Heartbeat(u32::MAX),
             LinkMsg::Setup(LONGEST_SETUP),
             LinkMsg::Refused(1),
+            LinkMsg::Sync(u64::MAX),
+            LinkMsg::Idle {
+                now: u64::MAX,
+                next: u64::MAX,
+            },
+            LinkMsg::Idle { now: 0, next: 55 },
         ]
     }
 
@@ -393,17 +421,28 @@ mod tests {
             frame(&LinkMsg::Heartbeat(1)),
             [0x05, 0x05, 0x01, 0xDB, 0xF2, 0x00]
         );
-        // Hello { version 1, id 300, K 2 }: payload 00 01 ac 02 02 (300 = varint ac 02), CRC
-        // e965; the payload's leading 0x00 becomes COBS code 1.
+        // Hello { version 2, id 300, K 2, host clock }: payload 00 02 ac 02 02 01 (300 =
+        // varint ac 02), CRC f7f4; the payload's leading 0x00 becomes COBS code 1.
         let hello = LinkMsg::Hello {
-            version: 1,
+            version: 2,
             id: 300,
             sectors: 2,
+            host_clock: true,
         };
-        let golden = [0x01, 0x07, 0x01, 0xAC, 0x02, 0x02, 0x65, 0xE9, 0x00];
+        let golden = [0x01, 0x08, 0x02, 0xAC, 0x02, 0x02, 0x01, 0xF4, 0xF7, 0x00];
         assert_eq!(frame(&hello), golden);
         let mut d = LinkDecoder::new();
         assert_eq!(all(&mut d, &golden), [Ok(hello)]);
+        // Sync(55000): payload 08 d8 ad 03 (55000 = varint d8 ad 03), CRC 9677.
+        assert_eq!(
+            frame(&LinkMsg::Sync(55_000)),
+            [0x07, 0x08, 0xD8, 0xAD, 0x03, 0x77, 0x96, 0x00]
+        );
+        // Idle { now 0, next 55 }: payload 09 00 37, CRC 14b9; its 0x00 splits the COBS runs.
+        assert_eq!(
+            frame(&LinkMsg::Idle { now: 0, next: 55 }),
+            [0x02, 0x09, 0x04, 0x37, 0xB9, 0x14, 0x00]
+        );
     }
 
     #[test]
@@ -448,15 +487,16 @@ mod tests {
     #[test]
     fn another_version_says_so_and_the_link_goes_on() {
         let mut s = frame(&LinkMsg::Hello {
-            version: 2,
+            version: 3,
             id: 1,
             sectors: 2,
+            host_clock: false,
         });
         s.extend_from_slice(&frame(&LinkMsg::Led(1)));
         let mut d = LinkDecoder::new();
         assert_eq!(
             all(&mut d, &s),
-            [Err(LinkError::UnknownVersion(2)), Ok(LinkMsg::Led(1))]
+            [Err(LinkError::UnknownVersion(3)), Ok(LinkMsg::Led(1))]
         );
         assert_eq!(d.stats().unknown_version, 1);
     }
@@ -464,7 +504,7 @@ mod tests {
     #[test]
     fn bad_payloads_with_a_good_check_are_undecodable() {
         for payload in [
-            &[0x08][..],               // variant 8 does not exist
+            &[0x0A][..],               // variant 10 does not exist
             &[0x01, 33],               // a chunk of 33 bytes claimed
             &[0x04, 0x01, 0x00],       // a byte left over
             &[0x02, 0x01, 0x02, 0xAA], // Rx cut short

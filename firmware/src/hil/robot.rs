@@ -24,6 +24,8 @@
 //! collisions and loss to them, and the robot's deframers see what its receivers would.
 
 use core::cell::Cell;
+#[cfg(feature = "host-clock")]
+use core::cell::RefCell;
 use core::convert::Infallible;
 
 use embassy_futures::join::join3;
@@ -67,6 +69,41 @@ pub struct HilStats {
     pub uart_errors: u32,
     /// `Setup`s received: runs started.
     pub setups: u32,
+    /// Messages that found the hold for the next `Sync` full and were taken at once (on the
+    /// host's clock; the host sends at most [`HELD`] between two `Sync`s).
+    pub held_over: u32,
+}
+
+/// Messages a robot on the host's clock holds until the next `Sync` (the host sends at most
+/// this many between two).
+pub const HELD: usize = 16;
+
+/// What the image's time driver does for a robot whose clock follows the host's (link version
+/// 2, `docs/hil.md` "Time"): plain functions, as the driver is the image's one static.
+#[cfg(feature = "host-clock")]
+#[derive(Clone, Copy, Debug)]
+pub struct HostClock {
+    /// `true`: stop the own clock, and from now on move only at `set_now`; the time is 0 and
+    /// every timer set so far is forgotten (a new run). `false`: the own clock again.
+    pub follow: fn(bool),
+    /// The time is now `ms` (never earlier than the last): every timer due by then wakes.
+    pub set_now: fn(u64),
+    /// The next timer set, milliseconds (`u64::MAX`: none).
+    pub next_alarm: fn() -> u64,
+}
+
+/// The host-clock state of a [`Link`].
+#[cfg(feature = "host-clock")]
+struct Follow {
+    hooks: HostClock,
+    /// The last `Setup` asked for the host's clock.
+    on: Cell<bool>,
+    /// What came since the last `Sync`, taken at the next.
+    held: RefCell<heapless::Deque<LinkMsg, HELD>>,
+    /// A `Sync` was taken: the instant the `Idle` owed answers.
+    owed: Cell<Option<u64>>,
+    /// Everything is done: the beat sends the `Idle` for this instant.
+    idle: Signal<NoopRawMutex, u64>,
 }
 
 /// What the robot's hardware shares over one link: `W` is the UART's writing half, `N` the
@@ -81,6 +118,8 @@ pub struct Link<W, const N: usize> {
     /// What the beat owes the host: the answer to a heartbeat, or a hello it asked for.
     echo: Signal<NoopRawMutex, Answer>,
     stats: Cell<HilStats>,
+    #[cfg(feature = "host-clock")]
+    follow: Option<Follow>,
 }
 
 impl<W, const N: usize> core::fmt::Debug for Link<W, N> {
@@ -103,7 +142,68 @@ impl<W: Write, const N: usize> Link<W, N> {
             set_up: Cell::new(false),
             echo: Signal::new(),
             stats: Cell::new(HilStats::default()),
+            #[cfg(feature = "host-clock")]
+            follow: None,
         }
+    }
+
+    /// A link whose robot can follow the host's clock through `hooks` (its `Hello` says so).
+    /// The image's executor must call [`on_idle`](Self::on_idle) whenever nothing is left to
+    /// run.
+    #[cfg(feature = "host-clock")]
+    pub fn with_host_clock(writer: W, hooks: HostClock) -> Self {
+        let mut link = Self::new(writer);
+        link.follow = Some(Follow {
+            hooks,
+            on: Cell::new(false),
+            held: RefCell::new(heapless::Deque::new()),
+            owed: Cell::new(None),
+            idle: Signal::new(),
+        });
+        link
+    }
+
+    /// Called by the image's executor when no task can run and no byte is being written: if a
+    /// `Sync` is owed its `Idle`, everything for its instant is done, and the beat sends it.
+    #[cfg(feature = "host-clock")]
+    pub fn on_idle(&self) {
+        if let Some(f) = &self.follow
+            && let Some(t) = f.owed.take()
+        {
+            f.idle.signal(t);
+        }
+    }
+
+    /// True if the robot's clock can follow the host's.
+    fn can_follow(&self) -> bool {
+        #[cfg(feature = "host-clock")]
+        return self.follow.is_some();
+        #[cfg(not(feature = "host-clock"))]
+        false
+    }
+
+    /// A message from the pump: on the host's clock held until its `Sync`, then taken with the
+    /// others at that instant; otherwise taken at once.
+    fn take(&self, msg: LinkMsg) {
+        #[cfg(feature = "host-clock")]
+        if let Some(f) = self.follow.as_ref().filter(|f| f.on.get()) {
+            if let LinkMsg::Sync(t) = msg {
+                // What was held first (a `Setup` among it starts the clock again at 0), then
+                // the time: no task runs in between, so each sees both.
+                loop {
+                    let next = f.held.borrow_mut().pop_front();
+                    let Some(m) = next else { break };
+                    self.dispatch(m);
+                }
+                (f.hooks.set_now)(t);
+                f.owed.set(Some(t));
+            } else if let Err(m) = f.held.borrow_mut().push_back(msg) {
+                self.count(|s| s.held_over = s.held_over.wrapping_add(1));
+                self.dispatch(m);
+            }
+            return;
+        }
+        self.dispatch(msg);
     }
 
     /// The counters.
@@ -153,7 +253,7 @@ impl<W: Write, const N: usize> Link<W, N> {
                 Ok(n) => {
                     for &b in buf.get(..n).unwrap_or(&[]) {
                         if let Some(Ok(msg)) = decoder.push(b) {
-                            self.dispatch(msg);
+                            self.take(msg);
                         }
                     }
                     let link = *decoder.stats();
@@ -191,6 +291,12 @@ impl<W: Write, const N: usize> Link<W, N> {
             },
             LinkMsg::Setup(setup) => {
                 self.count(|s| s.setups = s.setups.wrapping_add(1));
+                #[cfg(feature = "host-clock")]
+                if let Some(f) = &self.follow {
+                    // A new run: the clock starts at 0 with no timer (or the own clock again).
+                    f.on.set(setup.host_clock);
+                    (f.hooks.follow)(setup.host_clock);
+                }
                 self.set_up.set(true);
                 self.setup.signal(setup);
             }
@@ -198,7 +304,12 @@ impl<W: Write, const N: usize> Link<W, N> {
             LinkMsg::Heartbeat(seq) => self.echo.signal(Answer::Beat(seq)),
             // The host asks who this is (it connected to a robot that may be running already).
             LinkMsg::Hello { .. } => self.echo.signal(Answer::Hello),
-            LinkMsg::Tx(_) | LinkMsg::Led(_) | LinkMsg::Refused(_) => {
+            // A `Sync` reaches here only on the own clock: nothing to do.
+            LinkMsg::Tx(_)
+            | LinkMsg::Led(_)
+            | LinkMsg::Refused(_)
+            | LinkMsg::Sync(_)
+            | LinkMsg::Idle { .. } => {
                 self.count(|s| s.unexpected = s.unexpected.wrapping_add(1));
             }
         }
@@ -213,6 +324,7 @@ impl<W: Write, const N: usize> Link<W, N> {
             version: LINK_VERSION,
             id,
             sectors: N as u8,
+            host_clock: self.can_follow(),
         };
         let mut next = clock.now();
         // A heartbeat that came while it waited for its setup, answered once set up.
@@ -222,15 +334,25 @@ impl<W: Write, const N: usize> Link<W, N> {
             if self.set_up.get() {
                 let answer = match owed.take() {
                     Some(a) => a,
-                    None => self.echo.wait().await,
+                    None => self.answer().await,
                 };
                 let answer = match answer {
                     Answer::Beat(seq) => LinkMsg::Heartbeat(seq),
                     Answer::Hello => hello.clone(),
+                    #[cfg(feature = "host-clock")]
+                    Answer::Idle(now) => LinkMsg::Idle {
+                        now,
+                        next: self
+                            .follow
+                            .as_ref()
+                            .map_or(u64::MAX, |f| (f.hooks.next_alarm)()),
+                    },
                 };
                 let _ = self.send(&answer).await;
             } else {
-                match select(clock.sleep_until(next), self.echo.wait()).await {
+                // (On the host's clock the setup stops the own clock: this sleep never ends,
+                // and the first `Idle` owed wakes it instead.)
+                match select(clock.sleep_until(next), self.answer()).await {
                     // Unless the setup came meanwhile.
                     Either::First(()) if !self.set_up.get() => {
                         let _ = self.send(&hello).await;
@@ -240,11 +362,24 @@ impl<W: Write, const N: usize> Link<W, N> {
                     Either::Second(Answer::Hello) => {
                         let _ = self.send(&hello).await;
                     }
-                    // The setup's first heartbeat, which woke it: answered at once.
+                    // The setup's first heartbeat (or `Idle`), which woke it: answered at once.
                     Either::Second(beat) => owed = Some(beat),
                 }
             }
         }
+    }
+
+    /// What the beat owes the host next: a heartbeat's answer, a hello, or (on the host's clock)
+    /// an `Idle`.
+    async fn answer(&self) -> Answer {
+        #[cfg(feature = "host-clock")]
+        if let Some(f) = &self.follow {
+            return match select(self.echo.wait(), f.idle.wait()).await {
+                Either::First(a) => a,
+                Either::Second(now) => Answer::Idle(now),
+            };
+        }
+        self.echo.wait().await
     }
 
     /// The robot's hardware over this link, with `clock`.
@@ -273,6 +408,9 @@ enum Answer {
     Beat(u32),
     /// A `Hello`, asked for.
     Hello,
+    /// On the host's clock: everything up to this instant is done.
+    #[cfg(feature = "host-clock")]
+    Idle(u64),
 }
 
 /// `base` with what `setup` sets: id, timing, decision rule, sample period.
@@ -320,6 +458,12 @@ where
             for p in &link.pipes {
                 p.clear();
             }
+            if setup.host_clock && !link.can_follow() {
+                warn!("hil: setup refused: this image cannot follow the host's clock");
+                let _ = link.send(&LinkMsg::Refused(REFUSED_HOST_CLOCK)).await;
+                setup = link.setup.wait().await;
+                continue;
+            }
             let mut config = configure(base, &setup);
             // The image's receivers are what it has, whatever its configuration says.
             config.params.sectors = N as u8;
@@ -327,9 +471,10 @@ where
                 Ok(mut robot) => {
                     info!("hil: robot {} starts", config.id);
                     let mut hw = link.hardware(clock);
-                    match select(robot.run_observed(&mut hw, observer), link.setup.wait()).await {
-                        Either::First(never) => match never {},
-                        Either::Second(next) => setup = next,
+                    // The next setup first: a robot program woken with it does not run again.
+                    match select(link.setup.wait(), robot.run_observed(&mut hw, observer)).await {
+                        Either::First(next) => setup = next,
+                        Either::Second(never) => match never {},
                     }
                 }
                 Err(e) => {
@@ -358,6 +503,10 @@ pub fn refusal_code(e: SetupError) -> u8 {
         SetupError::KeyedFramingNotBuilt => 4,
     }
 }
+
+/// [`LinkMsg::Refused`]'s code for a `Setup` asking for the host's clock from a robot that
+/// cannot follow it (its `Hello` said so).
+pub const REFUSED_HOST_CLOCK: u8 = 5;
 
 /// The light transmitter over the link: each write goes to the host as `Tx` messages of at most
 /// [`CHUNK_MAX`] bytes (a light frame is one).

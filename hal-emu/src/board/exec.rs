@@ -438,7 +438,13 @@ impl Timeline {
                 }
                 continue;
             }
-            // Nothing to run: the driver's deadline is due.
+            // Nothing to run: robots in the loop catch up first (they may wake a task), then
+            // the driver's deadline is due.
+            if self.settle_gate() {
+                exec.collect_wakes();
+                exec.main_woken.set(true);
+                continue;
+            }
             assert!(
                 self.fire(),
                 "the run waits for ever: no task can run and none waits for a time"

@@ -114,6 +114,19 @@ pub struct Timeline {
     /// Under [`Timeline::block_on`]: the time the driver's alarm last went off (a paused
     /// tokio clock's time).
     fired: Cell<Instant>,
+    /// What else must settle before time moves on: robots in the loop on this clock
+    /// ([`Gate`]).
+    gate: RefCell<Option<Rc<dyn Gate>>>,
+}
+
+/// Something outside the run's tasks that time waits for (conservative lockstep): robots in
+/// the loop whose clocks follow this one. When no task can run, [`Timeline::block_on`] asks it
+/// to [`settle`](Gate::settle) before moving time on.
+pub trait Gate: std::fmt::Debug {
+    /// Called at `now` when no task can run: brings whatever is outside up to `now` (it may
+    /// block the thread while it waits for it), handing what it learnt to the run's tasks.
+    /// Returns `true` if it woke a task (time stays), `false` if time may move on.
+    fn settle(&self, now: Instant) -> bool;
 }
 
 /// One wait on a [`Timeline`]: its slot and sequence number.
@@ -128,6 +141,22 @@ impl Timeline {
     /// The run queue of [`Timeline::block_on`].
     pub fn executor(&self) -> &Executor {
         &self.exec
+    }
+
+    /// Makes time wait for `gate` ([`Gate`]) from now on, in [`Timeline::block_on`].
+    pub fn set_gate(&self, gate: Rc<dyn Gate>) {
+        *self.gate.borrow_mut() = Some(gate);
+    }
+
+    /// Takes the gate away (the run ended; it may hold what holds this timeline).
+    pub fn take_gate(&self) -> Option<Rc<dyn Gate>> {
+        self.gate.borrow_mut().take()
+    }
+
+    /// [`Gate::settle`] of the gate set, if any: `true` if it woke a task.
+    pub(super) fn settle_gate(&self) -> bool {
+        let gate = self.gate.borrow().clone();
+        gate.is_some_and(|g| g.settle(self.now()))
     }
 
     /// No task can run: the driver's alarm goes off (a paused runtime's clock jumps to its

@@ -90,7 +90,13 @@ impl ArenaConfig {
 
     /// True if the run goes in real time: a robot in the loop runs on its own clock.
     pub fn real_time(&self) -> bool {
-        self.hil.iter().any(|h| !h.transport.virtual_time())
+        self.hil.iter().any(HilRobot::own_clock)
+    }
+
+    /// True if robots in the loop follow the arena's clock over their links (lockstep,
+    /// [`crate::world::hil::Lockstep`]).
+    pub fn lockstep(&self) -> bool {
+        self.hil.iter().any(HilRobot::follows)
     }
 
     /// The same run with robot `robot` running `config` instead of the shared

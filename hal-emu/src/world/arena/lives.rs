@@ -21,7 +21,8 @@ use crate::board::leds::EmuLeds;
 use crate::board::sensor::EmuSensor;
 use crate::world::env::SwarmEnv;
 use crate::world::hil::{
-    Bridge, HilReport, HilRobot, HilTimeouts, Transport, setup_of, setup_seed,
+    Bridge, HilReport, HilRobot, HilTimeouts, Lockstep, Transport, serve_lockstep, setup_of,
+    setup_seed,
 };
 use crate::world::medium::{Medium, SharedMedium, TraceEvent};
 
@@ -44,6 +45,8 @@ pub(super) struct Shared {
     pub(super) failed: Rc<tokio::sync::Notify>,
     /// What the robots in the loop's bridges reported, as they ended.
     pub(super) hil_reports: RefCell<Vec<HilReport>>,
+    /// The robots in the loop on the arena's clock, if any.
+    pub(super) lockstep: Option<Rc<Lockstep>>,
 }
 
 /// Puts a robot's protocol events into the trace.
@@ -289,7 +292,13 @@ async fn in_the_loop(
         let _ = stop_tx.send(());
         std::future::pending::<()>().await;
     };
-    let report = match select(bridge.run(stop_rx), relay).await {
+    let run = async {
+        match shared.lockstep.clone().filter(|l| l.has(robot)) {
+            Some(l) => serve_lockstep(bridge, l, stop_rx).await,
+            None => bridge.run(stop_rx).await,
+        }
+    };
+    let report = match select(run, relay).await {
         Either::First(r) => r?,
         Either::Second(()) => return Err("the bridge outlived its stop".into()),
     };

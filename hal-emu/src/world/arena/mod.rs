@@ -32,6 +32,7 @@ use crate::board::clock::EmuClock;
 use crate::board::timeline::{self, Timeline};
 use crate::world::adversary;
 use crate::world::env::SwarmEnv;
+use crate::world::hil::{Follower, Lockstep, Transport};
 use crate::world::medium::Medium;
 
 mod camera;
@@ -66,7 +67,24 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
         // Virtual time on the run's own executor (`board::exec`): tokio's order of events
         // without its runtime, which cost a sixth of a 1000-robot run.
         let (clock, timeline) = EmuClock::virtual_run();
-        timeline.block_on(play(cfg, controls, Time::Own(clock, timeline.clone())))
+        timeline.block_on(play(
+            cfg,
+            controls,
+            Time::Own(clock, timeline.clone()),
+            None,
+        ))
+    } else if cfg.lockstep() {
+        // QEMU robots on the arena's clock: booted and greeted first, then the run on the own
+        // executor, time waiting for them (`world::hil::lockstep`).
+        let lockstep = Rc::new(Lockstep::new(boot_followers(cfg)?));
+        let (clock, timeline) = EmuClock::virtual_run();
+        timeline.set_gate(lockstep.clone());
+        let time = Time::Own(clock, timeline.clone());
+        let out = timeline.block_on(play(cfg, controls, time, Some(lockstep)));
+        // The gate holds the followers (and what holds the timeline): gone with the run, and
+        // their QEMU processes with them.
+        drop(timeline.take_gate());
+        out
     } else {
         // Robots in the loop: their links are tokio's. Virtual time on its paused clock,
         // unless a robot in the loop has a clock of its own: then real time, with I/O (its
@@ -75,7 +93,7 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
         let runtime = runtime(real_time)?;
         let local = tokio::task::LocalSet::new();
         let time = if real_time { Time::Real } else { Time::Paused };
-        local.block_on(&runtime, play(cfg, controls, time))
+        local.block_on(&runtime, play(cfg, controls, time, None))
     };
     let mut report = report.map_err(|f| f.map_or(ArenaError::Interrupted, ArenaError::Robot))?;
     report.wall = wall.elapsed();
@@ -155,6 +173,13 @@ fn check_hil(cfg: &ArenaConfig) -> Result<(), ArenaError> {
                 h.robot
             )));
         }
+        if cfg.lockstep() && !h.follows() {
+            return Err(ArenaError::Hil(format!(
+                "robot {} ({}) runs on its own or a shared clock, and QEMU robots on the \
+                 arena's clock cannot share a run with it (use --hil-clock wall for all)",
+                h.robot, h.transport
+            )));
+        }
         if cfg.config_of(h.robot).key.is_some() {
             return Err(ArenaError::Hil(
                 "link version 1 carries no swarm key: robots in the loop send plain frames".into(),
@@ -187,10 +212,11 @@ async fn play(
     cfg: &ArenaConfig,
     controls: Vec<(Instant, Control)>,
     time: Time,
+    lockstep: Option<Rc<Lockstep>>,
 ) -> Result<RunReport, Option<RobotFailure>> {
     let n = cfg.positions.len();
     let real_time = matches!(time, Time::Real);
-    let shared = world(cfg, time);
+    let shared = world(cfg, time, lockstep);
     let moves = Rc::new(RefCell::new(Vec::new()));
     if let Some(motion) = cfg.motion {
         shared
@@ -239,7 +265,7 @@ async fn play(
 
 /// The world of a run: the medium with the robots' places and the adversaries (their tasks
 /// spawned), the environment, the LED record, and what the robots' boots need.
-fn world(cfg: &ArenaConfig, time: Time) -> Rc<Shared> {
+fn world(cfg: &ArenaConfig, time: Time, lockstep: Option<Rc<Lockstep>>) -> Rc<Shared> {
     let clock = match time {
         Time::Own(clock, timeline) => {
             clock.spawn(timeline::drive_virtual(timeline));
@@ -281,7 +307,50 @@ fn world(cfg: &ArenaConfig, time: Time) -> Rc<Shared> {
         hil_timeouts: cfg.hil_timeouts,
         failed: Rc::new(tokio::sync::Notify::new()),
         hil_reports: RefCell::new(Vec::new()),
+        lockstep,
     })
+}
+
+/// Boots the QEMU robots of `cfg` that follow the arena's clock, all at once, and greets each
+/// ([`Follower::boot`]): `(place, follower)`.
+fn boot_followers(cfg: &ArenaConfig) -> Result<Vec<(usize, Follower)>, ArenaError> {
+    let hello = std::time::Duration::from_millis(cfg.hil_timeouts.hello.as_millis());
+    let sectors = cfg.robot.params.sectors;
+    let booted: Vec<(usize, Result<Follower, String>)> = std::thread::scope(|scope| {
+        let boots: Vec<_> = cfg
+            .hil
+            .iter()
+            .filter(|h| h.follows())
+            .filter_map(|h| match &h.transport {
+                Transport::Qemu(image) => Some((h.robot, image)),
+                _ => None,
+            })
+            .map(|(robot, image)| {
+                (
+                    robot,
+                    scope.spawn(move || Follower::boot(image, sectors, hello)),
+                )
+            })
+            .collect();
+        boots
+            .into_iter()
+            .map(|(robot, b)| {
+                let out = b
+                    .join()
+                    .unwrap_or_else(|_| Err("its boot thread panicked".into()));
+                (robot, out)
+            })
+            .collect()
+    });
+    let mut followers = Vec::new();
+    for (robot, f) in booted {
+        // The others are dropped (killed) on an error.
+        followers.push((
+            robot,
+            f.map_err(|e| ArenaError::Hil(format!("robot {robot} (qemu): {e}")))?,
+        ));
+    }
+    Ok(followers)
 }
 
 /// The report of a run that ended well, `emulated` long (its wall time and final LEDs are

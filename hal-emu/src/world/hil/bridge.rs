@@ -383,6 +383,7 @@ impl Bridge {
                     2 => "its receivers and the sectors differ",
                     3 => "a zero duration",
                     4 => "a swarm key without keyed framing",
+                    firmware::hil::robot::REFUSED_HOST_CLOCK => "it cannot follow the host's clock",
                     _ => "another reason",
                 };
                 return Err(format!(
@@ -521,6 +522,7 @@ pub(crate) fn setup_of(config: &Config, seed: u32) -> Setup {
         negotiation: config.params.negotiation_cycles,
         adaptive: config.params.decide == protocol::params::DecisionRule::Adaptive,
         sample_ms: ms(config.sample_period),
+        host_clock: false,
     }
 }
 

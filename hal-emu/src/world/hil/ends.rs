@@ -71,6 +71,7 @@ impl LinkEnds {
             version: LINK_VERSION,
             id: 0,
             sectors: 0,
+            host_clock: false,
         };
         if let Ok(f) = firmware::hil::encode(&ask, &mut buf) {
             let _ = self.to_robot.send(f.to_vec());

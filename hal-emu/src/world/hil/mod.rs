@@ -31,8 +31,10 @@
 
 mod bridge;
 mod ends;
+mod follower;
 mod in_process;
 mod link;
+mod lockstep;
 mod qemu;
 mod serial;
 mod spec;
@@ -41,7 +43,10 @@ mod transport;
 pub(crate) use bridge::{Bridge, setup_of, setup_seed};
 pub use bridge::{HilReport, HilTimeouts};
 pub use ends::LinkEnds;
+pub use follower::Follower;
 pub use link::open;
+pub(crate) use lockstep::serve as serve_lockstep;
+pub use lockstep::{FLOOD, IDLE_TIMEOUT, Lockstep};
 pub use qemu::qemu_args;
 pub use spec::{DEFAULT_BAUD, HilSpec};
-pub use transport::{HilRobot, Transport};
+pub use transport::{HilClock, HilRobot, Transport};

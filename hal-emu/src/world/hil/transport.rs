@@ -38,6 +38,17 @@ impl fmt::Display for Transport {
     }
 }
 
+/// Whose clock a robot in the loop runs on (`cimax arena --hil-clock`, docs/hil.md "Time").
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum HilClock {
+    /// The arena's: in lockstep with the run's virtual time, deterministic and faster than
+    /// real time (QEMU robots; loopback robots share the run's clock anyway).
+    #[default]
+    Virtual,
+    /// Its own: the run goes in wall-clock time (a board on a serial port).
+    Wall,
+}
+
 /// One robot of a run in the loop.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct HilRobot {
@@ -45,4 +56,19 @@ pub struct HilRobot {
     pub robot: usize,
     /// How to reach it.
     pub transport: Transport,
+    /// Whose clock it runs on.
+    pub clock: HilClock,
+}
+
+impl HilRobot {
+    /// True if it runs in lockstep with the arena's clock over its link (a QEMU robot on the
+    /// arena's clock).
+    pub fn follows(&self) -> bool {
+        self.clock == HilClock::Virtual && matches!(self.transport, Transport::Qemu(_))
+    }
+
+    /// True if it runs on a clock of its own (the run then goes in real time).
+    pub fn own_clock(&self) -> bool {
+        !self.transport.virtual_time() && !self.follows()
+    }
 }

@@ -173,10 +173,17 @@ pub struct ArenaArgs {
     /// one-robot HIL image), `serial:PATH[@BAUD]` (a board, 115200 Bd by default),
     /// `tcp:HOST:PORT` (anything speaking the link on a socket) or `loopback:N` (the robot
     /// program in this process, over the link). Repeatable. They take the first places of the
-    /// line or plane (--hil-at picks others); the others stay virtual. The run goes in real
-    /// time: shrink it with --cycle.
+    /// line or plane (--hil-at picks others); the others stay virtual. QEMU robots run on the
+    /// arena's clock (--hil-clock); with a board or a socket the run goes in real time: shrink
+    /// it with --cycle.
     #[arg(long, value_name = "SPEC")]
     pub hil: Vec<HilSpec>,
+    /// Whose clock the robots in the loop run on (docs/hil.md, "Time"): `virtual`, the arena's,
+    /// in lockstep (deterministic, faster than real time; the default for qemu: and
+    /// loopback:), or `wall`, their own (the only one for serial: and tcp:; the run goes in
+    /// real time).
+    #[arg(long, value_enum, value_name = "CLOCK", requires = "hil")]
+    pub hil_clock: Option<HilClockArg>,
     /// The places of the robots in the loop, in the order of --hil: I,J,... (from 0).
     #[arg(long, value_name = "I,J,...", value_delimiter = ',', requires = "hil")]
     pub hil_at: Vec<usize>,
@@ -187,6 +194,15 @@ pub struct ArenaArgs {
     /// `campaign`: the fault-injection campaign ([`campaign`]); `sweep` and `bench` on a plane.
     #[command(subcommand)]
     pub command: Option<Box<ArenaCommand>>,
+}
+
+/// `--hil-clock`: whose clock the robots in the loop run on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum HilClockArg {
+    /// The arena's, in lockstep.
+    Virtual,
+    /// Their own: the run goes in real time.
+    Wall,
 }
 
 impl ArenaArgs {

@@ -4,10 +4,10 @@
 use std::path::PathBuf;
 
 use hal_emu::MediumParams;
-use hal_emu::world::hil::{HilRobot, Transport};
+use hal_emu::world::hil::{HilClock, HilRobot, Transport};
 use protocol::{Duration, Params};
 
-use super::{ArenaArgs, MAX_RUN_SECS};
+use super::{ArenaArgs, HilClockArg, MAX_RUN_SECS};
 
 /// `--cycle` over the paper's 55 s (1 without `--cycle`).
 pub(super) fn time_scale(args: &ArenaArgs) -> Result<f64, String> {
@@ -73,13 +73,37 @@ pub(super) fn hil_robots(
         ));
     }
     if args.key.is_some() {
-        return Err("--key with --hil: link version 1 carries no swarm key".into());
+        return Err("--key with --hil: link version 2 carries no swarm key".into());
     }
-    Ok(places
+    let clock =
+        |t: &Transport| -> Result<HilClock, String> {
+            match (args.hil_clock, t) {
+            (Some(HilClockArg::Virtual) | None, Transport::Qemu(_) | Transport::InProcess) => {
+                Ok(HilClock::Virtual)
+            }
+            (Some(HilClockArg::Wall), Transport::InProcess) => Err(
+                "--hil-clock wall with loopback: the robot in this process runs on the arena's \
+                 clock"
+                    .into(),
+            ),
+            (Some(HilClockArg::Virtual), Transport::Serial(..) | Transport::Tcp(_)) => Err(format!(
+                "--hil-clock virtual with {t}: only QEMU robots follow the arena's clock (a \
+                 board keeps its own time; use --hil-clock wall)"
+            )),
+            (Some(HilClockArg::Wall), _) | (None, _) => Ok(HilClock::Wall),
+        }
+        };
+    places
         .into_iter()
         .zip(transports)
-        .map(|(robot, transport)| HilRobot { robot, transport })
-        .collect())
+        .map(|(robot, transport)| {
+            Ok(HilRobot {
+                robot,
+                clock: clock(&transport)?,
+                transport,
+            })
+        })
+        .collect()
 }
 
 /// `s` seconds as a [`Duration`], to the millisecond; an error naming `--what` unless it is a

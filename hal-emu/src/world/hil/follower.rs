@@ -1,0 +1,312 @@
+//! A robot in the loop whose clock follows the arena's ([`Follower`], link version 2,
+//! `docs/hil.md` "Time"): a QEMU process booted and greeted before the run, reached over a
+//! blocking socket, its frames decoded by a thread of its own into a channel that the run's
+//! [`Lockstep`](super::lockstep::Lockstep) reads only while the run's tasks wait. No tokio:
+//! the run is on the timeline's own executor, and time moves only when every follower has
+//! said it is idle.
+
+use std::collections::VecDeque;
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::mpsc::{Receiver, RecvTimeoutError, Sender, channel};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration as WallDuration, Instant as WallInstant};
+
+use firmware::hil::{LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkError, LinkMsg};
+
+use super::qemu::qemu_args;
+
+/// What the reader thread hands over.
+#[derive(Debug)]
+pub(crate) enum FromRobot {
+    /// A message.
+    Msg(LinkMsg),
+    /// A `Hello` of another link version.
+    Version(u8),
+    /// The stream ended (the process died, or closed its end).
+    Ended,
+}
+
+/// Lines of QEMU's output kept for a failure's message.
+const LOG_LINES: usize = 3;
+
+/// A QEMU robot, booted, connected and greeted, whose clock can follow the host's.
+#[derive(Debug)]
+pub struct Follower {
+    stream: TcpStream,
+    child: Option<Child>,
+    pub(crate) from: Receiver<FromRobot>,
+    log: Arc<Mutex<VecDeque<String>>>,
+    /// Bad link frames seen by the reader.
+    errors: Arc<AtomicU64>,
+    /// Bytes received and sent.
+    received: Arc<AtomicU64>,
+    pub(crate) sent: u64,
+    /// The id it said hello with.
+    pub(crate) hello_id: u16,
+    /// Wall time from starting QEMU to its `Hello`.
+    pub(crate) hello: WallDuration,
+}
+
+impl Follower {
+    /// Boots QEMU on `image` and greets the robot: it must speak [`LINK_VERSION`], have
+    /// `sectors` receivers and be able to follow the host's clock. Waits at most `hello` for
+    /// its `Hello` (and 10 s for QEMU to connect).
+    ///
+    /// # Errors
+    /// Why not, with QEMU's last words; the process is killed then.
+    pub fn boot(image: &Path, sectors: u8, hello: WallDuration) -> Result<Self, String> {
+        if !image.is_file() {
+            return Err(format!(
+                "no HIL image at {} (build it with `cargo hil-image`, docs/hil.md)",
+                image.display()
+            ));
+        }
+        let listener =
+            TcpListener::bind("127.0.0.1:0").map_err(|e| format!("qemu: no local socket: {e}"))?;
+        let port = listener
+            .local_addr()
+            .map_err(|e| format!("qemu: no local socket: {e}"))?
+            .port();
+        let mut child = Command::new("qemu-system-arm")
+            .args(qemu_args(image, port))
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .map_err(|e| format!("qemu-system-arm: {e} (is QEMU installed?)"))?;
+        let log = Arc::new(Mutex::new(VecDeque::new()));
+        let outs: [Option<Box<dyn Read + Send>>; 2] = [
+            child.stdout.take().map(|o| Box::new(o) as _),
+            child.stderr.take().map(|o| Box::new(o) as _),
+        ];
+        for out in outs.into_iter().flatten() {
+            let log = log.clone();
+            std::thread::spawn(move || keep_log(out, &log));
+        }
+        let mut f = Follower {
+            stream: match accept(&listener, WallDuration::from_secs(10)) {
+                Ok(s) => s,
+                Err(e) => {
+                    let _ = child.kill();
+                    let _ = child.wait();
+                    return Err(format!("{e}{}", last_words(&log)));
+                }
+            },
+            child: Some(child),
+            from: channel().1,
+            log,
+            errors: Arc::default(),
+            received: Arc::default(),
+            sent: 0,
+            hello_id: 0,
+            hello: WallDuration::ZERO,
+        };
+        let t0 = WallInstant::now();
+        f.start_reader()?;
+        f.greet(sectors, hello)
+            .map_err(|e| format!("{e}{}", f.last_words()))?;
+        f.hello = t0.elapsed();
+        Ok(f)
+    }
+
+    /// Starts the thread that decodes what the robot sends into [`Follower::from`].
+    fn start_reader(&mut self) -> Result<(), String> {
+        let _ = self.stream.set_nodelay(true);
+        let stream = self
+            .stream
+            .try_clone()
+            .map_err(|e| format!("qemu: socket: {e}"))?;
+        let (tx, rx) = channel();
+        self.from = rx;
+        let errors = self.errors.clone();
+        let received = self.received.clone();
+        std::thread::spawn(move || read_link(stream, &tx, &errors, &received));
+        Ok(())
+    }
+
+    /// Sends a 0x00 and asks who it is; waits for its `Hello` and checks it.
+    fn greet(&mut self, sectors: u8, within: WallDuration) -> Result<(), String> {
+        let mut bytes = vec![0u8];
+        bytes.extend_from_slice(&frame(&LinkMsg::Hello {
+            version: LINK_VERSION,
+            id: 0,
+            sectors: 0,
+            host_clock: true,
+        }));
+        self.write(&bytes)?;
+        let deadline = WallInstant::now() + within;
+        loop {
+            let left = deadline.saturating_duration_since(WallInstant::now());
+            match self.from.recv_timeout(left) {
+                Ok(FromRobot::Msg(LinkMsg::Hello {
+                    id,
+                    sectors: k,
+                    host_clock,
+                    ..
+                })) => {
+                    if k != sectors {
+                        return Err(format!(
+                            "has {k} receivers (said hello over qemu); the arena's robots have \
+                             {sectors}"
+                        ));
+                    }
+                    if !host_clock {
+                        return Err(
+                            "its image cannot follow the host's clock (its Hello says so): \
+                             rebuild it with `cargo hil-image`, or run it with --hil-clock wall"
+                                .into(),
+                        );
+                    }
+                    self.hello_id = id;
+                    return Ok(());
+                }
+                Ok(FromRobot::Version(v)) => {
+                    return Err(format!(
+                        "speaks link version {v} over qemu; this host speaks {LINK_VERSION}"
+                    ));
+                }
+                Ok(FromRobot::Msg(_)) => {}
+                Ok(FromRobot::Ended) | Err(RecvTimeoutError::Disconnected) => {
+                    return Err("its qemu link ended before it said hello".into());
+                }
+                Err(RecvTimeoutError::Timeout) => {
+                    return Err(format!(
+                        "never said hello over qemu within {} s",
+                        within.as_secs()
+                    ));
+                }
+            }
+        }
+    }
+
+    /// Writes `bytes` to the robot.
+    ///
+    /// # Errors
+    /// The link ended.
+    pub(crate) fn write(&mut self, bytes: &[u8]) -> Result<(), String> {
+        self.stream
+            .write_all(bytes)
+            .map_err(|e| format!("its qemu link ended (writing: {e})"))?;
+        self.sent += bytes.len() as u64;
+        Ok(())
+    }
+
+    /// Bad link frames from it so far.
+    pub(crate) fn link_errors(&self) -> u64 {
+        self.errors.load(Ordering::Relaxed)
+    }
+
+    /// Bytes received from it so far.
+    pub(crate) fn bytes_received(&self) -> u64 {
+        self.received.load(Ordering::Relaxed)
+    }
+
+    /// `; its output ends: ...` with the last lines QEMU printed, or nothing.
+    pub(crate) fn last_words(&self) -> String {
+        last_words(&self.log)
+    }
+}
+
+impl Drop for Follower {
+    /// Kills and reaps QEMU: no process is left behind.
+    fn drop(&mut self) {
+        let _ = self.stream.shutdown(std::net::Shutdown::Both);
+        if let Some(mut c) = self.child.take() {
+            let _ = c.kill();
+            let _ = c.wait();
+        }
+    }
+}
+
+/// One link frame of `msg`.
+pub(crate) fn frame(msg: &LinkMsg) -> Vec<u8> {
+    let mut buf = [0u8; LINK_FRAME_MAX];
+    firmware::hil::encode(msg, &mut buf).map_or_else(|_| Vec::new(), <[u8]>::to_vec)
+}
+
+/// Accepts one connection within `within`.
+fn accept(listener: &TcpListener, within: WallDuration) -> Result<TcpStream, String> {
+    listener
+        .set_nonblocking(true)
+        .map_err(|e| format!("qemu: {e}"))?;
+    let deadline = WallInstant::now() + within;
+    loop {
+        match listener.accept() {
+            Ok((s, _)) => {
+                s.set_nonblocking(false).map_err(|e| format!("qemu: {e}"))?;
+                return Ok(s);
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
+                if WallInstant::now() >= deadline {
+                    return Err(format!(
+                        "qemu did not connect its UART within {} s",
+                        within.as_secs()
+                    ));
+                }
+                std::thread::sleep(WallDuration::from_millis(2));
+            }
+            Err(e) => return Err(format!("qemu: {e}")),
+        }
+    }
+}
+
+/// The reader thread: decodes the robot's frames into `to` until the stream ends.
+fn read_link(
+    mut stream: TcpStream,
+    to: &Sender<FromRobot>,
+    errors: &AtomicU64,
+    received: &AtomicU64,
+) {
+    let mut decoder = LinkDecoder::new();
+    let mut buf = [0u8; 512];
+    loop {
+        let n = match stream.read(&mut buf) {
+            Ok(0) | Err(_) => {
+                let _ = to.send(FromRobot::Ended);
+                return;
+            }
+            Ok(n) => n,
+        };
+        received.fetch_add(n as u64, Ordering::Relaxed);
+        for &b in &buf[..n] {
+            let out = match decoder.push(b) {
+                None => continue,
+                Some(Ok(m)) => FromRobot::Msg(m),
+                Some(Err(LinkError::UnknownVersion(v))) => FromRobot::Version(v),
+                Some(Err(_)) => {
+                    errors.fetch_add(1, Ordering::Relaxed);
+                    continue;
+                }
+            };
+            if to.send(out).is_err() {
+                return;
+            }
+        }
+    }
+}
+
+/// Keeps the last [`LOG_LINES`] lines of `out`.
+fn keep_log(out: Box<dyn Read + Send>, log: &Mutex<VecDeque<String>>) {
+    for line in BufReader::new(out).lines() {
+        let Ok(line) = line else { return };
+        let mut l = log.lock().unwrap_or_else(PoisonError::into_inner);
+        if l.len() == LOG_LINES {
+            l.pop_front();
+        }
+        l.push_back(line);
+    }
+}
+
+fn last_words(log: &Mutex<VecDeque<String>>) -> String {
+    let l = log.lock().unwrap_or_else(PoisonError::into_inner);
+    if l.is_empty() {
+        String::new()
+    } else {
+        let lines: Vec<&str> = l.iter().map(String::as_str).collect();
+        format!("; its output ends: {}", lines.join(" | "))
+    }
+}

@@ -1,0 +1,473 @@
+//! Robots in the loop on the arena's clock (link version 2, `docs/hil.md` "Time"): conservative
+//! lockstep, as BabbleSim blocks a node until the simulated medium answers.
+//!
+//! The run's tasks (virtual robots, medium, schedule, and one bridge per robot in the loop) run
+//! on the timeline's own executor. When none can run at instant `T`, the executor asks the
+//! [`Lockstep`] to settle ([`Gate::settle`]): it sends each follower what its bridge queued for
+//! it since its last `Sync` (at most [`HELD`] − 1 messages) and `Sync(T)`, if it has anything
+//! or its own timer is due; then it blocks the thread until every follower it synced says
+//! `Idle`, and hands each bridge everything its follower said before that `Idle`, in robot
+//! order. Only then do the tasks run again, and time moves on only when no follower owes an
+//! `Idle`: no robot sees time `T` before every robot has finished with the instants before.
+//!
+//! What a follower says is handed over in whole batches, one per `Sync`, however the bytes
+//! arrived: the same seed gives the same run, whatever the machine's load.
+
+use std::cell::RefCell;
+use std::collections::VecDeque;
+use std::rc::Rc;
+use std::sync::mpsc::RecvTimeoutError;
+use std::time::{Duration as WallDuration, Instant as WallInstant};
+
+use embedded_io_async::Write;
+use firmware::hal::Receivers as _;
+use firmware::hil::robot::{HELD, REFUSED_HOST_CLOCK, led_decision};
+use firmware::hil::{CHUNK_MAX, LINK_VERSION, LinkMsg};
+use firmware::{Clock, LedColor, Leds, Quantity, Sensor};
+use protocol::{Duration, Instant};
+use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
+
+use super::bridge::{Bridge, HilReport};
+use super::follower::{Follower, FromRobot, frame};
+use crate::board::light::bit;
+use crate::board::timeline::Gate;
+
+/// Messages a follower may send for one `Sync` before the host calls it a flood.
+pub const FLOOD: usize = 4096;
+
+/// How long the host waits, in wall time, for a follower's `Idle`.
+pub const IDLE_TIMEOUT: WallDuration = WallDuration::from_secs(10);
+
+/// What a bridge gets from the lockstep.
+#[derive(Debug)]
+pub(crate) enum Batch {
+    /// Everything the follower said for one `Sync`, its `Idle` last.
+    Msgs(Vec<LinkMsg>),
+    /// The follower failed (the message names it; its QEMU is gone).
+    Failed(String),
+}
+
+/// One follower's place in the run.
+#[derive(Debug)]
+struct Slot {
+    /// Its place in the arena.
+    robot: usize,
+    follower: Option<Follower>,
+    /// Queued for it by its bridge, sent before its next `Sync`.
+    out: VecDeque<LinkMsg>,
+    /// Its own timer is due: it needs a `Sync` even with nothing queued.
+    wants: bool,
+    /// The instant of the `Sync` whose `Idle` it owes.
+    owes: Option<Instant>,
+    to_bridge: Option<UnboundedSender<Batch>>,
+    /// It answered a `Sync` in this run (a `Hello` now means it rebooted).
+    answered: bool,
+    /// Lockstep rounds (a `Sync` and its `Idle`).
+    rounds: u64,
+    /// Link frames sent to it.
+    frames_sent: u64,
+    /// Link frames received from it.
+    frames_received: u64,
+}
+
+/// The robots in the loop of one run whose clocks follow the arena's (module docs).
+#[derive(Debug, Default)]
+pub struct Lockstep {
+    slots: RefCell<Vec<Slot>>,
+}
+
+impl Lockstep {
+    /// Followers at the places given.
+    pub(crate) fn new(followers: Vec<(usize, Follower)>) -> Self {
+        let slots = followers
+            .into_iter()
+            .map(|(robot, f)| Slot {
+                robot,
+                follower: Some(f),
+                out: VecDeque::new(),
+                wants: false,
+                owes: None,
+                to_bridge: None,
+                answered: false,
+                rounds: 0,
+                frames_sent: 0,
+                frames_received: 0,
+            })
+            .collect();
+        Lockstep {
+            slots: RefCell::new(slots),
+        }
+    }
+
+    /// True if the robot at `robot` is one of these followers.
+    pub(crate) fn has(&self, robot: usize) -> bool {
+        self.slots.borrow().iter().any(|s| s.robot == robot)
+    }
+
+    /// Connects the robot at `robot` to its bridge: what its follower says comes out of the
+    /// returned channel.
+    fn attach(&self, robot: usize) -> Option<UnboundedReceiver<Batch>> {
+        let mut slots = self.slots.borrow_mut();
+        let s = slots.iter_mut().find(|s| s.robot == robot)?;
+        let (tx, rx) = unbounded_channel();
+        s.to_bridge = Some(tx);
+        Some(rx)
+    }
+
+    /// Queues `msg` for the robot at `robot`, sent before its next `Sync`.
+    fn push(&self, robot: usize, msg: LinkMsg) {
+        if let Some(s) = self
+            .slots
+            .borrow_mut()
+            .iter_mut()
+            .find(|s| s.robot == robot)
+        {
+            s.out.push_back(msg);
+        }
+    }
+
+    /// The robot at `robot` needs a `Sync` (its timer is due).
+    fn want(&self, robot: usize) {
+        if let Some(s) = self
+            .slots
+            .borrow_mut()
+            .iter_mut()
+            .find(|s| s.robot == robot)
+        {
+            s.wants = true;
+        }
+    }
+
+    /// What the robot at `robot`'s link did in this run, into `report`.
+    fn fill(&self, robot: usize, report: &mut HilReport) {
+        if let Some(s) = self.slots.borrow().iter().find(|s| s.robot == robot) {
+            report.frames_sent = s.frames_sent;
+            report.frames_received = s.frames_received;
+            report.round_trips = s.rounds;
+            if let Some(f) = &s.follower {
+                report.hello_id = f.hello_id;
+                report.hello_ms = u64::try_from(f.hello.as_millis()).unwrap_or(u64::MAX);
+                report.bytes_sent = f.sent;
+                report.bytes_received = f.bytes_received();
+                report.link_errors = f.link_errors();
+            }
+        }
+    }
+
+    /// Sends slot `s` what it has queued (at most [`HELD`] − 1 messages) and `Sync(now)`.
+    fn sync(s: &mut Slot, now: Instant) -> Result<(), String> {
+        let Some(f) = s.follower.as_mut() else {
+            return Err("its QEMU is gone".into());
+        };
+        let mut bytes = Vec::new();
+        let mut frames = 0;
+        while frames < HELD - 1 {
+            let Some(m) = s.out.pop_front() else { break };
+            bytes.extend_from_slice(&frame(&m));
+            frames += 1;
+        }
+        bytes.extend_from_slice(&frame(&LinkMsg::Sync(now.as_millis())));
+        f.write(&bytes)?;
+        s.frames_sent += frames as u64 + 1;
+        s.owes = Some(now);
+        s.wants = false;
+        s.rounds += 1;
+        Ok(())
+    }
+
+    /// Waits for slot `s`'s `Idle` for `now`: everything it said before it, the `Idle` last.
+    fn collect(s: &mut Slot, now: Instant) -> Result<Vec<LinkMsg>, String> {
+        let Some(f) = s.follower.as_ref() else {
+            return Err("its QEMU is gone".into());
+        };
+        let deadline = WallInstant::now() + IDLE_TIMEOUT;
+        let mut batch = Vec::new();
+        loop {
+            let left = deadline.saturating_duration_since(WallInstant::now());
+            let msg = match f.from.recv_timeout(left) {
+                Ok(FromRobot::Msg(m)) => m,
+                Ok(FromRobot::Version(v)) => {
+                    return Err(format!(
+                        "speaks link version {v} over qemu; this host speaks {LINK_VERSION}"
+                    ));
+                }
+                Ok(FromRobot::Ended) | Err(RecvTimeoutError::Disconnected) => {
+                    return Err("its qemu link ended (disconnected)".into());
+                }
+                Err(RecvTimeoutError::Timeout) => {
+                    return Err(format!(
+                        "stopped answering over qemu: no Idle within {} s of Sync({} ms)",
+                        IDLE_TIMEOUT.as_secs(),
+                        now.as_millis()
+                    ));
+                }
+            };
+            s.frames_received += 1;
+            match msg {
+                LinkMsg::Idle { now: t, .. } if t != now.as_millis() => {
+                    return Err(format!(
+                        "said it was idle at {t} ms over qemu; the arena is at {} ms",
+                        now.as_millis()
+                    ));
+                }
+                LinkMsg::Idle { .. } => {
+                    batch.push(msg);
+                    s.answered = true;
+                    return Ok(batch);
+                }
+                LinkMsg::Hello { .. } if s.answered => {
+                    return Err("said hello again over qemu: it rebooted during the run".into());
+                }
+                // Hellos from before its setup (it says hello on its own clock until then).
+                LinkMsg::Hello { .. } | LinkMsg::Heartbeat(_) => {}
+                m => batch.push(m),
+            }
+            if batch.len() > FLOOD {
+                return Err(format!(
+                    "floods the link over qemu: more than {FLOOD} messages for Sync({} ms)",
+                    now.as_millis()
+                ));
+            }
+        }
+    }
+
+    /// Slot `s` failed: its bridge is told, its QEMU killed.
+    fn fail(s: &mut Slot, why: String) {
+        let why = match &s.follower {
+            Some(f) => format!("{why}{}", f.last_words()),
+            None => why,
+        };
+        if let Some(b) = s.to_bridge.take() {
+            let _ = b.send(Batch::Failed(why));
+        }
+        s.follower = None;
+        s.owes = None;
+        s.out.clear();
+    }
+}
+
+impl Gate for Lockstep {
+    fn settle(&self, now: Instant) -> bool {
+        let mut slots = self.slots.borrow_mut();
+        let mut woke = false;
+        for s in slots.iter_mut() {
+            let live = s.follower.is_some() && s.to_bridge.is_some();
+            if live
+                && s.owes.is_none()
+                && (s.wants || !s.out.is_empty())
+                && let Err(e) = Self::sync(s, now)
+            {
+                Self::fail(s, e);
+                woke = true;
+            }
+        }
+        for s in slots.iter_mut() {
+            let Some(at) = s.owes else { continue };
+            match Self::collect(s, at) {
+                Ok(batch) => {
+                    s.owes = None;
+                    let gone = s
+                        .to_bridge
+                        .as_ref()
+                        .is_none_or(|b| b.send(Batch::Msgs(batch)).is_err());
+                    if gone {
+                        s.to_bridge = None;
+                    }
+                }
+                Err(e) => Self::fail(s, e),
+            }
+            woke = true;
+        }
+        woke
+    }
+}
+
+/// The bridge of a follower at its place in the run: its sensor's readings and the run's
+/// `Setup` first, then what the medium delivers to its receivers, its readings every sample
+/// period, its light and LEDs, until `stop` fires (`Ok`, with its report) or it fails.
+pub(crate) async fn serve(
+    mut bridge: Bridge,
+    lockstep: Rc<Lockstep>,
+    mut stop: tokio::sync::oneshot::Receiver<()>,
+) -> Result<HilReport, String> {
+    let robot = bridge.robot;
+    let mut report = HilReport {
+        robot,
+        transport: bridge.transport.to_string(),
+        ..HilReport::default()
+    };
+    let Some(mut batches) = lockstep.attach(robot) else {
+        return Err("is no robot on the arena's clock".into());
+    };
+    let clock = bridge.clock.clone();
+    let t0 = clock.now();
+    readings(&mut bridge, &lockstep).await;
+    let mut setup = bridge.setup;
+    setup.host_clock = true;
+    lockstep.push(robot, LinkMsg::Setup(setup));
+    let (mut heard, air) = start_light(&mut bridge);
+    let mut alarm = Instant::MAX;
+    let mut next_sample = t0 + bridge.config.sample_period;
+    loop {
+        let wake = alarm.min(next_sample);
+        let input = tokio::select! {
+            biased;
+            _ = &mut stop => None,
+            b = batches.recv() => Some(Input::Batch(b)),
+            Some((s, b)) = heard.recv() => Some(Input::Heard(s, b)),
+            () = clock.sleep_until(wake) => Some(Input::Tick),
+        };
+        let now = clock.now();
+        match input {
+            None => {
+                lockstep.fill(robot, &mut report);
+                return check_at_end(&bridge, now.saturating_since(t0), &report);
+            }
+            Some(Input::Batch(None)) => return Err("its lockstep ended".into()),
+            Some(Input::Batch(Some(Batch::Failed(why)))) => return Err(why),
+            Some(Input::Batch(Some(Batch::Msgs(msgs)))) => {
+                for m in msgs {
+                    if let Some(next) = on_message(&mut bridge, m, &air, &mut report).await? {
+                        alarm = next.max(now + Duration::from_millis(1));
+                    }
+                }
+            }
+            Some(Input::Heard(sector, bytes)) => {
+                report.rx_bytes += bytes.len() as u64;
+                let Ok(sector) = u8::try_from(sector) else {
+                    continue;
+                };
+                for c in bytes.chunks(CHUNK_MAX) {
+                    let bytes = heapless::Vec::from_slice(c).unwrap_or_default();
+                    lockstep.push(robot, LinkMsg::Rx { sector, bytes });
+                }
+            }
+            Some(Input::Tick) => {
+                if now >= next_sample {
+                    readings(&mut bridge, &lockstep).await;
+                    next_sample = now + bridge.config.sample_period;
+                }
+                if now >= alarm {
+                    lockstep.want(robot);
+                    alarm = Instant::MAX;
+                }
+            }
+        }
+    }
+}
+
+/// What a follower's receivers heard, `(sector, bytes)`, and where its light goes on air.
+type Light = (
+    UnboundedReceiver<(usize, Vec<u8>)>,
+    UnboundedSender<Vec<u8>>,
+);
+
+/// What one of the bridge's sources gave.
+enum Input {
+    Batch(Option<Batch>),
+    Heard(usize, Vec<u8>),
+    Tick,
+}
+
+/// One message of a follower's batch; an `Idle` gives its next timer.
+async fn on_message(
+    bridge: &mut Bridge,
+    msg: LinkMsg,
+    air: &UnboundedSender<Vec<u8>>,
+    report: &mut HilReport,
+) -> Result<Option<Instant>, String> {
+    match msg {
+        LinkMsg::Tx(chunk) => {
+            report.tx += 1;
+            let _ = air.send(chunk.to_vec());
+        }
+        LinkMsg::Led(code) => {
+            let sectors = bridge.config.params.sectors;
+            let color = LedColor::for_decision_of(led_decision(code), sectors);
+            let _ = bridge.leds.show(color).await;
+        }
+        LinkMsg::Refused(code) => {
+            let why = match code {
+                1 => "bad protocol parameters",
+                2 => "its receivers and the sectors differ",
+                3 => "a zero duration",
+                4 => "a swarm key without keyed framing",
+                REFUSED_HOST_CLOCK => "it cannot follow the host's clock",
+                _ => "another reason",
+            };
+            return Err(format!(
+                "refused the run's setup over qemu: {why} (code {code})"
+            ));
+        }
+        LinkMsg::Idle { next, .. } => {
+            return Ok(Some(if next == u64::MAX {
+                Instant::MAX
+            } else {
+                Instant::from_millis(next)
+            }));
+        }
+        _ => {}
+    }
+    Ok(None)
+}
+
+/// Queues what the bridge's sensor reads now, both quantities (a failed read sends nothing).
+async fn readings(bridge: &mut Bridge, lockstep: &Lockstep) {
+    for (q, quantity) in [(0u8, Quantity::AmbientLight), (1, Quantity::Oxygen)] {
+        if let Ok(level) = bridge.sensor.read(quantity).await {
+            lockstep.push(
+                bridge.robot,
+                LinkMsg::Reading {
+                    quantity: q,
+                    level: level.0,
+                },
+            );
+        }
+    }
+}
+
+/// Starts the robot's light on the run's executor: a task handing what reaches its receivers
+/// to the returned channel with the sector, and one putting the frames sent into the returned
+/// sender on air, one at a time as from the robot's own transmitter. They end with the run.
+fn start_light(bridge: &mut Bridge) -> Light {
+    let (heard_tx, heard) = unbounded_channel::<(usize, Vec<u8>)>();
+    if let Some(mut rx) = bridge.receivers.take() {
+        bridge.clock.spawn(async move {
+            let mut buf = [0u8; CHUNK_MAX];
+            let mut open = u8::MAX;
+            while open != 0 {
+                let (sector, got) = rx.read(open, &mut buf).await;
+                match got {
+                    Ok(n @ 1..) => {
+                        if heard_tx.send((sector, buf[..n].to_vec())).is_err() {
+                            return;
+                        }
+                    }
+                    _ => open &= !bit(sector),
+                }
+            }
+        });
+    }
+    let (air, mut air_rx) = unbounded_channel::<Vec<u8>>();
+    if let Some(mut transmitter) = bridge.transmitter.take() {
+        bridge.clock.spawn(async move {
+            while let Some(f) = air_rx.recv().await {
+                let _ = transmitter.write(&f).await;
+            }
+        });
+    }
+    (heard, air)
+}
+
+/// At the end of a run that lasted `ran`: a robot program that runs initiates a wave every
+/// cycle, so one that sent no light in three cycles' time is not running.
+fn check_at_end(bridge: &Bridge, ran: Duration, report: &HilReport) -> Result<HilReport, String> {
+    let cycles = bridge.config.params.longest_cycle().saturating_mul(3);
+    if report.tx == 0 && ran > cycles {
+        return Err(format!(
+            "sent no light over qemu in {} s: its robot program is not running",
+            ran.as_millis() / 1000
+        ));
+    }
+    Ok(report.clone())
+}

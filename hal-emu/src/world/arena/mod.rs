@@ -76,7 +76,8 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
     } else if cfg.lockstep() {
         // QEMU robots on the arena's clock: booted and greeted first, then the run on the own
         // executor, time waiting for them (`world::hil::lockstep`).
-        let lockstep = Rc::new(Lockstep::new(boot_followers(cfg)?));
+        let patience = std::time::Duration::from_millis(cfg.hil_timeouts.silence.as_millis());
+        let lockstep = Rc::new(Lockstep::new(boot_followers(cfg)?, patience));
         let (clock, timeline) = EmuClock::virtual_run();
         timeline.set_gate(lockstep.clone());
         let time = Time::Own(clock, timeline.clone());
@@ -311,43 +312,42 @@ fn world(cfg: &ArenaConfig, time: Time, lockstep: Option<Rc<Lockstep>>) -> Rc<Sh
     })
 }
 
-/// Boots the QEMU robots of `cfg` that follow the arena's clock, all at once, and greets each
-/// ([`Follower::boot`]): `(place, follower)`.
+/// Boots the QEMU robots of `cfg` that follow the arena's clock and connects those on sockets,
+/// all at once, and greets each ([`Follower::boot`], [`Follower::connect`]): `(place,
+/// follower)`.
 fn boot_followers(cfg: &ArenaConfig) -> Result<Vec<(usize, Follower)>, ArenaError> {
     let hello = std::time::Duration::from_millis(cfg.hil_timeouts.hello.as_millis());
     let sectors = cfg.robot.params.sectors;
-    let booted: Vec<(usize, Result<Follower, String>)> = std::thread::scope(|scope| {
+    let booted: Vec<(usize, String, Result<Follower, String>)> = std::thread::scope(|scope| {
         let boots: Vec<_> = cfg
             .hil
             .iter()
             .filter(|h| h.follows())
-            .filter_map(|h| match &h.transport {
-                Transport::Qemu(image) => Some((h.robot, image)),
-                _ => None,
-            })
-            .map(|(robot, image)| {
-                (
-                    robot,
-                    scope.spawn(move || Follower::boot(image, sectors, hello)),
-                )
+            .map(|h| {
+                let boot = move || match &h.transport {
+                    Transport::Qemu(image) => Follower::boot(image, sectors, hello),
+                    Transport::Tcp(addr) => Follower::connect(addr, sectors, hello),
+                    t => Err(format!("{t} cannot follow the arena's clock")),
+                };
+                (h.robot, &h.transport, scope.spawn(boot))
             })
             .collect();
         boots
             .into_iter()
-            .map(|(robot, b)| {
+            .map(|(robot, t, b)| {
                 let out = b
                     .join()
                     .unwrap_or_else(|_| Err("its boot thread panicked".into()));
-                (robot, out)
+                (robot, t.to_string(), out)
             })
             .collect()
     });
     let mut followers = Vec::new();
-    for (robot, f) in booted {
+    for (robot, t, f) in booted {
         // The others are dropped (killed) on an error.
         followers.push((
             robot,
-            f.map_err(|e| ArenaError::Hil(format!("robot {robot} (qemu): {e}")))?,
+            f.map_err(|e| ArenaError::Hil(format!("robot {robot} ({t}): {e}")))?,
         ));
     }
     Ok(followers)

@@ -41,7 +41,8 @@ pub(crate) struct Bridge {
 pub struct HilTimeouts {
     /// From connecting to its `Hello`.
     pub hello: Duration,
-    /// Longest silence (no frame at all) once it runs.
+    /// Longest silence (no frame at all) once it runs; for a robot on the arena's clock, the
+    /// longest wait (wall time) for its `Idle` after a `Sync`.
     pub silence: Duration,
 }
 

@@ -1,6 +1,6 @@
 //! A robot in the loop whose clock follows the arena's ([`Follower`], link version 2,
-//! `docs/hil.md` "Time"): a QEMU process booted and greeted before the run, reached over a
-//! blocking socket, its frames decoded by a thread of its own into a channel that the run's
+//! `docs/hil.md` "Time"): a QEMU process booted (or a socket connected) and greeted before the
+//! run, reached over a blocking socket, its frames decoded by a thread of its own into a channel that the run's
 //! [`Lockstep`](super::lockstep::Lockstep) reads only while the run's tasks wait. No tokio:
 //! the run is on the timeline's own executor, and time moves only when every follower has
 //! said it is idle.
@@ -36,6 +36,8 @@ const LOG_LINES: usize = 3;
 /// A QEMU robot, booted, connected and greeted, whose clock can follow the host's.
 #[derive(Debug)]
 pub struct Follower {
+    /// Its transport, for messages (`qemu`, `tcp:HOST:PORT`).
+    pub(crate) name: String,
     stream: TcpStream,
     child: Option<Child>,
     pub(crate) from: Receiver<FromRobot>,
@@ -88,6 +90,7 @@ impl Follower {
             std::thread::spawn(move || keep_log(out, &log));
         }
         let mut f = Follower {
+            name: "qemu".into(),
             stream: match accept(&listener, WallDuration::from_secs(10)) {
                 Ok(s) => s,
                 Err(e) => {
@@ -109,6 +112,40 @@ impl Follower {
         f.start_reader()?;
         f.greet(sectors, hello)
             .map_err(|e| format!("{e}{}", f.last_words()))?;
+        f.hello = t0.elapsed();
+        Ok(f)
+    }
+
+    /// Connects to a robot on a TCP socket (`HOST:PORT`, within 10 s) and greets it, as
+    /// [`boot`](Self::boot) does a QEMU robot.
+    ///
+    /// # Errors
+    /// Why not (no connection, no hello, another version or sectors, a robot that cannot
+    /// follow the host's clock).
+    pub fn connect(addr: &str, sectors: u8, hello: WallDuration) -> Result<Self, String> {
+        use std::net::ToSocketAddrs;
+        let to = addr
+            .to_socket_addrs()
+            .map_err(|e| format!("tcp:{addr}: {e}"))?
+            .next()
+            .ok_or_else(|| format!("tcp:{addr}: no address"))?;
+        let stream = TcpStream::connect_timeout(&to, WallDuration::from_secs(10))
+            .map_err(|e| format!("tcp:{addr}: {e}"))?;
+        let mut f = Follower {
+            name: format!("tcp:{addr}"),
+            stream,
+            child: None,
+            from: channel().1,
+            log: Arc::default(),
+            errors: Arc::default(),
+            received: Arc::default(),
+            sent: 0,
+            hello_id: 0,
+            hello: WallDuration::ZERO,
+        };
+        let t0 = WallInstant::now();
+        f.start_reader()?;
+        f.greet(sectors, hello)?;
         f.hello = t0.elapsed();
         Ok(f)
     }
@@ -150,8 +187,9 @@ impl Follower {
                 })) => {
                     if k != sectors {
                         return Err(format!(
-                            "has {k} receivers (said hello over qemu); the arena's robots have \
-                             {sectors}"
+                            "has {k} receivers (said hello over {}); the arena's robots have \
+                             {sectors}",
+                            self.name
                         ));
                     }
                     if !host_clock {
@@ -166,16 +204,18 @@ impl Follower {
                 }
                 Ok(FromRobot::Version(v)) => {
                     return Err(format!(
-                        "speaks link version {v} over qemu; this host speaks {LINK_VERSION}"
+                        "speaks link version {v} over {}; this host speaks {LINK_VERSION}",
+                        self.name
                     ));
                 }
                 Ok(FromRobot::Msg(_)) => {}
                 Ok(FromRobot::Ended) | Err(RecvTimeoutError::Disconnected) => {
-                    return Err("its qemu link ended before it said hello".into());
+                    return Err(format!("its {} link ended before it said hello", self.name));
                 }
                 Err(RecvTimeoutError::Timeout) => {
                     return Err(format!(
-                        "never said hello over qemu within {} s",
+                        "never said hello over {} within {} s",
+                        self.name,
                         within.as_secs()
                     ));
                 }
@@ -190,7 +230,7 @@ impl Follower {
     pub(crate) fn write(&mut self, bytes: &[u8]) -> Result<(), String> {
         self.stream
             .write_all(bytes)
-            .map_err(|e| format!("its qemu link ended (writing: {e})"))?;
+            .map_err(|e| format!("its {} link ended (writing: {e})", self.name))?;
         self.sent += bytes.len() as u64;
         Ok(())
     }

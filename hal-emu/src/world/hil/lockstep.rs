@@ -35,9 +35,6 @@ use crate::board::timeline::Gate;
 /// Messages a follower may send for one `Sync` before the host calls it a flood.
 pub const FLOOD: usize = 4096;
 
-/// How long the host waits, in wall time, for a follower's `Idle`.
-pub const IDLE_TIMEOUT: WallDuration = WallDuration::from_secs(10);
-
 /// What a bridge gets from the lockstep.
 #[derive(Debug)]
 pub(crate) enum Batch {
@@ -74,11 +71,13 @@ struct Slot {
 #[derive(Debug, Default)]
 pub struct Lockstep {
     slots: RefCell<Vec<Slot>>,
+    /// How long to wait, in wall time, for a follower's `Idle` ([`super::HilTimeouts::silence`]).
+    patience: WallDuration,
 }
 
 impl Lockstep {
-    /// Followers at the places given.
-    pub(crate) fn new(followers: Vec<(usize, Follower)>) -> Self {
+    /// Followers at the places given, each given `patience` (wall time) to answer a `Sync`.
+    pub(crate) fn new(followers: Vec<(usize, Follower)>, patience: WallDuration) -> Self {
         let slots = followers
             .into_iter()
             .map(|(robot, f)| Slot {
@@ -96,6 +95,7 @@ impl Lockstep {
             .collect();
         Lockstep {
             slots: RefCell::new(slots),
+            patience,
         }
     }
 
@@ -166,7 +166,9 @@ impl Lockstep {
             bytes.extend_from_slice(&frame(&m));
             frames += 1;
         }
-        bytes.extend_from_slice(&frame(&LinkMsg::Sync(now.as_millis())));
+        let ms = u32::try_from(now.as_millis())
+            .map_err(|_| "the run outlasts the link's clock (u32 milliseconds)".to_string())?;
+        bytes.extend_from_slice(&frame(&LinkMsg::Sync(ms)));
         f.write(&bytes)?;
         s.frames_sent += frames as u64 + 1;
         s.owes = Some(now);
@@ -176,11 +178,12 @@ impl Lockstep {
     }
 
     /// Waits for slot `s`'s `Idle` for `now`: everything it said before it, the `Idle` last.
-    fn collect(s: &mut Slot, now: Instant) -> Result<Vec<LinkMsg>, String> {
+    fn collect(s: &mut Slot, now: Instant, patience: WallDuration) -> Result<Vec<LinkMsg>, String> {
         let Some(f) = s.follower.as_ref() else {
             return Err("its QEMU is gone".into());
         };
-        let deadline = WallInstant::now() + IDLE_TIMEOUT;
+        let over = &f.name;
+        let deadline = WallInstant::now() + patience;
         let mut batch = Vec::new();
         loop {
             let left = deadline.saturating_duration_since(WallInstant::now());
@@ -188,25 +191,25 @@ impl Lockstep {
                 Ok(FromRobot::Msg(m)) => m,
                 Ok(FromRobot::Version(v)) => {
                     return Err(format!(
-                        "speaks link version {v} over qemu; this host speaks {LINK_VERSION}"
+                        "speaks link version {v} over {over}; this host speaks {LINK_VERSION}"
                     ));
                 }
                 Ok(FromRobot::Ended) | Err(RecvTimeoutError::Disconnected) => {
-                    return Err("its qemu link ended (disconnected)".into());
+                    return Err(format!("its {over} link ended (disconnected)"));
                 }
                 Err(RecvTimeoutError::Timeout) => {
                     return Err(format!(
-                        "stopped answering over qemu: no Idle within {} s of Sync({} ms)",
-                        IDLE_TIMEOUT.as_secs(),
+                        "stopped answering over {over}: no Idle within {} ms of Sync({} ms)",
+                        patience.as_millis(),
                         now.as_millis()
                     ));
                 }
             };
             s.frames_received += 1;
             match msg {
-                LinkMsg::Idle { now: t, .. } if t != now.as_millis() => {
+                LinkMsg::Idle { now: t, .. } if u64::from(t) != now.as_millis() => {
                     return Err(format!(
-                        "said it was idle at {t} ms over qemu; the arena is at {} ms",
+                        "said it was idle at {t} ms over {over}; the arena is at {} ms",
                         now.as_millis()
                     ));
                 }
@@ -216,7 +219,9 @@ impl Lockstep {
                     return Ok(batch);
                 }
                 LinkMsg::Hello { .. } if s.answered => {
-                    return Err("said hello again over qemu: it rebooted during the run".into());
+                    return Err(format!(
+                        "said hello again over {over}: it rebooted during the run"
+                    ));
                 }
                 // Hellos from before its setup (it says hello on its own clock until then).
                 LinkMsg::Hello { .. } | LinkMsg::Heartbeat(_) => {}
@@ -224,7 +229,7 @@ impl Lockstep {
             }
             if batch.len() > FLOOD {
                 return Err(format!(
-                    "floods the link over qemu: more than {FLOOD} messages for Sync({} ms)",
+                    "floods the link over {over}: more than {FLOOD} messages for Sync({} ms)",
                     now.as_millis()
                 ));
             }
@@ -263,7 +268,7 @@ impl Gate for Lockstep {
         }
         for s in slots.iter_mut() {
             let Some(at) = s.owes else { continue };
-            match Self::collect(s, at) {
+            match Self::collect(s, at, self.patience) {
                 Ok(batch) => {
                     s.owes = None;
                     let gone = s
@@ -396,14 +401,15 @@ async fn on_message(
                 _ => "another reason",
             };
             return Err(format!(
-                "refused the run's setup over qemu: {why} (code {code})"
+                "refused the run's setup over {}: {why} (code {code})",
+                bridge.transport
             ));
         }
         LinkMsg::Idle { next, .. } => {
-            return Ok(Some(if next == u64::MAX {
+            return Ok(Some(if next == u32::MAX {
                 Instant::MAX
             } else {
-                Instant::from_millis(next)
+                Instant::from_millis(u64::from(next))
             }));
         }
         _ => {}
@@ -465,7 +471,8 @@ fn check_at_end(bridge: &Bridge, ran: Duration, report: &HilReport) -> Result<Hi
     let cycles = bridge.config.params.longest_cycle().saturating_mul(3);
     if report.tx == 0 && ran > cycles {
         return Err(format!(
-            "sent no light over qemu in {} s: its robot program is not running",
+            "sent no light over {} in {} s: its robot program is not running",
+            bridge.transport,
             ran.as_millis() / 1000
         ));
     }

@@ -46,7 +46,7 @@ pub use ends::LinkEnds;
 pub use follower::Follower;
 pub use link::open;
 pub(crate) use lockstep::serve as serve_lockstep;
-pub use lockstep::{FLOOD, IDLE_TIMEOUT, Lockstep};
+pub use lockstep::{FLOOD, Lockstep};
 pub use qemu::qemu_args;
 pub use spec::{DEFAULT_BAUD, HilSpec};
 pub use transport::{HilClock, HilRobot, Transport};

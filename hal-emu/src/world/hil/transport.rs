@@ -61,10 +61,11 @@ pub struct HilRobot {
 }
 
 impl HilRobot {
-    /// True if it runs in lockstep with the arena's clock over its link (a QEMU robot on the
-    /// arena's clock).
+    /// True if it runs in lockstep with the arena's clock over its link (a QEMU robot, or one
+    /// on a socket, on the arena's clock).
     pub fn follows(&self) -> bool {
-        self.clock == HilClock::Virtual && matches!(self.transport, Transport::Qemu(_))
+        self.clock == HilClock::Virtual
+            && matches!(self.transport, Transport::Qemu(_) | Transport::Tcp(_))
     }
 
     /// True if it runs on a clock of its own (the run then goes in real time).

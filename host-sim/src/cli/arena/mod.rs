@@ -180,8 +180,8 @@ pub struct ArenaArgs {
     pub hil: Vec<HilSpec>,
     /// Whose clock the robots in the loop run on (docs/hil.md, "Time"): `virtual`, the arena's,
     /// in lockstep (deterministic, faster than real time; the default for qemu: and
-    /// loopback:), or `wall`, their own (the only one for serial: and tcp:; the run goes in
-    /// real time).
+    /// loopback:, and for tcp: a robot whose Hello says it can follow), or `wall`, their own
+    /// (the only one for serial:, the default for tcp:; the run goes in real time).
     #[arg(long, value_enum, value_name = "CLOCK", requires = "hil")]
     pub hil_clock: Option<HilClockArg>,
     /// The places of the robots in the loop, in the order of --hil: I,J,... (from 0).

@@ -75,9 +75,8 @@ pub(super) fn hil_robots(
     if args.key.is_some() {
         return Err("--key with --hil: link version 2 carries no swarm key".into());
     }
-    let clock =
-        |t: &Transport| -> Result<HilClock, String> {
-            match (args.hil_clock, t) {
+    let clock = |t: &Transport| -> Result<HilClock, String> {
+        match (args.hil_clock, t) {
             (Some(HilClockArg::Virtual) | None, Transport::Qemu(_) | Transport::InProcess) => {
                 Ok(HilClock::Virtual)
             }
@@ -86,13 +85,14 @@ pub(super) fn hil_robots(
                  clock"
                     .into(),
             ),
-            (Some(HilClockArg::Virtual), Transport::Serial(..) | Transport::Tcp(_)) => Err(format!(
-                "--hil-clock virtual with {t}: only QEMU robots follow the arena's clock (a \
-                 board keeps its own time; use --hil-clock wall)"
+            (Some(HilClockArg::Virtual), Transport::Serial(..)) => Err(format!(
+                "--hil-clock virtual with {t}: a board on a serial port keeps its own time \
+                 (its image cannot follow the arena's clock); use --hil-clock wall"
             )),
+            (Some(HilClockArg::Virtual), Transport::Tcp(_)) => Ok(HilClock::Virtual),
             (Some(HilClockArg::Wall), _) | (None, _) => Ok(HilClock::Wall),
         }
-        };
+    };
     places
         .into_iter()
         .zip(transports)

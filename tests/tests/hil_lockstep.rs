@@ -1,0 +1,213 @@
+//! Robots in the loop on the arena's clock (link version 2, `docs/hil.md` "Time") without QEMU:
+//! a robot on a TCP socket, scripted here, that says it can follow the host's clock and then
+//! answers each `Sync` as told. QEMU robots run the same lockstep in `.ci/run` (twelve lab
+//! runs, twice, compared byte for byte).
+
+mod common;
+
+use std::io::{Read, Write};
+use std::net::TcpListener;
+use std::sync::{Arc, Mutex};
+
+use firmware::hil::{LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkMsg};
+use hal_emu::world::hil::{FLOOD, HilClock, HilRobot, Transport};
+use hal_emu::{ArenaConfig, ArenaError};
+use protocol::Duration;
+
+fn frame(msg: &LinkMsg) -> Vec<u8> {
+    let mut buf = [0u8; LINK_FRAME_MAX];
+    firmware::hil::encode(msg, &mut buf).unwrap().to_vec()
+}
+
+/// What the scripted robot answers a `Sync(t)` with, given how many it answered before.
+type Answer = Box<dyn FnMut(u32, usize) -> Vec<LinkMsg> + Send>;
+
+/// A robot on a TCP socket that says hello (version `version`, its clock can follow the
+/// host's) when asked, and answers each `Sync(t)` with `answer(t, n)`; what the host sent it
+/// is kept in the returned list. Returns its address.
+fn robot(version: u8, mut answer: Answer) -> (String, Arc<Mutex<Vec<LinkMsg>>>) {
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let addr = listener.local_addr().unwrap().to_string();
+    let heard = Arc::new(Mutex::new(Vec::new()));
+    let log = heard.clone();
+    std::thread::spawn(move || {
+        let Ok((mut s, _)) = listener.accept() else {
+            return;
+        };
+        let mut d = LinkDecoder::new();
+        let mut buf = [0u8; 256];
+        let mut syncs = 0;
+        while let Ok(n @ 1..) = s.read(&mut buf) {
+            for &b in &buf[..n] {
+                let Some(Ok(msg)) = d.push(b) else { continue };
+                log.lock().unwrap().push(msg.clone());
+                let out = match msg {
+                    LinkMsg::Hello { .. } => vec![LinkMsg::Hello {
+                        version,
+                        id: 7,
+                        sectors: 2,
+                        host_clock: true,
+                    }],
+                    LinkMsg::Sync(t) => {
+                        syncs += 1;
+                        answer(t, syncs - 1)
+                    }
+                    _ => Vec::new(),
+                };
+                let bytes: Vec<u8> = out.iter().flat_map(frame).collect();
+                if s.write_all(&bytes).is_err() {
+                    return;
+                }
+            }
+        }
+    });
+    (addr, heard)
+}
+
+/// The lab line `1100` with the scripted robot at `addr` in place 0 on the arena's clock, and
+/// short timeouts.
+fn lab(addr: &str) -> ArenaConfig {
+    let mut cfg = common::lab("1100", 1);
+    cfg.hil = vec![HilRobot {
+        robot: 0,
+        transport: Transport::Tcp(addr.to_string()),
+        clock: HilClock::Virtual,
+    }];
+    cfg.hil_timeouts.hello = Duration::from_millis(2000);
+    cfg.hil_timeouts.silence = Duration::from_millis(500);
+    cfg.duration = Duration::from_secs(300);
+    assert!(cfg.lockstep() && !cfg.real_time());
+    cfg
+}
+
+/// The run's failure with the robot at `addr`: its message.
+fn failure(addr: &str) -> String {
+    let wall = std::time::Instant::now();
+    let e = hal_emu::run(&lab(addr)).expect_err("the robot fails the run");
+    assert!(wall.elapsed() < std::time::Duration::from_secs(20));
+    match e {
+        ArenaError::Robot(f) => {
+            assert_eq!(f.robot, 0, "{f:?}");
+            f.what()
+        }
+        ArenaError::Hil(m) => m,
+        e => panic!("not a robot failure: {e}"),
+    }
+}
+
+/// An `Idle` for `t` with no timer of its own.
+fn idle(t: u32) -> LinkMsg {
+    LinkMsg::Idle {
+        now: t,
+        next: u32::MAX,
+    }
+}
+
+#[test]
+fn the_host_sends_setup_on_its_clock_and_syncs_every_sample_period() {
+    // A robot that answers every Sync at once, never transmits: time moves on at the host's
+    // pace (readings every sample period), and the run fails at its end for the missing light.
+    let (addr, heard) = robot(LINK_VERSION, Box::new(|t, _| vec![idle(t)]));
+    let e = failure(&addr);
+    assert!(e.contains("sent no light over tcp:"), "{e}");
+    let heard = heard.lock().unwrap();
+    let setup = heard.iter().find_map(|m| match m {
+        LinkMsg::Setup(s) => Some(*s),
+        _ => None,
+    });
+    let setup = setup.expect("a Setup");
+    assert!(setup.host_clock, "{setup:?}");
+    assert_eq!(setup.cycle_ms, 55_000);
+    let syncs: Vec<u32> = heard
+        .iter()
+        .filter_map(|m| match m {
+            LinkMsg::Sync(t) => Some(*t),
+            _ => None,
+        })
+        .collect();
+    // The first at 0 (with the setup), one every sample period (1 s, with the readings) to the
+    // run's end, and one wherever the medium delivered light: each carries what came since
+    // the last.
+    assert_eq!(syncs.first(), Some(&0));
+    assert!(syncs.windows(2).all(|w| w[0] < w[1]), "{syncs:?}");
+    assert!((0..300).all(|s| syncs.contains(&(s * 1000))), "{syncs:?}");
+    let mut since = Vec::new();
+    for m in heard.iter() {
+        match m {
+            LinkMsg::Sync(t) => {
+                let readings = since.iter().any(|m| matches!(m, LinkMsg::Reading { .. }));
+                let light = since.iter().any(|m| matches!(m, LinkMsg::Rx { .. }));
+                assert!(
+                    (t % 1000 == 0 && readings) || light,
+                    "Sync({t}) after {since:?}"
+                );
+                since.clear();
+            }
+            m => since.push(m.clone()),
+        }
+    }
+}
+
+#[test]
+fn a_robot_that_stops_answering_fails_the_run_by_name() {
+    let (addr, _) = robot(
+        LINK_VERSION,
+        Box::new(|t, n| if n < 3 { vec![idle(t)] } else { Vec::new() }),
+    );
+    let e = failure(&addr);
+    assert!(e.contains("stopped answering over tcp:127.0.0.1:"), "{e}");
+    assert!(e.contains("no Idle within 500 ms of Sync(3000 ms)"), "{e}");
+}
+
+#[test]
+fn a_robot_that_reports_another_instant_fails_the_run() {
+    let (addr, _) = robot(
+        LINK_VERSION,
+        Box::new(|t, n| vec![idle(if n == 2 { t - 1 } else { t })]),
+    );
+    let e = failure(&addr);
+    assert!(e.contains("said it was idle at 1999 ms"), "{e}");
+    assert!(e.contains("the arena is at 2000 ms"), "{e}");
+}
+
+#[test]
+fn a_robot_that_floods_the_link_fails_the_run() {
+    let (addr, _) = robot(
+        LINK_VERSION,
+        Box::new(|t, n| {
+            let mut out = if n == 1 {
+                vec![LinkMsg::Led(1); FLOOD + 1]
+            } else {
+                Vec::new()
+            };
+            out.push(idle(t));
+            out
+        }),
+    );
+    let e = failure(&addr);
+    assert!(e.contains("floods the link over tcp:"), "{e}");
+}
+
+#[test]
+fn a_robot_of_another_link_version_is_refused_before_the_run() {
+    let (addr, _) = robot(1, Box::new(|t, _| vec![idle(t)]));
+    let e = failure(&addr);
+    assert!(e.contains("speaks link version 1"), "{e}");
+    assert!(e.contains("robot 0 (tcp:"), "{e}");
+}
+
+#[test]
+fn robots_on_the_arenas_clock_and_others_cannot_share_a_run() {
+    let (addr, _) = robot(LINK_VERSION, Box::new(|t, _| vec![idle(t)]));
+    let mut cfg = lab(&addr);
+    cfg.hil.push(HilRobot {
+        robot: 1,
+        transport: Transport::InProcess,
+        clock: HilClock::Virtual,
+    });
+    let e = hal_emu::run(&cfg).unwrap_err();
+    assert!(
+        matches!(&e, ArenaError::Hil(m) if m.contains("cannot share a run")),
+        "{e}"
+    );
+}

@@ -13,6 +13,7 @@
 //! their configurations.
 
 mod campaign;
+mod conform;
 mod line;
 mod options;
 mod plane;
@@ -47,6 +48,10 @@ pub enum ArenaCommand {
     /// Speed of the robot program over the emulated medium: robot-seconds per wall second for
     /// 4, 64 and 1000 robots on a plane, one negotiation period, one core.
     Bench(BenchArgs),
+    /// The robot program built for the host and for Cortex-M, run for run: each run of a suite
+    /// with the robots in the loop in this process, then as QEMU robots on the arena's clock;
+    /// their LED changes and times must be the same (docs/hil.md, "Conformance").
+    Conform(conform::ConformArgs),
 }
 
 /// The longest emulated run (or phase) `cimax arena` makes, in seconds: 11.6 days of robot time,
@@ -238,6 +243,7 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
         Some(ArenaCommand::Campaign(c)) => campaign::main(c),
         Some(ArenaCommand::Sweep(s)) => sweep::sweep_main(s),
         Some(ArenaCommand::Bench(b)) => plane::bench_main(b),
+        Some(ArenaCommand::Conform(c)) => conform::main(c),
         None if args.field.is_some() => plane::main(args),
         None => line::main(args),
     }

@@ -65,25 +65,17 @@ enum Command {
 }
 
 /// `cimax view`: the page of a saved trace.
-fn view(trace: &std::path::Path, output: &std::path::Path) -> ExitCode {
-    let made = std::fs::read_to_string(trace)
-        .map_err(|e| format!("{}: {e}", trace.display()))
-        .and_then(|text| host_sim::viewer::read_trace(&text, &trace.display().to_string()))
-        .and_then(|(header, events)| host_sim::viewer::write_page(output, header, &events));
-    match made {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("cimax view: {e}");
-            ExitCode::from(2)
-        }
-    }
+fn view(trace: &std::path::Path, output: &std::path::Path) -> cli::out::Exit {
+    let text = std::fs::read_to_string(trace).map_err(|e| format!("{}: {e}", trace.display()))?;
+    let (header, events) = host_sim::viewer::read_trace(&text, &trace.display().to_string())?;
+    host_sim::viewer::write_page(output, header, &events)?;
+    Ok(ExitCode::SUCCESS)
 }
 
-fn report_error(e: &(dyn std::error::Error + Send + Sync)) -> ExitCode {
-    eprintln!("error: {e}");
-    ExitCode::FAILURE
-}
-
+/// Exit codes: 0 success; 1 a failed experiment (a run that failed its verdict, a missed bar)
+/// or standard output that cannot be written; 2 a usage, input or set-up error (clap's own
+/// errors included); 130 interrupted. A closed standard output (`cimax arena | head`) ends
+/// quietly with 0, as `cat` does.
 fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Some(n) = cli.threads
@@ -92,16 +84,15 @@ fn main() -> ExitCode {
             .build_global()
     {
         eprintln!("error: cannot start {n} threads: {e}");
-        return ExitCode::FAILURE;
+        return ExitCode::from(2);
     }
-    let res = match cli.command {
-        Command::Arena(args) => return arena::main(&args),
-        Command::Swarm { command } => cli::swarm::run(command),
-        Command::View { trace, output } => return view(&trace, &output),
-        Command::Merge(args) => return cli::merge::main(&args),
-    };
-    match res {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => report_error(e.as_ref()),
+    match cli.command {
+        Command::Arena(args) => arena::main(&args),
+        Command::Swarm { command } => {
+            let res = cli::swarm::run(command).map(|()| ExitCode::SUCCESS);
+            cli::out::finish("error", res.map_err(cli::out::Fail::from))
+        }
+        Command::View { trace, output } => cli::out::finish("cimax view", view(&trace, &output)),
+        Command::Merge(args) => cli::merge::main(&args),
     }
 }

@@ -370,7 +370,7 @@ fn a_scenario_too_large_to_place_fails_naming_the_key() {
         )
         .unwrap();
         let out = cimax(&["swarm", "run", "--scenario", p, "--periods", "1", "--quiet"]);
-        assert_eq!(out.status.code(), Some(1), "{swarm}");
+        assert_eq!(out.status.code(), Some(2), "{swarm}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(&format!("{p}:{at} {says}")), "{err}");
     }
@@ -417,7 +417,7 @@ fn agents_sit_on_the_lattice_unless_placement_random() {
     .unwrap();
     let p = path.to_str().unwrap();
     let out = run(&["--scenario", p, "--placement", "random", "--quiet"]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--placement random: scenario"), "{err}");
     let out = run(&["--scenario", p, "--quiet"]);

@@ -6,4 +6,5 @@
 pub mod arena;
 pub mod job;
 pub mod merge;
+pub mod out;
 pub mod swarm;

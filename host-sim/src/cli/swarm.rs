@@ -24,6 +24,8 @@ use host_sim::swarm::sim::MAX_PERIOD_SECS;
 use nalgebra::Point2;
 use protocol::Duration;
 
+use crate::cli::out::{StdoutError, outln};
+
 #[derive(Args, Debug, Clone)]
 pub struct Common {
     /// A built-in scenario (sharp, gradient, cloud, cloud-caption) or the path of a scenario TOML file.
@@ -217,8 +219,8 @@ fn ensure_parent(p: &Path) -> std::io::Result<()> {
     }
 }
 
-fn wrote(csv: &Path, svg: &Path) {
-    println!("wrote {} and {}", csv.display(), svg.display());
+fn wrote(csv: &Path, svg: &Path) -> Result<(), StdoutError> {
+    outln!("wrote {} and {}", csv.display(), svg.display())
 }
 
 fn swarm_run(
@@ -241,7 +243,7 @@ fn swarm_run(
             ensure_parent(path)?;
             std::fs::write(path, host_sim::viewer::page(&replay)?)
                 .map_err(|e| format!("{}: {e}", path.display()))?;
-            println!("wrote {}", path.display());
+            outln!("wrote {}", path.display())?;
             out
         }
     };
@@ -251,7 +253,7 @@ fn swarm_run(
     write_run_csv(&csv, &out, &scn.run)?;
     figures::run_figure(&svg, &scn, &out)?;
     let last = out.periods.last();
-    println!(
+    outln!(
         "{}: {} agents (mean {:.1} neighbours), from ({:.2}, {:.2}), {} periods of {} s in {:.2} s",
         scn.description,
         out.swarm.len(),
@@ -261,19 +263,21 @@ fn swarm_run(
         out.periods.len(),
         scn.run.period_secs(),
         t.elapsed().as_secs_f64()
-    );
+    )?;
     if let Some(p) = last {
-        println!(
+        outln!(
             "final centre ({:.2}, {:.2}), mean diversity of the last period {:.2}",
-            p.to.x, p.to.y, p.diversity
-        );
+            p.to.x,
+            p.to.y,
+            p.diversity
+        )?;
     }
     match (&scn.success, out.success_at) {
-        (Some(s), Some(k)) => println!("success ({s}) after {k} periods"),
-        (Some(s), None) => println!("no success ({s}) within {periods} periods"),
+        (Some(s), Some(k)) => outln!("success ({s}) after {k} periods")?,
+        (Some(s), None) => outln!("no success ({s}) within {periods} periods")?,
         (None, _) => {}
     }
-    wrote(&csv, &svg);
+    wrote(&csv, &svg)?;
     Ok(())
 }
 
@@ -298,31 +302,37 @@ fn swarm_field(c: &Common) -> Res {
         &arrows,
         &host_sim::pages::marks::map_for(&scn),
     )?;
-    println!(
+    outln!(
         "{}: {} grid points in {:.1} s",
         scn.description,
         arrows.len(),
         t.elapsed().as_secs_f64()
-    );
-    wrote(&csv, &svg);
+    )?;
+    wrote(&csv, &svg)?;
     Ok(())
 }
 
 fn swarm_bench(agents: &[usize], seed: u64, scenario: &str) -> Res {
     let scn = Scenario::load(scenario)?;
-    println!(
+    outln!(
         "one negotiation period ({} s simulated) of {} per size, one thread, density of {} agents in the scenario's shape",
         scn.run.period_secs(),
         scn.description,
         scn.agents
-    );
-    println!(
+    )?;
+    outln!(
         "{:>8} {:>10} {:>10} {:>10} {:>14} {:>16} {:>14}",
-        "agents", "neighbours", "place s", "sim s", "agent calls", "agent-steps/s", "calls/s"
-    );
+        "agents",
+        "neighbours",
+        "place s",
+        "sim s",
+        "agent calls",
+        "agent-steps/s",
+        "calls/s"
+    )?;
     for &n in agents {
         let r = experiment::bench(&scn, n, seeds::derive(seed, &[n as u64]))?;
-        println!(
+        outln!(
             "{:>8} {:>10.1} {:>10.3} {:>10.3} {:>14} {:>16.3e} {:>14.3e}",
             r.agents,
             r.mean_degree,
@@ -331,11 +341,11 @@ fn swarm_bench(agents: &[usize], seed: u64, scenario: &str) -> Res {
             r.calls,
             r.agent_steps_per_s(),
             r.calls as f64 / r.wall_s
-        );
+        )?;
     }
-    println!(
+    outln!(
         "agent-steps/s: agents × simulated seconds per wall second (event-driven: idle seconds cost nothing); calls/s: handle_timeout + handle_message calls per second"
-    );
+    )?;
     Ok(())
 }
 

@@ -17,6 +17,7 @@ use rayon::prelude::*;
 use super::ArenaArgs;
 use super::options::{hil_robots, medium, robot_params, run_length, scaled, time_scale};
 use super::print::{Crashed, JsonSummary, print_failures, print_hil, print_json, print_table};
+use crate::cli::out::{Exit, outln};
 
 /// One experiment: a list of runs sharing a label and an expected outcome.
 pub(super) struct Experiment {
@@ -182,31 +183,19 @@ pub(super) fn replay_lights(cfg: &ArenaConfig) -> String {
 
 /// `cimax arena` on a line; the exit code is non-zero if any run with a verdict failed or an
 /// option was bad.
-pub(super) fn main(args: &ArenaArgs) -> ExitCode {
-    let experiments = match build(args) {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("cimax arena: {e}");
-            return ExitCode::from(2);
-        }
-    };
+pub(super) fn main(args: &ArenaArgs) -> Exit {
+    let experiments = build(args)?;
     let first = experiments.first().and_then(|e| e.configs.first()).cloned();
     let ((runs, crashed), wall_s) = match run_all(&experiments) {
         Ok(r) => r,
         Err(ArenaError::Interrupted) => {
             eprintln!("cimax arena: interrupted; robots in the loop stopped");
-            return ExitCode::from(130);
+            return Ok(ExitCode::from(130));
         }
-        Err(e) => {
-            eprintln!("cimax arena: {e}");
-            return ExitCode::from(2);
-        }
+        Err(e) => return Err(e.to_string().into()),
     };
-    if let Some(cfg) = &first
-        && let Err(e) = write_artifacts(args, cfg)
-    {
-        eprintln!("cimax arena: {e}");
-        return ExitCode::from(2);
+    if let Some(cfg) = &first {
+        write_artifacts(args, cfg)?;
     }
 
     let emulated_s: f64 = runs
@@ -230,28 +219,25 @@ pub(super) fn main(args: &ArenaArgs) -> ExitCode {
             emulated_s,
             wall_s,
         };
-        if let Err(e) = print_json(&runs, &crashed, summary) {
-            eprintln!("cimax arena: {e}");
-            return ExitCode::from(2);
-        }
+        print_json(&runs, &crashed, summary)?;
     } else {
-        print_table(args, &experiments, &runs, &crashed);
-        print_hil(&runs);
-        println!(
+        print_table(args, &experiments, &runs, &crashed)?;
+        print_hil(&runs)?;
+        outln!(
             "{} runs, {} successful; {:.0} s of robot time in {:.3} s wall ({:.0}x real time)",
             total,
             successes,
             emulated_s,
             wall_s,
             emulated_s / wall_s.max(1e-9)
-        );
+        )?;
     }
     print_failures(args, &failures, &crashed);
-    if failures.is_empty() && crashed.is_empty() {
+    Ok(if failures.is_empty() && crashed.is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
-    }
+    })
 }
 
 /// Judged runs and crashed runs, each with its experiment's index.

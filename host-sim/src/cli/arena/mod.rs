@@ -22,6 +22,7 @@ mod sweep;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::cli::out::finish;
 use clap::{Args, Subcommand};
 use hal_emu::Readings;
 use hal_emu::world::hil::HilSpec;
@@ -219,11 +220,11 @@ fn parse_at(s: &str) -> Result<(usize, u64), String> {
 /// was bad.
 pub fn main(args: &ArenaArgs) -> ExitCode {
     match args.command.as_deref() {
-        Some(ArenaCommand::Campaign(c)) => campaign::main(c),
-        Some(ArenaCommand::Sweep(s)) => sweep::sweep_main(s),
-        Some(ArenaCommand::Bench(b)) => plane::bench_main(b),
-        None if args.field.is_some() => plane::main(args),
-        None => line::main(args),
+        Some(ArenaCommand::Campaign(c)) => finish("cimax arena campaign", campaign::main(c)),
+        Some(ArenaCommand::Sweep(s)) => finish("cimax arena sweep", sweep::sweep_main(s)),
+        Some(ArenaCommand::Bench(b)) => finish("cimax arena bench", plane::bench_main(b)),
+        None if args.field.is_some() => finish("cimax arena", plane::main(args)),
+        None => finish("cimax arena", line::main(args)),
     }
 }
 

@@ -12,6 +12,7 @@ use serde::Serialize;
 
 use super::ArenaArgs;
 use super::line::{Experiment, replay_lights};
+use crate::cli::out::{Fail, StdoutError, outln};
 
 /// One run in the `--json` report.
 #[derive(Serialize)]
@@ -56,7 +57,7 @@ pub(super) fn print_json(
     runs: &[(usize, LabRun)],
     crashed: &[(usize, Crashed)],
     summary: JsonSummary,
-) -> Result<(), serde_json::Error> {
+) -> Result<(), Fail> {
     let report = JsonReport {
         runs: runs
             .iter()
@@ -77,12 +78,13 @@ pub(super) fn print_json(
             .collect(),
         summary,
     };
-    println!("{}", serde_json::to_string_pretty(&report)?);
+    let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    outln!("{text}")?;
     Ok(())
 }
 
 /// One line per robot in the loop: its link over all runs.
-pub(super) fn print_hil(runs: &[(usize, LabRun)]) {
+pub(super) fn print_hil(runs: &[(usize, LabRun)]) -> Result<(), StdoutError> {
     let mut places: std::collections::BTreeMap<usize, (String, HilReport, usize)> =
         std::collections::BTreeMap::new();
     for (_, r) in runs {
@@ -110,7 +112,7 @@ pub(super) fn print_hil(runs: &[(usize, LabRun)]) {
         }
     }
     for (robot, (transport, h, n)) in places {
-        println!(
+        outln!(
             "robot {robot} in the loop over {transport}: {n} runs, {} link frames ({} B) sent to it, {} ({} B) received with {} light frames, {} link errors; hello within {} ms, heartbeat round trip {:.2} ms mean, {:.2} ms max",
             h.frames_sent,
             h.bytes_sent,
@@ -121,8 +123,9 @@ pub(super) fn print_hil(runs: &[(usize, LabRun)]) {
             h.hello_ms,
             h.rtt_mean_us as f64 / 1000.0,
             h.rtt_max_us as f64 / 1000.0
-        );
+        )?;
     }
+    Ok(())
 }
 
 /// The options of `args` a replay repeats (after `--runs 1`).
@@ -274,22 +277,27 @@ pub(super) fn print_table(
     experiments: &[Experiment],
     runs: &[(usize, LabRun)],
     crashed: &[(usize, Crashed)],
-) {
+) -> Result<(), StdoutError> {
     let cycle_s = args
         .cycle
         .unwrap_or(Params::robots().wave.cycle.as_secs_f64());
-    println!(
+    outln!(
         "CIMAX lab arena: robots in a line running the robot program over the emulated light medium{}",
         match args.readings() {
             Readings::Binary => "; binary readings (g = 1 lit, 0 dark)".to_string(),
             Readings::Levels => String::new(),
             r => format!("; readings {r}"),
         }
-    );
-    println!(
+    )?;
+    outln!(
         "{:<12} {:<10} {:<36} {:>8} {:>24} {:>9}",
-        "pattern", "expected", "LEDs per run", "success", "consensus s (cycles)", "speed"
-    );
+        "pattern",
+        "expected",
+        "LEDs per run",
+        "success",
+        "consensus s (cycles)",
+        "speed"
+    )?;
     for (i, e) in experiments.iter().enumerate() {
         let rs: Vec<&LabRun> = runs
             .iter()
@@ -326,7 +334,7 @@ pub(super) fn print_table(
             format!("{:.0}%", 100.0 * ok as f64 / n.max(1) as f64)
         };
         let consensus = mean.map_or("-".into(), |m| format!("{m:.0} ({:.1})", m / cycle_s));
-        println!(
+        outln!(
             "{:<12} {:<10} {:<36} {:>8} {:>24} {:>8.0}x",
             e.label,
             exp,
@@ -334,8 +342,9 @@ pub(super) fn print_table(
             success,
             consensus,
             speed
-        );
+        )?;
     }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -22,6 +22,7 @@ use serde::{Deserialize, Serialize};
 
 use super::plane::shape_parser;
 use crate::cli::job::ScenarioSource;
+use crate::cli::out::{Exit, Fail, StdoutError, outln};
 
 /// The job's command in a part's header.
 pub const COMMAND: &str = "arena sweep";
@@ -124,17 +125,12 @@ struct Ready {
 }
 
 /// `cimax arena sweep`: the unsharded sweep, or one shard of it.
-pub fn sweep_main(a: &SweepArgs) -> std::process::ExitCode {
-    match sweep(a) {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("cimax arena sweep: {e}");
-            std::process::ExitCode::from(2)
-        }
-    }
+pub fn sweep_main(a: &SweepArgs) -> Exit {
+    sweep(a)?;
+    Ok(std::process::ExitCode::SUCCESS)
 }
 
-fn sweep(a: &SweepArgs) -> Result<(), String> {
+fn sweep(a: &SweepArgs) -> Result<(), Fail> {
     let job = SweepJob::of(a)?;
     let ready = job.ready()?;
     let total = job.units();
@@ -142,7 +138,7 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
     if let Some(shard) = a.shard {
         let config = Job::new(COMMAND, &job).map_err(|e| e.to_string())?;
         let path = shard::run_shard(config, total, shard, &a.out, false, unit)?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
         return Ok(());
     }
     let all: Vec<u64> = (0..total).collect();
@@ -155,12 +151,12 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
 ///
 /// # Errors
 /// If the parts are not a sweep this cimax can write, or the outputs cannot be written.
-pub fn merge(m: &Merged, out: &Path) -> Result<std::process::ExitCode, String> {
+pub fn merge(m: &Merged, out: &Path) -> Exit {
     let (job, units): (SweepJob, Vec<Unit>) = m.decode().map_err(|e| e.to_string())?;
     let ready = job.ready().map_err(|e| m.bad_config(e).to_string())?;
     if units.len() as u64 != job.units() {
         let e = format!("{} units, but the sweep has {}", units.len(), job.units());
-        return Err(m.bad_config(e).to_string());
+        return Err(m.bad_config(e).to_string().into());
     }
     job.write(&ready, &units, out)?;
     Ok(std::process::ExitCode::SUCCESS)
@@ -309,7 +305,7 @@ impl SweepJob {
 
     /// Writes the sweep's CSV files and figure into `out` and prints its table: what the
     /// unsharded sweep and the merge of its parts both do with the units' results.
-    fn write(&self, r: &Ready, units: &[Unit], out: &Path) -> Result<(), String> {
+    fn write(&self, r: &Ready, units: &[Unit], out: &Path) -> Result<(), Fail> {
         let (arena, swarm) = self.points(units)?;
         let swarm = (self.swarm_runs > 0).then_some(swarm);
         std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -323,8 +319,8 @@ impl SweepJob {
                 .map_err(|e| format!("{}: {e}", csv.display()))?;
         }
         let svg = self.figure(r, &arena, swarm.as_deref(), out)?;
-        print_sweep(&arena, swarm.as_deref());
-        println!("wrote {} and {}", csv.display(), svg.display());
+        print_sweep(&arena, swarm.as_deref())?;
+        outln!("wrote {} and {}", csv.display(), svg.display())?;
         Ok(())
     }
 
@@ -387,11 +383,11 @@ fn positions(a: &SweepArgs) -> Result<Vec<f64>, String> {
 }
 
 /// The sweep as a table on stdout.
-fn print_sweep(arena: &[SweepPoint], swarm: Option<&[SweepPoint]>) {
-    println!("x_init  arena success  moves   swarm success  moves");
+fn print_sweep(arena: &[SweepPoint], swarm: Option<&[SweepPoint]>) -> Result<(), StdoutError> {
+    outln!("x_init  arena success  moves   swarm success  moves")?;
     for (i, p) in arena.iter().enumerate() {
         let s = swarm.and_then(|s| s.get(i));
-        println!(
+        outln!(
             "{:>6.2}  {:>13.2}  {:>5}   {:>13}  {:>5}",
             p.x_init,
             p.success_rate(),
@@ -400,6 +396,7 @@ fn print_sweep(arena: &[SweepPoint], swarm: Option<&[SweepPoint]>) {
             s.map_or("-".into(), |s| format!("{:.2}", s.success_rate())),
             s.and_then(|s| s.mean_success_periods)
                 .map_or("-".into(), |m| format!("{m:.1}")),
-        );
+        )?;
     }
+    Ok(())
 }

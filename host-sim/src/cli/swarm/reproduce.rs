@@ -10,6 +10,7 @@
 //! [`reproduction::write`], so the files are the same bytes (the page's timing lines too: the
 //! units' wall times are part of their results).
 
+use crate::cli::out::{Exit, StdoutError, outln};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -64,16 +65,25 @@ pub fn reproduce(o: &ReproduceOptions) -> Res {
         quiet: o.quiet,
         placement,
     };
-    println!(
+    outln!(
         "swarm reproduce: seed {}, {} placement, {} threads, writing {}",
         opts.seed,
         opts.placement,
         rayon::current_num_threads(),
         opts.docs.display()
-    );
-    let s = reproduction::reproduce(&opts, &mut |line| println!("{line}"))?;
-    print_summary(&s);
-    println!("wall time {:.1} s", s.wall_s);
+    )?;
+    // The stages' log lines; the first that cannot be written stops the command after them.
+    let mut unwritten: Option<StdoutError> = None;
+    let s = reproduction::reproduce(&opts, &mut |line| {
+        if unwritten.is_none() {
+            unwritten = outln!("{line}").err();
+        }
+    })?;
+    if let Some(e) = unwritten {
+        return Err(e.into());
+    }
+    print_summary(&s)?;
+    outln!("wall time {:.1} s", s.wall_s)?;
     Ok(())
 }
 
@@ -102,7 +112,7 @@ fn run_shard(seed: u64, placement: Placement, shard: ShardSpec, dir: &Path, quie
         reproduction::compute(*u, &opts, &mut |_| {}).map_err(|e| format!("{u}: {e}"))
     };
     let path = shard::run_shard_in_order(job, all.len() as u64, shard, dir, quiet, unit)?;
-    println!("wrote {}", path.display());
+    outln!("wrote {}", path.display())?;
     Ok(())
 }
 
@@ -114,7 +124,7 @@ fn run_shard(seed: u64, placement: Placement, shard: ShardSpec, dir: &Path, quie
 /// # Errors
 /// If the parts are not this cimax's page (a unit's result for another unit, or of the wrong
 /// kind; a job that is not every unit), or the files cannot be written.
-pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
+pub fn merge(m: &Merged, out: &Path) -> Exit {
     let (job, results): (ReproduceJob, Vec<UnitResult>) = m.decode().map_err(|e| e.to_string())?;
     let placement: Placement = job
         .placement
@@ -127,22 +137,22 @@ pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
             results.len(),
             all.len()
         );
-        return Err(m.bad_config(e).to_string());
+        return Err(m.bad_config(e).to_string().into());
     }
     let mut page = Results::default();
     for (k, (r, &unit)) in results.into_iter().zip(all).enumerate() {
         if r.unit != unit {
             let e = format!("the result of {}, not of {unit}", r.unit);
-            return Err(m.bad_result(k, e).to_string());
+            return Err(m.bad_result(k, e).to_string().into());
         }
         page.insert(r).map_err(|e| m.bad_result(k, e).to_string())?;
     }
-    println!(
+    outln!(
         "swarm reproduce: seed {}, {placement} placement, merged from {} parts, writing {}",
         job.seed,
         m.parts.len(),
         out.display()
-    );
+    )?;
     let s = staged(out, |docs| {
         let opts = Options {
             seed: job.seed,
@@ -155,13 +165,13 @@ pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
     print_summary(&Summary {
         report: out.join("reproduction.md"),
         ..s
-    });
-    println!("wall time {:.1} s (the units' added up)", s.wall_s);
+    })?;
+    outln!("wall time {:.1} s (the units' added up)", s.wall_s)?;
     Ok(ExitCode::SUCCESS)
 }
 
 /// What the command prints after writing the page: the four sweeps and where the page went.
-fn print_summary(s: &Summary) {
+fn print_summary(s: &Summary) -> Result<(), StdoutError> {
     let fmt = |pts: &[experiment::SweepPoint]| {
         pts.iter()
             .map(|p| format!("{}: {:.2}", p.x_init, p.success_rate()))
@@ -175,10 +185,10 @@ fn print_summary(s: &Summary) {
         ("gradient", main, &s.gradient),
         ("gradient", main.other(), &s.gradient_other),
     ] {
-        println!("{what} sweep, {placement} placement (x_init: success rate):");
-        println!("  {}", fmt(pts));
+        outln!("{what} sweep, {placement} placement (x_init: success rate):")?;
+        outln!("  {}", fmt(pts))?;
     }
-    println!("wrote {}", s.report.display());
+    outln!("wrote {}", s.report.display())
 }
 
 /// Runs `write` on a new directory beside `out` and, if it succeeds, moves every file it

@@ -6,6 +6,7 @@
 //! [`SwarmSweepJob::write`]; `--shard I/N` computes its share into a part; `cimax merge` hands
 //! the parts' results to the same [`SwarmSweepJob::write`].
 
+use crate::cli::out::{Exit, outln};
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -69,7 +70,7 @@ pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
     if let Some(shard) = o.shard {
         let config = Job::new(COMMAND, &job)?;
         let path = shard::run_shard(config, total, shard, &c.out_dir, c.quiet, unit)?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
         return Ok(());
     }
     let wall = std::time::Instant::now();
@@ -88,21 +89,20 @@ pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
 ///
 /// # Errors
 /// If the parts are not a sweep this cimax can write, or the outputs cannot be written.
-pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
+pub fn merge(m: &Merged, out: &Path) -> Exit {
     let (job, units): (SwarmSweepJob, Vec<Unit>) = m.decode().map_err(|e| e.to_string())?;
     let scn = job.scenario().map_err(|e| m.bad_config(e).to_string())?;
     let total = job.xs.len() as u64 * u64::from(job.runs);
     if units.len() as u64 != total {
         let e = format!("{} units, but the sweep has {total}", units.len());
-        return Err(m.bad_config(e).to_string());
+        return Err(m.bad_config(e).to_string().into());
     }
     let name = |ext: &str| out.join(format!("{}-sweep.{ext}", scn.name));
     let timing = Timing {
         wall_s: m.wall_s,
         threads: m.threads,
     };
-    job.write(&scn, &units, (&name("csv"), &name("svg")), timing)
-        .map_err(|e| e.to_string())?;
+    job.write(&scn, &units, (&name("csv"), &name("svg")), timing)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -161,25 +161,30 @@ impl SwarmSweepJob {
             &[("this simulator", &pts)],
             &host_sim::pages::marks::sweep_for(&scn.name),
         )?;
-        println!(
+        outln!(
             "{}: success {crit} within {} periods, {n} runs per point, {:.1} s",
-            scn.description, scn.periods, t.wall_s
-        );
-        println!(
+            scn.description,
+            scn.periods,
+            t.wall_s
+        )?;
+        outln!(
             "{:>8} {:>6} {:>8} {:>12}",
-            "x_init", "runs", "success", "mean periods"
-        );
+            "x_init",
+            "runs",
+            "success",
+            "mean periods"
+        )?;
         for p in &pts {
-            println!(
+            outln!(
                 "{:>8.2} {:>6} {:>8.2} {:>12}",
                 p.x_init,
                 p.runs,
                 p.success_rate(),
                 p.mean_success_periods
                     .map_or("-".into(), |t| format!("{t:.1}"))
-            );
+            )?;
         }
-        wrote(csv, svg);
+        wrote(csv, svg)?;
         Ok(())
     }
 }

@@ -21,6 +21,8 @@ use host_sim::progress::Progress;
 use host_sim::shard::{self, Job, ShardSpec, Timing, merge::Merged};
 use job::{CampaignJob, Results};
 
+use crate::cli::out::{Exit, StdoutError, outln};
+
 /// The job's command in a part's header.
 pub const COMMAND: &str = "arena campaign";
 
@@ -64,18 +66,12 @@ pub struct CampaignArgs {
 /// Runs `cimax arena campaign`: 0 if every bar is met, 1 if one is missed or a robot crashed
 /// in a run ([`host_sim::arena::campaign::Outcome::crashed`]), 2 for bad options. A shard: 0 once its part is
 /// written.
-pub(super) fn main(args: &CampaignArgs) -> ExitCode {
-    match run(args) {
-        Ok(code) => code,
-        Err(e) => {
-            eprintln!("cimax arena campaign: {e}");
-            ExitCode::from(2)
-        }
-    }
+pub(super) fn main(args: &CampaignArgs) -> Exit {
+    run(args)
 }
 
 /// The campaign the options ask for, whole (every unit, then [`finish`]) or one shard.
-fn run(args: &CampaignArgs) -> Result<ExitCode, String> {
+fn run(args: &CampaignArgs) -> Exit {
     let page = if args.shard.is_some() {
         None
     } else {
@@ -100,7 +96,7 @@ fn run(args: &CampaignArgs) -> Result<ExitCode, String> {
     if let (Some(shard), Some(dir)) = (args.shard, &args.out) {
         let config = Job::new(COMMAND, &job).map_err(|e| e.to_string())?;
         let path = shard::run_shard(config, total, shard, dir, false, unit)?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
         return Ok(ExitCode::SUCCESS);
     }
     let wall = std::time::Instant::now();
@@ -123,7 +119,7 @@ fn run(args: &CampaignArgs) -> Result<ExitCode, String> {
         }
     }
     let results = job.assemble(&plans, units, timing)?;
-    Ok(finish(&results, page.map(|out| (out, args.figure.clone()))))
+    finish(&results, page.map(|out| (out, args.figure.clone())))
 }
 
 /// `cimax merge` of a campaign's parts: prints its tables, writes `OUT/reliability.md` with its
@@ -132,10 +128,13 @@ fn run(args: &CampaignArgs) -> Result<ExitCode, String> {
 ///
 /// # Errors
 /// If the parts are not a campaign this cimax can write.
-pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
+pub fn merge(m: &Merged, out: &Path) -> Exit {
     let (job, units): (CampaignJob, Vec<job::Unit>) = m.decode().map_err(|e| e.to_string())?;
     if !job.page {
-        return Err(m.bad_config("a campaign without its page").to_string());
+        return Err(m
+            .bad_config("a campaign without its page")
+            .to_string()
+            .into());
     }
     let plans = job.plans().map_err(|e| m.bad_config(e).to_string())?;
     let timing = Timing {
@@ -145,37 +144,37 @@ pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
     let results = job
         .assemble(&plans, units, timing)
         .map_err(|e| m.bad_config(e).to_string())?;
-    Ok(finish(&results, Some((out.join("reliability.md"), None))))
+    finish(&results, Some((out.join("reliability.md"), None)))
 }
 
 /// What the campaign does with its results, whole or merged: prints each rule's table, writes
 /// the page (`page`: where, and the figure if not beside it), prints the failures; 0 if every
 /// bar is met, 1 if not or a robot crashed, 2 if the page cannot be written.
-fn finish(results: &Results, page: Option<(PathBuf, Option<PathBuf>)>) -> ExitCode {
+fn finish(results: &Results, page: Option<(PathBuf, Option<PathBuf>)>) -> Exit {
     for report in &results.reports {
-        print_report(report);
+        print_report(report)?;
     }
     let mut failed = false;
     if let Some((out, figure)) = page {
         match write_page(results, &out, figure) {
-            Ok(missed) => {
+            Ok((missed, wrote)) => {
+                outln!("{wrote}")?;
                 for m in missed {
                     eprintln!("{m}");
                     failed = true;
                 }
             }
             Err(e) => {
-                eprintln!("cimax arena campaign: {}: {e}", out.display());
-                return ExitCode::from(2);
+                return Err(format!("{}: {e}", out.display()).into());
             }
         }
     }
     failed |= print_failures(&results.reports);
-    if failed {
+    Ok(if failed {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
-    }
+    })
 }
 
 /// The scenarios `--scenario` names, in [`SCENARIOS`] order, each once; all without it.
@@ -235,21 +234,21 @@ fn print_failures(reports: &[Report]) -> bool {
 }
 
 /// Prints one rule's table (and each run, for a single seed).
-fn print_report(report: &Report) {
+fn print_report(report: &Report) -> Result<(), StdoutError> {
     let plan = &report.plan;
-    println!(
+    outln!(
         "CIMAX fault campaign, {} rule: {} scenarios x {} seeds in the emulated arena ({:.1} s wall, {} threads)",
         plan.decide.name(),
         plan.scenarios.len(),
         plan.seeds,
         report.wall_s,
         report.threads
-    );
-    print!("{}", table(report));
+    )?;
+    crate::cli::out::text(&table(report))?;
     if plan.seeds == 1 {
         for r in &report.results {
             for o in &r.runs {
-                println!(
+                outln!(
                     "{} seed {}: pattern {}, expected {}, LEDs {}, {}, consensus {} s{}",
                     r.scenario.name,
                     o.seed,
@@ -261,26 +260,27 @@ fn print_report(report: &Report) {
                     o.restore_s.map_or(String::new(), |x| format!(
                         ", restored {x:.0} s after the reboot"
                     ))
-                );
+                )?;
             }
         }
     }
+    Ok(())
 }
 
 /// Writes the page `out` with its figures beside it (`figures/reliability.svg`, or `figure`,
 /// and `reliability-rules.svg` next to it): the first report's page and, with two rules, the
 /// section setting them side by side, the lab suite's sections and the loss sweep's.
 ///
-/// Returns the lab suite's missed bars, one line each.
+/// Returns the lab suite's missed bars, one line each, and the line that says what was written.
 fn write_page(
     results: &Results,
     out: &Path,
     figure: Option<PathBuf>,
-) -> Result<Vec<String>, String> {
+) -> Result<(Vec<String>, String), String> {
     let mut missed = Vec::new();
     let reports = &results.reports;
     let Some(first) = reports.first() else {
-        return Ok(missed);
+        return Ok((missed, String::new()));
     };
     let figure = figure.unwrap_or_else(|| {
         out.parent()
@@ -300,7 +300,7 @@ fn write_page(
         initiations: None,
         loss: None,
     };
-    if let [fixed, adaptive] = reports.as_slice() {
+    let wrote = if let [fixed, adaptive] = reports.as_slice() {
         rules_chart(fixed, adaptive, &rules_figure).map_err(|e| e.to_string())?;
         page.rules = Some(rules_section(
             fixed,
@@ -319,18 +319,18 @@ fn write_page(
             .loss
             .as_ref()
             .map(|(f, a, seeds)| host_sim::pages::reliability::stress::loss_section(f, a, *seeds));
-        println!(
+        format!(
             "wrote {}, {} and {}",
             out.display(),
             figure.display(),
             rules_figure.display()
-        );
+        )
     } else {
-        println!("wrote {} and {}", out.display(), figure.display());
-    }
+        format!("wrote {} and {}", out.display(), figure.display())
+    };
     let page = page.render()?;
     std::fs::write(out, page).map_err(|e| e.to_string())?;
-    Ok(missed)
+    Ok((missed, wrote))
 }
 
 /// Runs seed `seed` of `scenario` again with its trace on, and writes the trace to `path` as

@@ -1,0 +1,112 @@
+//! Issue 36: `cimax` as a Unix tool. Each test runs the real binary and checks its exit code,
+//! its message and the files it leaves behind.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output, Stdio};
+
+use common::{cimax, scratch, text};
+
+/// Runs `cimax ARGS...` with its standard output going to `stdout`.
+fn cimax_to(stdout: Stdio, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cimax"))
+        .args(args)
+        .stdout(stdout)
+        .stderr(Stdio::piped())
+        .output()
+        .expect("cimax runs")
+}
+
+/// Runs `cimax ARGS...` writing into a pipe whose reader is already gone (`cimax ... | true`).
+fn into_closed_pipe(args: &[&str]) -> Output {
+    let (reader, writer) = std::io::pipe().unwrap();
+    drop(reader);
+    cimax_to(Stdio::from(writer), args)
+}
+
+/// Runs `cimax ARGS...` writing into `/dev/full`.
+fn into_full_disk(args: &[&str]) -> Output {
+    let full = std::fs::OpenOptions::new()
+        .write(true)
+        .open("/dev/full")
+        .unwrap();
+    cimax_to(Stdio::from(full), args)
+}
+
+/// No panic and no backtrace on stderr.
+fn assert_no_panic(out: &Output) {
+    let err = text(&out.stderr);
+    assert_ne!(out.status.code(), Some(101), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn a_closed_pipe_ends_quietly_with_0() {
+    for args in [
+        &["arena", "--lights", "1100", "--runs", "1"][..],
+        &["arena", "--lights", "1100", "--runs", "1", "--json"],
+        &["swarm", "run", "--periods", "1", "--quiet", "--out-dir"],
+    ] {
+        let dir = scratch("pipe");
+        let mut args = args.to_vec();
+        let d = dir.to_string_lossy().into_owned();
+        if args.last() == Some(&"--out-dir") {
+            args.push(&d);
+        }
+        let out = into_closed_pipe(&args);
+        assert_no_panic(&out);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{args:?}: {}",
+            text(&out.stderr)
+        );
+        assert!(out.stderr.is_empty(), "{args:?}: {}", text(&out.stderr));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
+
+#[test]
+fn a_full_disk_is_named_and_exits_1() {
+    let dir = scratch("full");
+    let d = dir.to_string_lossy().into_owned();
+    for args in [
+        &["arena", "--lights", "1100", "--runs", "1", "--json"][..],
+        &["arena", "--lights", "1100", "--runs", "1"],
+        &["swarm", "bench", "--agents", "20"],
+        &["swarm", "run", "--periods", "1", "--quiet", "--out-dir", &d],
+    ] {
+        let out = into_full_disk(args);
+        assert_no_panic(&out);
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        assert_eq!(
+            text(&out.stderr).trim_end(),
+            "cimax: cannot write standard output: No space left on device",
+            "{args:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `cimax ARGS...` must fail with exit code 2 and `message` on stderr.
+fn usage_error(args: &[&str], message: &str) -> Output {
+    let out = cimax(args);
+    assert_no_panic(&out);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    assert!(err.contains(message), "{args:?}: {message:?} in\n{err}");
+    out
+}
+
+#[test]
+fn swarm_usage_and_input_errors_exit_2_as_arena_does() {
+    usage_error(&["swarm", "run", "--scenario", "nosuch"], "nosuch");
+    usage_error(&["swarm", "run", "--bogus"], "--bogus");
+    usage_error(&["arena", "--lights", "10x1"], "10x1");
+    let missing = Path::new("/nonexistent-cimax/s.toml");
+    usage_error(
+        &["swarm", "sweep", "--scenario", missing.to_str().unwrap()],
+        "nonexistent-cimax",
+    );
+}

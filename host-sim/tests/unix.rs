@@ -110,3 +110,48 @@ fn swarm_usage_and_input_errors_exit_2_as_arena_does() {
         "nonexistent-cimax",
     );
 }
+
+#[test]
+fn a_robot_in_the_loop_whose_link_does_not_open_is_a_set_up_error() {
+    for (spec, says) in [
+        ("tcp:127.0.0.1:1", "tcp:127.0.0.1:1: Connection refused"),
+        ("serial:/dev/nosuch", "serial:/dev/nosuch: No such file"),
+    ] {
+        let out = usage_error(
+            &[
+                "arena", "--hil", spec, "--lights", "1100", "--runs", "1", "--cycle", "2",
+            ],
+            "its link did not open",
+        );
+        let err = text(&out.stderr);
+        assert!(err.contains(says), "{err}");
+        // No verdict line, no table: nothing ran.
+        assert!(!err.contains("FAILED"), "{err}");
+        assert!(!err.contains("expected"), "{err}");
+        assert!(out.stdout.is_empty(), "{}", text(&out.stdout));
+    }
+}
+
+#[test]
+fn the_qemu_image_is_found_from_any_folder() {
+    let checkout = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let image = checkout.join("firmware/qemu/target/thumbv7em-none-eabihf/release/hil");
+    if image.is_file() {
+        // Built here: the run would boot QEMU; the message below is for a missing image.
+        return;
+    }
+    let dir = scratch("qemu");
+    let out = common::cimax_in(&dir, &["arena", "--hil", "qemu:1", "--lights", "1100"]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    // The checkout's image, by its absolute path, not one relative to the working folder.
+    let said = checkout
+        .canonicalize()
+        .unwrap()
+        .join("firmware/qemu/target");
+    assert!(
+        err.contains(&format!("no image at {}", said.display())),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

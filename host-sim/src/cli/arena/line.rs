@@ -240,6 +240,10 @@ pub(super) fn main(args: &ArenaArgs) -> Exit {
     })
 }
 
+/// How `hal_emu` says that a robot in the loop's link did not open (its `RobotFailure`'s
+/// message).
+const LINK_NOT_OPEN: &str = "its link did not open";
+
 /// Judged runs and crashed runs, each with its experiment's index.
 pub(super) type Runs = (Vec<(usize, LabRun)>, Vec<(usize, Crashed)>);
 
@@ -273,10 +277,15 @@ pub(super) fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaEr
     bar.finish();
     let wall_s = wall.elapsed().as_secs_f64();
     let (mut runs, mut crashed): Runs = (Vec::new(), Vec::new());
-    // Runs in which a robot stopped on its own (a panic): failed, without LEDs to judge.
+    // Runs in which a robot stopped on its own (a panic): failed, without LEDs to judge. A robot
+    // in the loop whose link never opened (nothing listening, no such serial port) is a set-up
+    // error, not a failed run.
     for ((i, c), r) in jobs.iter().zip(results) {
         match r {
             Ok(r) => runs.push((*i, r)),
+            Err(ArenaError::Robot(f)) if !f.panicked && f.message.starts_with(LINK_NOT_OPEN) => {
+                return Err(ArenaError::Hil(format!("robot {}: {}", f.robot, f.message)));
+            }
             Err(ArenaError::Robot(f)) => crashed.push((*i, Crashed::new(c, f))),
             Err(e) => return Err(e),
         }

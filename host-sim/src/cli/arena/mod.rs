@@ -182,7 +182,8 @@ pub struct ArenaArgs {
     #[arg(long, value_name = "I,J,...", value_delimiter = ',', requires = "hil")]
     pub hil_at: Vec<usize>,
     /// The image --hil qemu:N boots (default: the HIL image `cargo hil-image` builds,
-    /// firmware/qemu/target/thumbv7em-none-eabihf/release/hil, or hil6 for 6 sectors).
+    /// firmware/qemu/target/thumbv7em-none-eabihf/release/hil, or hil6 for 6 sectors, under
+    /// the working folder if it is there, else under the checkout cimax was built from).
     #[arg(long, value_name = "ELF", requires = "hil")]
     pub hil_image: Option<PathBuf>,
     /// `campaign`: the fault-injection campaign ([`campaign`]); `sweep` and `bench` on a plane.

@@ -1,7 +1,7 @@
 //! What the options of `cimax arena` set, shared by a line and a plane: the robots' protocol
 //! parameters, the light medium, the run's length and the robots in the loop, each checked.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use hal_emu::MediumParams;
 use hal_emu::world::hil::{HilRobot, Transport};
@@ -31,10 +31,10 @@ pub(super) fn hil_robots(
     if args.hil.is_empty() {
         return Ok(Vec::new());
     }
-    let image = args.hil_image.clone().unwrap_or_else(|| {
-        let name = if sectors == 2 { "hil" } else { "hil6" };
-        PathBuf::from("firmware/qemu/target/thumbv7em-none-eabihf/release").join(name)
-    });
+    let image = args
+        .hil_image
+        .clone()
+        .unwrap_or_else(|| default_image(sectors));
     let transports: Vec<Transport> = args.hil.iter().flat_map(|h| h.transports(&image)).collect();
     if transports.iter().any(|t| matches!(t, Transport::Qemu(_))) {
         if !image.is_file() {
@@ -80,6 +80,23 @@ pub(super) fn hil_robots(
         .zip(transports)
         .map(|(robot, transport)| HilRobot { robot, transport })
         .collect())
+}
+
+/// Where `cargo hil-image` puts the HIL images, in the workspace.
+const IMAGE_DIR: &str = "firmware/qemu/target/thumbv7em-none-eabihf/release";
+
+/// The image `--hil qemu:N` boots without `--hil-image`: `hil` (2 sectors) or `hil6`, under
+/// [`IMAGE_DIR`] of the working folder if it is there, else of the checkout this `cimax` was
+/// built from (as the docs folder is found, [`host_sim::report::default_docs_dir`]).
+fn default_image(sectors: u8) -> PathBuf {
+    let name = if sectors == 2 { "hil" } else { "hil6" };
+    let here = PathBuf::from(IMAGE_DIR).join(name);
+    if here.is_file() {
+        return here;
+    }
+    let checkout = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let checkout = checkout.canonicalize().unwrap_or(checkout);
+    checkout.join(IMAGE_DIR).join(name)
 }
 
 /// `s` seconds as a [`Duration`], to the millisecond; an error naming `--what` unless it is a

@@ -27,12 +27,13 @@ const MAX_THREADS: u64 = 1024;
 #[command(
     name = "cimax",
     version,
-    about = "CIMAX swarm tools: the lab arena and the paper's 2D swarm simulations"
+    about = "CIMAX swarm tools: the lab arena and the paper's 2D swarm simulations",
+    allow_negative_numbers = true
 )]
 struct Cli {
     /// Worker threads for runs in parallel, 1 to 1024 (default: all cores). Results do not
     /// depend on it.
-    #[arg(long, global = true, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_THREADS))]
+    #[arg(long, global = true, value_parser = crate::cli::values::whole::<usize>(1, MAX_THREADS))]
     threads: Option<usize>,
     #[command(subcommand)]
     command: Command,

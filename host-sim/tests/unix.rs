@@ -155,3 +155,128 @@ fn the_qemu_image_is_found_from_any_folder() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn numbers_that_are_not_finite_too_large_or_negative_are_refused_with_what_is_allowed() {
+    for (args, says) in [
+        (
+            &["swarm", "run", "--periods", "1", "--x", "inf"][..],
+            "inf is not a finite number",
+        ),
+        (
+            &["swarm", "run", "--periods", "1", "--y", "inf"],
+            "inf is not a finite number",
+        ),
+        (
+            &["swarm", "run", "--x", "nan"],
+            "nan is not a finite number",
+        ),
+        (&["swarm", "run", "--x", "1e300"], "from -1000 to 1000"),
+        (
+            &["arena", "--field", "sharp", "--x-init", "1e300"],
+            "from -1000 to 1000",
+        ),
+        (
+            &["arena", "--field", "sharp", "--x-init", "inf"],
+            "not a finite number",
+        ),
+        (
+            &["arena", "--loss", "-0.1"],
+            "'-0.1' for '--loss <LOSS>': -0.1 is out of range; a probability from 0 to 1",
+        ),
+        (
+            &["arena", "--byte-error-rate", "2"],
+            "a probability from 0 to 1",
+        ),
+        (&["arena", "--range", "-1"], "'-1' for '--range <RANGE>'"),
+        (&["arena", "--cycle", "-1"], "'-1' for '--cycle <CYCLE>'"),
+        (
+            &["arena", "--seed", "-1"],
+            "'-1' for '--seed <SEED>': -1 is out of range; a whole number from 0",
+        ),
+        (&["arena", "--spacing", "0"], "greater than 0"),
+        (
+            &["swarm", "run", "--seed", "-1"],
+            "'-1' for '--seed <SEED>'",
+        ),
+        (
+            &["swarm", "run", "--cycle", "-1"],
+            "'-1' for '--cycle <CYCLE>'",
+        ),
+        (
+            &["swarm", "sweep", "--step", "-1"],
+            "'-1' for '--step <STEP>'",
+        ),
+        (
+            &["arena", "campaign", "--loss", "-0.5"],
+            "a probability from 0 to 1",
+        ),
+        (
+            &["arena", "sweep", "--runs", "-2"],
+            "'-2' for '--runs <RUNS>'",
+        ),
+    ] {
+        let out = usage_error(args, says);
+        assert!(out.stdout.is_empty(), "{args:?}");
+        assert!(
+            !text(&out.stderr).contains("unexpected argument"),
+            "{args:?}"
+        );
+    }
+    // Negative values where they are allowed still pass.
+    let dir = scratch("negative");
+    let out = cimax(&[
+        "swarm",
+        "run",
+        "--x",
+        "-1",
+        "--y",
+        "-0.5",
+        "--periods",
+        "1",
+        "--quiet",
+        "--out-dir",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_positions_file_with_a_far_double_or_lonely_robot_is_refused_naming_the_line() {
+    let dir = scratch("positions");
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("p.txt");
+    let f = file.to_str().unwrap();
+    for (body, says) in [
+        (
+            "0 0\n0.5 0\n1e300 0\n",
+            ":3: 1e300 is too far: at most 1000 R",
+        ),
+        (
+            "0 0\n0.5 0\n0 0\n",
+            ":3: two robots in one place: (0, 0) is also on line 1",
+        ),
+        (
+            "0 0\n0.5 0\n50 0\n",
+            ":3: the robot at (50, 0) is out of everyone's range",
+        ),
+    ] {
+        std::fs::write(&file, body).unwrap();
+        usage_error(
+            &[
+                "arena",
+                "--field",
+                "sharp",
+                "--shape",
+                "file",
+                "--positions",
+                f,
+                "--runs",
+                "1",
+            ],
+            &format!("{f}{says}"),
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -8,3 +8,4 @@ pub mod job;
 pub mod merge;
 pub mod out;
 pub mod swarm;
+pub mod values;

@@ -18,7 +18,7 @@ use host_sim::progress::Progress;
 use host_sim::seeds;
 use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{
-    DEFAULT_PLACEMENT, MAX_AGENTS, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement, Scenario,
+    DEFAULT_PLACEMENT, MAX_AGENTS, MAX_EXTENT, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement, Scenario,
 };
 use host_sim::swarm::sim::MAX_PERIOD_SECS;
 use nalgebra::Point2;
@@ -32,11 +32,11 @@ pub struct Common {
     #[arg(long, default_value = "sharp")]
     scenario: String,
     /// Base seed: every run's seed is derived from it and the run's coordinates.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     seed: u64,
     /// Override the cycle length t_p^max, seconds; a negotiation period of (gather + decide)
     /// cycles must stay within 1,000,000 s.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_PERIOD_SECS))]
+    #[arg(long, value_parser = crate::cli::values::whole::<u64>(1, MAX_PERIOD_SECS))]
     cycle: Option<u64>,
     /// Where the agents start: `lattice`, the nodes of a triangular lattice of spacing 0.75 R
     /// nearest the centre (61 agents: a hexagon filling a 6 R disk, 5.1 neighbours each on
@@ -65,17 +65,18 @@ pub struct Common {
 #[derive(Subcommand, Debug)]
 pub enum SwarmCommand {
     /// One run: trajectory of the centre of mass and average diversity over time (Figs. 4, 7).
+    #[command(allow_negative_numbers = true)]
     Run {
         #[command(flatten)]
         common: Common,
         /// Initial x of the centre of mass (default: the scenario's start).
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
         x: Option<f64>,
         /// Initial y of the centre of mass (default: the scenario's start).
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
         y: Option<f64>,
         /// Negotiation periods, 1 to 100,000 (default: the scenario's).
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_PERIODS)))]
+        #[arg(long, value_parser = crate::cli::values::whole::<u32>(1, u64::from(MAX_PERIODS)))]
         periods: Option<u32>,
         /// Also write the run as one self-contained HTML page that replays it (waves,
         /// messages, decisions, the swarm's path; docs/viewer.md).
@@ -83,21 +84,22 @@ pub enum SwarmCommand {
         html: Option<PathBuf>,
     },
     /// Success rate and mean success time against the initial position (Figs. 5, 8).
+    #[command(allow_negative_numbers = true)]
     Sweep {
         #[command(flatten)]
         common: Common,
         /// First initial x (default: the scenario's sweep).
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
         from: Option<f64>,
         /// Last initial x.
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
         to: Option<f64>,
         /// Spacing of initial positions.
-        #[arg(long)]
+        #[arg(long, value_parser = crate::cli::values::positive(2.0 * MAX_EXTENT, "a step in R"))]
         step: Option<f64>,
         /// Runs per initial position, 1 to 100,000, and at most 1,000,000 runs in all
         /// (default: the scenario's, 50).
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RUNS_PER_POINT)))]
+        #[arg(long, value_parser = crate::cli::values::whole::<u32>(1, u64::from(MAX_RUNS_PER_POINT)))]
         runs: Option<u32>,
         /// Run only shard I of N (1 <= I <= N) of the sweep's runs and write them to
         /// OUT_DIR/part-I-of-N.jsonl, nothing else; `cimax merge` makes the CSV and SVG of
@@ -106,14 +108,16 @@ pub enum SwarmCommand {
         shard: Option<host_sim::shard::ShardSpec>,
     },
     /// The preferred direction of a swarm centred at each point of a grid (Figs. 6, 9, 10).
+    #[command(allow_negative_numbers = true)]
     Field {
         #[command(flatten)]
         common: Common,
     },
     /// Runs everything above for the paper's scenarios and regenerates docs/reproduction.md.
+    #[command(allow_negative_numbers = true)]
     Reproduce {
         /// Base seed.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
         seed: u64,
         /// The docs directory (default: the workspace's docs/); with --shard, the directory of
         /// the part.
@@ -134,17 +138,18 @@ pub enum SwarmCommand {
         shard: Option<host_sim::shard::ShardSpec>,
     },
     /// Agent-steps per second for swarms of several sizes (one negotiation period each).
+    #[command(allow_negative_numbers = true)]
     Bench {
         /// Swarm sizes, 2 to 1,000,000 each (the disk grows to keep the density).
         #[arg(
             long,
             value_delimiter = ',',
             default_value = "61,1000,10000",
-            value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=MAX_AGENTS as u64)
+            value_parser = crate::cli::values::whole::<usize>(2, MAX_AGENTS as u64)
         )]
         agents: Vec<usize>,
         /// Seed.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
         seed: u64,
         /// A built-in scenario or scenario file.
         #[arg(long, default_value = "sharp")]

@@ -28,6 +28,7 @@ use hal_emu::Readings;
 use hal_emu::world::hil::HilSpec;
 use host_sim::arena::campaign::Decide;
 use host_sim::arena::plane::Layout;
+use host_sim::swarm::scenario::MAX_EXTENT;
 use protocol::SwarmKey;
 
 pub use campaign::CampaignArgs;
@@ -55,14 +56,17 @@ pub enum ArenaCommand {
 /// without a bound a huge `--duration` or `--cycle` would run for ever or exhaust memory.
 pub const MAX_RUN_SECS: u64 = 1_000_000;
 
+/// The most metres `--spacing` and `--range` take (a kilometre: light crosses a lab).
+pub const MAX_METRES: f64 = 1000.0;
+
 /// Options of `cimax arena`. With none, the paper's suite ([`paper_suite`]): six patterns and
 /// the alternating experiment from each to its mirror image, five runs each.
 #[derive(Args, Debug, Clone)]
-#[command(args_conflicts_with_subcommands = true)]
+#[command(args_conflicts_with_subcommands = true, allow_negative_numbers = true)]
 pub struct ArenaArgs {
     /// Number of robots: in a line with light patterns 2 to 64 (default: the pattern's length,
     /// else 4); with --field 2 to 1000 (default 61).
-    #[arg(long, value_parser = clap::value_parser!(u16).range(2..=1000))]
+    #[arg(long, value_parser = crate::cli::values::whole::<u16>(2, 1000))]
     pub robots: Option<u16>,
     /// With --field: how the robots are placed (a line, the paper's hexagonal lattice 0.75 R
     /// apart, or a random disk of the paper's density).
@@ -72,42 +76,42 @@ pub struct ArenaArgs {
     #[arg(long, value_name = "FILE", requires = "field")]
     pub positions: Option<PathBuf>,
     /// With --field: receive sectors (receivers) per robot, 2 to 8.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8), requires = "field")]
+    #[arg(long, default_value_t = 6, value_parser = crate::cli::values::whole::<u8>(2, 8), requires = "field")]
     pub sectors: u8,
     /// Robots on a plane over a field instead of light patterns: a `cimax swarm` scenario
     /// (sharp, gradient, cloud) or its TOML file. The swarm moves as it decides.
     #[arg(long)]
     pub field: Option<String>,
     /// With --field: where the centre of mass starts, in R along x.
-    #[arg(long, default_value_t = -2.0, allow_hyphen_values = true, requires = "field")]
+    #[arg(long, default_value_t = -2.0, requires = "field", value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
     pub x_init: f64,
     /// With --field: negotiation periods (moves of 0.33 R) per run.
-    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1000), requires = "field")]
+    #[arg(long, default_value_t = 50, value_parser = crate::cli::values::whole::<u32>(1, 1000), requires = "field")]
     pub moves: u32,
     /// Metres between neighbours (the light carries --range metres).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::cli::values::positive(MAX_METRES, "a number of metres"))]
     pub spacing: f64,
     /// Range of the light, metres.
-    #[arg(long, default_value_t = 1.5)]
+    #[arg(long, default_value_t = 1.5, value_parser = crate::cli::values::positive(MAX_METRES, "a number of metres"))]
     pub range: f64,
     /// One light pattern instead of the paper's suite, one character per robot, 1 = lit.
     #[arg(long)]
     pub lights: Option<String>,
     /// Change the pattern at this time (seconds, at most 1,000,000)...
-    #[arg(long, requires = "then", value_parser = clap::value_parser!(u64).range(0..=MAX_RUN_SECS))]
+    #[arg(long, requires = "then", value_parser = crate::cli::values::whole::<u64>(0, MAX_RUN_SECS))]
     pub switch_at: Option<u64>,
     /// ...to this pattern.
     #[arg(long, requires = "switch_at")]
     pub then: Option<String>,
     /// Base seed: run k uses seed + k. Failing runs print their seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     pub seed: u64,
     /// Runs per pattern.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    #[arg(long, default_value_t = 5, value_parser = crate::cli::values::whole::<u64>(1, 100_000))]
     pub runs: u64,
     /// Emulated seconds per run (per phase in the alternating experiment), 1 to 1,000,000;
     /// default three negotiation periods of the longest cycle.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_RUN_SECS))]
+    #[arg(long, value_parser = crate::cli::values::whole::<u64>(1, MAX_RUN_SECS))]
     pub duration: Option<u64>,
     /// What the light sensors report: `full` (levels of 200 lit and 30 dark with noise ±10,
     /// or the field's level), `binary` (the paper's g in {0, 1}: 1 lit, 0 dark, without noise),
@@ -119,28 +123,28 @@ pub struct ArenaArgs {
     #[arg(long)]
     pub binary_readings: bool,
     /// Probability that a frame is lost at a receiver.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::cli::values::number(0.0, 1.0, "a probability"))]
     pub loss: f64,
     /// Probability that a received byte is corrupted.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::cli::values::number(0.0, 1.0, "a probability"))]
     pub byte_error_rate: f64,
     /// Turn collisions of overlapping frames off.
     #[arg(long)]
     pub no_collisions: bool,
     /// Bits per second on air (the board's 9600 Bd IrDA SIR link; 10 bits per byte).
-    #[arg(long, default_value_t = 9600)]
+    #[arg(long, default_value_t = 9600, value_parser = crate::cli::values::whole::<u32>(1, u64::from(u32::MAX)))]
     pub bitrate: u32,
     /// Mean cycle length, seconds (the paper's 55).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::positive(MAX_RUN_SECS as f64, "a number of seconds"))]
     pub cycle: Option<f64>,
     /// Cycle spread, seconds (the paper's ±15).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::number(0.0, MAX_RUN_SECS as f64, "a number of seconds"))]
     pub cycle_spread: Option<f64>,
     /// Refractory time, seconds (the paper's 4).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::number(0.0, MAX_RUN_SECS as f64, "a number of seconds"))]
     pub refractory: Option<f64>,
     /// Negotiation period, cycles (the paper's 10).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::whole::<u16>(1, u64::from(u16::MAX)))]
     pub negotiation: Option<u16>,
     /// When a robot decides: at the end of each negotiation period (the paper's), or as soon as
     /// its evidence settles, at the latest at a period's end (docs/protocol.md §5.4).

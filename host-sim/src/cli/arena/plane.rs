@@ -233,16 +233,17 @@ fn mean(xs: impl Iterator<Item = f64>) -> Option<f64> {
 
 /// Options of `cimax arena bench`.
 #[derive(clap::Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
 pub struct BenchArgs {
     /// Swarm sizes to time (robots on the hexagonal lattice), 2 to 10,000 each (docs/plane.md
     /// times 10,000 too).
-    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000], value_parser = clap::value_parser!(u16).range(2..=10_000))]
+    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000], value_parser = crate::cli::values::whole::<u16>(2, 10_000))]
     pub robots: Vec<u16>,
     /// Receive sectors per robot.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
+    #[arg(long, default_value_t = 6, value_parser = crate::cli::values::whole::<u8>(2, 8))]
     pub sectors: u8,
     /// Seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     pub seed: u64,
 }
 

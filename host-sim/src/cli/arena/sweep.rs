@@ -16,7 +16,7 @@ use host_sim::progress::Progress;
 use host_sim::shard::{self, Job, ShardSpec, merge::Merged};
 use host_sim::swarm::experiment::{self, SweepPoint};
 use host_sim::swarm::geometry::Shape;
-use host_sim::swarm::scenario::{Placement, Scenario, check_runs};
+use host_sim::swarm::scenario::{MAX_EXTENT, Placement, Scenario, check_runs};
 use protocol::Params;
 use serde::{Deserialize, Serialize};
 
@@ -29,6 +29,7 @@ pub const COMMAND: &str = "arena sweep";
 
 /// Options of `cimax arena sweep`.
 #[derive(clap::Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
 pub struct SweepArgs {
     /// The field: a `cimax swarm` scenario (sharp, gradient) or its TOML file.
     #[arg(long, default_value = "sharp")]
@@ -37,31 +38,31 @@ pub struct SweepArgs {
     #[arg(long, value_parser = shape_parser(), default_value = "lattice")]
     pub shape: Layout,
     /// Number of robots.
-    #[arg(long, default_value_t = 61, value_parser = clap::value_parser!(u16).range(2..=1000))]
+    #[arg(long, default_value_t = 61, value_parser = crate::cli::values::whole::<u16>(2, 1000))]
     pub robots: u16,
     /// Receive sectors per robot.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
+    #[arg(long, default_value_t = 6, value_parser = crate::cli::values::whole::<u8>(2, 8))]
     pub sectors: u8,
     /// First initial x, in R.
-    #[arg(long, default_value_t = -4.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = -4.0, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
     pub from: f64,
     /// Last initial x, in R.
-    #[arg(long, default_value_t = 4.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 4.0, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
     pub to: f64,
     /// Step between initial positions, in R.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::cli::values::positive(2.0 * MAX_EXTENT, "a step in R"))]
     pub step: f64,
     /// Runs per position (run k uses seed BASE + k).
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    #[arg(long, default_value_t = 10, value_parser = crate::cli::values::whole::<u64>(1, 10_000))]
     pub runs: u64,
     /// Base seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     pub seed: u64,
     /// Moves per run.
-    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    #[arg(long, default_value_t = 50, value_parser = crate::cli::values::whole::<u32>(1, 1000))]
     pub moves: u32,
     /// Probability that a frame is lost at a receiver.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::cli::values::number(0.0, 1.0, "a probability"))]
     pub loss: f64,
     /// What the light sensors report (`full`, `binary`, `levels:N`, `gain:G,offset:B`; see
     /// `cimax arena --help`).
@@ -69,7 +70,7 @@ pub struct SweepArgs {
     pub readings: Readings,
     /// Runs of the 2D simulator (`cimax swarm`, three-phase variant, same placement) per
     /// position, for the curve beside, 0 to 100,000; 0 leaves it out.
-    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=i64::from(host_sim::swarm::scenario::MAX_RUNS_PER_POINT)))]
+    #[arg(long, default_value_t = 20, value_parser = crate::cli::values::whole::<u32>(0, u64::from(host_sim::swarm::scenario::MAX_RUNS_PER_POINT)))]
     pub swarm_runs: u32,
     /// Where to write the CSV and the SVG (`arena-<field>-sweep.csv|svg`); with --shard, the
     /// part.

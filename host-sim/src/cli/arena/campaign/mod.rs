@@ -28,18 +28,19 @@ pub const COMMAND: &str = "arena campaign";
 
 /// Options of `cimax arena campaign`.
 #[derive(Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
 pub struct CampaignArgs {
     /// Seeds per scenario: run k of every scenario uses seed BASE + k.
-    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    #[arg(long, default_value_t = 200, value_parser = crate::cli::values::whole::<u64>(1, 100_000))]
     pub seeds: u64,
     /// Base seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     pub seed: u64,
     /// Run only this scenario (repeatable); default: all.
     #[arg(long, value_parser = PossibleValuesParser::new(SCENARIOS.iter().map(|s| s.name)))]
     pub scenario: Vec<String>,
     /// Frame loss at every receiver in every scenario, replacing the scenario's own.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::number(0.0, 1.0, "a probability"))]
     pub loss: Option<f64>,
     /// Run only this decision rule (docs/protocol.md §5.4); default: both, side by side (the
     /// documented campaign).

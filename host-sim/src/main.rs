@@ -15,7 +15,7 @@ mod cli;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use cli::arena;
 use cli::swarm::SwarmCommand;
 
@@ -78,7 +78,8 @@ fn view(trace: &std::path::Path, output: &std::path::Path) -> cli::out::Exit {
 /// errors included); 130 interrupted. A closed standard output (`cimax arena | head`) ends
 /// quietly with 0, as `cat` does.
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Some(n) = cli.threads
         && let Err(e) = rayon::ThreadPoolBuilder::new()
             .num_threads(n)
@@ -88,7 +89,10 @@ fn main() -> ExitCode {
         return ExitCode::from(2);
     }
     match cli.command {
-        Command::Arena(args) => arena::main(&args),
+        Command::Arena(args) => {
+            let m = matches.subcommand_matches("arena").unwrap_or(&matches);
+            arena::main(&args, m)
+        }
         Command::Swarm { command } => {
             let res = cli::swarm::run(command).map(|()| ExitCode::SUCCESS);
             cli::out::finish("error", res.map_err(cli::out::Fail::from))

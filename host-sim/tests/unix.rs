@@ -280,3 +280,80 @@ fn a_positions_file_with_a_far_double_or_lonely_robot_is_refused_naming_the_line
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The `replay: cimax ...` commands on stderr, as argument vectors (no quoted words in these).
+fn replays(stderr: &str) -> Vec<Vec<String>> {
+    stderr
+        .lines()
+        .filter_map(|l| l.split_once("(replay: cimax ")?.1.strip_suffix(')'))
+        .map(|c| c.split_whitespace().map(String::from).collect())
+        .collect()
+}
+
+#[test]
+fn a_failing_run_replays_with_every_option_it_ran_with() {
+    let args = [
+        "arena",
+        "--lights",
+        "1100",
+        "--runs",
+        "1",
+        "--seed",
+        "3",
+        "--kill",
+        "1@700",
+        "--key",
+        "000102030405060708090a0b0c0d0e0f",
+        "--byte-error-rate",
+        "0.001",
+        "--bitrate",
+        "4800",
+        "--json",
+    ];
+    let out = cimax(&args);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    let failed: Vec<&str> = err.lines().filter(|l| l.starts_with("FAILED")).collect();
+    assert_eq!(failed.len(), 1, "{err}");
+    let replay = &replays(&err)[0];
+    for option in ["--kill", "--key", "--byte-error-rate", "--bitrate"] {
+        assert!(replay.iter().any(|a| a == option), "{option} in {replay:?}");
+    }
+    // Outputs are not repeated.
+    assert!(!replay.iter().any(|a| a == "--json"), "{replay:?}");
+    let again: Vec<&str> = replay.iter().map(String::as_str).collect();
+    let out = cimax(&again);
+    let err2 = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "the replay fails too: {err2}");
+    let failed2: Vec<&str> = err2.lines().filter(|l| l.starts_with("FAILED")).collect();
+    assert_eq!(failed, failed2, "the same failure, the same replay");
+    // Without the kill the run passes: the replay needed it.
+    let mut without: Vec<&str> = again.clone();
+    let k = without.iter().position(|a| *a == "--kill").unwrap();
+    without.drain(k..k + 2);
+    assert_eq!(cimax(&without).status.code(), Some(0));
+}
+
+#[test]
+fn a_failing_alternating_run_of_the_suite_replays_with_its_switch_and_cycle() {
+    // --cycle 20: the suite's runs last 764.65 s, and the alternating ones switch then.
+    let out = cimax(&["arena", "--runs", "1", "--cycle", "20", "--duration", "30"]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    let all = replays(&err);
+    assert_eq!(all.len(), 12, "{err}");
+    let switching = all
+        .iter()
+        .find(|r| r.iter().any(|a| a == "--switch-at"))
+        .unwrap();
+    let again: Vec<&str> = switching.iter().map(String::as_str).collect();
+    assert!(
+        again.windows(2).any(|w| w == ["--switch-at", "30"]),
+        "{again:?}"
+    );
+    assert!(
+        again.windows(2).any(|w| w == ["--cycle", "20"]),
+        "{again:?}"
+    );
+    assert_eq!(cimax(&again).status.code(), Some(1));
+}

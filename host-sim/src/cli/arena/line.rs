@@ -15,9 +15,11 @@ use protocol::{Duration, Instant, Params};
 use rayon::prelude::*;
 
 use super::ArenaArgs;
-use super::options::{hil_robots, medium, robot_params, run_length, scaled, time_scale};
+use super::options::{hil_robots, medium, robot_params, run_length, scaled, secs, time_scale};
 use super::print::{Crashed, JsonSummary, print_failures, print_hil, print_json, print_table};
+use super::replay::replay_options;
 use crate::cli::out::{Exit, outln};
+use clap::ArgMatches;
 
 /// One experiment: a list of runs sharing a label and an expected outcome.
 pub(super) struct Experiment {
@@ -144,7 +146,7 @@ fn experiment(
     let switch = match (args.switch_at, then, &e.then) {
         (Some(at), Some(t), None) => {
             check_length(t, robots, "--then pattern")?;
-            Some((Instant::from_secs(at), t))
+            Some((Instant::ZERO + secs(at, "switch-at")?, t))
         }
         _ => None,
     };
@@ -174,7 +176,9 @@ pub(super) fn replay_lights(cfg: &ArenaConfig) -> String {
         if i == 0 {
             out += &format!("--lights {}", pattern_str(p));
         } else {
-            let at = t.saturating_since(Instant::ZERO).as_millis() / 1000;
+            let ms = t.saturating_since(Instant::ZERO).as_millis();
+            let at = format!("{}.{:03}", ms / 1000, ms % 1000);
+            let at = at.trim_end_matches('0').trim_end_matches('.');
             out += &format!(" --switch-at {at} --then {}", pattern_str(p));
         }
     }
@@ -183,7 +187,7 @@ pub(super) fn replay_lights(cfg: &ArenaConfig) -> String {
 
 /// `cimax arena` on a line; the exit code is non-zero if any run with a verdict failed or an
 /// option was bad.
-pub(super) fn main(args: &ArenaArgs) -> Exit {
+pub(super) fn main(args: &ArenaArgs, matches: &ArgMatches) -> Exit {
     let experiments = build(args)?;
     let first = experiments.first().and_then(|e| e.configs.first()).cloned();
     let ((runs, crashed), wall_s) = match run_all(&experiments) {
@@ -232,7 +236,7 @@ pub(super) fn main(args: &ArenaArgs) -> Exit {
             emulated_s / wall_s.max(1e-9)
         )?;
     }
-    print_failures(args, &failures, &crashed);
+    print_failures(&replay_options(matches), &failures, &crashed);
     Ok(if failures.is_empty() && crashed.is_empty() {
         ExitCode::SUCCESS
     } else {

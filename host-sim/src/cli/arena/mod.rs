@@ -17,6 +17,7 @@ mod line;
 mod options;
 mod plane;
 mod print;
+mod replay;
 mod sweep;
 
 use std::path::PathBuf;
@@ -97,9 +98,9 @@ pub struct ArenaArgs {
     /// One light pattern instead of the paper's suite, one character per robot, 1 = lit.
     #[arg(long)]
     pub lights: Option<String>,
-    /// Change the pattern at this time (seconds, at most 1,000,000)...
-    #[arg(long, requires = "then", value_parser = crate::cli::values::whole::<u64>(0, MAX_RUN_SECS))]
-    pub switch_at: Option<u64>,
+    /// Change the pattern at this time (seconds, to the millisecond, at most 1,000,000)...
+    #[arg(long, requires = "then", value_parser = crate::cli::values::number(0.0, MAX_RUN_SECS as f64, "a number of seconds"))]
+    pub switch_at: Option<f64>,
     /// ...to this pattern.
     #[arg(long, requires = "switch_at")]
     pub then: Option<String>,
@@ -221,15 +222,15 @@ fn parse_at(s: &str) -> Result<(usize, u64), String> {
     Ok((r, t))
 }
 
-/// Runs `cimax arena`; the exit code is non-zero if any run with a verdict failed or an option
+/// Runs `cimax arena` (`matches`: its command line, which failed runs' replays repeat); the exit code is non-zero if any run with a verdict failed or an option
 /// was bad.
-pub fn main(args: &ArenaArgs) -> ExitCode {
+pub fn main(args: &ArenaArgs, matches: &clap::ArgMatches) -> ExitCode {
     match args.command.as_deref() {
         Some(ArenaCommand::Campaign(c)) => finish("cimax arena campaign", campaign::main(c)),
         Some(ArenaCommand::Sweep(s)) => finish("cimax arena sweep", sweep::sweep_main(s)),
         Some(ArenaCommand::Bench(b)) => finish("cimax arena bench", plane::bench_main(b)),
         None if args.field.is_some() => finish("cimax arena", plane::main(args)),
-        None => finish("cimax arena", line::main(args)),
+        None => finish("cimax arena", line::main(args, matches)),
     }
 }
 
@@ -237,7 +238,7 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
 mod tests {
     use super::line::{build, replay_lights, run_all};
     use super::plane::plane_spec;
-    use super::print::{expected_str, replay_extra};
+    use super::print::expected_str;
     use super::*;
     use clap::Parser as _;
     use hal_emu::judge::leds_str;
@@ -342,7 +343,6 @@ mod tests {
                 .flat_map(|e| &e.configs)
                 .all(|c| c.env.readings == Readings::Binary)
         );
-        assert_eq!(replay_extra(&a), " --binary-readings");
         // The same as `--readings binary`; on a plane too.
         assert_eq!(
             build(&args(&["--readings", "binary", "--runs", "1"])).unwrap()[0].configs[0]
@@ -357,7 +357,13 @@ mod tests {
             Readings::Binary
         );
         let scaled = args(&["--readings", "gain:0.5,offset:100", "--runs", "1"]);
-        assert_eq!(replay_extra(&scaled), " --readings gain:0.5,offset:100");
+        assert_eq!(
+            build(&scaled).unwrap()[0].configs[0]
+                .env
+                .readings
+                .to_string(),
+            "gain:0.5,offset:100"
+        );
         // The whole suite with binary readings, one run each: every verdict holds.
         let ((runs, crashed), _) = run_all(&experiments).unwrap();
         assert!(crashed.is_empty());

@@ -4,9 +4,8 @@
 use firmware::LedColor;
 use hal_emu::judge::{LabRun, leds_str, pattern_str};
 use hal_emu::world::arena::RobotFailure;
-use hal_emu::world::hil::{HilReport, HilSpec};
+use hal_emu::world::hil::HilReport;
 use hal_emu::{ArenaConfig, Readings};
-use host_sim::arena::campaign::Decide;
 use protocol::{Instant, Params};
 use serde::Serialize;
 
@@ -128,54 +127,13 @@ pub(super) fn print_hil(runs: &[(usize, LabRun)]) -> Result<(), StdoutError> {
     Ok(())
 }
 
-/// The options of `args` a replay repeats (after `--runs 1`).
-pub(super) fn replay_extra(args: &ArenaArgs) -> String {
-    let mut extra = String::new();
-    for h in &args.hil {
-        extra += &format!(" --hil {}", hil_spec_str(h));
-    }
-    if !args.hil_at.is_empty() {
-        let at: Vec<String> = args.hil_at.iter().map(usize::to_string).collect();
-        extra += &format!(" --hil-at {}", at.join(","));
-    }
-    if let Some(c) = args.cycle {
-        extra += &format!(" --cycle {c}");
-    }
-    if let Some(d) = args.duration {
-        extra += &format!(" --duration {d}");
-    }
-    if args.decide != Decide::Fixed {
-        extra += " --decide adaptive";
-    }
-    if args.loss > 0.0 {
-        extra += &format!(" --loss {}", args.loss);
-    }
-    match args.readings() {
-        Readings::Levels => {}
-        Readings::Binary => extra += " --binary-readings",
-        r => extra += &format!(" --readings {r}"),
-    }
-    extra
-}
-
-/// `--hil`'s spec as typed.
-fn hil_spec_str(h: &HilSpec) -> String {
-    match h {
-        HilSpec::Qemu(n) => format!("qemu:{n}"),
-        HilSpec::Loopback(n) => format!("loopback:{n}"),
-        HilSpec::Serial(p, b) => format!("serial:{}@{b}", p.display()),
-        HilSpec::Tcp(a) => format!("tcp:{a}"),
-    }
-}
-
 /// One line on stderr per failed or crashed run (each failed run with the `--lights` options
 /// that replay it, [`replay_lights`]), with the command that replays it.
 pub(super) fn print_failures(
-    args: &ArenaArgs,
+    extra: &str,
     failures: &[(&LabRun, String)],
     crashed: &[(usize, Crashed)],
 ) {
-    let extra = replay_extra(args);
     for (r, lights) in failures {
         let flicker = r
             .flicker
@@ -193,7 +151,7 @@ pub(super) fn print_failures(
         );
     }
     for (_, c) in crashed {
-        eprintln!("{}", c.failed_line(&extra));
+        eprintln!("{}", c.failed_line(extra));
     }
 }
 

@@ -55,7 +55,7 @@ enum Command {
     View {
         /// The trace (JSON lines, as `cimax arena --trace` writes them).
         trace: std::path::PathBuf,
-        /// The page to write.
+        /// The page to write (its folder is created); `-` writes it to standard output.
         #[arg(short, long, value_name = "FILE.html")]
         output: std::path::PathBuf,
     },
@@ -67,9 +67,37 @@ enum Command {
 
 /// `cimax view`: the page of a saved trace.
 fn view(trace: &std::path::Path, output: &std::path::Path) -> cli::out::Exit {
+    let to_stdout = output.as_os_str() == "-";
+    if !to_stdout {
+        cli::files::check_file("--output", output)?;
+        cli::files::check_distinct(&[("the trace", trace), ("--output", output)])?;
+    }
     let text = std::fs::read_to_string(trace).map_err(|e| format!("{}: {e}", trace.display()))?;
-    let (header, events) = host_sim::viewer::read_trace(&text, &trace.display().to_string())?;
-    host_sim::viewer::write_page(output, header, &events)?;
+    let source = trace.display().to_string();
+    let (header, events) = host_sim::viewer::read_trace(&text, &source).map_err(|e| {
+        // A trace of events only, as `arena campaign --trace` wrote them before they had the
+        // set-up line.
+        let first: Option<serde_json::Value> = text
+            .lines()
+            .next()
+            .and_then(|l| serde_json::from_str(l).ok());
+        match first {
+            Some(v) if v.get("event").is_some() => format!(
+                "{source}: events without the run's set-up (an `arena campaign --trace` of an \
+                 older cimax); `cimax view` reads traces that start with it, as `cimax arena \
+                 --trace` and `cimax arena campaign --trace` write them now"
+            ),
+            _ => e,
+        }
+    })?;
+    if to_stdout {
+        let page = host_sim::viewer::page(&host_sim::viewer::Replay::from_trace(header, &events))?;
+        cli::out::text(&page)?;
+    } else {
+        let mut staged = cli::files::Staged::new();
+        staged.write_with(output, |p| host_sim::viewer::write_page(p, header, &events))?;
+        staged.commit()?;
+    }
     Ok(ExitCode::SUCCESS)
 }
 

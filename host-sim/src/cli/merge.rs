@@ -19,7 +19,7 @@ pub struct MergeArgs {
     /// The part files (`part-I-of-N.jsonl`, as `--shard I/N` writes them), in any order.
     #[arg(required = true, value_name = "PARTS")]
     pub parts: Vec<PathBuf>,
-    /// The directory to write the command's outputs into (its `--out`; for `arena campaign`
+    /// The directory to write the command's outputs into, created if missing (its `--out`; for `arena campaign`
     /// the page goes to DIR/reliability.md with its figures in DIR/figures/, for `swarm
     /// reproduce` to DIR/reproduction.md and DIR/figures/, as its `--docs DIR`).
     #[arg(long, value_name = "DIR")]
@@ -46,6 +46,7 @@ pub fn main(a: &MergeArgs) -> ExitCode {
 
 /// `cimax merge`, its failures as values.
 fn run(a: &MergeArgs) -> Exit {
+    super::files::check_dir("--out", &a.out)?;
     let merged = merge(&a.parts).map_err(|e| e.to_string())?;
     let command = merged.job.command.as_str();
     let Some((_, write)) = COMMANDS.iter().find(|(c, _)| *c == command) else {

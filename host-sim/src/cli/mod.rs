@@ -4,6 +4,7 @@
 //! they return.
 
 pub mod arena;
+pub mod files;
 pub mod job;
 pub mod merge;
 pub mod out;

@@ -24,6 +24,7 @@ use host_sim::swarm::sim::MAX_PERIOD_SECS;
 use nalgebra::Point2;
 use protocol::Duration;
 
+use crate::cli::files::{self, Staged};
 use crate::cli::out::{StdoutError, outln};
 
 #[derive(Args, Debug, Clone)]
@@ -48,7 +49,8 @@ pub struct Common {
     /// The same as `--placement lattice` (the default since the lattice matched the paper).
     #[arg(long, conflicts_with = "placement")]
     lattice: bool,
-    /// CSV output (default: OUT_DIR/SCENARIO-COMMAND.csv).
+    /// CSV output (default: OUT_DIR/SCENARIO-COMMAND.csv). Missing folders of every output
+    /// are created; the files are moved in only when all are written.
     #[arg(long)]
     csv: Option<PathBuf>,
     /// SVG plot output (default: OUT_DIR/SCENARIO-COMMAND.svg).
@@ -119,8 +121,9 @@ pub enum SwarmCommand {
         /// Base seed.
         #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
         seed: u64,
-        /// The docs directory (default: the workspace's docs/); with --shard, the directory of
-        /// the part.
+        /// The docs directory (default: the docs/ of the checkout cimax was built from, and only
+        /// when run inside that checkout; elsewhere give --docs); with --shard, the directory
+        /// of the part.
         #[arg(long)]
         docs: Option<PathBuf>,
         /// No progress bars.
@@ -188,6 +191,27 @@ impl Common {
             self.plot.clone().unwrap_or_else(|| name("svg")),
         )
     }
+
+    /// The CSV and SVG of command `what` ([`Common::outputs`]), checked before any work
+    /// ([`files`]) with the command's `others` (`--html`).
+    fn checked_outputs(
+        &self,
+        scn: &Scenario,
+        what: &str,
+        others: &[(&str, &Path)],
+    ) -> Result<(PathBuf, PathBuf), String> {
+        if self.csv.is_none() || self.plot.is_none() {
+            files::check_dir("--out-dir", &self.out_dir)?;
+        }
+        let (csv, svg) = self.outputs(scn, what);
+        let mut all = vec![("--csv", csv.as_path()), ("--plot", svg.as_path())];
+        all.extend_from_slice(others);
+        for (option, p) in &all {
+            files::check_file(option, p)?;
+        }
+        files::check_distinct(&all)?;
+        Ok((csv, svg))
+    }
 }
 
 /// `s` with `placement` (its name marked unless the default) and `--cycle` `cycle`, checked.
@@ -217,13 +241,6 @@ fn placed(
     Ok(s)
 }
 
-fn ensure_parent(p: &Path) -> std::io::Result<()> {
-    match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => std::fs::create_dir_all(d),
-        _ => Ok(()),
-    }
-}
-
 fn wrote(csv: &Path, svg: &Path) -> Result<(), StdoutError> {
     outln!("wrote {} and {}", csv.display(), svg.display())
 }
@@ -236,27 +253,28 @@ fn swarm_run(
     html: Option<&Path>,
 ) -> Res {
     let scn = c.scenario()?;
+    let others: Vec<(&str, &Path)> = html.iter().map(|p| ("--html", *p)).collect();
+    let (csv, svg) = c.checked_outputs(&scn, "run", &others)?;
     let start = Point2::new(x.unwrap_or(scn.start.x), y.unwrap_or(scn.start.y));
     let periods = periods.unwrap_or(scn.periods);
     let t = Clock::now();
+    let mut staged = Staged::new();
     let out = match html {
         None => experiment::run(&scn, scn.run, start, periods, c.seed, false)?,
         Some(path) => {
             // The same run (recording draws nothing), with its events.
             let (out, trace) = experiment::run_traced(&scn, scn.run, start, periods, c.seed)?;
             let replay = host_sim::viewer::swarm::replay(&scn, &out, c.seed, &trace);
-            ensure_parent(path)?;
-            std::fs::write(path, host_sim::viewer::page(&replay)?)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
-            outln!("wrote {}", path.display())?;
+            staged.write(path, host_sim::viewer::page(&replay)?)?;
             out
         }
     };
-    let (csv, svg) = c.outputs(&scn, "run");
-    ensure_parent(&csv)?;
-    ensure_parent(&svg)?;
-    write_run_csv(&csv, &out, &scn.run)?;
-    figures::run_figure(&svg, &scn, &out)?;
+    staged.write_with(&csv, |p| write_run_csv(p, &out, &scn.run))?;
+    staged.write_with(&svg, |p| figures::run_figure(p, &scn, &out))?;
+    staged.commit()?;
+    if let Some(path) = html {
+        outln!("wrote {}", path.display())?;
+    }
     let last = out.periods.last();
     outln!(
         "{}: {} agents (mean {:.1} neighbours), from ({:.2}, {:.2}), {} periods of {} s in {:.2} s",
@@ -292,21 +310,23 @@ fn swarm_field(c: &Common) -> Res {
         .grid
         .clone()
         .ok_or_else(|| format!("scenario {} has no [grid]", scn.name))?;
+    let (csv, svg) = c.checked_outputs(&scn, "field", &[])?;
     let t = Clock::now();
     let progress = Progress::new((grid.xs.len() * grid.ys.len()) as u64, "field", c.quiet);
     let arrows = experiment::direction_map(&scn, &grid, c.seed, &progress)?;
     progress.finish();
-    let (csv, svg) = c.outputs(&scn, "field");
-    ensure_parent(&csv)?;
-    ensure_parent(&svg)?;
-    write_field_csv(&csv, &arrows)?;
-    figures::direction_figure(
-        &svg,
-        &scn,
-        &grid,
-        &arrows,
-        &host_sim::pages::marks::map_for(&scn),
-    )?;
+    let mut staged = Staged::new();
+    staged.write_with(&csv, |p| write_field_csv(p, &arrows))?;
+    staged.write_with(&svg, |p| {
+        figures::direction_figure(
+            p,
+            &scn,
+            &grid,
+            &arrows,
+            &host_sim::pages::marks::map_for(&scn),
+        )
+    })?;
+    staged.commit()?;
     outln!(
         "{}: {} grid points in {:.1} s",
         scn.description,

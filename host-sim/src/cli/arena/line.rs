@@ -18,6 +18,7 @@ use super::ArenaArgs;
 use super::options::{hil_robots, medium, robot_params, run_length, scaled, secs, time_scale};
 use super::print::{Crashed, JsonSummary, print_failures, print_hil, print_json, print_table};
 use super::replay::replay_options;
+use crate::cli::files::{self, Staged};
 use crate::cli::out::{Exit, outln};
 use clap::ArgMatches;
 
@@ -189,6 +190,7 @@ pub(super) fn replay_lights(cfg: &ArenaConfig) -> String {
 /// option was bad.
 pub(super) fn main(args: &ArenaArgs, matches: &ArgMatches) -> Exit {
     let experiments = build(args)?;
+    check_artifacts(args)?;
     let first = experiments.first().and_then(|e| e.configs.first()).cloned();
     let ((runs, crashed), wall_s) = match run_all(&experiments) {
         Ok(r) => r,
@@ -297,7 +299,25 @@ pub(super) fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaEr
     Ok(((runs, crashed), wall_s))
 }
 
-/// `--trace`, `--html` and `--svg` for the first run (run again with tracing on).
+/// `--trace`, `--svg` and `--html`, checked before any work: files (their folders are
+/// created), each its own.
+pub(super) fn check_artifacts(args: &ArenaArgs) -> Result<(), String> {
+    let all: Vec<(&str, &std::path::Path)> = [
+        ("--trace", &args.trace),
+        ("--svg", &args.svg),
+        ("--html", &args.html),
+    ]
+    .into_iter()
+    .filter_map(|(o, p)| Some((o, p.as_deref()?)))
+    .collect();
+    for (option, p) in &all {
+        files::check_file(option, p)?;
+    }
+    files::check_distinct(&all)
+}
+
+/// `--trace`, `--html` and `--svg` for the first run (run again with tracing on), moved in
+/// together once all are written.
 fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
     if args.trace.is_none() && args.svg.is_none() && args.html.is_none() {
         return Ok(());
@@ -305,20 +325,24 @@ fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
     let mut cfg = cfg.clone();
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
+    let mut staged = Staged::new();
     if args.trace.is_some() || args.html.is_some() {
         let header = lab_header(&cfg, &run, args);
         if let Some(path) = &args.trace {
-            host_sim::viewer::write_trace(path, header.clone(), &run.report.trace)?;
+            staged.write_with(path, |p| {
+                host_sim::viewer::write_trace(p, header.clone(), &run.report.trace)
+            })?;
         }
         if let Some(path) = &args.html {
-            host_sim::viewer::write_page(path, header, &run.report.trace)?;
+            staged.write_with(path, |p| {
+                host_sim::viewer::write_page(p, header, &run.report.trace)
+            })?;
         }
     }
     if let Some(path) = &args.svg {
-        std::fs::write(path, timeline_svg(&cfg, &run))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        staged.write(path, timeline_svg(&cfg, &run))?;
     }
-    Ok(())
+    staged.commit()
 }
 
 /// The viewer's header of a lab run: the set-up, a title and the verdict.

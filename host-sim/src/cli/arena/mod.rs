@@ -161,7 +161,8 @@ pub struct ArenaArgs {
     #[arg(long)]
     pub json: bool,
     /// Write every frame sent, received or dropped, LED change and event as JSON lines
-    /// (the first run only).
+    /// (the first run only). Missing folders of --trace, --svg and --html are created; the
+    /// files are moved in only when all are written.
     #[arg(long)]
     pub trace: Option<PathBuf>,
     /// Draw a timeline per robot of frames and LED colour as SVG (the first run only).

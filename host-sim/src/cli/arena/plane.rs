@@ -44,6 +44,7 @@ pub(super) fn shape_parser() -> impl TypedValueParser<Value = Layout> {
 /// `cimax arena --field ...`: robots on a plane over a field, moving as they decide.
 pub(super) fn main(args: &ArenaArgs) -> Exit {
     let spec = plane_spec(args)?;
+    super::line::check_artifacts(args)?;
     let wall = std::time::Instant::now();
     let seeds: Vec<u64> = (0..args.runs).map(|k| args.seed.wrapping_add(k)).collect();
     // With robots in the loop, in real time and one run at a time.
@@ -65,13 +66,16 @@ fn plane_artifacts(args: &ArenaArgs, spec: &PlaneSpec) -> Result<(), String> {
     }
     let (run, cfg, trace) = plane::run_traced(spec, args.seed, true).map_err(|e| e.to_string())?;
     let header = plane::viewer_header(spec, &cfg, &run, &trace);
+    let mut staged = crate::cli::files::Staged::new();
     if let Some(path) = &args.trace {
-        host_sim::viewer::write_trace(path, header.clone(), &trace)?;
+        staged.write_with(path, |p| {
+            host_sim::viewer::write_trace(p, header.clone(), &trace)
+        })?;
     }
     if let Some(path) = &args.html {
-        host_sim::viewer::write_page(path, header, &trace)?;
+        staged.write_with(path, |p| host_sim::viewer::write_page(p, header, &trace))?;
     }
-    Ok(())
+    staged.commit()
 }
 
 /// The plane experiment the options describe.

@@ -132,6 +132,7 @@ pub fn sweep_main(a: &SweepArgs) -> Exit {
 }
 
 fn sweep(a: &SweepArgs) -> Result<(), Fail> {
+    crate::cli::files::check_dir("--out", &a.out)?;
     let job = SweepJob::of(a)?;
     let ready = job.ready()?;
     let total = job.units();
@@ -309,17 +310,16 @@ impl SweepJob {
     fn write(&self, r: &Ready, units: &[Unit], out: &Path) -> Result<(), Fail> {
         let (arena, swarm) = self.points(units)?;
         let swarm = (self.swarm_runs > 0).then_some(swarm);
-        std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
         let name = &r.scenario.name;
         let csv = out.join(format!("arena-{name}-sweep.csv"));
-        host_sim::pages::csv::write_sweep_csv(&csv, &arena)
-            .map_err(|e| format!("{}: {e}", csv.display()))?;
+        let mut staged = crate::cli::files::Staged::new();
+        staged.write_with(&csv, |p| host_sim::pages::csv::write_sweep_csv(p, &arena))?;
         if let Some(pts) = &swarm {
             let csv = out.join(format!("swarm-{name}-sweep.csv"));
-            host_sim::pages::csv::write_sweep_csv(&csv, pts)
-                .map_err(|e| format!("{}: {e}", csv.display()))?;
+            staged.write_with(&csv, |p| host_sim::pages::csv::write_sweep_csv(p, pts))?;
         }
-        let svg = self.figure(r, &arena, swarm.as_deref(), out)?;
+        let svg = self.figure(r, &arena, swarm.as_deref(), out, &mut staged)?;
+        staged.commit()?;
         print_sweep(&arena, swarm.as_deref())?;
         outln!("wrote {} and {}", csv.display(), svg.display())?;
         Ok(())
@@ -332,6 +332,7 @@ impl SweepJob {
         arena: &[SweepPoint],
         swarm: Option<&[SweepPoint]>,
         out: &Path,
+        staged: &mut crate::cli::files::Staged,
     ) -> Result<PathBuf, String> {
         let arena_label = format!("robot program (arena), K = {}", self.sectors);
         let mut series: Vec<(&str, &[SweepPoint])> = vec![(&arena_label, arena)];
@@ -342,20 +343,17 @@ impl SweepJob {
         // and its 25 % at −4), for the built-in scenarios.
         let paper = host_sim::pages::marks::sweep_for(&r.scenario.name);
         let svg = out.join(format!("arena-{}-sweep.svg", r.scenario.name));
-        host_sim::pages::figures::sweep_figure(
-            &svg,
-            &format!(
-                "{}: {} robots ({}), success within {} moves, {} runs per point",
-                r.scenario.name,
-                self.robots,
-                r.layout.label(),
-                self.moves,
-                self.runs
-            ),
-            &series,
-            &paper,
-        )
-        .map_err(|e| format!("{}: {e}", svg.display()))?;
+        let title = format!(
+            "{}: {} robots ({}), success within {} moves, {} runs per point",
+            r.scenario.name,
+            self.robots,
+            r.layout.label(),
+            self.moves,
+            self.runs
+        );
+        staged.write_with(&svg, |p| {
+            host_sim::pages::figures::sweep_figure(p, &title, &series, &paper)
+        })?;
         Ok(svg)
     }
 }

@@ -15,7 +15,6 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use host_sim::pages::reproduction::{self, Options, Results, Summary, UnitResult, units};
-use host_sim::report;
 use host_sim::shard::{self, Job, ShardSpec, merge::Merged};
 use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{DEFAULT_PLACEMENT, Placement};
@@ -57,11 +56,17 @@ pub fn reproduce(o: &ReproduceOptions) -> Res {
             .docs
             .clone()
             .ok_or("--shard needs --docs DIR, the directory of the part")?;
+        crate::cli::files::check_dir("--docs", &dir)?;
         return run_shard(o.seed, placement, shard, &dir, o.quiet);
     }
+    let docs = match &o.docs {
+        Some(d) => d.clone(),
+        None => crate::cli::files::checkout_docs("--docs DIR")?,
+    };
+    crate::cli::files::check_dir("--docs", &docs)?;
     let opts = Options {
         seed: o.seed,
-        docs: o.docs.clone().unwrap_or_else(report::default_docs_dir),
+        docs,
         quiet: o.quiet,
         placement,
     };

@@ -18,7 +18,7 @@ use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{Placement, Scenario, check_runs};
 use serde::{Deserialize, Serialize};
 
-use super::{Common, Res, ensure_parent, placed, wrote};
+use super::{Common, Res, placed, wrote};
 use crate::cli::job::ScenarioSource;
 
 /// The job's command in a part's header.
@@ -62,6 +62,13 @@ pub struct SweepOptions {
 /// `cimax swarm sweep`, whole or one shard.
 pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
     let (job, scn) = SwarmSweepJob::of(c, o)?;
+    let outputs = match o.shard {
+        Some(_) => {
+            crate::cli::files::check_dir("--out-dir", &c.out_dir)?;
+            None
+        }
+        None => Some(c.checked_outputs(&scn, "sweep", &[])?),
+    };
     let total = job.xs.len() as u64 * u64::from(job.runs);
     let unit = |k| {
         experiment::sweep_run(&scn, scn.run, &job.xs, job.runs, job.seed, k)
@@ -80,7 +87,7 @@ pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
         wall_s: wall.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
     };
-    let (csv, svg) = c.outputs(&scn, "sweep");
+    let (csv, svg) = outputs.ok_or("no outputs")?;
     job.write(&scn, &units, (&csv, &svg), timing)
 }
 
@@ -150,17 +157,19 @@ impl SwarmSweepJob {
         let outcomes: Vec<Option<u32>> = units.iter().map(|u| u.success_at).collect();
         let pts = experiment::sweep_points(&self.xs, self.runs, &outcomes);
         let n = self.runs;
-        ensure_parent(csv)?;
-        ensure_parent(svg)?;
-        write_sweep_csv(csv, &pts)?;
+        let mut staged = crate::cli::files::Staged::new();
+        staged.write_with(csv, |p| write_sweep_csv(p, &pts))?;
         let crit = scn.success.map(|s| s.to_string()).unwrap_or_default();
         // A built-in scenario's sweep carries the paper's marks, as on docs/reproduction.md.
-        figures::sweep_figure(
-            svg,
-            &format!("{}: success ({crit}), {n} runs per point", scn.description),
-            &[("this simulator", &pts)],
-            &host_sim::pages::marks::sweep_for(&scn.name),
-        )?;
+        staged.write_with(svg, |p| {
+            figures::sweep_figure(
+                p,
+                &format!("{}: success ({crit}), {n} runs per point", scn.description),
+                &[("this simulator", &pts)],
+                &host_sim::pages::marks::sweep_for(&scn.name),
+            )
+        })?;
+        staged.commit()?;
         outln!(
             "{}: success {crit} within {} periods, {n} runs per point, {:.1} s",
             scn.description,

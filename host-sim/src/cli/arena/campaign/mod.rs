@@ -21,6 +21,7 @@ use host_sim::progress::Progress;
 use host_sim::shard::{self, Job, ShardSpec, Timing, merge::Merged};
 use job::{CampaignJob, Results};
 
+use crate::cli::files::{self, Staged};
 use crate::cli::out::{Exit, StdoutError, outln};
 
 /// The job's command in a part's header.
@@ -46,9 +47,11 @@ pub struct CampaignArgs {
     /// documented campaign).
     #[arg(long, value_enum)]
     pub decide: Option<Decide>,
-    /// The Markdown report (default: docs/reliability.md for the documented campaign only,
-    /// every scenario over 200 seeds from seed 1 at the scenarios' own loss; any other campaign
-    /// writes nothing unless --out is given). With --shard, the directory of the part.
+    /// The Markdown report (default: docs/reliability.md of the checkout cimax was built from,
+    /// for the documented campaign only, every scenario over 200 seeds from seed 1 at the
+    /// scenarios' own loss, and only when run inside that checkout; any other campaign writes
+    /// nothing unless --out is given). With --shard, the directory of the part. Missing
+    /// folders are created.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// The SVG chart (default: figures/reliability.svg beside the report).
@@ -76,8 +79,9 @@ fn run(args: &CampaignArgs) -> Exit {
     let page = if args.shard.is_some() {
         None
     } else {
-        page_path(args)
+        page_path(args)?
     };
+    check_paths(args, page.as_deref())?;
     let job = CampaignJob {
         scenarios: selected(args)
             .into_iter()
@@ -195,15 +199,51 @@ fn selected(args: &CampaignArgs) -> Vec<usize> {
 
 /// Where the page goes: `--out`, or `docs/reliability.md` for the documented campaign (every
 /// scenario, 200 seeds from seed 1, the scenarios' own loss, both rules); else nowhere.
-fn page_path(args: &CampaignArgs) -> Option<PathBuf> {
+fn page_path(args: &CampaignArgs) -> Result<Option<PathBuf>, String> {
     let documented = args.scenario.is_empty()
         && args.seeds == 200
         && args.seed == 1
         && args.loss.is_none()
         && args.decide.is_none();
-    args.out
-        .clone()
-        .or_else(|| documented.then(|| host_sim::report::default_docs_dir().join("reliability.md")))
+    if args.out.is_some() || !documented {
+        return Ok(args.out.clone());
+    }
+    Ok(Some(
+        files::checkout_docs("--out FILE.md")?.join("reliability.md"),
+    ))
+}
+
+/// The campaign's output paths, checked before any work: the page and its figures, the
+/// trace, or with `--shard` the part's folder.
+fn check_paths(args: &CampaignArgs, page: Option<&Path>) -> Result<(), String> {
+    if let (Some(_), Some(dir)) = (args.shard, &args.out) {
+        return files::check_dir("--out", dir);
+    }
+    let mut all: Vec<(&str, PathBuf)> = Vec::new();
+    if let Some(out) = page {
+        let figure = figure_path(out, args.figure.clone());
+        all.push(("--out", out.to_path_buf()));
+        all.push(("--figure", figure.with_file_name("reliability-rules.svg")));
+        all.push(("--figure", figure));
+    }
+    if let Some(t) = &args.trace {
+        all.push(("--trace", t.clone()));
+    }
+    let all: Vec<(&str, &Path)> = all.iter().map(|(o, p)| (*o, p.as_path())).collect();
+    for (option, p) in &all {
+        files::check_file(option, p)?;
+    }
+    files::check_distinct(&all)
+}
+
+/// The chart of page `out`: `figure`, or `figures/reliability.svg` beside the page.
+fn figure_path(out: &Path, figure: Option<PathBuf>) -> PathBuf {
+    figure.unwrap_or_else(|| {
+        out.parent()
+            .unwrap_or(Path::new("."))
+            .join("figures")
+            .join("reliability.svg")
+    })
 }
 
 /// Prints every failed run and missed bar of `reports` on stderr; `true` if one counts against
@@ -283,17 +323,10 @@ fn write_page(
     let Some(first) = reports.first() else {
         return Ok((missed, String::new()));
     };
-    let figure = figure.unwrap_or_else(|| {
-        out.parent()
-            .unwrap_or(Path::new("."))
-            .join("figures")
-            .join("reliability.svg")
-    });
+    let figure = figure_path(out, figure);
     let rules_figure = figure.with_file_name("reliability-rules.svg");
-    ensure_parent(out)
-        .and_then(|()| ensure_parent(&figure))
-        .map_err(|e| e.to_string())?;
-    success_chart(first, &figure).map_err(|e| e.to_string())?;
+    let mut staged = Staged::new();
+    staged.write_with(&figure, |p| success_chart(first, p))?;
     let mut page = Page {
         campaign: campaign_section(first, Some(&relative(&figure, out))),
         rules: None,
@@ -302,7 +335,7 @@ fn write_page(
         loss: None,
     };
     let wrote = if let [fixed, adaptive] = reports.as_slice() {
-        rules_chart(fixed, adaptive, &rules_figure).map_err(|e| e.to_string())?;
+        staged.write_with(&rules_figure, |p| rules_chart(fixed, adaptive, p))?;
         page.rules = Some(rules_section(
             fixed,
             adaptive,
@@ -329,13 +362,14 @@ fn write_page(
     } else {
         format!("wrote {} and {}", out.display(), figure.display())
     };
-    let page = page.render()?;
-    std::fs::write(out, page).map_err(|e| e.to_string())?;
+    staged.write(out, page.render()?)?;
+    staged.commit()?;
     Ok((missed, wrote))
 }
 
 /// Runs seed `seed` of `scenario` again with its trace on, and writes the trace to `path` as
-/// JSON lines.
+/// JSON lines, the run's set-up first as `cimax arena --trace` writes it (so that `cimax view`
+/// opens it).
 fn write_trace(
     scenario: &Scenario,
     seed: u64,
@@ -347,20 +381,17 @@ fn write_trace(
     cfg.robot.params.decide = decide.into();
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
-    let mut out = String::new();
-    for e in &run.report.trace {
-        out += &serde_json::to_string(e).map_err(|e| e.to_string())?;
-        out.push('\n');
-    }
-    std::fs::write(path, out).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// Creates the directory `p` goes in, if it has one.
-fn ensure_parent(p: &Path) -> std::io::Result<()> {
-    match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => std::fs::create_dir_all(d),
-        _ => Ok(()),
-    }
+    let mut header = host_sim::viewer::header_of(&cfg, &run.report.trace);
+    header.title = format!(
+        "cimax arena campaign: scenario {}, seed {seed}, {} rule",
+        scenario.name,
+        decide.name()
+    );
+    let mut staged = Staged::new();
+    staged.write_with(path, |p| {
+        host_sim::viewer::write_trace(p, header, &run.report.trace)
+    })?;
+    staged.commit()
 }
 
 /// The figure's path relative to the report's directory, for the Markdown link.

@@ -97,8 +97,10 @@ fn arena_failing_runs_exit_1_and_print_the_command_that_replays_them() {
     for replay in [
         "FAILED 1100 seed 7: LEDs ----, expected RRLL (replay: cimax arena --lights 1100 \
          --seed 7 --runs 1 --duration 100)",
-        "FAILED 1100 seed 7: LEDs ----, expected RRLL (replay: cimax arena --lights 0011 \
-         --switch-at 100 --then 1100 --seed 7 --runs 1 --duration 100)",
+        "FAILED 1100 seed 7: LEDs ----, expected RRLL; but pattern 0011 showed LEDs ---- when \
+         it changed at 100 s, expected RRLL (a switch before the first decision: no robot had \
+         decided yet) (replay: cimax arena --lights 0011 --switch-at 100 --then 1100 --seed 7 \
+         --runs 1 --duration 100)",
     ] {
         assert!(stderr.contains(replay), "{replay:?} in\n{stderr}");
     }

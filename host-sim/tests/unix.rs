@@ -357,3 +357,135 @@ fn a_failing_alternating_run_of_the_suite_replays_with_its_switch_and_cycle() {
     );
     assert_eq!(cimax(&again).status.code(), Some(1));
 }
+
+#[test]
+fn a_pattern_without_a_verdict_is_not_judged_not_a_success() {
+    let out = cimax(&["arena", "--lights", "1010", "--runs", "2"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let said = text(&out.stdout);
+    assert!(
+        said.contains("2 runs, 0 successful, 2 not judged (no verdict for the pattern)"),
+        "{said}"
+    );
+    let out = cimax(&["arena", "--lights", "1010", "--runs", "2", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["summary"]["successes"], 0);
+    assert_eq!(v["summary"]["not_judged"], 2);
+    assert!(v["runs"][0]["success"].is_null(), "{}", v["runs"][0]);
+    // A judged run keeps its boolean.
+    let out = cimax(&["arena", "--lights", "1100", "--runs", "1", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["runs"][0]["success"], true);
+    assert_eq!(v["summary"]["not_judged"], 0);
+}
+
+#[test]
+fn a_switch_before_the_first_decision_is_said_to_be_one() {
+    let out = cimax(&[
+        "arena",
+        "--lights",
+        "1000",
+        "--switch-at",
+        "100",
+        "--then",
+        "0001",
+        "--runs",
+        "1",
+    ]);
+    let err = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains(
+            "but pattern 1000 showed LEDs ---- when it changed at 100 s, expected LLLL (a switch \
+             before the first decision: no robot had decided yet)"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn kills_and_restarts_that_cannot_be_are_refused() {
+    let base = ["arena", "--lights", "1100", "--runs", "1"];
+    for (extra, says) in [
+        (
+            &["--restart", "0@100"][..],
+            "--restart 0@100: robot 0 is alive then",
+        ),
+        (
+            &["--kill", "0@200", "--restart", "0@100"],
+            "--restart 0@100: robot 0 is alive then",
+        ),
+        (
+            &["--kill", "1@700", "--kill", "1@700"],
+            "--kill 1@700 is given twice",
+        ),
+        (
+            &["--kill", "1@700", "--kill", "1@800"],
+            "--kill 1@800: robot 1 is already dead then",
+        ),
+    ] {
+        let args: Vec<&str> = base.iter().chain(extra).copied().collect();
+        let out = usage_error(&args, says);
+        assert!(out.stdout.is_empty());
+    }
+    // A kill, a restart, a kill again: one run, judged.
+    let args: Vec<&str> = base
+        .iter()
+        .chain(&["--kill", "1@700", "--restart", "1@800", "--kill", "1@900"])
+        .copied()
+        .collect();
+    assert!(matches!(cimax(&args).status.code(), Some(0 | 1)));
+}
+
+#[test]
+fn an_alternating_run_in_json_carries_both_patterns_and_the_switch() {
+    let out = cimax(&[
+        "arena",
+        "--lights",
+        "1000",
+        "--switch-at",
+        "2101",
+        "--then",
+        "0001",
+        "--runs",
+        "1",
+        "--json",
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let p = &v["runs"][0]["patterns"];
+    assert_eq!(p[0]["at_s"], 0.0);
+    assert_eq!(p[0]["lights"], "1000");
+    assert_eq!(p[0]["expected"], "LLLL");
+    assert_eq!(p[1]["at_s"], 2101.0);
+    assert_eq!(p[1]["lights"], "0001");
+    assert_eq!(p[1]["expected"], "RRRR");
+    // One pattern: no `patterns`.
+    let out = cimax(&["arena", "--lights", "1100", "--runs", "1", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["runs"][0].get("patterns").is_none());
+}
+
+#[test]
+fn a_line_option_on_a_plane_is_refused_with_the_reason() {
+    let base = [
+        "arena", "--field", "sharp", "--robots", "7", "--moves", "1", "--runs", "1",
+    ];
+    for (extra, says) in [
+        (
+            &["--duration", "100"][..],
+            "--duration (a plane runs --moves",
+        ),
+        (
+            &["--key", "000102030405060708090a0b0c0d0e0f"],
+            "--key (the robots on a plane run without",
+        ),
+        (
+            &["--spacing", "2"],
+            "--spacing (robots on a plane are placed by --shape",
+        ),
+    ] {
+        let args: Vec<&str> = base.iter().chain(extra).copied().collect();
+        usage_error(&args, says);
+    }
+}

@@ -15,8 +15,13 @@ use protocol::{Duration, Instant, Params};
 use rayon::prelude::*;
 
 use super::ArenaArgs;
-use super::options::{hil_robots, medium, robot_params, run_length, scaled, secs, time_scale};
-use super::print::{Crashed, JsonSummary, print_failures, print_hil, print_json, print_table};
+use super::options::{
+    check_kills, hil_robots, medium, robot_params, run_length, scaled, secs, time_scale,
+};
+use super::print::{
+    Crashed, JsonSummary, earlier_pattern_failed, print_failures, print_hil, print_json,
+    print_table,
+};
 use super::replay::replay_options;
 use crate::cli::files::{self, Staged};
 use crate::cli::out::{Exit, outln};
@@ -59,6 +64,7 @@ pub(super) fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
         hil: hil_robots(args, robots, 2)?,
         sample: scaled(Config::robots().sample_period, time_scale(args)?),
     };
+    check_kills(&args.kill, &args.restart)?;
     for &(r, _) in args.kill.iter().chain(&args.restart) {
         if r >= robots {
             return Err(format!(
@@ -208,29 +214,40 @@ pub(super) fn main(args: &ArenaArgs, matches: &ArgMatches) -> Exit {
         .iter()
         .map(|(_, r)| r.report.emulated.as_secs_f64())
         .sum();
-    let failures: Vec<(&LabRun, String)> = runs
+    let failures: Vec<(&LabRun, String, Option<String>)> = runs
         .iter()
         .filter(|(_, r)| !r.success)
         .map(|(i, r)| {
             let cfg = experiments[*i].configs.iter().find(|c| c.seed == r.seed);
-            (r, cfg.map(replay_lights).unwrap_or_default())
+            let earlier = cfg.and_then(|c| earlier_pattern_failed(c, r));
+            (r, cfg.map(replay_lights).unwrap_or_default(), earlier)
         })
         .collect();
     let total = runs.len() + crashed.len();
-    let successes = runs.len() - failures.len();
+    // A pattern without a verdict is not judged: neither a success nor a failure.
+    let not_judged = runs.iter().filter(|(_, r)| r.expected.is_none()).count();
+    let successes = runs
+        .iter()
+        .filter(|(_, r)| r.success && r.expected.is_some())
+        .count();
     if args.json {
         let summary = JsonSummary {
             runs: total,
             successes,
+            not_judged,
             emulated_s,
             wall_s,
         };
-        print_json(&runs, &crashed, summary)?;
+        print_json(&experiments, &runs, &crashed, summary)?;
     } else {
         print_table(args, &experiments, &runs, &crashed)?;
         print_hil(&runs)?;
+        let unjudged = match not_judged {
+            0 => String::new(),
+            n => format!(", {n} not judged (no verdict for the pattern)"),
+        };
         outln!(
-            "{} runs, {} successful; {:.0} s of robot time in {:.3} s wall ({:.0}x real time)",
+            "{} runs, {} successful{unjudged}; {:.0} s of robot time in {:.3} s wall ({:.0}x real time)",
             total,
             successes,
             emulated_s,

@@ -82,6 +82,49 @@ pub(super) fn hil_robots(
         .collect())
 }
 
+/// Checks `--kill` and `--restart` (ROBOT@SECONDS each): per robot, kills and restarts
+/// alternate in time, a kill first: no restart of a robot alive then, no kill of a robot
+/// already dead, no option given twice.
+pub(super) fn check_kills(kills: &[(usize, u64)], restarts: &[(usize, u64)]) -> Result<(), String> {
+    let mut events: Vec<(usize, u64, bool)> = kills
+        .iter()
+        .map(|&(r, t)| (r, t, true))
+        .chain(restarts.iter().map(|&(r, t)| (r, t, false)))
+        .collect();
+    let name = |kill: bool| if kill { "--kill" } else { "--restart" };
+    for (i, &(r, t, kill)) in events.iter().enumerate() {
+        if events[..i].contains(&(r, t, kill)) {
+            return Err(format!("{} {r}@{t} is given twice", name(kill)));
+        }
+    }
+    // In time order per robot; at one time a kill before a restart.
+    events.sort_by_key(|&(r, t, kill)| (r, t, !kill));
+    let mut last: Option<(usize, u64, bool)> = None;
+    for &(r, t, kill) in &events {
+        let before = last.filter(|&(lr, _, _)| lr == r);
+        match (kill, before) {
+            (true, Some((_, lt, true))) => {
+                return Err(format!(
+                    "--kill {r}@{t}: robot {r} is already dead then (--kill {r}@{lt}, no --restart between)"
+                ));
+            }
+            (false, None | Some((_, _, false))) => {
+                return Err(format!(
+                    "--restart {r}@{t}: robot {r} is alive then (a restart follows a --kill of it)"
+                ));
+            }
+            (false, Some((_, lt, true))) if lt == t => {
+                return Err(format!(
+                    "--restart {r}@{t}: at the time of its --kill {r}@{lt}; restart it later"
+                ));
+            }
+            _ => {}
+        }
+        last = Some((r, t, kill));
+    }
+    Ok(())
+}
+
 /// Where `cargo hil-image` puts the HIL images, in the workspace.
 const IMAGE_DIR: &str = "firmware/qemu/target/thumbv7em-none-eabihf/release";
 

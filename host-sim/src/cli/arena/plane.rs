@@ -100,6 +100,24 @@ pub(super) fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
                 .into(),
         );
     }
+    // Options of a line that a plane has in other terms, refused rather than ignored.
+    let line_only = [
+        (
+            args.duration.is_some(),
+            "--duration (a plane runs --moves negotiation periods)",
+        ),
+        (
+            args.key.is_some(),
+            "--key (the robots on a plane run without a swarm key)",
+        ),
+        (
+            args.spacing != 1.0,
+            "--spacing (robots on a plane are placed by --shape, in R; --range sets R in metres)",
+        ),
+    ];
+    if let Some((_, what)) = line_only.iter().find(|(given, _)| *given) {
+        return Err(format!("--field runs over a field: {what} does not apply"));
+    }
     // The timing options as on a line (`--cycle` scales what the others leave out).
     let mut params = robot_params(args)?;
     let medium = medium(args)?;

@@ -19,7 +19,8 @@ pub(super) struct JsonRun {
     lights: String,
     expected: Option<String>,
     leds: String,
-    success: bool,
+    /// Whether the LEDs were as expected; `null` for a pattern without a verdict (not judged).
+    success: Option<bool>,
     consensus_s: Option<f64>,
     /// Robots that flickered: changed their LEDs after showing their side, before the lights
     /// changed (`hal_emu::judge::LabRun::flickers`).
@@ -33,6 +34,37 @@ pub(super) struct JsonRun {
     /// Each robot in the loop's link (`--hil`): transport, frames each way, link errors.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     hil: Vec<HilReport>,
+    /// Where the pattern changes (`--switch-at --then`, the suite's alternating runs): every
+    /// pattern in turn, from when, with its verdict; absent for one pattern (`lights`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    patterns: Vec<JsonPattern>,
+}
+
+/// One pattern of a run whose pattern changes.
+#[derive(Clone, Serialize)]
+pub(super) struct JsonPattern {
+    /// When it starts, seconds.
+    at_s: f64,
+    lights: String,
+    /// The LEDs it asks for; `null` without a verdict.
+    expected: Option<String>,
+}
+
+/// The patterns of a run of `cfg` if it has more than one, else none.
+pub(super) fn patterns_of(cfg: &ArenaConfig) -> Vec<JsonPattern> {
+    if cfg.env.schedule.len() < 2 {
+        return Vec::new();
+    }
+    let absent = hal_emu::judge::absent(cfg);
+    cfg.env
+        .schedule
+        .iter()
+        .map(|(t, p)| JsonPattern {
+            at_s: t.saturating_since(Instant::ZERO).as_secs_f64(),
+            lights: pattern_str(p),
+            expected: hal_emu::judge::expected_without(p, &absent).map(|e| leds_str(&e)),
+        })
+        .collect()
 }
 
 /// The `--json` summary.
@@ -40,6 +72,8 @@ pub(super) struct JsonRun {
 pub(super) struct JsonSummary {
     pub(super) runs: usize,
     pub(super) successes: usize,
+    /// Runs of a pattern without a verdict (`--lights 1010`): neither successes nor failures.
+    pub(super) not_judged: usize,
     pub(super) emulated_s: f64,
     pub(super) wall_s: f64,
 }
@@ -53,6 +87,7 @@ struct JsonReport {
 
 /// Prints the `--json` report.
 pub(super) fn print_json(
+    experiments: &[Experiment],
     runs: &[(usize, LabRun)],
     crashed: &[(usize, Crashed)],
     summary: JsonSummary,
@@ -60,11 +95,11 @@ pub(super) fn print_json(
     let report = JsonReport {
         runs: runs
             .iter()
-            .map(|(_, r)| JsonRun {
+            .map(|(i, r)| JsonRun {
                 lights: pattern_str(&r.lights),
                 expected: r.expected.as_deref().map(leds_str),
                 leds: leds_str(&r.leds),
-                success: r.success,
+                success: r.expected.is_some().then_some(r.success),
                 consensus_s: r.consensus_s,
                 flickers: r.flickers,
                 seed: r.seed,
@@ -72,6 +107,12 @@ pub(super) fn print_json(
                 wall_s: r.report.wall.as_secs_f64(),
                 error: None,
                 hil: r.report.hil.clone(),
+                patterns: experiments[*i]
+                    .configs
+                    .iter()
+                    .find(|c| c.seed == r.seed)
+                    .map(patterns_of)
+                    .unwrap_or_default(),
             })
             .chain(crashed.iter().map(|(_, c)| c.json()))
             .collect(),
@@ -131,16 +172,20 @@ pub(super) fn print_hil(runs: &[(usize, LabRun)]) -> Result<(), StdoutError> {
 /// that replay it, [`replay_lights`]), with the command that replays it.
 pub(super) fn print_failures(
     extra: &str,
-    failures: &[(&LabRun, String)],
+    failures: &[(&LabRun, String, Option<String>)],
     crashed: &[(usize, Crashed)],
 ) {
-    for (r, lights) in failures {
+    for (r, lights, earlier) in failures {
         let flicker = r
             .flicker
             .map(|(t, robot)| {
                 format!("; robot {robot}'s LEDs changed at {t:.0} s, after it showed its side")
             })
             .unwrap_or_default();
+        let flicker = match earlier {
+            Some(why) => format!("{flicker}; {why}"),
+            None => flicker,
+        };
         eprintln!(
             "FAILED {} seed {}: LEDs {}, expected {}{flicker} (replay: cimax arena {lights} --seed {} --runs 1{extra})",
             pattern_str(&r.lights),
@@ -155,6 +200,33 @@ pub(super) fn print_failures(
     }
 }
 
+/// Why a run of `cfg` failed before its last pattern, if it did: the first earlier pattern
+/// whose verdict the LEDs did not show when it changed (a switch before the first decision
+/// leaves them off).
+pub(super) fn earlier_pattern_failed(cfg: &ArenaConfig, run: &LabRun) -> Option<String> {
+    let absent = hal_emu::judge::absent(cfg);
+    cfg.env.schedule.windows(2).find_map(|w| {
+        let ((_, p), (to, _)) = (&w[0], &w[1]);
+        let expected = hal_emu::judge::expected_without(p, &absent)?;
+        let leds = run.report.leds_at(*to - protocol::Duration::from_millis(1));
+        if leds == expected {
+            return None;
+        }
+        let at = to.saturating_since(Instant::ZERO).as_secs_f64();
+        let leds = leds_str(&leds);
+        let why = if leds.chars().all(|c| c == '-') {
+            " (a switch before the first decision: no robot had decided yet)"
+        } else {
+            ""
+        };
+        Some(format!(
+            "but pattern {} showed LEDs {leds} when it changed at {at} s, expected {}{why}",
+            pattern_str(p),
+            leds_str(&expected)
+        ))
+    })
+}
+
 /// A run in which a robot stopped on its own ([`hal_emu::ArenaError::Robot`]: its task panicked, or it
 /// could not boot). It has no LEDs worth judging: it failed.
 pub(super) struct Crashed {
@@ -166,6 +238,8 @@ pub(super) struct Crashed {
     failure: RobotFailure,
     /// The options that replay it ([`replay_lights`]).
     replay: String,
+    /// Its patterns, if it changes ([`patterns_of`]).
+    patterns: Vec<JsonPattern>,
 }
 
 impl Crashed {
@@ -182,6 +256,7 @@ impl Crashed {
             expected,
             failure,
             replay: replay_lights(cfg),
+            patterns: patterns_of(cfg),
         }
     }
 
@@ -202,7 +277,7 @@ impl Crashed {
             lights: pattern_str(&self.lights),
             expected: self.expected.as_deref().map(leds_str),
             leds: String::new(),
-            success: false,
+            success: Some(false),
             consensus_s: None,
             flickers: 0,
             seed: self.failure.seed,
@@ -210,6 +285,7 @@ impl Crashed {
             wall_s: 0.0,
             error: Some(self.failure.what()),
             hil: Vec::new(),
+            patterns: self.patterns.clone(),
         }
     }
 }

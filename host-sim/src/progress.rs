@@ -63,6 +63,35 @@ impl Progress {
         }
     }
 
+    /// A bar over `secs` seconds of runs in real time (robots in the loop), labelled `msg`,
+    /// moved on by [`Progress::while_running`]; nothing if stderr is not a terminal.
+    pub fn seconds(secs: u64, msg: &str) -> Progress {
+        Progress::counting(secs, msg, "s", false)
+    }
+
+    /// Runs `run`, which lasts about `secs` seconds of wall time, moving the bar on by the
+    /// seconds as they pass (a thread ticks it five times a second), then to `secs` past
+    /// where it was.
+    pub fn while_running<T>(&self, secs: u64, run: impl FnOnce() -> T) -> T {
+        let Some(b) = &self.bar else { return run() };
+        let base = b.position();
+        let done = std::sync::atomic::AtomicBool::new(false);
+        let out = std::thread::scope(|s| {
+            s.spawn(|| {
+                let t0 = std::time::Instant::now();
+                while !done.load(Ordering::Relaxed) {
+                    std::thread::sleep(std::time::Duration::from_millis(200));
+                    b.set_position(base + t0.elapsed().as_secs().min(secs));
+                }
+            });
+            let out = run();
+            done.store(true, Ordering::Relaxed);
+            out
+        });
+        b.set_position(base + secs);
+        out
+    }
+
     /// No bar at all.
     pub fn hidden() -> Progress {
         Progress {

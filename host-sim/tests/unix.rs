@@ -489,3 +489,33 @@ fn a_line_option_on_a_plane_is_refused_with_the_reason() {
         usage_error(&args, says);
     }
 }
+
+#[test]
+fn plane_runs_draw_a_progress_bar_on_a_terminal_only() {
+    // `script` gives the command a terminal; without it (no util-linux) there is none to test.
+    let bin = env!("CARGO_BIN_EXE_cimax");
+    let cmd = format!("{bin} arena --field sharp --robots 7 --moves 1 --runs 6");
+    let Ok(out) = Command::new("script")
+        .args(["-qec", &cmd, "/dev/null"])
+        .stdin(Stdio::null())
+        .output()
+    else {
+        return;
+    };
+    let tty = text(&out.stdout);
+    assert!(out.status.success(), "{tty}");
+    assert!(
+        tty.contains("arena plane [") && tty.contains("/6 runs"),
+        "{tty}"
+    );
+    // Not a terminal: no bar.
+    let out = cimax(&[
+        "arena", "--field", "sharp", "--robots", "7", "--moves", "1", "--runs", "6",
+    ]);
+    assert!(out.status.success());
+    assert!(
+        !text(&out.stderr).contains("arena plane ["),
+        "{}",
+        text(&out.stderr)
+    );
+}

@@ -278,7 +278,13 @@ pub(super) fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaEr
         .enumerate()
         .flat_map(|(i, e)| e.configs.iter().map(move |c| (i, c)))
         .collect();
-    let bar = if jobs.len() > 1 {
+    let real_time = jobs.iter().any(|(_, c)| c.real_time());
+    let secs = |c: &ArenaConfig| c.duration.as_millis().div_ceil(1000);
+    let bar = if real_time {
+        // Robots in the loop: the bar moves with the seconds, even for one run.
+        let total = jobs.iter().map(|(_, c)| secs(c)).sum();
+        Progress::seconds(total, "arena (real time)")
+    } else if jobs.len() > 1 {
         Progress::new(jobs.len() as u64, "arena", false)
     } else {
         Progress::hidden()
@@ -292,8 +298,10 @@ pub(super) fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaEr
     };
     // Runs with robots in the loop go in real time, one at a time (the robots are one board,
     // or QEMU processes that need the cores); the others in parallel.
-    let results: Vec<Result<LabRun, ArenaError>> = if jobs.iter().any(|(_, c)| c.real_time()) {
-        jobs.iter().map(|(_, c)| one(c)).collect()
+    let results: Vec<Result<LabRun, ArenaError>> = if real_time {
+        jobs.iter()
+            .map(|(_, c)| bar.while_running(secs(c), || judge(c)))
+            .collect()
     } else {
         jobs.par_iter().map(|(_, c)| one(c)).collect()
     };

@@ -47,12 +47,20 @@ pub(super) fn main(args: &ArenaArgs) -> Exit {
     super::line::check_artifacts(args)?;
     let wall = std::time::Instant::now();
     let seeds: Vec<u64> = (0..args.runs).map(|k| args.seed.wrapping_add(k)).collect();
+    // A bar of runs on a terminal (61 robots: about half a second a run).
+    let bar = host_sim::progress::Progress::new(seeds.len() as u64, "arena plane", false);
+    let one = |s: u64| {
+        let r = plane::run(&spec, s);
+        bar.inc();
+        r
+    };
     // With robots in the loop, in real time and one run at a time.
     let results: Result<Vec<_>, _> = if spec.hil.is_empty() {
-        seeds.par_iter().map(|&s| plane::run(&spec, s)).collect()
+        seeds.par_iter().map(|&s| one(s)).collect()
     } else {
-        seeds.iter().map(|&s| plane::run(&spec, s)).collect()
+        seeds.iter().map(|&s| one(s)).collect()
     };
+    bar.finish();
     let runs = results.map_err(|e| e.to_string())?;
     plane_artifacts(args, &spec)?;
     print_runs(&spec, &runs, wall.elapsed().as_secs_f64(), args.json)

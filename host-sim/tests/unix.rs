@@ -519,3 +519,47 @@ fn plane_runs_draw_a_progress_bar_on_a_terminal_only() {
         text(&out.stderr)
     );
 }
+
+#[test]
+fn the_arena_timeline_has_a_time_axis_a_legend_and_text_of_11_px_or_more() {
+    let dir = scratch("svg");
+    let svg = dir.join("t.svg");
+    let out = cimax(&[
+        "arena",
+        "--lights",
+        "1100",
+        "--runs",
+        "1",
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = std::fs::read_to_string(&svg).unwrap();
+    for label in [
+        "time (s)",
+        ">0<",
+        ">1000<",
+        ">2000<",
+        "LED left (L)",
+        "LED right (R)",
+        "LED off",
+        "wave: active",
+        "wave: refractory",
+        "frame sent",
+        "frame received",
+        "received garbled, or dropped",
+        "robot 3",
+    ] {
+        let bare = label.trim_matches(|c| c == '<' || c == '>');
+        let found = s.contains(label) || s.contains(&format!(">\n{bare}\n<"));
+        assert!(found, "{label:?} in the timeline");
+    }
+    let sizes: Vec<f64> = s
+        .split("font-size=\"")
+        .skip(1)
+        .map(|r| r.split('"').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(sizes.len() > 20, "{sizes:?}");
+    assert!(sizes.iter().all(|&px| px >= 11.0), "{sizes:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -563,3 +563,40 @@ fn the_arena_timeline_has_a_time_axis_a_legend_and_text_of_11_px_or_more() {
     assert!(sizes.iter().all(|&px| px >= 11.0), "{sizes:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn merge_into_a_full_disk_is_named_and_exits_1() {
+    let dir = scratch("merge-full");
+    let d = dir.to_str().unwrap();
+    let out = cimax(&[
+        "swarm",
+        "sweep",
+        "--runs",
+        "1",
+        "--from",
+        "0",
+        "--to",
+        "0",
+        "--quiet",
+        "--shard",
+        "1/1",
+        "--out-dir",
+        d,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let part = dir.join("part-1-of-1.jsonl");
+    let merged = dir.join("merged");
+    let out = into_full_disk(&[
+        "merge",
+        part.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert_no_panic(&out);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        text(&out.stderr).trim_end(),
+        "cimax: cannot write standard output: No space left on device"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

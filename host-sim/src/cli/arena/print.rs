@@ -168,6 +168,13 @@ pub(super) fn print_hil(runs: &[(usize, LabRun)]) -> Result<(), StdoutError> {
     Ok(())
 }
 
+/// The command that replays one run: `cimax arena`, its patterns (`lights`,
+/// [`replay_lights`]), its seed, one run, and the command line's other options (`extra`,
+/// [`super::replay::replay_options`]).
+pub(super) fn replay_command(lights: &str, seed: u64, extra: &str) -> String {
+    format!("cimax arena {lights} --seed {seed} --runs 1{extra}")
+}
+
 /// One line on stderr per failed or crashed run (each failed run with the `--lights` options
 /// that replay it, [`replay_lights`]), with the command that replays it.
 pub(super) fn print_failures(
@@ -187,12 +194,12 @@ pub(super) fn print_failures(
             None => flicker,
         };
         eprintln!(
-            "FAILED {} seed {}: LEDs {}, expected {}{flicker} (replay: cimax arena {lights} --seed {} --runs 1{extra})",
+            "FAILED {} seed {}: LEDs {}, expected {}{flicker} (replay: {})",
             pattern_str(&r.lights),
             r.seed,
             leds_str(&r.leds),
             r.expected.as_deref().map(leds_str).unwrap_or_default(),
-            r.seed
+            replay_command(lights, r.seed, extra)
         );
     }
     for (_, c) in crashed {
@@ -264,10 +271,10 @@ impl Crashed {
     fn failed_line(&self, extra: &str) -> String {
         let (lights, seed) = (pattern_str(&self.lights), self.failure.seed);
         format!(
-            "FAILED {lights} seed {seed}: {}, expected {} (replay: cimax arena {} --seed {seed} --runs 1{extra})",
+            "FAILED {lights} seed {seed}: {}, expected {} (replay: {})",
             self.failure.what(),
             self.expected.as_deref().map(leds_str).unwrap_or_default(),
-            self.replay,
+            replay_command(&self.replay, seed, extra),
         )
     }
 

@@ -71,6 +71,7 @@ fn quoted(v: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::super::line::{build, replay_lights};
+    use super::super::print::replay_command;
     use super::*;
     use clap::{CommandFactory as _, FromArgMatches as _};
 
@@ -186,13 +187,11 @@ mod tests {
             }
             for e in &experiments {
                 for cfg in &e.configs {
-                    // What `print_failures` prints after `replay: cimax arena `.
-                    let line = format!(
-                        "{} --seed {} --runs 1{options}",
-                        replay_lights(cfg),
-                        cfg.seed
-                    );
-                    let (again, _) = parse(&words(&line));
+                    // What `print_failures` prints after `replay: `.
+                    let line = replay_command(&replay_lights(cfg), cfg.seed, &options);
+                    let argv = words(&line);
+                    assert_eq!(argv[..2], ["cimax", "arena"], "{line}");
+                    let (again, _) = parse(&argv[2..]);
                     let replayed = build(&again).unwrap();
                     assert_eq!(replayed.len(), 1, "{line}");
                     assert_eq!(replayed[0].configs.len(), 1, "{line}");

@@ -64,30 +64,36 @@ pub fn reproduce(o: &ReproduceOptions) -> Res {
         None => crate::cli::files::checkout_docs("--docs DIR")?,
     };
     crate::cli::files::check_dir("--docs", &docs)?;
-    let opts = Options {
-        seed: o.seed,
-        docs,
-        quiet: o.quiet,
-        placement,
-    };
     outln!(
-        "swarm reproduce: seed {}, {} placement, {} threads, writing {}",
-        opts.seed,
-        opts.placement,
+        "swarm reproduce: seed {}, {placement} placement, {} threads, writing {}",
+        o.seed,
         rayon::current_num_threads(),
-        opts.docs.display()
+        docs.display()
     )?;
     // The stages' log lines; the first that cannot be written stops the command after them.
     let mut unwritten: Option<StdoutError> = None;
-    let s = reproduction::reproduce(&opts, &mut |line| {
-        if unwritten.is_none() {
-            unwritten = outln!("{line}").err();
-        }
+    // Written beside the docs folder and moved in only when the page and every figure are,
+    // as a merge does: a failure leaves the docs as they were.
+    let s = staged(&docs, |stage| {
+        let opts = Options {
+            seed: o.seed,
+            docs: stage.to_path_buf(),
+            quiet: o.quiet,
+            placement,
+        };
+        reproduction::reproduce(&opts, &mut |line| {
+            if unwritten.is_none() {
+                unwritten = outln!("{line}").err();
+            }
+        })
     })?;
     if let Some(e) = unwritten {
         return Err(e.into());
     }
-    print_summary(&s)?;
+    print_summary(&Summary {
+        report: docs.join("reproduction.md"),
+        ..s
+    })?;
     outln!("wall time {:.1} s", s.wall_s)?;
     Ok(())
 }

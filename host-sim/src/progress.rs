@@ -135,3 +135,33 @@ impl Progress {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_real_time_bar_moves_with_the_seconds_and_ends_past_the_run() {
+        // A bar drawn nowhere (tests have no terminal), counting seconds.
+        let p = Progress {
+            bar: Some(ProgressBar::with_draw_target(
+                Some(10),
+                ProgressDrawTarget::hidden(),
+            )),
+            log: None,
+            noun: "s",
+        };
+        let b = p.bar.as_ref().unwrap();
+        b.set_position(3);
+        let seen = p.while_running(4, || {
+            std::thread::sleep(std::time::Duration::from_millis(2500));
+            b.position()
+        });
+        // One or two whole seconds had passed when the run looked (ticks every 0.2 s); at its
+        // end the bar is 4 s past where it was.
+        assert!((4..=5).contains(&seen), "{seen}");
+        assert_eq!(b.position(), 7);
+        // Without a bar the run just runs.
+        assert_eq!(Progress::hidden().while_running(4, || 5), 5);
+    }
+}

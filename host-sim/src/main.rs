@@ -15,7 +15,7 @@ mod cli;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use cli::arena;
 use cli::swarm::SwarmCommand;
 
@@ -27,12 +27,13 @@ const MAX_THREADS: u64 = 1024;
 #[command(
     name = "cimax",
     version,
-    about = "CIMAX swarm tools: the lab arena and the paper's 2D swarm simulations"
+    about = "CIMAX swarm tools: the lab arena and the paper's 2D swarm simulations",
+    allow_negative_numbers = true
 )]
 struct Cli {
     /// Worker threads for runs in parallel, 1 to 1024 (default: all cores). Results do not
     /// depend on it.
-    #[arg(long, global = true, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=MAX_THREADS))]
+    #[arg(long, global = true, value_parser = crate::cli::values::whole::<usize>(1, MAX_THREADS))]
     threads: Option<usize>,
     #[command(subcommand)]
     command: Command,
@@ -54,7 +55,7 @@ enum Command {
     View {
         /// The trace (JSON lines, as `cimax arena --trace` writes them).
         trace: std::path::PathBuf,
-        /// The page to write.
+        /// The page to write (its folder is created); `-` writes it to standard output.
         #[arg(short, long, value_name = "FILE.html")]
         output: std::path::PathBuf,
     },
@@ -65,43 +66,66 @@ enum Command {
 }
 
 /// `cimax view`: the page of a saved trace.
-fn view(trace: &std::path::Path, output: &std::path::Path) -> ExitCode {
-    let made = std::fs::read_to_string(trace)
-        .map_err(|e| format!("{}: {e}", trace.display()))
-        .and_then(|text| host_sim::viewer::read_trace(&text, &trace.display().to_string()))
-        .and_then(|(header, events)| host_sim::viewer::write_page(output, header, &events));
-    match made {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("cimax view: {e}");
-            ExitCode::from(2)
-        }
+fn view(trace: &std::path::Path, output: &std::path::Path) -> cli::out::Exit {
+    let to_stdout = output.as_os_str() == "-";
+    if !to_stdout {
+        cli::files::check_file("--output", output)?;
+        cli::files::check_distinct(&[("the trace", trace), ("--output", output)])?;
     }
+    let text = std::fs::read_to_string(trace).map_err(|e| format!("{}: {e}", trace.display()))?;
+    let source = trace.display().to_string();
+    let (header, events) = host_sim::viewer::read_trace(&text, &source).map_err(|e| {
+        // A trace of events only, as `arena campaign --trace` wrote them before they had the
+        // set-up line.
+        let first: Option<serde_json::Value> = text
+            .lines()
+            .next()
+            .and_then(|l| serde_json::from_str(l).ok());
+        match first {
+            Some(v) if v.get("event").is_some() => format!(
+                "{source}: events without the run's set-up (an `arena campaign --trace` of an \
+                 older cimax); `cimax view` reads traces that start with it, as `cimax arena \
+                 --trace` and `cimax arena campaign --trace` write them now"
+            ),
+            _ => e,
+        }
+    })?;
+    if to_stdout {
+        let page = host_sim::viewer::page(&host_sim::viewer::Replay::from_trace(header, &events))?;
+        cli::out::text(&page)?;
+    } else {
+        let mut staged = cli::files::Staged::new();
+        staged.write_with(output, |p| host_sim::viewer::write_page(p, header, &events))?;
+        staged.commit()?;
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
-fn report_error(e: &(dyn std::error::Error + Send + Sync)) -> ExitCode {
-    eprintln!("error: {e}");
-    ExitCode::FAILURE
-}
-
+/// Exit codes: 0 success; 1 a failed experiment (a run that failed its verdict, a missed bar)
+/// or standard output that cannot be written; 2 a usage, input or set-up error (clap's own
+/// errors included); 130 interrupted. A closed standard output (`cimax arena | head`) ends
+/// quietly with 0, as `cat` does.
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let matches = Cli::command().get_matches();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Some(n) = cli.threads
         && let Err(e) = rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build_global()
     {
         eprintln!("error: cannot start {n} threads: {e}");
-        return ExitCode::FAILURE;
+        return ExitCode::from(2);
     }
-    let res = match cli.command {
-        Command::Arena(args) => return arena::main(&args),
-        Command::Swarm { command } => cli::swarm::run(command),
-        Command::View { trace, output } => return view(&trace, &output),
-        Command::Merge(args) => return cli::merge::main(&args),
-    };
-    match res {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => report_error(e.as_ref()),
+    match cli.command {
+        Command::Arena(args) => {
+            let m = matches.subcommand_matches("arena").unwrap_or(&matches);
+            arena::main(&args, m)
+        }
+        Command::Swarm { command } => {
+            let res = cli::swarm::run(command).map(|()| ExitCode::SUCCESS);
+            cli::out::finish("error", res.map_err(cli::out::Fail::from))
+        }
+        Command::View { trace, output } => cli::out::finish("cimax view", view(&trace, &output)),
+        Command::Merge(args) => cli::merge::main(&args),
     }
 }

@@ -63,6 +63,35 @@ impl Progress {
         }
     }
 
+    /// A bar over `secs` seconds of runs in real time (robots in the loop), labelled `msg`,
+    /// moved on by [`Progress::while_running`]; nothing if stderr is not a terminal.
+    pub fn seconds(secs: u64, msg: &str) -> Progress {
+        Progress::counting(secs, msg, "s", false)
+    }
+
+    /// Runs `run`, which lasts about `secs` seconds of wall time, moving the bar on by the
+    /// seconds as they pass (a thread ticks it five times a second), then to `secs` past
+    /// where it was.
+    pub fn while_running<T>(&self, secs: u64, run: impl FnOnce() -> T) -> T {
+        let Some(b) = &self.bar else { return run() };
+        let base = b.position();
+        let done = std::sync::atomic::AtomicBool::new(false);
+        let out = std::thread::scope(|s| {
+            s.spawn(|| {
+                let t0 = std::time::Instant::now();
+                while !done.load(Ordering::Relaxed) {
+                    std::thread::sleep(std::time::Duration::from_millis(200));
+                    b.set_position(base + t0.elapsed().as_secs().min(secs));
+                }
+            });
+            let out = run();
+            done.store(true, Ordering::Relaxed);
+            out
+        });
+        b.set_position(base + secs);
+        out
+    }
+
     /// No bar at all.
     pub fn hidden() -> Progress {
         Progress {
@@ -104,5 +133,35 @@ impl Progress {
             }
             b.finish_and_clear();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_real_time_bar_moves_with_the_seconds_and_ends_past_the_run() {
+        // A bar drawn nowhere (tests have no terminal), counting seconds.
+        let p = Progress {
+            bar: Some(ProgressBar::with_draw_target(
+                Some(10),
+                ProgressDrawTarget::hidden(),
+            )),
+            log: None,
+            noun: "s",
+        };
+        let b = p.bar.as_ref().unwrap();
+        b.set_position(3);
+        let seen = p.while_running(4, || {
+            std::thread::sleep(std::time::Duration::from_millis(2500));
+            b.position()
+        });
+        // One or two whole seconds had passed when the run looked (ticks every 0.2 s); at its
+        // end the bar is 4 s past where it was.
+        assert!((4..=5).contains(&seen), "{seen}");
+        assert_eq!(b.position(), 7);
+        // Without a bar the run just runs.
+        assert_eq!(Progress::hidden().while_running(4, || 5), 5);
     }
 }

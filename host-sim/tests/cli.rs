@@ -97,8 +97,10 @@ fn arena_failing_runs_exit_1_and_print_the_command_that_replays_them() {
     for replay in [
         "FAILED 1100 seed 7: LEDs ----, expected RRLL (replay: cimax arena --lights 1100 \
          --seed 7 --runs 1 --duration 100)",
-        "FAILED 1100 seed 7: LEDs ----, expected RRLL (replay: cimax arena --lights 0011 \
-         --switch-at 100 --then 1100 --seed 7 --runs 1 --duration 100)",
+        "FAILED 1100 seed 7: LEDs ----, expected RRLL; but pattern 0011 showed LEDs ---- when \
+         it changed at 100 s, expected RRLL (a switch before the first decision: no robot had \
+         decided yet) (replay: cimax arena --lights 0011 --switch-at 100 --then 1100 --seed 7 \
+         --runs 1 --duration 100)",
     ] {
         assert!(stderr.contains(replay), "{replay:?} in\n{stderr}");
     }
@@ -292,7 +294,7 @@ fn a_small_lattice_over_the_sharp_field_reports_json() {
 fn counts_and_sizes_beyond_their_limits_fail_naming_the_option() {
     for (args, says) in [
         (&["swarm", "sweep", "--runs", "0"][..], "--runs"),
-        (&["swarm", "sweep", "--runs", "100001"], "1..=100000"),
+        (&["swarm", "sweep", "--runs", "100001"], "from 1 to 100000"),
         (
             &["swarm", "sweep", "--runs", "18446744073709551616"],
             "--runs",
@@ -320,7 +322,7 @@ fn counts_and_sizes_beyond_their_limits_fail_naming_the_option() {
         (&["--threads", "0", "swarm", "run"], "--threads"),
         (&["--threads", "100000000000", "swarm", "run"], "--threads"),
         (&["arena", "--duration", "1000001"], "--duration"),
-        (&["arena", "--cycle", "1e9"], "at most 1000000 s"),
+        (&["arena", "--cycle", "1e9"], "at most 1000000"),
         (
             &["arena", "sweep", "--step", "1e-9"],
             "positions; at most 10001",
@@ -370,7 +372,7 @@ fn a_scenario_too_large_to_place_fails_naming_the_key() {
         )
         .unwrap();
         let out = cimax(&["swarm", "run", "--scenario", p, "--periods", "1", "--quiet"]);
-        assert_eq!(out.status.code(), Some(1), "{swarm}");
+        assert_eq!(out.status.code(), Some(2), "{swarm}");
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(&format!("{p}:{at} {says}")), "{err}");
     }
@@ -417,7 +419,7 @@ fn agents_sit_on_the_lattice_unless_placement_random() {
     .unwrap();
     let p = path.to_str().unwrap();
     let out = run(&["--scenario", p, "--placement", "random", "--quiet"]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("--placement random: scenario"), "{err}");
     let out = run(&["--scenario", p, "--quiet"]);

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use crate::progress::Progress;
 use crate::swarm::experiment::SweepPoint;
 use crate::swarm::geometry::{PlacementError, Shape, Swarm};
-use crate::swarm::scenario::{Placement, Scenario, Success};
+use crate::swarm::scenario::{MAX_EXTENT, Placement, Scenario, Success};
 
 /// How the robots are placed on the plane: as the 2D simulator places a swarm
 /// ([`Placement`]), or in a way only the arena has (a line, a file).
@@ -102,10 +102,12 @@ impl PlaneSpec {
 /// starting with `#` are skipped. The positions are recentred on their centre of mass.
 ///
 /// # Errors
-/// A message naming the line and what is wrong with it, or that there are fewer than two
-/// robots or more than 1000.
+/// A message naming the line and what is wrong with it (not two finite numbers, a coordinate
+/// beyond [`MAX_EXTENT`], two robots in one place, a robot farther than 1 R, the light's
+/// range, from every other), or that there are fewer than two robots or more than 1000.
 pub fn read_positions(text: &str, source: &str) -> Result<Vec<Vector2<f64>>, String> {
-    let mut out = Vec::new();
+    // Each robot with its line, for the errors.
+    let mut out: Vec<(usize, Vector2<f64>)> = Vec::new();
     for (i, line) in text.lines().enumerate() {
         let line = line.trim();
         if line.is_empty() || line.starts_with('#') {
@@ -121,13 +123,24 @@ pub fn read_positions(text: &str, source: &str) -> Result<Vec<Vector2<f64>>, Str
                 i + 1
             ));
         };
-        let num = |f: &str| {
-            f.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("{source}:{}: {f:?} is not a finite number", i + 1))
+        let num = |f: &str| match f.parse::<f64>() {
+            Ok(v) if v.is_finite() && v.abs() <= MAX_EXTENT => Ok(v),
+            Ok(v) if v.is_finite() => Err(format!(
+                "{source}:{}: {f} is too far: at most {MAX_EXTENT} R from the origin",
+                i + 1
+            )),
+            _ => Err(format!("{source}:{}: {f:?} is not a finite number", i + 1)),
         };
-        out.push(Vector2::new(num(x)?, num(y)?));
+        let p = Vector2::new(num(x)?, num(y)?);
+        if let Some((j, _)) = out.iter().find(|(_, q)| *q == p) {
+            return Err(format!(
+                "{source}:{}: two robots in one place: ({}, {}) is also on line {j}",
+                i + 1,
+                p.x,
+                p.y
+            ));
+        }
+        out.push((i + 1, p));
     }
     if !(2..=1000).contains(&out.len()) {
         return Err(format!(
@@ -135,8 +148,22 @@ pub fn read_positions(text: &str, source: &str) -> Result<Vec<Vector2<f64>>, Str
             out.len()
         ));
     }
-    let centre = out.iter().fold(Vector2::zeros(), |s, p| s + p) / out.len() as f64;
-    Ok(out.into_iter().map(|p| p - centre).collect())
+    for (line, p) in &out {
+        let nearest = out
+            .iter()
+            .filter(|(l, _)| l != line)
+            .map(|(_, q)| (q - p).norm())
+            .fold(f64::INFINITY, f64::min);
+        if nearest > 1.0 {
+            return Err(format!(
+                "{source}:{line}: the robot at ({}, {}) is out of everyone's range: the nearest \
+                 is {nearest:.2} R away, the light carries 1 R",
+                p.x, p.y
+            ));
+        }
+    }
+    let centre = out.iter().fold(Vector2::zeros(), |s, (_, p)| s + p) / out.len() as f64;
+    Ok(out.into_iter().map(|(_, p)| p - centre).collect())
 }
 
 /// What one run did.
@@ -481,7 +508,7 @@ mod tests {
 
     #[test]
     fn positions_files_are_read_and_their_errors_name_the_line() {
-        let p = read_positions("# a triangle\n0 0\n\n1.5,0\n0.75 1.3\n", "t.txt").unwrap();
+        let p = read_positions("# a triangle\n0 0\n\n0.75,0\n0.375 0.65\n", "t.txt").unwrap();
         assert_eq!(p.len(), 3);
         assert!((p.iter().fold(Vector2::zeros(), |s, q| s + q)).norm() < 1e-12);
         let e = read_positions("0 0\n1 x\n", "t.txt").unwrap_err();
@@ -490,6 +517,18 @@ mod tests {
         assert!(e.starts_with("t.txt:2:"), "{e}");
         let e = read_positions("0 inf\n1 2\n", "t.txt").unwrap_err();
         assert!(e.starts_with("t.txt:1:"), "{e}");
+        let e = read_positions("0 0\n1e300 0\n", "t.txt").unwrap_err();
+        assert!(e.starts_with("t.txt:2: 1e300 is too far"), "{e}");
+        let e = read_positions("0 0\n0.5 0\n# again\n0 0\n", "t.txt").unwrap_err();
+        assert_eq!(
+            e,
+            "t.txt:4: two robots in one place: (0, 0) is also on line 1"
+        );
+        let e = read_positions("0 0\n0.5 0\n50 0\n", "t.txt").unwrap_err();
+        assert!(
+            e.starts_with("t.txt:3: the robot at (50, 0) is out of everyone's range"),
+            "{e}"
+        );
         assert!(
             read_positions("0 0\n", "t.txt")
                 .unwrap_err()

@@ -10,6 +10,7 @@ use std::process::ExitCode;
 
 use host_sim::shard::merge::{Merged, merge};
 
+use super::out::{Exit, finish};
 use super::{arena, swarm};
 
 /// Options of `cimax merge`.
@@ -18,7 +19,7 @@ pub struct MergeArgs {
     /// The part files (`part-I-of-N.jsonl`, as `--shard I/N` writes them), in any order.
     #[arg(required = true, value_name = "PARTS")]
     pub parts: Vec<PathBuf>,
-    /// The directory to write the command's outputs into (its `--out`; for `arena campaign`
+    /// The directory to write the command's outputs into, created if missing (its `--out`; for `arena campaign`
     /// the page goes to DIR/reliability.md with its figures in DIR/figures/, for `swarm
     /// reproduce` to DIR/reproduction.md and DIR/figures/, as its `--docs DIR`).
     #[arg(long, value_name = "DIR")]
@@ -27,7 +28,7 @@ pub struct MergeArgs {
 
 /// A sharded command's merge: the outputs of the merged job into the directory, and the
 /// command's exit code.
-type MergeFn = fn(&Merged, &Path) -> Result<ExitCode, String>;
+type MergeFn = fn(&Merged, &Path) -> Exit;
 
 /// The commands whose parts `cimax merge` reads, by the `job.command` of their headers.
 const COMMANDS: [(&str, MergeFn); 4] = [
@@ -40,31 +41,25 @@ const COMMANDS: [(&str, MergeFn); 4] = [
 /// Runs `cimax merge`: the merged command's exit code, or 2 (and nothing written) if the parts
 /// do not merge.
 pub fn main(a: &MergeArgs) -> ExitCode {
-    let merged = match merge(&a.parts) {
-        Ok(m) => m,
-        Err(e) => {
-            eprintln!("cimax merge: {e}");
-            return ExitCode::from(2);
-        }
-    };
+    finish("cimax merge", run(a))
+}
+
+/// `cimax merge`, its failures as values.
+fn run(a: &MergeArgs) -> Exit {
+    super::files::check_dir("--out", &a.out)?;
+    let merged = merge(&a.parts).map_err(|e| e.to_string())?;
     let command = merged.job.command.as_str();
     let Some((_, write)) = COMMANDS.iter().find(|(c, _)| *c == command) else {
         let known: Vec<&str> = COMMANDS.iter().map(|(c, _)| *c).collect();
-        eprintln!(
-            "cimax merge: {}: parts of {command:?}, which this cimax does not merge (it merges {})",
+        return Err(format!(
+            "{}: parts of {command:?}, which this cimax does not merge (it merges {})",
             merged
                 .parts
                 .first()
                 .map_or(String::new(), |p| p.display().to_string()),
             known.join(", ")
-        );
-        return ExitCode::from(2);
+        )
+        .into());
     };
-    match write(&merged, &a.out) {
-        Ok(code) => code,
-        Err(e) => {
-            eprintln!("cimax merge: {e}");
-            ExitCode::from(2)
-        }
-    }
+    write(&merged, &a.out)
 }

@@ -4,6 +4,9 @@
 //! they return.
 
 pub mod arena;
+pub mod files;
 pub mod job;
 pub mod merge;
+pub mod out;
 pub mod swarm;
+pub mod values;

@@ -18,11 +18,14 @@ use host_sim::progress::Progress;
 use host_sim::seeds;
 use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{
-    DEFAULT_PLACEMENT, MAX_AGENTS, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement, Scenario,
+    DEFAULT_PLACEMENT, MAX_AGENTS, MAX_EXTENT, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement, Scenario,
 };
 use host_sim::swarm::sim::MAX_PERIOD_SECS;
 use nalgebra::Point2;
 use protocol::Duration;
+
+use crate::cli::files::{self, Staged};
+use crate::cli::out::{StdoutError, outln};
 
 #[derive(Args, Debug, Clone)]
 pub struct Common {
@@ -30,11 +33,11 @@ pub struct Common {
     #[arg(long, default_value = "sharp")]
     scenario: String,
     /// Base seed: every run's seed is derived from it and the run's coordinates.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     seed: u64,
     /// Override the cycle length t_p^max, seconds; a negotiation period of (gather + decide)
     /// cycles must stay within 1,000,000 s.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_PERIOD_SECS))]
+    #[arg(long, value_parser = crate::cli::values::whole::<u64>(1, MAX_PERIOD_SECS))]
     cycle: Option<u64>,
     /// Where the agents start: `lattice`, the nodes of a triangular lattice of spacing 0.75 R
     /// nearest the centre (61 agents: a hexagon filling a 6 R disk, 5.1 neighbours each on
@@ -46,7 +49,8 @@ pub struct Common {
     /// The same as `--placement lattice` (the default since the lattice matched the paper).
     #[arg(long, conflicts_with = "placement")]
     lattice: bool,
-    /// CSV output (default: OUT_DIR/SCENARIO-COMMAND.csv).
+    /// CSV output (default: OUT_DIR/SCENARIO-COMMAND.csv). Missing folders of every output
+    /// are created; the files are moved in only when all are written.
     #[arg(long)]
     csv: Option<PathBuf>,
     /// SVG plot output (default: OUT_DIR/SCENARIO-COMMAND.svg).
@@ -63,17 +67,18 @@ pub struct Common {
 #[derive(Subcommand, Debug)]
 pub enum SwarmCommand {
     /// One run: trajectory of the centre of mass and average diversity over time (Figs. 4, 7).
+    #[command(allow_negative_numbers = true)]
     Run {
         #[command(flatten)]
         common: Common,
         /// Initial x of the centre of mass (default: the scenario's start).
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
         x: Option<f64>,
         /// Initial y of the centre of mass (default: the scenario's start).
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
         y: Option<f64>,
         /// Negotiation periods, 1 to 100,000 (default: the scenario's).
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_PERIODS)))]
+        #[arg(long, value_parser = crate::cli::values::whole::<u32>(1, u64::from(MAX_PERIODS)))]
         periods: Option<u32>,
         /// Also write the run as one self-contained HTML page that replays it (waves,
         /// messages, decisions, the swarm's path; docs/viewer.md).
@@ -81,21 +86,22 @@ pub enum SwarmCommand {
         html: Option<PathBuf>,
     },
     /// Success rate and mean success time against the initial position (Figs. 5, 8).
+    #[command(allow_negative_numbers = true)]
     Sweep {
         #[command(flatten)]
         common: Common,
         /// First initial x (default: the scenario's sweep).
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
         from: Option<f64>,
         /// Last initial x.
-        #[arg(long, allow_hyphen_values = true)]
+        #[arg(long, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
         to: Option<f64>,
         /// Spacing of initial positions.
-        #[arg(long)]
+        #[arg(long, value_parser = crate::cli::values::positive(2.0 * MAX_EXTENT, "a step in R"))]
         step: Option<f64>,
         /// Runs per initial position, 1 to 100,000, and at most 1,000,000 runs in all
         /// (default: the scenario's, 50).
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_RUNS_PER_POINT)))]
+        #[arg(long, value_parser = crate::cli::values::whole::<u32>(1, u64::from(MAX_RUNS_PER_POINT)))]
         runs: Option<u32>,
         /// Run only shard I of N (1 <= I <= N) of the sweep's runs and write them to
         /// OUT_DIR/part-I-of-N.jsonl, nothing else; `cimax merge` makes the CSV and SVG of
@@ -104,17 +110,20 @@ pub enum SwarmCommand {
         shard: Option<host_sim::shard::ShardSpec>,
     },
     /// The preferred direction of a swarm centred at each point of a grid (Figs. 6, 9, 10).
+    #[command(allow_negative_numbers = true)]
     Field {
         #[command(flatten)]
         common: Common,
     },
     /// Runs everything above for the paper's scenarios and regenerates docs/reproduction.md.
+    #[command(allow_negative_numbers = true)]
     Reproduce {
         /// Base seed.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
         seed: u64,
-        /// The docs directory (default: the workspace's docs/); with --shard, the directory of
-        /// the part.
+        /// The docs directory (default: the docs/ of the checkout cimax was built from, and only
+        /// when run inside that checkout; elsewhere give --docs); with --shard, the directory
+        /// of the part.
         #[arg(long)]
         docs: Option<PathBuf>,
         /// No progress bars.
@@ -132,17 +141,18 @@ pub enum SwarmCommand {
         shard: Option<host_sim::shard::ShardSpec>,
     },
     /// Agent-steps per second for swarms of several sizes (one negotiation period each).
+    #[command(allow_negative_numbers = true)]
     Bench {
         /// Swarm sizes, 2 to 1,000,000 each (the disk grows to keep the density).
         #[arg(
             long,
             value_delimiter = ',',
             default_value = "61,1000,10000",
-            value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=MAX_AGENTS as u64)
+            value_parser = crate::cli::values::whole::<usize>(2, MAX_AGENTS as u64)
         )]
         agents: Vec<usize>,
         /// Seed.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
         seed: u64,
         /// A built-in scenario or scenario file.
         #[arg(long, default_value = "sharp")]
@@ -181,6 +191,27 @@ impl Common {
             self.plot.clone().unwrap_or_else(|| name("svg")),
         )
     }
+
+    /// The CSV and SVG of command `what` ([`Common::outputs`]), checked before any work
+    /// ([`files`]) with the command's `others` (`--html`).
+    fn checked_outputs(
+        &self,
+        scn: &Scenario,
+        what: &str,
+        others: &[(&str, &Path)],
+    ) -> Result<(PathBuf, PathBuf), String> {
+        if self.csv.is_none() || self.plot.is_none() {
+            files::check_dir("--out-dir", &self.out_dir)?;
+        }
+        let (csv, svg) = self.outputs(scn, what);
+        let mut all = vec![("--csv", csv.as_path()), ("--plot", svg.as_path())];
+        all.extend_from_slice(others);
+        for (option, p) in &all {
+            files::check_file(option, p)?;
+        }
+        files::check_distinct(&all)?;
+        Ok((csv, svg))
+    }
 }
 
 /// `s` with `placement` (its name marked unless the default) and `--cycle` `cycle`, checked.
@@ -210,15 +241,8 @@ fn placed(
     Ok(s)
 }
 
-fn ensure_parent(p: &Path) -> std::io::Result<()> {
-    match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => std::fs::create_dir_all(d),
-        _ => Ok(()),
-    }
-}
-
-fn wrote(csv: &Path, svg: &Path) {
-    println!("wrote {} and {}", csv.display(), svg.display());
+fn wrote(csv: &Path, svg: &Path) -> Result<(), StdoutError> {
+    outln!("wrote {} and {}", csv.display(), svg.display())
 }
 
 fn swarm_run(
@@ -229,29 +253,30 @@ fn swarm_run(
     html: Option<&Path>,
 ) -> Res {
     let scn = c.scenario()?;
+    let others: Vec<(&str, &Path)> = html.iter().map(|p| ("--html", *p)).collect();
+    let (csv, svg) = c.checked_outputs(&scn, "run", &others)?;
     let start = Point2::new(x.unwrap_or(scn.start.x), y.unwrap_or(scn.start.y));
     let periods = periods.unwrap_or(scn.periods);
     let t = Clock::now();
+    let mut staged = Staged::new();
     let out = match html {
         None => experiment::run(&scn, scn.run, start, periods, c.seed, false)?,
         Some(path) => {
             // The same run (recording draws nothing), with its events.
             let (out, trace) = experiment::run_traced(&scn, scn.run, start, periods, c.seed)?;
             let replay = host_sim::viewer::swarm::replay(&scn, &out, c.seed, &trace);
-            ensure_parent(path)?;
-            std::fs::write(path, host_sim::viewer::page(&replay)?)
-                .map_err(|e| format!("{}: {e}", path.display()))?;
-            println!("wrote {}", path.display());
+            staged.write(path, host_sim::viewer::page(&replay)?)?;
             out
         }
     };
-    let (csv, svg) = c.outputs(&scn, "run");
-    ensure_parent(&csv)?;
-    ensure_parent(&svg)?;
-    write_run_csv(&csv, &out, &scn.run)?;
-    figures::run_figure(&svg, &scn, &out)?;
+    staged.write_with(&csv, |p| write_run_csv(p, &out, &scn.run))?;
+    staged.write_with(&svg, |p| figures::run_figure(p, &scn, &out))?;
+    staged.commit()?;
+    if let Some(path) = html {
+        outln!("wrote {}", path.display())?;
+    }
     let last = out.periods.last();
-    println!(
+    outln!(
         "{}: {} agents (mean {:.1} neighbours), from ({:.2}, {:.2}), {} periods of {} s in {:.2} s",
         scn.description,
         out.swarm.len(),
@@ -261,19 +286,21 @@ fn swarm_run(
         out.periods.len(),
         scn.run.period_secs(),
         t.elapsed().as_secs_f64()
-    );
+    )?;
     if let Some(p) = last {
-        println!(
+        outln!(
             "final centre ({:.2}, {:.2}), mean diversity of the last period {:.2}",
-            p.to.x, p.to.y, p.diversity
-        );
+            p.to.x,
+            p.to.y,
+            p.diversity
+        )?;
     }
     match (&scn.success, out.success_at) {
-        (Some(s), Some(k)) => println!("success ({s}) after {k} periods"),
-        (Some(s), None) => println!("no success ({s}) within {periods} periods"),
+        (Some(s), Some(k)) => outln!("success ({s}) after {k} periods")?,
+        (Some(s), None) => outln!("no success ({s}) within {periods} periods")?,
         (None, _) => {}
     }
-    wrote(&csv, &svg);
+    wrote(&csv, &svg)?;
     Ok(())
 }
 
@@ -283,46 +310,54 @@ fn swarm_field(c: &Common) -> Res {
         .grid
         .clone()
         .ok_or_else(|| format!("scenario {} has no [grid]", scn.name))?;
+    let (csv, svg) = c.checked_outputs(&scn, "field", &[])?;
     let t = Clock::now();
     let progress = Progress::new((grid.xs.len() * grid.ys.len()) as u64, "field", c.quiet);
     let arrows = experiment::direction_map(&scn, &grid, c.seed, &progress)?;
     progress.finish();
-    let (csv, svg) = c.outputs(&scn, "field");
-    ensure_parent(&csv)?;
-    ensure_parent(&svg)?;
-    write_field_csv(&csv, &arrows)?;
-    figures::direction_figure(
-        &svg,
-        &scn,
-        &grid,
-        &arrows,
-        &host_sim::pages::marks::map_for(&scn),
-    )?;
-    println!(
+    let mut staged = Staged::new();
+    staged.write_with(&csv, |p| write_field_csv(p, &arrows))?;
+    staged.write_with(&svg, |p| {
+        figures::direction_figure(
+            p,
+            &scn,
+            &grid,
+            &arrows,
+            &host_sim::pages::marks::map_for(&scn),
+        )
+    })?;
+    staged.commit()?;
+    outln!(
         "{}: {} grid points in {:.1} s",
         scn.description,
         arrows.len(),
         t.elapsed().as_secs_f64()
-    );
-    wrote(&csv, &svg);
+    )?;
+    wrote(&csv, &svg)?;
     Ok(())
 }
 
 fn swarm_bench(agents: &[usize], seed: u64, scenario: &str) -> Res {
     let scn = Scenario::load(scenario)?;
-    println!(
+    outln!(
         "one negotiation period ({} s simulated) of {} per size, one thread, density of {} agents in the scenario's shape",
         scn.run.period_secs(),
         scn.description,
         scn.agents
-    );
-    println!(
+    )?;
+    outln!(
         "{:>8} {:>10} {:>10} {:>10} {:>14} {:>16} {:>14}",
-        "agents", "neighbours", "place s", "sim s", "agent calls", "agent-steps/s", "calls/s"
-    );
+        "agents",
+        "neighbours",
+        "place s",
+        "sim s",
+        "agent calls",
+        "agent-steps/s",
+        "calls/s"
+    )?;
     for &n in agents {
         let r = experiment::bench(&scn, n, seeds::derive(seed, &[n as u64]))?;
-        println!(
+        outln!(
             "{:>8} {:>10.1} {:>10.3} {:>10.3} {:>14} {:>16.3e} {:>14.3e}",
             r.agents,
             r.mean_degree,
@@ -331,11 +366,11 @@ fn swarm_bench(agents: &[usize], seed: u64, scenario: &str) -> Res {
             r.calls,
             r.agent_steps_per_s(),
             r.calls as f64 / r.wall_s
-        );
+        )?;
     }
-    println!(
+    outln!(
         "agent-steps/s: agents × simulated seconds per wall second (event-driven: idle seconds cost nothing); calls/s: handle_timeout + handle_message calls per second"
-    );
+    )?;
     Ok(())
 }
 

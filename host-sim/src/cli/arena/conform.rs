@@ -15,6 +15,7 @@ use hal_emu::{ArenaConfig, ArenaError};
 
 use super::ArenaArgs;
 use super::line::{Experiment, build};
+use crate::cli::out::{Exit, Fail, outln};
 
 /// Options of `cimax arena conform`.
 #[derive(Args, Debug, Clone)]
@@ -104,33 +105,27 @@ fn leds(r: Result<LabRun, ArenaError>) -> Result<Vec<LedChange>, String> {
 
 /// Runs `cimax arena conform`: exit 0 if every pair of runs is the same, 1 if one differs, 2 on
 /// bad options.
-pub(super) fn main(c: &ConformArgs) -> ExitCode {
+pub(super) fn main(c: &ConformArgs) -> Exit {
     let args = match options(c) {
         Ok(a) => a,
         Err(e) => {
             let _ = e.print();
-            return ExitCode::from(2);
+            return Ok(ExitCode::from(2));
         }
     };
-    let experiments = match build(&args) {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("cimax arena conform: {e}");
-            return ExitCode::from(2);
-        }
-    };
+    let experiments = build(&args)?;
     let follows = experiments
         .iter()
         .flat_map(|e| &e.configs)
         .all(|c| !c.hil.is_empty() && c.hil.iter().all(|h| h.follows()));
     if !follows {
-        eprintln!(
-            "cimax arena conform: the robots in the loop must be QEMU robots on the arena's \
-             clock (--hil qemu:N, --hil-clock virtual)"
-        );
-        return ExitCode::from(2);
+        return Err(Fail::Input(
+            "the robots in the loop must be QEMU robots on the arena's clock (--hil qemu:N, \
+             --hil-clock virtual)"
+                .into(),
+        ));
     }
-    println!("experiment      seed  LED changes  host build = Cortex-M build");
+    outln!("experiment      seed  LED changes  host build = Cortex-M build")?;
     let (mut same, mut all) = (0, 0);
     for e in &experiments {
         for (host, qemu) in on_the_host(e).iter().zip(&e.configs) {
@@ -150,13 +145,13 @@ pub(super) fn main(c: &ConformArgs) -> ExitCode {
                 (Err(x), _) => format!("{:>11}  host build failed: {x}", "-"),
                 (_, Err(y)) => format!("{:>11}  Cortex-M build failed: {y}", "-"),
             };
-            println!("{:<15} {:>4}  {verdict}", e.label, qemu.seed);
+            outln!("{:<15} {:>4}  {verdict}", e.label, qemu.seed)?;
         }
     }
-    println!("{same} of {all} runs identical (LED changes and their times)");
-    if same == all {
+    outln!("{same} of {all} runs identical (LED changes and their times)")?;
+    Ok(if same == all {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
-    }
+    })
 }

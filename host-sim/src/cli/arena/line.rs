@@ -15,8 +15,17 @@ use protocol::{Duration, Instant, Params};
 use rayon::prelude::*;
 
 use super::ArenaArgs;
-use super::options::{hil_robots, medium, robot_params, run_length, scaled, time_scale};
-use super::print::{Crashed, JsonSummary, print_failures, print_hil, print_json, print_table};
+use super::options::{
+    check_kills, hil_robots, medium, robot_params, run_length, scaled, secs, time_scale,
+};
+use super::print::{
+    Crashed, JsonSummary, earlier_pattern_failed, print_failures, print_hil, print_json,
+    print_table,
+};
+use super::replay::replay_options;
+use crate::cli::files::{self, Staged};
+use crate::cli::out::{Exit, outln};
+use clap::ArgMatches;
 
 /// One experiment: a list of runs sharing a label and an expected outcome.
 pub(super) struct Experiment {
@@ -55,6 +64,7 @@ pub(super) fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
         hil: hil_robots(args, robots, 2)?,
         sample: scaled(Config::robots().sample_period, time_scale(args)?),
     };
+    check_kills(&args.kill, &args.restart)?;
     for &(r, _) in args.kill.iter().chain(&args.restart) {
         if r >= robots {
             return Err(format!(
@@ -143,7 +153,7 @@ fn experiment(
     let switch = match (args.switch_at, then, &e.then) {
         (Some(at), Some(t), None) => {
             check_length(t, robots, "--then pattern")?;
-            Some((Instant::from_secs(at), t))
+            Some((Instant::ZERO + secs(at, "switch-at")?, t))
         }
         _ => None,
     };
@@ -173,7 +183,9 @@ pub(super) fn replay_lights(cfg: &ArenaConfig) -> String {
         if i == 0 {
             out += &format!("--lights {}", pattern_str(p));
         } else {
-            let at = t.saturating_since(Instant::ZERO).as_millis() / 1000;
+            let ms = t.saturating_since(Instant::ZERO).as_millis();
+            let at = format!("{}.{:03}", ms / 1000, ms % 1000);
+            let at = at.trim_end_matches('0').trim_end_matches('.');
             out += &format!(" --switch-at {at} --then {}", pattern_str(p));
         }
     }
@@ -182,77 +194,78 @@ pub(super) fn replay_lights(cfg: &ArenaConfig) -> String {
 
 /// `cimax arena` on a line; the exit code is non-zero if any run with a verdict failed or an
 /// option was bad.
-pub(super) fn main(args: &ArenaArgs) -> ExitCode {
-    let experiments = match build(args) {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("cimax arena: {e}");
-            return ExitCode::from(2);
-        }
-    };
+pub(super) fn main(args: &ArenaArgs, matches: &ArgMatches) -> Exit {
+    let experiments = build(args)?;
+    check_artifacts(args)?;
     let first = experiments.first().and_then(|e| e.configs.first()).cloned();
     let ((runs, crashed), wall_s) = match run_all(&experiments) {
         Ok(r) => r,
         Err(ArenaError::Interrupted) => {
             eprintln!("cimax arena: interrupted; robots in the loop stopped");
-            return ExitCode::from(130);
+            return Ok(ExitCode::from(130));
         }
-        Err(e) => {
-            eprintln!("cimax arena: {e}");
-            return ExitCode::from(2);
-        }
+        Err(e) => return Err(e.to_string().into()),
     };
-    if let Some(cfg) = &first
-        && let Err(e) = write_artifacts(args, cfg)
-    {
-        eprintln!("cimax arena: {e}");
-        return ExitCode::from(2);
+    if let Some(cfg) = &first {
+        write_artifacts(args, cfg)?;
     }
 
     let emulated_s: f64 = runs
         .iter()
         .map(|(_, r)| r.report.emulated.as_secs_f64())
         .sum();
-    let failures: Vec<(&LabRun, String)> = runs
+    let failures: Vec<(&LabRun, String, Option<String>)> = runs
         .iter()
         .filter(|(_, r)| !r.success)
         .map(|(i, r)| {
             let cfg = experiments[*i].configs.iter().find(|c| c.seed == r.seed);
-            (r, cfg.map(replay_lights).unwrap_or_default())
+            let earlier = cfg.and_then(|c| earlier_pattern_failed(c, r));
+            (r, cfg.map(replay_lights).unwrap_or_default(), earlier)
         })
         .collect();
     let total = runs.len() + crashed.len();
-    let successes = runs.len() - failures.len();
+    // A pattern without a verdict is not judged: neither a success nor a failure.
+    let not_judged = runs.iter().filter(|(_, r)| r.expected.is_none()).count();
+    let successes = runs
+        .iter()
+        .filter(|(_, r)| r.success && r.expected.is_some())
+        .count();
     if args.json {
         let summary = JsonSummary {
             runs: total,
             successes,
+            not_judged,
             emulated_s,
             wall_s,
         };
-        if let Err(e) = print_json(&runs, &crashed, summary) {
-            eprintln!("cimax arena: {e}");
-            return ExitCode::from(2);
-        }
+        print_json(&experiments, &runs, &crashed, summary)?;
     } else {
-        print_table(args, &experiments, &runs, &crashed);
-        print_hil(&runs);
-        println!(
-            "{} runs, {} successful; {:.0} s of robot time in {:.3} s wall ({:.0}x real time)",
+        print_table(args, &experiments, &runs, &crashed)?;
+        print_hil(&runs)?;
+        let unjudged = match not_judged {
+            0 => String::new(),
+            n => format!(", {n} not judged (no verdict for the pattern)"),
+        };
+        outln!(
+            "{} runs, {} successful{unjudged}; {:.0} s of robot time in {:.3} s wall ({:.0}x real time)",
             total,
             successes,
             emulated_s,
             wall_s,
             emulated_s / wall_s.max(1e-9)
-        );
+        )?;
     }
-    print_failures(args, &failures, &crashed);
-    if failures.is_empty() && crashed.is_empty() {
+    print_failures(&replay_options(matches), &failures, &crashed);
+    Ok(if failures.is_empty() && crashed.is_empty() {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
-    }
+    })
 }
+
+/// How `hal_emu` says that a robot in the loop's link did not open (its `RobotFailure`'s
+/// message).
+const LINK_NOT_OPEN: &str = "its link did not open";
 
 /// Judged runs and crashed runs, each with its experiment's index.
 pub(super) type Runs = (Vec<(usize, LabRun)>, Vec<(usize, Crashed)>);
@@ -265,7 +278,13 @@ pub(super) fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaEr
         .enumerate()
         .flat_map(|(i, e)| e.configs.iter().map(move |c| (i, c)))
         .collect();
-    let bar = if jobs.len() > 1 {
+    let real_time = jobs.iter().any(|(_, c)| c.real_time());
+    let secs = |c: &ArenaConfig| c.duration.as_millis().div_ceil(1000);
+    let bar = if real_time {
+        // Robots in the loop: the bar moves with the seconds, even for one run.
+        let total = jobs.iter().map(|(_, c)| secs(c)).sum();
+        Progress::seconds(total, "arena (real time)")
+    } else if jobs.len() > 1 {
         Progress::new(jobs.len() as u64, "arena", false)
     } else {
         Progress::hidden()
@@ -279,18 +298,25 @@ pub(super) fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaEr
     };
     // Runs with robots in the loop go in real time, one at a time (the robots are one board,
     // or QEMU processes that need the cores); the others in parallel.
-    let results: Vec<Result<LabRun, ArenaError>> = if jobs.iter().any(|(_, c)| c.real_time()) {
-        jobs.iter().map(|(_, c)| one(c)).collect()
+    let results: Vec<Result<LabRun, ArenaError>> = if real_time {
+        jobs.iter()
+            .map(|(_, c)| bar.while_running(secs(c), || judge(c)))
+            .collect()
     } else {
         jobs.par_iter().map(|(_, c)| one(c)).collect()
     };
     bar.finish();
     let wall_s = wall.elapsed().as_secs_f64();
     let (mut runs, mut crashed): Runs = (Vec::new(), Vec::new());
-    // Runs in which a robot stopped on its own (a panic): failed, without LEDs to judge.
+    // Runs in which a robot stopped on its own (a panic): failed, without LEDs to judge. A robot
+    // in the loop whose link never opened (nothing listening, no such serial port) is a set-up
+    // error, not a failed run.
     for ((i, c), r) in jobs.iter().zip(results) {
         match r {
             Ok(r) => runs.push((*i, r)),
+            Err(ArenaError::Robot(f)) if !f.panicked && f.message.starts_with(LINK_NOT_OPEN) => {
+                return Err(ArenaError::Hil(format!("robot {}: {}", f.robot, f.message)));
+            }
             Err(ArenaError::Robot(f)) => crashed.push((*i, Crashed::new(c, f))),
             Err(e) => return Err(e),
         }
@@ -298,7 +324,25 @@ pub(super) fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaEr
     Ok(((runs, crashed), wall_s))
 }
 
-/// `--trace`, `--html` and `--svg` for the first run (run again with tracing on).
+/// `--trace`, `--svg` and `--html`, checked before any work: files (their folders are
+/// created), each its own.
+pub(super) fn check_artifacts(args: &ArenaArgs) -> Result<(), String> {
+    let all: Vec<(&str, &std::path::Path)> = [
+        ("--trace", &args.trace),
+        ("--svg", &args.svg),
+        ("--html", &args.html),
+    ]
+    .into_iter()
+    .filter_map(|(o, p)| Some((o, p.as_deref()?)))
+    .collect();
+    for (option, p) in &all {
+        files::check_file(option, p)?;
+    }
+    files::check_distinct(&all)
+}
+
+/// `--trace`, `--html` and `--svg` for the first run (run again with tracing on), moved in
+/// together once all are written.
 fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
     if args.trace.is_none() && args.svg.is_none() && args.html.is_none() {
         return Ok(());
@@ -306,20 +350,24 @@ fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
     let mut cfg = cfg.clone();
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
+    let mut staged = Staged::new();
     if args.trace.is_some() || args.html.is_some() {
         let header = lab_header(&cfg, &run, args);
         if let Some(path) = &args.trace {
-            host_sim::viewer::write_trace(path, header.clone(), &run.report.trace)?;
+            staged.write_with(path, |p| {
+                host_sim::viewer::write_trace(p, header.clone(), &run.report.trace)
+            })?;
         }
         if let Some(path) = &args.html {
-            host_sim::viewer::write_page(path, header, &run.report.trace)?;
+            staged.write_with(path, |p| {
+                host_sim::viewer::write_page(p, header, &run.report.trace)
+            })?;
         }
     }
     if let Some(path) = &args.svg {
-        std::fs::write(path, timeline_svg(&cfg, &run))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        staged.write(path, timeline_svg(&cfg, &run))?;
     }
-    Ok(())
+    staged.commit()
 }
 
 /// The viewer's header of a lab run: the set-up, a title and the verdict.

@@ -18,16 +18,19 @@ mod line;
 mod options;
 mod plane;
 mod print;
+mod replay;
 mod sweep;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::cli::out::finish;
 use clap::{Args, Subcommand};
 use hal_emu::Readings;
 use hal_emu::world::hil::HilSpec;
 use host_sim::arena::campaign::Decide;
 use host_sim::arena::plane::Layout;
+use host_sim::swarm::scenario::MAX_EXTENT;
 use protocol::SwarmKey;
 
 pub use campaign::CampaignArgs;
@@ -59,14 +62,17 @@ pub enum ArenaCommand {
 /// without a bound a huge `--duration` or `--cycle` would run for ever or exhaust memory.
 pub const MAX_RUN_SECS: u64 = 1_000_000;
 
+/// The most metres `--spacing` and `--range` take (a kilometre: light crosses a lab).
+pub const MAX_METRES: f64 = 1000.0;
+
 /// Options of `cimax arena`. With none, the paper's suite ([`paper_suite`]): six patterns and
 /// the alternating experiment from each to its mirror image, five runs each.
 #[derive(Args, Debug, Clone)]
-#[command(args_conflicts_with_subcommands = true)]
+#[command(args_conflicts_with_subcommands = true, allow_negative_numbers = true)]
 pub struct ArenaArgs {
     /// Number of robots: in a line with light patterns 2 to 64 (default: the pattern's length,
     /// else 4); with --field 2 to 1000 (default 61).
-    #[arg(long, value_parser = clap::value_parser!(u16).range(2..=1000))]
+    #[arg(long, value_parser = crate::cli::values::whole::<u16>(2, 1000))]
     pub robots: Option<u16>,
     /// With --field: how the robots are placed (a line, the paper's hexagonal lattice 0.75 R
     /// apart, or a random disk of the paper's density).
@@ -76,42 +82,42 @@ pub struct ArenaArgs {
     #[arg(long, value_name = "FILE", requires = "field")]
     pub positions: Option<PathBuf>,
     /// With --field: receive sectors (receivers) per robot, 2 to 8.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8), requires = "field")]
+    #[arg(long, default_value_t = 6, value_parser = crate::cli::values::whole::<u8>(2, 8), requires = "field")]
     pub sectors: u8,
     /// Robots on a plane over a field instead of light patterns: a `cimax swarm` scenario
     /// (sharp, gradient, cloud) or its TOML file. The swarm moves as it decides.
     #[arg(long)]
     pub field: Option<String>,
     /// With --field: where the centre of mass starts, in R along x.
-    #[arg(long, default_value_t = -2.0, allow_hyphen_values = true, requires = "field")]
+    #[arg(long, default_value_t = -2.0, requires = "field", value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
     pub x_init: f64,
     /// With --field: negotiation periods (moves of 0.33 R) per run.
-    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1000), requires = "field")]
+    #[arg(long, default_value_t = 50, value_parser = crate::cli::values::whole::<u32>(1, 1000), requires = "field")]
     pub moves: u32,
     /// Metres between neighbours (the light carries --range metres).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::cli::values::positive(MAX_METRES, "a number of metres"))]
     pub spacing: f64,
     /// Range of the light, metres.
-    #[arg(long, default_value_t = 1.5)]
+    #[arg(long, default_value_t = 1.5, value_parser = crate::cli::values::positive(MAX_METRES, "a number of metres"))]
     pub range: f64,
     /// One light pattern instead of the paper's suite, one character per robot, 1 = lit.
     #[arg(long)]
     pub lights: Option<String>,
-    /// Change the pattern at this time (seconds, at most 1,000,000)...
-    #[arg(long, requires = "then", value_parser = clap::value_parser!(u64).range(0..=MAX_RUN_SECS))]
-    pub switch_at: Option<u64>,
+    /// Change the pattern at this time (seconds, to the millisecond, at most 1,000,000)...
+    #[arg(long, requires = "then", value_parser = crate::cli::values::number(0.0, MAX_RUN_SECS as f64, "a number of seconds"))]
+    pub switch_at: Option<f64>,
     /// ...to this pattern.
     #[arg(long, requires = "switch_at")]
     pub then: Option<String>,
     /// Base seed: run k uses seed + k. Failing runs print their seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     pub seed: u64,
     /// Runs per pattern.
-    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    #[arg(long, default_value_t = 5, value_parser = crate::cli::values::whole::<u64>(1, 100_000))]
     pub runs: u64,
     /// Emulated seconds per run (per phase in the alternating experiment), 1 to 1,000,000;
     /// default three negotiation periods of the longest cycle.
-    #[arg(long, value_parser = clap::value_parser!(u64).range(1..=MAX_RUN_SECS))]
+    #[arg(long, value_parser = crate::cli::values::whole::<u64>(1, MAX_RUN_SECS))]
     pub duration: Option<u64>,
     /// What the light sensors report: `full` (levels of 200 lit and 30 dark with noise ±10,
     /// or the field's level), `binary` (the paper's g in {0, 1}: 1 lit, 0 dark, without noise),
@@ -123,28 +129,28 @@ pub struct ArenaArgs {
     #[arg(long)]
     pub binary_readings: bool,
     /// Probability that a frame is lost at a receiver.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::cli::values::number(0.0, 1.0, "a probability"))]
     pub loss: f64,
     /// Probability that a received byte is corrupted.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::cli::values::number(0.0, 1.0, "a probability"))]
     pub byte_error_rate: f64,
     /// Turn collisions of overlapping frames off.
     #[arg(long)]
     pub no_collisions: bool,
     /// Bits per second on air (the board's 9600 Bd IrDA SIR link; 10 bits per byte).
-    #[arg(long, default_value_t = 9600)]
+    #[arg(long, default_value_t = 9600, value_parser = crate::cli::values::whole::<u32>(1, u64::from(u32::MAX)))]
     pub bitrate: u32,
     /// Mean cycle length, seconds (the paper's 55).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::positive(MAX_RUN_SECS as f64, "a number of seconds"))]
     pub cycle: Option<f64>,
     /// Cycle spread, seconds (the paper's ±15).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::number(0.0, MAX_RUN_SECS as f64, "a number of seconds"))]
     pub cycle_spread: Option<f64>,
     /// Refractory time, seconds (the paper's 4).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::number(0.0, MAX_RUN_SECS as f64, "a number of seconds"))]
     pub refractory: Option<f64>,
     /// Negotiation period, cycles (the paper's 10).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::whole::<u16>(1, u64::from(u16::MAX)))]
     pub negotiation: Option<u16>,
     /// When a robot decides: at the end of each negotiation period (the paper's), or as soon as
     /// its evidence settles, at the latest at a period's end (docs/protocol.md §5.4).
@@ -160,7 +166,8 @@ pub struct ArenaArgs {
     #[arg(long)]
     pub json: bool,
     /// Write every frame sent, received or dropped, LED change and event as JSON lines
-    /// (the first run only).
+    /// (the first run only). Missing folders of --trace, --svg and --html are created; the
+    /// files are moved in only when all are written.
     #[arg(long)]
     pub trace: Option<PathBuf>,
     /// Draw a timeline per robot of frames and LED colour as SVG (the first run only).
@@ -193,7 +200,8 @@ pub struct ArenaArgs {
     #[arg(long, value_name = "I,J,...", value_delimiter = ',', requires = "hil")]
     pub hil_at: Vec<usize>,
     /// The image --hil qemu:N boots (default: the HIL image `cargo hil-image` builds,
-    /// firmware/qemu/target/thumbv7em-none-eabihf/release/hil, or hil6 for 6 sectors).
+    /// firmware/qemu/target/thumbv7em-none-eabihf/release/hil, or hil6 for 6 sectors, under
+    /// the working folder if it is there, else under the checkout cimax was built from).
     #[arg(long, value_name = "ELF", requires = "hil")]
     pub hil_image: Option<PathBuf>,
     /// `campaign`: the fault-injection campaign ([`campaign`]); `sweep` and `bench` on a plane.
@@ -236,16 +244,16 @@ fn parse_at(s: &str) -> Result<(usize, u64), String> {
     Ok((r, t))
 }
 
-/// Runs `cimax arena`; the exit code is non-zero if any run with a verdict failed or an option
+/// Runs `cimax arena` (`matches`: its command line, which failed runs' replays repeat); the exit code is non-zero if any run with a verdict failed or an option
 /// was bad.
-pub fn main(args: &ArenaArgs) -> ExitCode {
+pub fn main(args: &ArenaArgs, matches: &clap::ArgMatches) -> ExitCode {
     match args.command.as_deref() {
-        Some(ArenaCommand::Campaign(c)) => campaign::main(c),
-        Some(ArenaCommand::Sweep(s)) => sweep::sweep_main(s),
-        Some(ArenaCommand::Bench(b)) => plane::bench_main(b),
-        Some(ArenaCommand::Conform(c)) => conform::main(c),
-        None if args.field.is_some() => plane::main(args),
-        None => line::main(args),
+        Some(ArenaCommand::Campaign(c)) => finish("cimax arena campaign", campaign::main(c)),
+        Some(ArenaCommand::Sweep(s)) => finish("cimax arena sweep", sweep::sweep_main(s)),
+        Some(ArenaCommand::Bench(b)) => finish("cimax arena bench", plane::bench_main(b)),
+        Some(ArenaCommand::Conform(c)) => finish("cimax arena conform", conform::main(c)),
+        None if args.field.is_some() => finish("cimax arena", plane::main(args)),
+        None => finish("cimax arena", line::main(args, matches)),
     }
 }
 
@@ -253,7 +261,7 @@ pub fn main(args: &ArenaArgs) -> ExitCode {
 mod tests {
     use super::line::{build, replay_lights, run_all};
     use super::plane::plane_spec;
-    use super::print::{expected_str, replay_extra};
+    use super::print::expected_str;
     use super::*;
     use clap::Parser as _;
     use hal_emu::judge::leds_str;
@@ -358,7 +366,6 @@ mod tests {
                 .flat_map(|e| &e.configs)
                 .all(|c| c.env.readings == Readings::Binary)
         );
-        assert_eq!(replay_extra(&a), " --binary-readings");
         // The same as `--readings binary`; on a plane too.
         assert_eq!(
             build(&args(&["--readings", "binary", "--runs", "1"])).unwrap()[0].configs[0]
@@ -373,7 +380,13 @@ mod tests {
             Readings::Binary
         );
         let scaled = args(&["--readings", "gain:0.5,offset:100", "--runs", "1"]);
-        assert_eq!(replay_extra(&scaled), " --readings gain:0.5,offset:100");
+        assert_eq!(
+            build(&scaled).unwrap()[0].configs[0]
+                .env
+                .readings
+                .to_string(),
+            "gain:0.5,offset:100"
+        );
         // The whole suite with binary readings, one run each: every verdict holds.
         let ((runs, crashed), _) = run_all(&experiments).unwrap();
         assert!(crashed.is_empty());

@@ -1,7 +1,7 @@
 //! What the options of `cimax arena` set, shared by a line and a plane: the robots' protocol
 //! parameters, the light medium, the run's length and the robots in the loop, each checked.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use hal_emu::MediumParams;
 use hal_emu::world::hil::{HilClock, HilRobot, Transport};
@@ -31,10 +31,10 @@ pub(super) fn hil_robots(
     if args.hil.is_empty() {
         return Ok(Vec::new());
     }
-    let image = args.hil_image.clone().unwrap_or_else(|| {
-        let name = if sectors == 2 { "hil" } else { "hil6" };
-        PathBuf::from("firmware/qemu/target/thumbv7em-none-eabihf/release").join(name)
-    });
+    let image = args
+        .hil_image
+        .clone()
+        .unwrap_or_else(|| default_image(sectors));
     let transports: Vec<Transport> = args.hil.iter().flat_map(|h| h.transports(&image)).collect();
     if transports.iter().any(|t| matches!(t, Transport::Qemu(_))) {
         if !image.is_file() {
@@ -75,35 +75,98 @@ pub(super) fn hil_robots(
     if args.key.is_some() {
         return Err("--key with --hil: link version 2 carries no swarm key".into());
     }
-    let clock = |t: &Transport| -> Result<HilClock, String> {
-        match (args.hil_clock, t) {
-            (Some(HilClockArg::Virtual) | None, Transport::Qemu(_) | Transport::InProcess) => {
-                Ok(HilClock::Virtual)
-            }
-            (Some(HilClockArg::Wall), Transport::InProcess) => Err(
-                "--hil-clock wall with loopback: the robot in this process runs on the arena's \
-                 clock"
-                    .into(),
-            ),
-            (Some(HilClockArg::Virtual), Transport::Serial(..)) => Err(format!(
-                "--hil-clock virtual with {t}: a board on a serial port keeps its own time \
-                 (its image cannot follow the arena's clock); use --hil-clock wall"
-            )),
-            (Some(HilClockArg::Virtual), Transport::Tcp(_)) => Ok(HilClock::Virtual),
-            (Some(HilClockArg::Wall), _) | (None, _) => Ok(HilClock::Wall),
-        }
-    };
     places
         .into_iter()
         .zip(transports)
         .map(|(robot, transport)| {
             Ok(HilRobot {
                 robot,
-                clock: clock(&transport)?,
+                clock: hil_clock(args, &transport)?,
                 transport,
             })
         })
         .collect()
+}
+
+/// The clock a robot in the loop over `t` runs on: `--hil-clock`, or the transport's default
+/// (docs/hil.md, "Time").
+fn hil_clock(args: &ArenaArgs, t: &Transport) -> Result<HilClock, String> {
+    match (args.hil_clock, t) {
+        (Some(HilClockArg::Virtual) | None, Transport::Qemu(_) | Transport::InProcess) => {
+            Ok(HilClock::Virtual)
+        }
+        (Some(HilClockArg::Wall), Transport::InProcess) => Err(
+            "--hil-clock wall with loopback: the robot in this process runs on the arena's \
+             clock"
+                .into(),
+        ),
+        (Some(HilClockArg::Virtual), Transport::Serial(..)) => Err(format!(
+            "--hil-clock virtual with {t}: a board on a serial port keeps its own time \
+             (its image cannot follow the arena's clock); use --hil-clock wall"
+        )),
+        (Some(HilClockArg::Virtual), Transport::Tcp(_)) => Ok(HilClock::Virtual),
+        (Some(HilClockArg::Wall), _) | (None, _) => Ok(HilClock::Wall),
+    }
+}
+
+/// Checks `--kill` and `--restart` (ROBOT@SECONDS each): per robot, kills and restarts
+/// alternate in time, a kill first: no restart of a robot alive then, no kill of a robot
+/// already dead, no option given twice.
+pub(super) fn check_kills(kills: &[(usize, u64)], restarts: &[(usize, u64)]) -> Result<(), String> {
+    let mut events: Vec<(usize, u64, bool)> = kills
+        .iter()
+        .map(|&(r, t)| (r, t, true))
+        .chain(restarts.iter().map(|&(r, t)| (r, t, false)))
+        .collect();
+    let name = |kill: bool| if kill { "--kill" } else { "--restart" };
+    for (i, &(r, t, kill)) in events.iter().enumerate() {
+        if events[..i].contains(&(r, t, kill)) {
+            return Err(format!("{} {r}@{t} is given twice", name(kill)));
+        }
+    }
+    // In time order per robot; at one time a kill before a restart.
+    events.sort_by_key(|&(r, t, kill)| (r, t, !kill));
+    let mut last: Option<(usize, u64, bool)> = None;
+    for &(r, t, kill) in &events {
+        let before = last.filter(|&(lr, _, _)| lr == r);
+        match (kill, before) {
+            (true, Some((_, lt, true))) => {
+                return Err(format!(
+                    "--kill {r}@{t}: robot {r} is already dead then (--kill {r}@{lt}, no --restart between)"
+                ));
+            }
+            (false, None | Some((_, _, false))) => {
+                return Err(format!(
+                    "--restart {r}@{t}: robot {r} is alive then (a restart follows a --kill of it)"
+                ));
+            }
+            (false, Some((_, lt, true))) if lt == t => {
+                return Err(format!(
+                    "--restart {r}@{t}: at the time of its --kill {r}@{lt}; restart it later"
+                ));
+            }
+            _ => {}
+        }
+        last = Some((r, t, kill));
+    }
+    Ok(())
+}
+
+/// Where `cargo hil-image` puts the HIL images, in the workspace.
+const IMAGE_DIR: &str = "firmware/qemu/target/thumbv7em-none-eabihf/release";
+
+/// The image `--hil qemu:N` boots without `--hil-image`: `hil` (2 sectors) or `hil6`, under
+/// [`IMAGE_DIR`] of the working folder if it is there, else of the checkout this `cimax` was
+/// built from (as the docs folder is found, [`host_sim::report::default_docs_dir`]).
+fn default_image(sectors: u8) -> PathBuf {
+    let name = if sectors == 2 { "hil" } else { "hil6" };
+    let here = PathBuf::from(IMAGE_DIR).join(name);
+    if here.is_file() {
+        return here;
+    }
+    let checkout = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let checkout = checkout.canonicalize().unwrap_or(checkout);
+    checkout.join(IMAGE_DIR).join(name)
 }
 
 /// `s` seconds as a [`Duration`], to the millisecond; an error naming `--what` unless it is a

@@ -15,6 +15,7 @@ use serde::Serialize;
 
 use super::ArenaArgs;
 use super::options::{hil_robots, medium, robot_params, scaled, time_scale};
+use crate::cli::out::{Exit, StdoutError, outln};
 
 /// `--shape`: how the robots are placed on the plane, as typed (`line`, `lattice`, `disk`,
 /// `file`), each with its help.
@@ -41,33 +42,27 @@ pub(super) fn shape_parser() -> impl TypedValueParser<Value = Layout> {
 }
 
 /// `cimax arena --field ...`: robots on a plane over a field, moving as they decide.
-pub(super) fn main(args: &ArenaArgs) -> ExitCode {
-    let spec = match plane_spec(args) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("cimax arena: {e}");
-            return ExitCode::from(2);
-        }
-    };
+pub(super) fn main(args: &ArenaArgs) -> Exit {
+    let spec = plane_spec(args)?;
+    super::line::check_artifacts(args)?;
     let wall = std::time::Instant::now();
     let seeds: Vec<u64> = (0..args.runs).map(|k| args.seed.wrapping_add(k)).collect();
+    // A bar of runs on a terminal (61 robots: about half a second a run).
+    let bar = host_sim::progress::Progress::new(seeds.len() as u64, "arena plane", false);
+    let one = |s: u64| {
+        let r = plane::run(&spec, s);
+        bar.inc();
+        r
+    };
     // With robots in the loop, in real time and one run at a time.
     let results: Result<Vec<_>, _> = if spec.hil.is_empty() {
-        seeds.par_iter().map(|&s| plane::run(&spec, s)).collect()
+        seeds.par_iter().map(|&s| one(s)).collect()
     } else {
-        seeds.iter().map(|&s| plane::run(&spec, s)).collect()
+        seeds.iter().map(|&s| one(s)).collect()
     };
-    let runs = match results {
-        Ok(r) => r,
-        Err(e) => {
-            eprintln!("cimax arena: {e}");
-            return ExitCode::from(2);
-        }
-    };
-    if let Err(e) = plane_artifacts(args, &spec) {
-        eprintln!("cimax arena: {e}");
-        return ExitCode::from(2);
-    }
+    bar.finish();
+    let runs = results.map_err(|e| e.to_string())?;
+    plane_artifacts(args, &spec)?;
     print_runs(&spec, &runs, wall.elapsed().as_secs_f64(), args.json)
 }
 
@@ -79,13 +74,16 @@ fn plane_artifacts(args: &ArenaArgs, spec: &PlaneSpec) -> Result<(), String> {
     }
     let (run, cfg, trace) = plane::run_traced(spec, args.seed, true).map_err(|e| e.to_string())?;
     let header = plane::viewer_header(spec, &cfg, &run, &trace);
+    let mut staged = crate::cli::files::Staged::new();
     if let Some(path) = &args.trace {
-        host_sim::viewer::write_trace(path, header.clone(), &trace)?;
+        staged.write_with(path, |p| {
+            host_sim::viewer::write_trace(p, header.clone(), &trace)
+        })?;
     }
     if let Some(path) = &args.html {
-        host_sim::viewer::write_page(path, header, &trace)?;
+        staged.write_with(path, |p| host_sim::viewer::write_page(p, header, &trace))?;
     }
-    Ok(())
+    staged.commit()
 }
 
 /// The plane experiment the options describe.
@@ -109,6 +107,24 @@ pub(super) fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
              timeline; see --html) do not apply"
                 .into(),
         );
+    }
+    // Options of a line that a plane has in other terms, refused rather than ignored.
+    let line_only = [
+        (
+            args.duration.is_some(),
+            "--duration (a plane runs --moves negotiation periods)",
+        ),
+        (
+            args.key.is_some(),
+            "--key (the robots on a plane run without a swarm key)",
+        ),
+        (
+            args.spacing != 1.0,
+            "--spacing (robots on a plane are placed by --shape, in R; --range sets R in metres)",
+        ),
+    ];
+    if let Some((_, what)) = line_only.iter().find(|(given, _)| *given) {
+        return Err(format!("--field runs over a field: {what} does not apply"));
     }
     // The timing options as on a line (`--cycle` scales what the others leave out).
     let mut params = robot_params(args)?;
@@ -153,7 +169,7 @@ pub(super) fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
 
 /// Prints the runs of one plane experiment (a table, or JSON with `json`); exit code 0, or 2 if
 /// the JSON cannot be written.
-fn print_runs(spec: &PlaneSpec, runs: &[PlaneRun], wall_s: f64, json: bool) -> ExitCode {
+fn print_runs(spec: &PlaneSpec, runs: &[PlaneRun], wall_s: f64, json: bool) -> Exit {
     let ok = runs.iter().filter(|r| r.success).count();
     let emulated: f64 = runs.iter().map(|r| r.emulated_s).sum();
     let mean_moves = mean(
@@ -169,19 +185,13 @@ fn print_runs(spec: &PlaneSpec, runs: &[PlaneRun], wall_s: f64, json: bool) -> E
             wall_s,
             robot_s_per_wall_s: emulated * spec.robots as f64 / wall_s.max(1e-9),
         };
-        return match serde_json::to_string_pretty(&PlaneReport { runs, summary }) {
-            Ok(s) => {
-                println!("{s}");
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                eprintln!("cimax arena: {e}");
-                ExitCode::from(2)
-            }
-        };
+        let text = serde_json::to_string_pretty(&PlaneReport { runs, summary })
+            .map_err(|e| e.to_string())?;
+        outln!("{text}")?;
+        return Ok(ExitCode::SUCCESS);
     }
-    print_run_table(spec, runs);
-    println!(
+    print_run_table(spec, runs)?;
+    outln!(
         "{} runs, {} successful ({}); mean moves to success {}; {:.0} robot-s in {:.1} s wall",
         runs.len(),
         ok,
@@ -191,8 +201,8 @@ fn print_runs(spec: &PlaneSpec, runs: &[PlaneRun], wall_s: f64, json: bool) -> E
         mean_moves.map_or("-".into(), |m| format!("{m:.1}")),
         emulated * spec.robots as f64,
         wall_s
-    );
-    ExitCode::SUCCESS
+    )?;
+    Ok(ExitCode::SUCCESS)
 }
 
 /// The `--json` summary of a plane experiment.
@@ -214,15 +224,15 @@ struct PlaneReport<'a> {
 }
 
 /// The table of a plane experiment's runs, one line per run (and per robot in the loop).
-fn print_run_table(spec: &PlaneSpec, runs: &[PlaneRun]) {
-    println!(
+fn print_run_table(spec: &PlaneSpec, runs: &[PlaneRun]) -> Result<(), StdoutError> {
+    outln!(
         "CIMAX arena on a plane, the robot program on {} of {} R",
         spec.summary(),
         spec.scenario.run.step
-    );
-    println!("seed      success  moves  final x  final y  mean consensus");
+    )?;
+    outln!("seed      success  moves  final x  final y  mean consensus")?;
     for r in runs {
-        println!(
+        outln!(
             "{:<9} {:<8} {:>5}  {:>7.2}  {:>7.2}  {:>14.2}",
             r.seed,
             if r.success { "yes" } else { "no" },
@@ -230,14 +240,20 @@ fn print_run_table(spec: &PlaneSpec, runs: &[PlaneRun]) {
             r.final_position[0],
             r.final_position[1],
             mean(r.consensus.iter().copied()).unwrap_or(0.0)
-        );
+        )?;
         for h in &r.hil {
-            println!(
+            outln!(
                 "  robot {} in the loop over {}: {} link frames sent to it, {} received ({} light frames), {} link errors",
-                h.robot, h.transport, h.frames_sent, h.frames_received, h.tx, h.link_errors
-            );
+                h.robot,
+                h.transport,
+                h.frames_sent,
+                h.frames_received,
+                h.tx,
+                h.link_errors
+            )?;
         }
     }
+    Ok(())
 }
 
 /// The mean of `xs`, `None` if empty.
@@ -247,31 +263,26 @@ fn mean(xs: impl Iterator<Item = f64>) -> Option<f64> {
 
 /// Options of `cimax arena bench`.
 #[derive(clap::Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
 pub struct BenchArgs {
     /// Swarm sizes to time (robots on the hexagonal lattice), 2 to 10,000 each (docs/plane.md
     /// times 10,000 too).
-    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000], value_parser = clap::value_parser!(u16).range(2..=10_000))]
+    #[arg(long, value_delimiter = ',', default_values_t = [4u16, 64, 1000], value_parser = crate::cli::values::whole::<u16>(2, 10_000))]
     pub robots: Vec<u16>,
     /// Receive sectors per robot.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
+    #[arg(long, default_value_t = 6, value_parser = crate::cli::values::whole::<u8>(2, 8))]
     pub sectors: u8,
     /// Seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     pub seed: u64,
 }
 
 /// `cimax arena bench`: robot-seconds per wall second of the robot program over the emulated
 /// medium, one negotiation period (550 s) of the sharp field 2 R from the border, on one core
 /// (one run at a time on the calling thread).
-pub fn bench_main(a: &BenchArgs) -> std::process::ExitCode {
-    let scenario = match Scenario::load("sharp") {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("cimax arena bench: {e}");
-            return std::process::ExitCode::from(2);
-        }
-    };
-    println!("robots  emulated s  wall s  robot-s per wall s  x real time");
+pub fn bench_main(a: &BenchArgs) -> Exit {
+    let scenario = Scenario::load("sharp").map_err(|e| e.to_string())?;
+    outln!("robots  emulated s  wall s  robot-s per wall s  x real time")?;
     for &n in &a.robots {
         let spec = PlaneSpec {
             scenario: scenario.clone(),
@@ -287,23 +298,16 @@ pub fn bench_main(a: &BenchArgs) -> std::process::ExitCode {
             hil: Vec::new(),
             sample_period: None,
         };
-        match plane::run(&spec, a.seed) {
-            Ok(r) => {
-                let rate = r.emulated_s * spec.robots as f64 / r.wall_s.max(1e-9);
-                println!(
-                    "{:>6}  {:>10.0}  {:>6.2}  {:>18.3e}  {:>11.0}",
-                    spec.robots,
-                    r.emulated_s,
-                    r.wall_s,
-                    rate,
-                    r.emulated_s / r.wall_s.max(1e-9)
-                );
-            }
-            Err(e) => {
-                eprintln!("cimax arena bench: {e}");
-                return std::process::ExitCode::from(2);
-            }
-        }
+        let r = plane::run(&spec, a.seed).map_err(|e| e.to_string())?;
+        let rate = r.emulated_s * spec.robots as f64 / r.wall_s.max(1e-9);
+        outln!(
+            "{:>6}  {:>10.0}  {:>6.2}  {:>18.3e}  {:>11.0}",
+            spec.robots,
+            r.emulated_s,
+            r.wall_s,
+            rate,
+            r.emulated_s / r.wall_s.max(1e-9)
+        )?;
     }
-    std::process::ExitCode::SUCCESS
+    Ok(ExitCode::SUCCESS)
 }

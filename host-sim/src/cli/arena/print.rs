@@ -4,14 +4,14 @@
 use firmware::LedColor;
 use hal_emu::judge::{LabRun, leds_str, pattern_str};
 use hal_emu::world::arena::RobotFailure;
-use hal_emu::world::hil::{HilReport, HilSpec};
+use hal_emu::world::hil::HilReport;
 use hal_emu::{ArenaConfig, Readings};
-use host_sim::arena::campaign::Decide;
 use protocol::{Instant, Params};
 use serde::Serialize;
 
 use super::ArenaArgs;
 use super::line::{Experiment, replay_lights};
+use crate::cli::out::{Fail, StdoutError, outln};
 
 /// One run in the `--json` report.
 #[derive(Serialize)]
@@ -19,7 +19,8 @@ pub(super) struct JsonRun {
     lights: String,
     expected: Option<String>,
     leds: String,
-    success: bool,
+    /// Whether the LEDs were as expected; `null` for a pattern without a verdict (not judged).
+    success: Option<bool>,
     consensus_s: Option<f64>,
     /// Robots that flickered: changed their LEDs after showing their side, before the lights
     /// changed (`hal_emu::judge::LabRun::flickers`).
@@ -33,6 +34,37 @@ pub(super) struct JsonRun {
     /// Each robot in the loop's link (`--hil`): transport, frames each way, link errors.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     hil: Vec<HilReport>,
+    /// Where the pattern changes (`--switch-at --then`, the suite's alternating runs): every
+    /// pattern in turn, from when, with its verdict; absent for one pattern (`lights`).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    patterns: Vec<JsonPattern>,
+}
+
+/// One pattern of a run whose pattern changes.
+#[derive(Clone, Serialize)]
+pub(super) struct JsonPattern {
+    /// When it starts, seconds.
+    at_s: f64,
+    lights: String,
+    /// The LEDs it asks for; `null` without a verdict.
+    expected: Option<String>,
+}
+
+/// The patterns of a run of `cfg` if it has more than one, else none.
+pub(super) fn patterns_of(cfg: &ArenaConfig) -> Vec<JsonPattern> {
+    if cfg.env.schedule.len() < 2 {
+        return Vec::new();
+    }
+    let absent = hal_emu::judge::absent(cfg);
+    cfg.env
+        .schedule
+        .iter()
+        .map(|(t, p)| JsonPattern {
+            at_s: t.saturating_since(Instant::ZERO).as_secs_f64(),
+            lights: pattern_str(p),
+            expected: hal_emu::judge::expected_without(p, &absent).map(|e| leds_str(&e)),
+        })
+        .collect()
 }
 
 /// The `--json` summary.
@@ -40,6 +72,8 @@ pub(super) struct JsonRun {
 pub(super) struct JsonSummary {
     pub(super) runs: usize,
     pub(super) successes: usize,
+    /// Runs of a pattern without a verdict (`--lights 1010`): neither successes nor failures.
+    pub(super) not_judged: usize,
     pub(super) emulated_s: f64,
     pub(super) wall_s: f64,
 }
@@ -53,18 +87,19 @@ struct JsonReport {
 
 /// Prints the `--json` report.
 pub(super) fn print_json(
+    experiments: &[Experiment],
     runs: &[(usize, LabRun)],
     crashed: &[(usize, Crashed)],
     summary: JsonSummary,
-) -> Result<(), serde_json::Error> {
+) -> Result<(), Fail> {
     let report = JsonReport {
         runs: runs
             .iter()
-            .map(|(_, r)| JsonRun {
+            .map(|(i, r)| JsonRun {
                 lights: pattern_str(&r.lights),
                 expected: r.expected.as_deref().map(leds_str),
                 leds: leds_str(&r.leds),
-                success: r.success,
+                success: r.expected.is_some().then_some(r.success),
                 consensus_s: r.consensus_s,
                 flickers: r.flickers,
                 seed: r.seed,
@@ -72,17 +107,24 @@ pub(super) fn print_json(
                 wall_s: r.report.wall.as_secs_f64(),
                 error: None,
                 hil: r.report.hil.clone(),
+                patterns: experiments[*i]
+                    .configs
+                    .iter()
+                    .find(|c| c.seed == r.seed)
+                    .map(patterns_of)
+                    .unwrap_or_default(),
             })
             .chain(crashed.iter().map(|(_, c)| c.json()))
             .collect(),
         summary,
     };
-    println!("{}", serde_json::to_string_pretty(&report)?);
+    let text = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    outln!("{text}")?;
     Ok(())
 }
 
 /// One line per robot in the loop: its link over all runs.
-pub(super) fn print_hil(runs: &[(usize, LabRun)]) {
+pub(super) fn print_hil(runs: &[(usize, LabRun)]) -> Result<(), StdoutError> {
     let mut places: std::collections::BTreeMap<usize, (String, HilReport, usize)> =
         std::collections::BTreeMap::new();
     for (_, r) in runs {
@@ -110,7 +152,7 @@ pub(super) fn print_hil(runs: &[(usize, LabRun)]) {
         }
     }
     for (robot, (transport, h, n)) in places {
-        println!(
+        outln!(
             "robot {robot} in the loop over {transport}: {n} runs, {} link frames ({} B) sent to it, {} ({} B) received with {} light frames, {} link errors; hello within {} ms, heartbeat round trip {:.2} ms mean, {:.2} ms max",
             h.frames_sent,
             h.bytes_sent,
@@ -121,77 +163,75 @@ pub(super) fn print_hil(runs: &[(usize, LabRun)]) {
             h.hello_ms,
             h.rtt_mean_us as f64 / 1000.0,
             h.rtt_max_us as f64 / 1000.0
-        );
+        )?;
     }
+    Ok(())
 }
 
-/// The options of `args` a replay repeats (after `--runs 1`).
-pub(super) fn replay_extra(args: &ArenaArgs) -> String {
-    let mut extra = String::new();
-    for h in &args.hil {
-        extra += &format!(" --hil {}", hil_spec_str(h));
-    }
-    if !args.hil_at.is_empty() {
-        let at: Vec<String> = args.hil_at.iter().map(usize::to_string).collect();
-        extra += &format!(" --hil-at {}", at.join(","));
-    }
-    if let Some(c) = args.cycle {
-        extra += &format!(" --cycle {c}");
-    }
-    if let Some(d) = args.duration {
-        extra += &format!(" --duration {d}");
-    }
-    if args.decide != Decide::Fixed {
-        extra += " --decide adaptive";
-    }
-    if args.loss > 0.0 {
-        extra += &format!(" --loss {}", args.loss);
-    }
-    match args.readings() {
-        Readings::Levels => {}
-        Readings::Binary => extra += " --binary-readings",
-        r => extra += &format!(" --readings {r}"),
-    }
-    extra
-}
-
-/// `--hil`'s spec as typed.
-fn hil_spec_str(h: &HilSpec) -> String {
-    match h {
-        HilSpec::Qemu(n) => format!("qemu:{n}"),
-        HilSpec::Loopback(n) => format!("loopback:{n}"),
-        HilSpec::Serial(p, b) => format!("serial:{}@{b}", p.display()),
-        HilSpec::Tcp(a) => format!("tcp:{a}"),
-    }
+/// The command that replays one run: `cimax arena`, its patterns (`lights`,
+/// [`replay_lights`]), its seed, one run, and the command line's other options (`extra`,
+/// [`super::replay::replay_options`]).
+pub(super) fn replay_command(lights: &str, seed: u64, extra: &str) -> String {
+    format!("cimax arena {lights} --seed {seed} --runs 1{extra}")
 }
 
 /// One line on stderr per failed or crashed run (each failed run with the `--lights` options
 /// that replay it, [`replay_lights`]), with the command that replays it.
 pub(super) fn print_failures(
-    args: &ArenaArgs,
-    failures: &[(&LabRun, String)],
+    extra: &str,
+    failures: &[(&LabRun, String, Option<String>)],
     crashed: &[(usize, Crashed)],
 ) {
-    let extra = replay_extra(args);
-    for (r, lights) in failures {
+    for (r, lights, earlier) in failures {
         let flicker = r
             .flicker
             .map(|(t, robot)| {
                 format!("; robot {robot}'s LEDs changed at {t:.0} s, after it showed its side")
             })
             .unwrap_or_default();
+        let flicker = match earlier {
+            Some(why) => format!("{flicker}; {why}"),
+            None => flicker,
+        };
         eprintln!(
-            "FAILED {} seed {}: LEDs {}, expected {}{flicker} (replay: cimax arena {lights} --seed {} --runs 1{extra})",
+            "FAILED {} seed {}: LEDs {}, expected {}{flicker} (replay: {})",
             pattern_str(&r.lights),
             r.seed,
             leds_str(&r.leds),
             r.expected.as_deref().map(leds_str).unwrap_or_default(),
-            r.seed
+            replay_command(lights, r.seed, extra)
         );
     }
     for (_, c) in crashed {
-        eprintln!("{}", c.failed_line(&extra));
+        eprintln!("{}", c.failed_line(extra));
     }
+}
+
+/// Why a run of `cfg` failed before its last pattern, if it did: the first earlier pattern
+/// whose verdict the LEDs did not show when it changed (a switch before the first decision
+/// leaves them off).
+pub(super) fn earlier_pattern_failed(cfg: &ArenaConfig, run: &LabRun) -> Option<String> {
+    let absent = hal_emu::judge::absent(cfg);
+    cfg.env.schedule.windows(2).find_map(|w| {
+        let ((_, p), (to, _)) = (&w[0], &w[1]);
+        let expected = hal_emu::judge::expected_without(p, &absent)?;
+        let leds = run.report.leds_at(*to - protocol::Duration::from_millis(1));
+        if leds == expected {
+            return None;
+        }
+        let at = to.saturating_since(Instant::ZERO).as_secs_f64();
+        let leds = leds_str(&leds);
+        let why = if leds.chars().all(|c| c == '-') {
+            " (a switch before the first decision: no robot had decided yet)"
+        } else {
+            ""
+        };
+        Some(format!(
+            "but pattern {} showed LEDs {leds} when it changed at {at} s, expected {}{why}",
+            pattern_str(p),
+            leds_str(&expected)
+        ))
+    })
 }
 
 /// A run in which a robot stopped on its own ([`hal_emu::ArenaError::Robot`]: its task panicked, or it
@@ -205,6 +245,8 @@ pub(super) struct Crashed {
     failure: RobotFailure,
     /// The options that replay it ([`replay_lights`]).
     replay: String,
+    /// Its patterns, if it changes ([`patterns_of`]).
+    patterns: Vec<JsonPattern>,
 }
 
 impl Crashed {
@@ -221,6 +263,7 @@ impl Crashed {
             expected,
             failure,
             replay: replay_lights(cfg),
+            patterns: patterns_of(cfg),
         }
     }
 
@@ -228,10 +271,10 @@ impl Crashed {
     fn failed_line(&self, extra: &str) -> String {
         let (lights, seed) = (pattern_str(&self.lights), self.failure.seed);
         format!(
-            "FAILED {lights} seed {seed}: {}, expected {} (replay: cimax arena {} --seed {seed} --runs 1{extra})",
+            "FAILED {lights} seed {seed}: {}, expected {} (replay: {})",
             self.failure.what(),
             self.expected.as_deref().map(leds_str).unwrap_or_default(),
-            self.replay,
+            replay_command(&self.replay, seed, extra),
         )
     }
 
@@ -241,7 +284,7 @@ impl Crashed {
             lights: pattern_str(&self.lights),
             expected: self.expected.as_deref().map(leds_str),
             leds: String::new(),
-            success: false,
+            success: Some(false),
             consensus_s: None,
             flickers: 0,
             seed: self.failure.seed,
@@ -249,6 +292,7 @@ impl Crashed {
             wall_s: 0.0,
             error: Some(self.failure.what()),
             hil: Vec::new(),
+            patterns: self.patterns.clone(),
         }
     }
 }
@@ -274,22 +318,27 @@ pub(super) fn print_table(
     experiments: &[Experiment],
     runs: &[(usize, LabRun)],
     crashed: &[(usize, Crashed)],
-) {
+) -> Result<(), StdoutError> {
     let cycle_s = args
         .cycle
         .unwrap_or(Params::robots().wave.cycle.as_secs_f64());
-    println!(
+    outln!(
         "CIMAX lab arena: robots in a line running the robot program over the emulated light medium{}",
         match args.readings() {
             Readings::Binary => "; binary readings (g = 1 lit, 0 dark)".to_string(),
             Readings::Levels => String::new(),
             r => format!("; readings {r}"),
         }
-    );
-    println!(
+    )?;
+    outln!(
         "{:<12} {:<10} {:<36} {:>8} {:>24} {:>9}",
-        "pattern", "expected", "LEDs per run", "success", "consensus s (cycles)", "speed"
-    );
+        "pattern",
+        "expected",
+        "LEDs per run",
+        "success",
+        "consensus s (cycles)",
+        "speed"
+    )?;
     for (i, e) in experiments.iter().enumerate() {
         let rs: Vec<&LabRun> = runs
             .iter()
@@ -326,7 +375,7 @@ pub(super) fn print_table(
             format!("{:.0}%", 100.0 * ok as f64 / n.max(1) as f64)
         };
         let consensus = mean.map_or("-".into(), |m| format!("{m:.0} ({:.1})", m / cycle_s));
-        println!(
+        outln!(
             "{:<12} {:<10} {:<36} {:>8} {:>24} {:>8.0}x",
             e.label,
             exp,
@@ -334,8 +383,9 @@ pub(super) fn print_table(
             success,
             consensus,
             speed
-        );
+        )?;
     }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -16,18 +16,20 @@ use host_sim::progress::Progress;
 use host_sim::shard::{self, Job, ShardSpec, merge::Merged};
 use host_sim::swarm::experiment::{self, SweepPoint};
 use host_sim::swarm::geometry::Shape;
-use host_sim::swarm::scenario::{Placement, Scenario, check_runs};
+use host_sim::swarm::scenario::{MAX_EXTENT, Placement, Scenario, check_runs};
 use protocol::Params;
 use serde::{Deserialize, Serialize};
 
 use super::plane::shape_parser;
 use crate::cli::job::ScenarioSource;
+use crate::cli::out::{Exit, Fail, StdoutError, outln};
 
 /// The job's command in a part's header.
 pub const COMMAND: &str = "arena sweep";
 
 /// Options of `cimax arena sweep`.
 #[derive(clap::Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
 pub struct SweepArgs {
     /// The field: a `cimax swarm` scenario (sharp, gradient) or its TOML file.
     #[arg(long, default_value = "sharp")]
@@ -36,31 +38,31 @@ pub struct SweepArgs {
     #[arg(long, value_parser = shape_parser(), default_value = "lattice")]
     pub shape: Layout,
     /// Number of robots.
-    #[arg(long, default_value_t = 61, value_parser = clap::value_parser!(u16).range(2..=1000))]
+    #[arg(long, default_value_t = 61, value_parser = crate::cli::values::whole::<u16>(2, 1000))]
     pub robots: u16,
     /// Receive sectors per robot.
-    #[arg(long, default_value_t = 6, value_parser = clap::value_parser!(u8).range(2..=8))]
+    #[arg(long, default_value_t = 6, value_parser = crate::cli::values::whole::<u8>(2, 8))]
     pub sectors: u8,
     /// First initial x, in R.
-    #[arg(long, default_value_t = -4.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = -4.0, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
     pub from: f64,
     /// Last initial x, in R.
-    #[arg(long, default_value_t = 4.0, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 4.0, value_parser = crate::cli::values::number(-MAX_EXTENT, MAX_EXTENT, "a position in R"))]
     pub to: f64,
     /// Step between initial positions, in R.
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, value_parser = crate::cli::values::positive(2.0 * MAX_EXTENT, "a step in R"))]
     pub step: f64,
     /// Runs per position (run k uses seed BASE + k).
-    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u64).range(1..=10_000))]
+    #[arg(long, default_value_t = 10, value_parser = crate::cli::values::whole::<u64>(1, 10_000))]
     pub runs: u64,
     /// Base seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     pub seed: u64,
     /// Moves per run.
-    #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    #[arg(long, default_value_t = 50, value_parser = crate::cli::values::whole::<u32>(1, 1000))]
     pub moves: u32,
     /// Probability that a frame is lost at a receiver.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::cli::values::number(0.0, 1.0, "a probability"))]
     pub loss: f64,
     /// What the light sensors report (`full`, `binary`, `levels:N`, `gain:G,offset:B`; see
     /// `cimax arena --help`).
@@ -68,7 +70,7 @@ pub struct SweepArgs {
     pub readings: Readings,
     /// Runs of the 2D simulator (`cimax swarm`, three-phase variant, same placement) per
     /// position, for the curve beside, 0 to 100,000; 0 leaves it out.
-    #[arg(long, default_value_t = 20, value_parser = clap::value_parser!(u32).range(0..=i64::from(host_sim::swarm::scenario::MAX_RUNS_PER_POINT)))]
+    #[arg(long, default_value_t = 20, value_parser = crate::cli::values::whole::<u32>(0, u64::from(host_sim::swarm::scenario::MAX_RUNS_PER_POINT)))]
     pub swarm_runs: u32,
     /// Where to write the CSV and the SVG (`arena-<field>-sweep.csv|svg`); with --shard, the
     /// part.
@@ -124,17 +126,13 @@ struct Ready {
 }
 
 /// `cimax arena sweep`: the unsharded sweep, or one shard of it.
-pub fn sweep_main(a: &SweepArgs) -> std::process::ExitCode {
-    match sweep(a) {
-        Ok(()) => std::process::ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("cimax arena sweep: {e}");
-            std::process::ExitCode::from(2)
-        }
-    }
+pub fn sweep_main(a: &SweepArgs) -> Exit {
+    sweep(a)?;
+    Ok(std::process::ExitCode::SUCCESS)
 }
 
-fn sweep(a: &SweepArgs) -> Result<(), String> {
+fn sweep(a: &SweepArgs) -> Result<(), Fail> {
+    crate::cli::files::check_dir("--out", &a.out)?;
     let job = SweepJob::of(a)?;
     let ready = job.ready()?;
     let total = job.units();
@@ -142,7 +140,7 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
     if let Some(shard) = a.shard {
         let config = Job::new(COMMAND, &job).map_err(|e| e.to_string())?;
         let path = shard::run_shard(config, total, shard, &a.out, false, unit)?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
         return Ok(());
     }
     let all: Vec<u64> = (0..total).collect();
@@ -155,12 +153,12 @@ fn sweep(a: &SweepArgs) -> Result<(), String> {
 ///
 /// # Errors
 /// If the parts are not a sweep this cimax can write, or the outputs cannot be written.
-pub fn merge(m: &Merged, out: &Path) -> Result<std::process::ExitCode, String> {
+pub fn merge(m: &Merged, out: &Path) -> Exit {
     let (job, units): (SweepJob, Vec<Unit>) = m.decode().map_err(|e| e.to_string())?;
     let ready = job.ready().map_err(|e| m.bad_config(e).to_string())?;
     if units.len() as u64 != job.units() {
         let e = format!("{} units, but the sweep has {}", units.len(), job.units());
-        return Err(m.bad_config(e).to_string());
+        return Err(m.bad_config(e).to_string().into());
     }
     job.write(&ready, &units, out)?;
     Ok(std::process::ExitCode::SUCCESS)
@@ -309,22 +307,21 @@ impl SweepJob {
 
     /// Writes the sweep's CSV files and figure into `out` and prints its table: what the
     /// unsharded sweep and the merge of its parts both do with the units' results.
-    fn write(&self, r: &Ready, units: &[Unit], out: &Path) -> Result<(), String> {
+    fn write(&self, r: &Ready, units: &[Unit], out: &Path) -> Result<(), Fail> {
         let (arena, swarm) = self.points(units)?;
         let swarm = (self.swarm_runs > 0).then_some(swarm);
-        std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
         let name = &r.scenario.name;
         let csv = out.join(format!("arena-{name}-sweep.csv"));
-        host_sim::pages::csv::write_sweep_csv(&csv, &arena)
-            .map_err(|e| format!("{}: {e}", csv.display()))?;
+        let mut staged = crate::cli::files::Staged::new();
+        staged.write_with(&csv, |p| host_sim::pages::csv::write_sweep_csv(p, &arena))?;
         if let Some(pts) = &swarm {
             let csv = out.join(format!("swarm-{name}-sweep.csv"));
-            host_sim::pages::csv::write_sweep_csv(&csv, pts)
-                .map_err(|e| format!("{}: {e}", csv.display()))?;
+            staged.write_with(&csv, |p| host_sim::pages::csv::write_sweep_csv(p, pts))?;
         }
-        let svg = self.figure(r, &arena, swarm.as_deref(), out)?;
-        print_sweep(&arena, swarm.as_deref());
-        println!("wrote {} and {}", csv.display(), svg.display());
+        let svg = self.figure(r, &arena, swarm.as_deref(), out, &mut staged)?;
+        staged.commit()?;
+        print_sweep(&arena, swarm.as_deref())?;
+        outln!("wrote {} and {}", csv.display(), svg.display())?;
         Ok(())
     }
 
@@ -335,6 +332,7 @@ impl SweepJob {
         arena: &[SweepPoint],
         swarm: Option<&[SweepPoint]>,
         out: &Path,
+        staged: &mut crate::cli::files::Staged,
     ) -> Result<PathBuf, String> {
         let arena_label = format!("robot program (arena), K = {}", self.sectors);
         let mut series: Vec<(&str, &[SweepPoint])> = vec![(&arena_label, arena)];
@@ -345,20 +343,17 @@ impl SweepJob {
         // and its 25 % at −4), for the built-in scenarios.
         let paper = host_sim::pages::marks::sweep_for(&r.scenario.name);
         let svg = out.join(format!("arena-{}-sweep.svg", r.scenario.name));
-        host_sim::pages::figures::sweep_figure(
-            &svg,
-            &format!(
-                "{}: {} robots ({}), success within {} moves, {} runs per point",
-                r.scenario.name,
-                self.robots,
-                r.layout.label(),
-                self.moves,
-                self.runs
-            ),
-            &series,
-            &paper,
-        )
-        .map_err(|e| format!("{}: {e}", svg.display()))?;
+        let title = format!(
+            "{}: {} robots ({}), success within {} moves, {} runs per point",
+            r.scenario.name,
+            self.robots,
+            r.layout.label(),
+            self.moves,
+            self.runs
+        );
+        staged.write_with(&svg, |p| {
+            host_sim::pages::figures::sweep_figure(p, &title, &series, &paper)
+        })?;
         Ok(svg)
     }
 }
@@ -387,11 +382,11 @@ fn positions(a: &SweepArgs) -> Result<Vec<f64>, String> {
 }
 
 /// The sweep as a table on stdout.
-fn print_sweep(arena: &[SweepPoint], swarm: Option<&[SweepPoint]>) {
-    println!("x_init  arena success  moves   swarm success  moves");
+fn print_sweep(arena: &[SweepPoint], swarm: Option<&[SweepPoint]>) -> Result<(), StdoutError> {
+    outln!("x_init  arena success  moves   swarm success  moves")?;
     for (i, p) in arena.iter().enumerate() {
         let s = swarm.and_then(|s| s.get(i));
-        println!(
+        outln!(
             "{:>6.2}  {:>13.2}  {:>5}   {:>13}  {:>5}",
             p.x_init,
             p.success_rate(),
@@ -400,6 +395,7 @@ fn print_sweep(arena: &[SweepPoint], swarm: Option<&[SweepPoint]>) {
             s.map_or("-".into(), |s| format!("{:.2}", s.success_rate())),
             s.and_then(|s| s.mean_success_periods)
                 .map_or("-".into(), |m| format!("{m:.1}")),
-        );
+        )?;
     }
+    Ok(())
 }

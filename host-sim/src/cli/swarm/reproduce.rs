@@ -10,11 +10,11 @@
 //! [`reproduction::write`], so the files are the same bytes (the page's timing lines too: the
 //! units' wall times are part of their results).
 
+use crate::cli::out::{Exit, StdoutError, outln};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use host_sim::pages::reproduction::{self, Options, Results, Summary, UnitResult, units};
-use host_sim::report;
 use host_sim::shard::{self, Job, ShardSpec, merge::Merged};
 use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{DEFAULT_PLACEMENT, Placement};
@@ -56,24 +56,45 @@ pub fn reproduce(o: &ReproduceOptions) -> Res {
             .docs
             .clone()
             .ok_or("--shard needs --docs DIR, the directory of the part")?;
+        crate::cli::files::check_dir("--docs", &dir)?;
         return run_shard(o.seed, placement, shard, &dir, o.quiet);
     }
-    let opts = Options {
-        seed: o.seed,
-        docs: o.docs.clone().unwrap_or_else(report::default_docs_dir),
-        quiet: o.quiet,
-        placement,
+    let docs = match &o.docs {
+        Some(d) => d.clone(),
+        None => crate::cli::files::checkout_docs("--docs DIR")?,
     };
-    println!(
-        "swarm reproduce: seed {}, {} placement, {} threads, writing {}",
-        opts.seed,
-        opts.placement,
+    crate::cli::files::check_dir("--docs", &docs)?;
+    outln!(
+        "swarm reproduce: seed {}, {placement} placement, {} threads, writing {}",
+        o.seed,
         rayon::current_num_threads(),
-        opts.docs.display()
-    );
-    let s = reproduction::reproduce(&opts, &mut |line| println!("{line}"))?;
-    print_summary(&s);
-    println!("wall time {:.1} s", s.wall_s);
+        docs.display()
+    )?;
+    // The stages' log lines; the first that cannot be written stops the command after them.
+    let mut unwritten: Option<StdoutError> = None;
+    // Written beside the docs folder and moved in only when the page and every figure are,
+    // as a merge does: a failure leaves the docs as they were.
+    let s = staged(&docs, |stage| {
+        let opts = Options {
+            seed: o.seed,
+            docs: stage.to_path_buf(),
+            quiet: o.quiet,
+            placement,
+        };
+        reproduction::reproduce(&opts, &mut |line| {
+            if unwritten.is_none() {
+                unwritten = outln!("{line}").err();
+            }
+        })
+    })?;
+    if let Some(e) = unwritten {
+        return Err(e.into());
+    }
+    print_summary(&Summary {
+        report: docs.join("reproduction.md"),
+        ..s
+    })?;
+    outln!("wall time {:.1} s", s.wall_s)?;
     Ok(())
 }
 
@@ -102,7 +123,7 @@ fn run_shard(seed: u64, placement: Placement, shard: ShardSpec, dir: &Path, quie
         reproduction::compute(*u, &opts, &mut |_| {}).map_err(|e| format!("{u}: {e}"))
     };
     let path = shard::run_shard_in_order(job, all.len() as u64, shard, dir, quiet, unit)?;
-    println!("wrote {}", path.display());
+    outln!("wrote {}", path.display())?;
     Ok(())
 }
 
@@ -114,7 +135,7 @@ fn run_shard(seed: u64, placement: Placement, shard: ShardSpec, dir: &Path, quie
 /// # Errors
 /// If the parts are not this cimax's page (a unit's result for another unit, or of the wrong
 /// kind; a job that is not every unit), or the files cannot be written.
-pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
+pub fn merge(m: &Merged, out: &Path) -> Exit {
     let (job, results): (ReproduceJob, Vec<UnitResult>) = m.decode().map_err(|e| e.to_string())?;
     let placement: Placement = job
         .placement
@@ -127,22 +148,22 @@ pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
             results.len(),
             all.len()
         );
-        return Err(m.bad_config(e).to_string());
+        return Err(m.bad_config(e).to_string().into());
     }
     let mut page = Results::default();
     for (k, (r, &unit)) in results.into_iter().zip(all).enumerate() {
         if r.unit != unit {
             let e = format!("the result of {}, not of {unit}", r.unit);
-            return Err(m.bad_result(k, e).to_string());
+            return Err(m.bad_result(k, e).to_string().into());
         }
         page.insert(r).map_err(|e| m.bad_result(k, e).to_string())?;
     }
-    println!(
+    outln!(
         "swarm reproduce: seed {}, {placement} placement, merged from {} parts, writing {}",
         job.seed,
         m.parts.len(),
         out.display()
-    );
+    )?;
     let s = staged(out, |docs| {
         let opts = Options {
             seed: job.seed,
@@ -155,13 +176,13 @@ pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
     print_summary(&Summary {
         report: out.join("reproduction.md"),
         ..s
-    });
-    println!("wall time {:.1} s (the units' added up)", s.wall_s);
+    })?;
+    outln!("wall time {:.1} s (the units' added up)", s.wall_s)?;
     Ok(ExitCode::SUCCESS)
 }
 
 /// What the command prints after writing the page: the four sweeps and where the page went.
-fn print_summary(s: &Summary) {
+fn print_summary(s: &Summary) -> Result<(), StdoutError> {
     let fmt = |pts: &[experiment::SweepPoint]| {
         pts.iter()
             .map(|p| format!("{}: {:.2}", p.x_init, p.success_rate()))
@@ -175,10 +196,10 @@ fn print_summary(s: &Summary) {
         ("gradient", main, &s.gradient),
         ("gradient", main.other(), &s.gradient_other),
     ] {
-        println!("{what} sweep, {placement} placement (x_init: success rate):");
-        println!("  {}", fmt(pts));
+        outln!("{what} sweep, {placement} placement (x_init: success rate):")?;
+        outln!("  {}", fmt(pts))?;
     }
-    println!("wrote {}", s.report.display());
+    outln!("wrote {}", s.report.display())
 }
 
 /// Runs `write` on a new directory beside `out` and, if it succeeds, moves every file it

@@ -6,6 +6,7 @@
 //! [`SwarmSweepJob::write`]; `--shard I/N` computes its share into a part; `cimax merge` hands
 //! the parts' results to the same [`SwarmSweepJob::write`].
 
+use crate::cli::out::{Exit, outln};
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -17,7 +18,7 @@ use host_sim::swarm::experiment;
 use host_sim::swarm::scenario::{Placement, Scenario, check_runs};
 use serde::{Deserialize, Serialize};
 
-use super::{Common, Res, ensure_parent, placed, wrote};
+use super::{Common, Res, placed, wrote};
 use crate::cli::job::ScenarioSource;
 
 /// The job's command in a part's header.
@@ -61,6 +62,13 @@ pub struct SweepOptions {
 /// `cimax swarm sweep`, whole or one shard.
 pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
     let (job, scn) = SwarmSweepJob::of(c, o)?;
+    let outputs = match o.shard {
+        Some(_) => {
+            crate::cli::files::check_dir("--out-dir", &c.out_dir)?;
+            None
+        }
+        None => Some(c.checked_outputs(&scn, "sweep", &[])?),
+    };
     let total = job.xs.len() as u64 * u64::from(job.runs);
     let unit = |k| {
         experiment::sweep_run(&scn, scn.run, &job.xs, job.runs, job.seed, k)
@@ -69,7 +77,7 @@ pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
     if let Some(shard) = o.shard {
         let config = Job::new(COMMAND, &job)?;
         let path = shard::run_shard(config, total, shard, &c.out_dir, c.quiet, unit)?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
         return Ok(());
     }
     let wall = std::time::Instant::now();
@@ -79,7 +87,7 @@ pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
         wall_s: wall.elapsed().as_secs_f64(),
         threads: rayon::current_num_threads(),
     };
-    let (csv, svg) = c.outputs(&scn, "sweep");
+    let (csv, svg) = outputs.ok_or("no outputs")?;
     job.write(&scn, &units, (&csv, &svg), timing)
 }
 
@@ -88,21 +96,20 @@ pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
 ///
 /// # Errors
 /// If the parts are not a sweep this cimax can write, or the outputs cannot be written.
-pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
+pub fn merge(m: &Merged, out: &Path) -> Exit {
     let (job, units): (SwarmSweepJob, Vec<Unit>) = m.decode().map_err(|e| e.to_string())?;
     let scn = job.scenario().map_err(|e| m.bad_config(e).to_string())?;
     let total = job.xs.len() as u64 * u64::from(job.runs);
     if units.len() as u64 != total {
         let e = format!("{} units, but the sweep has {total}", units.len());
-        return Err(m.bad_config(e).to_string());
+        return Err(m.bad_config(e).to_string().into());
     }
     let name = |ext: &str| out.join(format!("{}-sweep.{ext}", scn.name));
     let timing = Timing {
         wall_s: m.wall_s,
         threads: m.threads,
     };
-    job.write(&scn, &units, (&name("csv"), &name("svg")), timing)
-        .map_err(|e| e.to_string())?;
+    job.write(&scn, &units, (&name("csv"), &name("svg")), timing)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -150,36 +157,43 @@ impl SwarmSweepJob {
         let outcomes: Vec<Option<u32>> = units.iter().map(|u| u.success_at).collect();
         let pts = experiment::sweep_points(&self.xs, self.runs, &outcomes);
         let n = self.runs;
-        ensure_parent(csv)?;
-        ensure_parent(svg)?;
-        write_sweep_csv(csv, &pts)?;
+        let mut staged = crate::cli::files::Staged::new();
+        staged.write_with(csv, |p| write_sweep_csv(p, &pts))?;
         let crit = scn.success.map(|s| s.to_string()).unwrap_or_default();
         // A built-in scenario's sweep carries the paper's marks, as on docs/reproduction.md.
-        figures::sweep_figure(
-            svg,
-            &format!("{}: success ({crit}), {n} runs per point", scn.description),
-            &[("this simulator", &pts)],
-            &host_sim::pages::marks::sweep_for(&scn.name),
-        )?;
-        println!(
+        staged.write_with(svg, |p| {
+            figures::sweep_figure(
+                p,
+                &format!("{}: success ({crit}), {n} runs per point", scn.description),
+                &[("this simulator", &pts)],
+                &host_sim::pages::marks::sweep_for(&scn.name),
+            )
+        })?;
+        staged.commit()?;
+        outln!(
             "{}: success {crit} within {} periods, {n} runs per point, {:.1} s",
-            scn.description, scn.periods, t.wall_s
-        );
-        println!(
+            scn.description,
+            scn.periods,
+            t.wall_s
+        )?;
+        outln!(
             "{:>8} {:>6} {:>8} {:>12}",
-            "x_init", "runs", "success", "mean periods"
-        );
+            "x_init",
+            "runs",
+            "success",
+            "mean periods"
+        )?;
         for p in &pts {
-            println!(
+            outln!(
                 "{:>8.2} {:>6} {:>8.2} {:>12}",
                 p.x_init,
                 p.runs,
                 p.success_rate(),
                 p.mean_success_periods
                     .map_or("-".into(), |t| format!("{t:.1}"))
-            );
+            )?;
         }
-        wrote(csv, svg);
+        wrote(csv, svg)?;
         Ok(())
     }
 }

@@ -21,31 +21,37 @@ use host_sim::progress::Progress;
 use host_sim::shard::{self, Job, ShardSpec, Timing, merge::Merged};
 use job::{CampaignJob, Results};
 
+use crate::cli::files::{self, Staged};
+use crate::cli::out::{Exit, StdoutError, outln};
+
 /// The job's command in a part's header.
 pub const COMMAND: &str = "arena campaign";
 
 /// Options of `cimax arena campaign`.
 #[derive(Args, Debug, Clone)]
+#[command(allow_negative_numbers = true)]
 pub struct CampaignArgs {
     /// Seeds per scenario: run k of every scenario uses seed BASE + k.
-    #[arg(long, default_value_t = 200, value_parser = clap::value_parser!(u64).range(1..=100_000))]
+    #[arg(long, default_value_t = 200, value_parser = crate::cli::values::whole::<u64>(1, 100_000))]
     pub seeds: u64,
     /// Base seed.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
     pub seed: u64,
     /// Run only this scenario (repeatable); default: all.
     #[arg(long, value_parser = PossibleValuesParser::new(SCENARIOS.iter().map(|s| s.name)))]
     pub scenario: Vec<String>,
     /// Frame loss at every receiver in every scenario, replacing the scenario's own.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli::values::number(0.0, 1.0, "a probability"))]
     pub loss: Option<f64>,
     /// Run only this decision rule (docs/protocol.md §5.4); default: both, side by side (the
     /// documented campaign).
     #[arg(long, value_enum)]
     pub decide: Option<Decide>,
-    /// The Markdown report (default: docs/reliability.md for the documented campaign only,
-    /// every scenario over 200 seeds from seed 1 at the scenarios' own loss; any other campaign
-    /// writes nothing unless --out is given). With --shard, the directory of the part.
+    /// The Markdown report (default: docs/reliability.md of the checkout cimax was built from,
+    /// for the documented campaign only, every scenario over 200 seeds from seed 1 at the
+    /// scenarios' own loss, and only when run inside that checkout; any other campaign writes
+    /// nothing unless --out is given). With --shard, the directory of the part. Missing
+    /// folders are created.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// The SVG chart (default: figures/reliability.svg beside the report).
@@ -64,23 +70,18 @@ pub struct CampaignArgs {
 /// Runs `cimax arena campaign`: 0 if every bar is met, 1 if one is missed or a robot crashed
 /// in a run ([`host_sim::arena::campaign::Outcome::crashed`]), 2 for bad options. A shard: 0 once its part is
 /// written.
-pub(super) fn main(args: &CampaignArgs) -> ExitCode {
-    match run(args) {
-        Ok(code) => code,
-        Err(e) => {
-            eprintln!("cimax arena campaign: {e}");
-            ExitCode::from(2)
-        }
-    }
+pub(super) fn main(args: &CampaignArgs) -> Exit {
+    run(args)
 }
 
 /// The campaign the options ask for, whole (every unit, then [`finish`]) or one shard.
-fn run(args: &CampaignArgs) -> Result<ExitCode, String> {
+fn run(args: &CampaignArgs) -> Exit {
     let page = if args.shard.is_some() {
         None
     } else {
-        page_path(args)
+        page_path(args)?
     };
+    check_paths(args, page.as_deref())?;
     let job = CampaignJob {
         scenarios: selected(args)
             .into_iter()
@@ -100,7 +101,7 @@ fn run(args: &CampaignArgs) -> Result<ExitCode, String> {
     if let (Some(shard), Some(dir)) = (args.shard, &args.out) {
         let config = Job::new(COMMAND, &job).map_err(|e| e.to_string())?;
         let path = shard::run_shard(config, total, shard, dir, false, unit)?;
-        println!("wrote {}", path.display());
+        outln!("wrote {}", path.display())?;
         return Ok(ExitCode::SUCCESS);
     }
     let wall = std::time::Instant::now();
@@ -123,7 +124,7 @@ fn run(args: &CampaignArgs) -> Result<ExitCode, String> {
         }
     }
     let results = job.assemble(&plans, units, timing)?;
-    Ok(finish(&results, page.map(|out| (out, args.figure.clone()))))
+    finish(&results, page.map(|out| (out, args.figure.clone())))
 }
 
 /// `cimax merge` of a campaign's parts: prints its tables, writes `OUT/reliability.md` with its
@@ -132,10 +133,13 @@ fn run(args: &CampaignArgs) -> Result<ExitCode, String> {
 ///
 /// # Errors
 /// If the parts are not a campaign this cimax can write.
-pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
+pub fn merge(m: &Merged, out: &Path) -> Exit {
     let (job, units): (CampaignJob, Vec<job::Unit>) = m.decode().map_err(|e| e.to_string())?;
     if !job.page {
-        return Err(m.bad_config("a campaign without its page").to_string());
+        return Err(m
+            .bad_config("a campaign without its page")
+            .to_string()
+            .into());
     }
     let plans = job.plans().map_err(|e| m.bad_config(e).to_string())?;
     let timing = Timing {
@@ -145,37 +149,37 @@ pub fn merge(m: &Merged, out: &Path) -> Result<ExitCode, String> {
     let results = job
         .assemble(&plans, units, timing)
         .map_err(|e| m.bad_config(e).to_string())?;
-    Ok(finish(&results, Some((out.join("reliability.md"), None))))
+    finish(&results, Some((out.join("reliability.md"), None)))
 }
 
 /// What the campaign does with its results, whole or merged: prints each rule's table, writes
 /// the page (`page`: where, and the figure if not beside it), prints the failures; 0 if every
 /// bar is met, 1 if not or a robot crashed, 2 if the page cannot be written.
-fn finish(results: &Results, page: Option<(PathBuf, Option<PathBuf>)>) -> ExitCode {
+fn finish(results: &Results, page: Option<(PathBuf, Option<PathBuf>)>) -> Exit {
     for report in &results.reports {
-        print_report(report);
+        print_report(report)?;
     }
     let mut failed = false;
     if let Some((out, figure)) = page {
         match write_page(results, &out, figure) {
-            Ok(missed) => {
+            Ok((missed, wrote)) => {
+                outln!("{wrote}")?;
                 for m in missed {
                     eprintln!("{m}");
                     failed = true;
                 }
             }
             Err(e) => {
-                eprintln!("cimax arena campaign: {}: {e}", out.display());
-                return ExitCode::from(2);
+                return Err(format!("{}: {e}", out.display()).into());
             }
         }
     }
     failed |= print_failures(&results.reports);
-    if failed {
+    Ok(if failed {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS
-    }
+    })
 }
 
 /// The scenarios `--scenario` names, in [`SCENARIOS`] order, each once; all without it.
@@ -195,15 +199,51 @@ fn selected(args: &CampaignArgs) -> Vec<usize> {
 
 /// Where the page goes: `--out`, or `docs/reliability.md` for the documented campaign (every
 /// scenario, 200 seeds from seed 1, the scenarios' own loss, both rules); else nowhere.
-fn page_path(args: &CampaignArgs) -> Option<PathBuf> {
+fn page_path(args: &CampaignArgs) -> Result<Option<PathBuf>, String> {
     let documented = args.scenario.is_empty()
         && args.seeds == 200
         && args.seed == 1
         && args.loss.is_none()
         && args.decide.is_none();
-    args.out
-        .clone()
-        .or_else(|| documented.then(|| host_sim::report::default_docs_dir().join("reliability.md")))
+    if args.out.is_some() || !documented {
+        return Ok(args.out.clone());
+    }
+    Ok(Some(
+        files::checkout_docs("--out FILE.md")?.join("reliability.md"),
+    ))
+}
+
+/// The campaign's output paths, checked before any work: the page and its figures, the
+/// trace, or with `--shard` the part's folder.
+fn check_paths(args: &CampaignArgs, page: Option<&Path>) -> Result<(), String> {
+    if let (Some(_), Some(dir)) = (args.shard, &args.out) {
+        return files::check_dir("--out", dir);
+    }
+    let mut all: Vec<(&str, PathBuf)> = Vec::new();
+    if let Some(out) = page {
+        let figure = figure_path(out, args.figure.clone());
+        all.push(("--out", out.to_path_buf()));
+        all.push(("--figure", figure.with_file_name("reliability-rules.svg")));
+        all.push(("--figure", figure));
+    }
+    if let Some(t) = &args.trace {
+        all.push(("--trace", t.clone()));
+    }
+    let all: Vec<(&str, &Path)> = all.iter().map(|(o, p)| (*o, p.as_path())).collect();
+    for (option, p) in &all {
+        files::check_file(option, p)?;
+    }
+    files::check_distinct(&all)
+}
+
+/// The chart of page `out`: `figure`, or `figures/reliability.svg` beside the page.
+fn figure_path(out: &Path, figure: Option<PathBuf>) -> PathBuf {
+    figure.unwrap_or_else(|| {
+        out.parent()
+            .unwrap_or(Path::new("."))
+            .join("figures")
+            .join("reliability.svg")
+    })
 }
 
 /// Prints every failed run and missed bar of `reports` on stderr; `true` if one counts against
@@ -235,21 +275,21 @@ fn print_failures(reports: &[Report]) -> bool {
 }
 
 /// Prints one rule's table (and each run, for a single seed).
-fn print_report(report: &Report) {
+fn print_report(report: &Report) -> Result<(), StdoutError> {
     let plan = &report.plan;
-    println!(
+    outln!(
         "CIMAX fault campaign, {} rule: {} scenarios x {} seeds in the emulated arena ({:.1} s wall, {} threads)",
         plan.decide.name(),
         plan.scenarios.len(),
         plan.seeds,
         report.wall_s,
         report.threads
-    );
-    print!("{}", table(report));
+    )?;
+    crate::cli::out::text(&table(report))?;
     if plan.seeds == 1 {
         for r in &report.results {
             for o in &r.runs {
-                println!(
+                outln!(
                     "{} seed {}: pattern {}, expected {}, LEDs {}, {}, consensus {} s{}",
                     r.scenario.name,
                     o.seed,
@@ -261,38 +301,32 @@ fn print_report(report: &Report) {
                     o.restore_s.map_or(String::new(), |x| format!(
                         ", restored {x:.0} s after the reboot"
                     ))
-                );
+                )?;
             }
         }
     }
+    Ok(())
 }
 
 /// Writes the page `out` with its figures beside it (`figures/reliability.svg`, or `figure`,
 /// and `reliability-rules.svg` next to it): the first report's page and, with two rules, the
 /// section setting them side by side, the lab suite's sections and the loss sweep's.
 ///
-/// Returns the lab suite's missed bars, one line each.
+/// Returns the lab suite's missed bars, one line each, and the line that says what was written.
 fn write_page(
     results: &Results,
     out: &Path,
     figure: Option<PathBuf>,
-) -> Result<Vec<String>, String> {
+) -> Result<(Vec<String>, String), String> {
     let mut missed = Vec::new();
     let reports = &results.reports;
     let Some(first) = reports.first() else {
-        return Ok(missed);
+        return Ok((missed, String::new()));
     };
-    let figure = figure.unwrap_or_else(|| {
-        out.parent()
-            .unwrap_or(Path::new("."))
-            .join("figures")
-            .join("reliability.svg")
-    });
+    let figure = figure_path(out, figure);
     let rules_figure = figure.with_file_name("reliability-rules.svg");
-    ensure_parent(out)
-        .and_then(|()| ensure_parent(&figure))
-        .map_err(|e| e.to_string())?;
-    success_chart(first, &figure).map_err(|e| e.to_string())?;
+    let mut staged = Staged::new();
+    staged.write_with(&figure, |p| success_chart(first, p))?;
     let mut page = Page {
         campaign: campaign_section(first, Some(&relative(&figure, out))),
         rules: None,
@@ -300,8 +334,8 @@ fn write_page(
         initiations: None,
         loss: None,
     };
-    if let [fixed, adaptive] = reports.as_slice() {
-        rules_chart(fixed, adaptive, &rules_figure).map_err(|e| e.to_string())?;
+    let wrote = if let [fixed, adaptive] = reports.as_slice() {
+        staged.write_with(&rules_figure, |p| rules_chart(fixed, adaptive, p))?;
         page.rules = Some(rules_section(
             fixed,
             adaptive,
@@ -319,22 +353,23 @@ fn write_page(
             .loss
             .as_ref()
             .map(|(f, a, seeds)| host_sim::pages::reliability::stress::loss_section(f, a, *seeds));
-        println!(
+        format!(
             "wrote {}, {} and {}",
             out.display(),
             figure.display(),
             rules_figure.display()
-        );
+        )
     } else {
-        println!("wrote {} and {}", out.display(), figure.display());
-    }
-    let page = page.render()?;
-    std::fs::write(out, page).map_err(|e| e.to_string())?;
-    Ok(missed)
+        format!("wrote {} and {}", out.display(), figure.display())
+    };
+    staged.write(out, page.render()?)?;
+    staged.commit()?;
+    Ok((missed, wrote))
 }
 
 /// Runs seed `seed` of `scenario` again with its trace on, and writes the trace to `path` as
-/// JSON lines.
+/// JSON lines, the run's set-up first as `cimax arena --trace` writes it (so that `cimax view`
+/// opens it).
 fn write_trace(
     scenario: &Scenario,
     seed: u64,
@@ -346,20 +381,17 @@ fn write_trace(
     cfg.robot.params.decide = decide.into();
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
-    let mut out = String::new();
-    for e in &run.report.trace {
-        out += &serde_json::to_string(e).map_err(|e| e.to_string())?;
-        out.push('\n');
-    }
-    std::fs::write(path, out).map_err(|e| format!("{}: {e}", path.display()))
-}
-
-/// Creates the directory `p` goes in, if it has one.
-fn ensure_parent(p: &Path) -> std::io::Result<()> {
-    match p.parent() {
-        Some(d) if !d.as_os_str().is_empty() => std::fs::create_dir_all(d),
-        _ => Ok(()),
-    }
+    let mut header = host_sim::viewer::header_of(&cfg, &run.report.trace);
+    header.title = format!(
+        "cimax arena campaign: scenario {}, seed {seed}, {} rule",
+        scenario.name,
+        decide.name()
+    );
+    let mut staged = Staged::new();
+    staged.write_with(path, |p| {
+        host_sim::viewer::write_trace(p, header, &run.report.trace)
+    })?;
+    staged.commit()
 }
 
 /// The figure's path relative to the report's directory, for the Markdown link.

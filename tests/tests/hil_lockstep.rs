@@ -200,14 +200,53 @@ fn a_robot_of_another_link_version_is_refused_before_the_run() {
 fn robots_on_the_arenas_clock_and_others_cannot_share_a_run() {
     let (addr, _) = robot(LINK_VERSION, Box::new(|t, _| vec![idle(t)]));
     let mut cfg = lab(&addr);
+    // An in-process robot sharing the arena's clock directly (not a twin on the lockstep).
     cfg.hil.push(HilRobot {
         robot: 1,
         transport: Transport::InProcess,
-        clock: HilClock::Virtual,
+        clock: HilClock::Wall,
     });
     let e = hal_emu::run(&cfg).unwrap_err();
     assert!(
         matches!(&e, ArenaError::Hil(m) if m.contains("cannot share a run")),
         "{e}"
     );
+}
+
+/// The lab line with host twins of QEMU robots (the HIL program built for the host, on the
+/// lockstep) at `places`.
+fn twins(pattern: &str, seed: u64, places: &[usize]) -> ArenaConfig {
+    let mut cfg = common::lab(pattern, seed);
+    cfg.hil = places
+        .iter()
+        .map(|&robot| HilRobot {
+            robot,
+            transport: Transport::InProcess,
+            clock: HilClock::Virtual,
+        })
+        .collect();
+    assert!(cfg.lockstep() && !cfg.real_time());
+    cfg
+}
+
+#[test]
+fn host_twins_on_the_lockstep_decide_right_and_replay_bit_for_bit() {
+    for (pattern, places) in [("1100", &[0, 1, 2, 3][..]), ("11000", &[1, 3])] {
+        let cfg = twins(pattern, 3, places);
+        let a = hal_emu::judge::judge(&cfg).unwrap();
+        assert!(
+            a.success,
+            "{pattern}: {}",
+            hal_emu::judge::leds_str(&a.leds)
+        );
+        let b = hal_emu::judge::judge(&cfg).unwrap();
+        assert_eq!(a.report.leds, b.report.leds);
+        assert_eq!(a.report.hil, b.report.hil);
+        for h in &a.report.hil {
+            // Every round a Sync and its Idle; light both ways; nothing lost.
+            assert!(h.round_trips > 2000, "{h:?}");
+            assert!(h.tx >= 25 && h.rx_bytes > 100, "{h:?}");
+            assert_eq!(h.link_errors, 0, "{h:?}");
+        }
+    }
 }

@@ -32,7 +32,7 @@ use crate::board::clock::EmuClock;
 use crate::board::timeline::{self, Timeline};
 use crate::world::adversary;
 use crate::world::env::SwarmEnv;
-use crate::world::hil::{Follower, Lockstep, Transport};
+use crate::world::hil::{Follower, Lockstep, Transport, start_twin};
 use crate::world::medium::Medium;
 
 mod camera;
@@ -279,6 +279,18 @@ fn world(cfg: &ArenaConfig, time: Time, lockstep: Option<Rc<Lockstep>>) -> Rc<Sh
         }
         Time::Real => EmuClock::new(tokio::time::Instant::now()),
     };
+    if let Some(l) = &lockstep {
+        // Host twins of QEMU robots: the image's own configuration (its id is the setup's).
+        let base = firmware::Config {
+            id: 0,
+            ..firmware::Config::robots()
+        };
+        for h in cfg.hil.iter().filter(|h| h.follows()) {
+            if h.transport == Transport::InProcess {
+                l.add_twin(h.robot, start_twin(&clock, base));
+            }
+        }
+    }
     let medium = Medium::new(
         cfg.medium,
         clock.clone(),
@@ -322,7 +334,7 @@ fn boot_followers(cfg: &ArenaConfig) -> Result<Vec<(usize, Follower)>, ArenaErro
         let boots: Vec<_> = cfg
             .hil
             .iter()
-            .filter(|h| h.follows())
+            .filter(|h| h.follows() && h.transport != Transport::InProcess)
             .map(|h| {
                 let boot = move || match &h.transport {
                     Transport::Qemu(image) => Follower::boot(image, sectors, hello),

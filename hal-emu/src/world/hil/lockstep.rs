@@ -22,13 +22,14 @@ use std::time::{Duration as WallDuration, Instant as WallInstant};
 use embedded_io_async::Write;
 use firmware::hal::Receivers as _;
 use firmware::hil::robot::{HELD, REFUSED_HOST_CLOCK, led_decision};
-use firmware::hil::{CHUNK_MAX, LINK_VERSION, LinkMsg};
+use firmware::hil::{CHUNK_MAX, LINK_VERSION, LinkDecoder, LinkMsg};
 use firmware::{Clock, LedColor, Leds, Quantity, Sensor};
 use protocol::{Duration, Instant};
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
 use super::bridge::{Bridge, HilReport};
 use super::follower::{Follower, FromRobot, frame};
+use super::twin::Twin;
 use crate::board::light::bit;
 use crate::board::timeline::Gate;
 
@@ -50,6 +51,10 @@ struct Slot {
     /// Its place in the arena.
     robot: usize,
     follower: Option<Follower>,
+    /// The host twin in this process instead of a follower over a link.
+    twin: Option<TwinState>,
+    /// What it said since its last batch (a twin's come in over several settles).
+    said: Vec<LinkMsg>,
     /// Queued for it by its bridge, sent before its next `Sync`.
     out: VecDeque<LinkMsg>,
     /// Its own timer is due: it needs a `Sync` even with nothing queued.
@@ -67,6 +72,53 @@ struct Slot {
     frames_received: u64,
 }
 
+/// A host twin's link ([`twin`](super::twin)): channels, its decoder, and whether its `Idle` was
+/// asked for.
+#[derive(Debug)]
+struct TwinState {
+    twin: Twin,
+    decoder: LinkDecoder,
+    /// The `Sync` it owes went in this settle: it has not run since.
+    fresh: bool,
+    /// Its idle hook was called for the `Sync` it owes: the `Idle` must be there by the next
+    /// settle.
+    asked: bool,
+    bytes_sent: u64,
+    bytes_received: u64,
+}
+
+impl Slot {
+    fn new(robot: usize, follower: Option<Follower>, twin: Option<TwinState>) -> Self {
+        Slot {
+            robot,
+            follower,
+            twin,
+            said: Vec::new(),
+            out: VecDeque::new(),
+            wants: false,
+            owes: None,
+            to_bridge: None,
+            answered: false,
+            rounds: 0,
+            frames_sent: 0,
+            frames_received: 0,
+        }
+    }
+
+    /// Its transport, for messages.
+    fn over(&self) -> String {
+        match &self.follower {
+            Some(f) => f.name.clone(),
+            None => "loopback".into(),
+        }
+    }
+
+    /// True while it can be synced: a follower or twin, and a bridge.
+    fn live(&self) -> bool {
+        (self.follower.is_some() || self.twin.is_some()) && self.to_bridge.is_some()
+    }
+}
+
 /// The robots in the loop of one run whose clocks follow the arena's (module docs).
 #[derive(Debug, Default)]
 pub struct Lockstep {
@@ -80,23 +132,27 @@ impl Lockstep {
     pub(crate) fn new(followers: Vec<(usize, Follower)>, patience: WallDuration) -> Self {
         let slots = followers
             .into_iter()
-            .map(|(robot, f)| Slot {
-                robot,
-                follower: Some(f),
-                out: VecDeque::new(),
-                wants: false,
-                owes: None,
-                to_bridge: None,
-                answered: false,
-                rounds: 0,
-                frames_sent: 0,
-                frames_received: 0,
-            })
+            .map(|(robot, f)| Slot::new(robot, Some(f), None))
             .collect();
         Lockstep {
             slots: RefCell::new(slots),
             patience,
         }
+    }
+
+    /// Adds the host twin at `robot` ([`twin`](super::twin)).
+    pub(crate) fn add_twin(&self, robot: usize, twin: Twin) {
+        let state = TwinState {
+            twin,
+            decoder: LinkDecoder::new(),
+            fresh: false,
+            asked: false,
+            bytes_sent: 0,
+            bytes_received: 0,
+        };
+        self.slots
+            .borrow_mut()
+            .push(Slot::new(robot, None, Some(state)));
     }
 
     /// True if the robot at `robot` is one of these followers.
@@ -144,6 +200,11 @@ impl Lockstep {
             report.frames_sent = s.frames_sent;
             report.frames_received = s.frames_received;
             report.round_trips = s.rounds;
+            if let Some(t) = &s.twin {
+                report.bytes_sent = t.bytes_sent;
+                report.bytes_received = t.bytes_received;
+                report.link_errors = u64::from(t.decoder.stats().errors());
+            }
             if let Some(f) = &s.follower {
                 report.hello_id = f.hello_id;
                 report.hello_ms = u64::try_from(f.hello.as_millis()).unwrap_or(u64::MAX);
@@ -156,9 +217,6 @@ impl Lockstep {
 
     /// Sends slot `s` what it has queued (at most [`HELD`] − 1 messages) and `Sync(now)`.
     fn sync(s: &mut Slot, now: Instant) -> Result<(), String> {
-        let Some(f) = s.follower.as_mut() else {
-            return Err("its QEMU is gone".into());
-        };
         let mut bytes = Vec::new();
         let mut frames = 0;
         while frames < HELD - 1 {
@@ -169,7 +227,19 @@ impl Lockstep {
         let ms = u32::try_from(now.as_millis())
             .map_err(|_| "the run outlasts the link's clock (u32 milliseconds)".to_string())?;
         bytes.extend_from_slice(&frame(&LinkMsg::Sync(ms)));
-        f.write(&bytes)?;
+        if let Some(t) = s.twin.as_mut() {
+            t.bytes_sent += bytes.len() as u64;
+            t.fresh = true;
+            t.asked = false;
+            t.twin
+                .to_robot
+                .send(bytes)
+                .map_err(|_| "its loopback link ended (the robot stopped)".to_string())?;
+        } else if let Some(f) = s.follower.as_mut() {
+            f.write(&bytes)?;
+        } else {
+            return Err("its QEMU is gone".into());
+        }
         s.frames_sent += frames as u64 + 1;
         s.owes = Some(now);
         s.wants = false;
@@ -179,13 +249,13 @@ impl Lockstep {
 
     /// Waits for slot `s`'s `Idle` for `now`: everything it said before it, the `Idle` last.
     fn collect(s: &mut Slot, now: Instant, patience: WallDuration) -> Result<Vec<LinkMsg>, String> {
-        let Some(f) = s.follower.as_ref() else {
-            return Err("its QEMU is gone".into());
-        };
-        let over = &f.name;
+        let over = s.over();
         let deadline = WallInstant::now() + patience;
         let mut batch = Vec::new();
         loop {
+            let Some(f) = s.follower.as_ref() else {
+                return Err("its QEMU is gone".into());
+            };
             let left = deadline.saturating_duration_since(WallInstant::now());
             let msg = match f.from.recv_timeout(left) {
                 Ok(FromRobot::Msg(m)) => m,
@@ -205,35 +275,89 @@ impl Lockstep {
                     ));
                 }
             };
-            s.frames_received += 1;
-            match msg {
-                LinkMsg::Idle { now: t, .. } if u64::from(t) != now.as_millis() => {
-                    return Err(format!(
-                        "said it was idle at {t} ms over {over}; the arena is at {} ms",
-                        now.as_millis()
-                    ));
-                }
-                LinkMsg::Idle { .. } => {
-                    batch.push(msg);
-                    s.answered = true;
-                    return Ok(batch);
-                }
-                LinkMsg::Hello { .. } if s.answered => {
-                    return Err(format!(
-                        "said hello again over {over}: it rebooted during the run"
-                    ));
-                }
-                // Hellos from before its setup (it says hello on its own clock until then).
-                LinkMsg::Hello { .. } | LinkMsg::Heartbeat(_) => {}
-                m => batch.push(m),
+            if Self::take(s, msg, now, &over, &mut batch)? {
+                return Ok(batch);
             }
-            if batch.len() > FLOOD {
+        }
+    }
+
+    /// One message `msg` of slot `s` for the `Sync` of `now`, into `batch`: `true` once it is
+    /// the `Idle` that ends it.
+    fn take(
+        s: &mut Slot,
+        msg: LinkMsg,
+        now: Instant,
+        over: &str,
+        batch: &mut Vec<LinkMsg>,
+    ) -> Result<bool, String> {
+        s.frames_received += 1;
+        match msg {
+            LinkMsg::Idle { now: t, .. } if u64::from(t) != now.as_millis() => {
                 return Err(format!(
-                    "floods the link over {over}: more than {FLOOD} messages for Sync({} ms)",
+                    "said it was idle at {t} ms over {over}; the arena is at {} ms",
                     now.as_millis()
                 ));
             }
+            LinkMsg::Idle { .. } => {
+                batch.push(msg);
+                s.answered = true;
+                return Ok(true);
+            }
+            LinkMsg::Hello { .. } if s.answered => {
+                return Err(format!(
+                    "said hello again over {over}: it rebooted during the run"
+                ));
+            }
+            // Hellos from before its setup (it says hello on its own clock until then).
+            LinkMsg::Hello { .. } | LinkMsg::Heartbeat(_) => {}
+            m => batch.push(m),
         }
+        if batch.len() > FLOOD {
+            return Err(format!(
+                "floods the link over {over}: more than {FLOOD} messages for Sync({} ms)",
+                now.as_millis()
+            ));
+        }
+        Ok(false)
+    }
+
+    /// A twin's part of a settle for the `Sync` of `now` it owes: what it wrote so far is
+    /// decoded; `Some(batch)` once its `Idle` came. The settle that sends the `Sync` leaves it
+    /// to run; the next finds it idle (nothing can run) and calls its idle hook; its `Idle` is
+    /// there by the one after.
+    fn collect_twin(s: &mut Slot, now: Instant) -> Result<Option<Vec<LinkMsg>>, String> {
+        if let Some(t) = s.twin.as_mut()
+            && std::mem::take(&mut t.fresh)
+        {
+            // It takes the `Sync` when it runs next.
+            return Ok(None);
+        }
+        let mut msgs = Vec::new();
+        if let Some(t) = s.twin.as_mut() {
+            while let Ok(bytes) = t.twin.from_robot.try_recv() {
+                t.bytes_received += bytes.len() as u64;
+                msgs.extend(bytes.iter().filter_map(|&b| t.decoder.push(b)?.ok()));
+            }
+        }
+        let mut batch = std::mem::take(&mut s.said);
+        for m in msgs {
+            if Self::take(s, m, now, "loopback", &mut batch)? {
+                return Ok(Some(batch));
+            }
+        }
+        s.said = batch;
+        let Some(t) = s.twin.as_mut() else {
+            return Err("its loopback robot is gone".into());
+        };
+        if t.asked {
+            return Err(format!(
+                "did not say Idle for Sync({} ms) over loopback once nothing could run",
+                now.as_millis()
+            ));
+        }
+        t.asked = true;
+        (t.twin.idle)();
+        Ok(None)
     }
 
     /// Slot `s` failed: its bridge is told, its QEMU killed.
@@ -246,6 +370,7 @@ impl Lockstep {
             let _ = b.send(Batch::Failed(why));
         }
         s.follower = None;
+        s.twin = None;
         s.owes = None;
         s.out.clear();
     }
@@ -256,19 +381,35 @@ impl Gate for Lockstep {
         let mut slots = self.slots.borrow_mut();
         let mut woke = false;
         for s in slots.iter_mut() {
-            let live = s.follower.is_some() && s.to_bridge.is_some();
-            if live
+            if s.live()
                 && s.owes.is_none()
                 && (s.wants || !s.out.is_empty())
                 && let Err(e) = Self::sync(s, now)
             {
                 Self::fail(s, e);
-                woke = true;
             }
         }
+        // Twins first: they run on this executor, so a settle only takes what they said and
+        // asks the next step of them (woke: their tasks run before the next settle).
+        let twins_pending = slots.iter().any(|s| s.twin.is_some() && s.owes.is_some());
         for s in slots.iter_mut() {
             let Some(at) = s.owes else { continue };
-            match Self::collect(s, at, self.patience) {
+            let out = if s.twin.is_some() {
+                match Self::collect_twin(s, at) {
+                    Ok(None) => {
+                        woke = true;
+                        continue;
+                    }
+                    Ok(Some(batch)) => Ok(batch),
+                    Err(e) => Err(e),
+                }
+            } else if twins_pending {
+                // Followers over a link wait until the twins are through this round.
+                continue;
+            } else {
+                Self::collect(s, at, self.patience)
+            };
+            match out {
                 Ok(batch) => {
                     s.owes = None;
                     let gone = s

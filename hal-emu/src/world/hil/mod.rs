@@ -39,6 +39,7 @@ mod qemu;
 mod serial;
 mod spec;
 mod transport;
+mod twin;
 
 pub(crate) use bridge::{Bridge, setup_of, setup_seed};
 pub use bridge::{HilReport, HilTimeouts};
@@ -50,3 +51,4 @@ pub use lockstep::{FLOOD, Lockstep};
 pub use qemu::qemu_args;
 pub use spec::{DEFAULT_BAUD, HilSpec};
 pub use transport::{HilClock, HilRobot, Transport};
+pub(crate) use twin::start as start_twin;

@@ -42,7 +42,7 @@ impl fmt::Display for Transport {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum HilClock {
     /// The arena's: in lockstep with the run's virtual time, deterministic and faster than
-    /// real time (QEMU robots; loopback robots share the run's clock anyway).
+    /// real time (QEMU robots, and their host twins in this process).
     #[default]
     Virtual,
     /// Its own: the run goes in wall-clock time (a board on a serial port).
@@ -61,11 +61,16 @@ pub struct HilRobot {
 }
 
 impl HilRobot {
-    /// True if it runs in lockstep with the arena's clock over its link (a QEMU robot, or one
-    /// on a socket, on the arena's clock).
+    /// True if it runs in lockstep with the arena's clock over its link (a QEMU robot, one on
+    /// a socket, or the host twin in this process, on the arena's clock). An in-process robot
+    /// with [`HilClock::Wall`] shares the arena's clock directly instead (the wall-clock bridge
+    /// in virtual time, for tests).
     pub fn follows(&self) -> bool {
         self.clock == HilClock::Virtual
-            && matches!(self.transport, Transport::Qemu(_) | Transport::Tcp(_))
+            && matches!(
+                self.transport,
+                Transport::Qemu(_) | Transport::Tcp(_) | Transport::InProcess
+            )
     }
 
     /// True if it runs on a clock of its own (the run then goes in real time).

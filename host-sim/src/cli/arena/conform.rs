@@ -1,9 +1,9 @@
 //! `cimax arena conform`: the same robot program, built for the host and for Cortex-M, on the
 //! same seeds (issue 35, docs/hil.md "Conformance"). Each run of a suite goes twice: with the
-//! robots in the loop as in-process robots (`loopback`, the host build of the very program the
-//! HIL image runs, `firmware::hil::robot::run`), then as QEMU robots on the arena's clock. The
-//! LED changes of the two, with their times, must be the same; where they are not, the first
-//! difference is printed.
+//! robots in the loop as host twins (`loopback`: the very program the HIL image runs,
+//! `firmware::hil::robot::run`, built for the host, on the same lockstep), then as QEMU robots
+//! on the arena's clock. The LED changes of the two, with their times, must be the same; where
+//! they are not, the first difference is printed.
 
 use std::process::ExitCode;
 

@@ -329,31 +329,12 @@ impl Bridge {
     fn start_light(&mut self) -> (Heard, UnboundedSender<Vec<u8>>, AbortAll) {
         let (heard_tx, heard) = unbounded_channel::<(usize, Vec<u8>)>();
         let mut tasks = Vec::new();
-        if let Some(mut rx) = self.receivers.take() {
-            tasks.push(tokio::task::spawn_local(async move {
-                let mut buf = [0u8; CHUNK_MAX];
-                // Every sector until its stream ends.
-                let mut open = u8::MAX;
-                while open != 0 {
-                    let (sector, got) = rx.read(open, &mut buf).await;
-                    match got {
-                        Ok(n @ 1..) => {
-                            if heard_tx.send((sector, buf[..n].to_vec())).is_err() {
-                                return;
-                            }
-                        }
-                        _ => open &= !bit(sector),
-                    }
-                }
-            }));
+        if let Some(rx) = self.receivers.take() {
+            tasks.push(tokio::task::spawn_local(hear(rx, heard_tx)));
         }
-        let (air, mut air_rx) = unbounded_channel::<Vec<u8>>();
-        if let Some(mut transmitter) = self.transmitter.take() {
-            tasks.push(tokio::task::spawn_local(async move {
-                while let Some(f) = air_rx.recv().await {
-                    let _ = transmitter.write(&f).await;
-                }
-            }));
+        let (air, air_rx) = unbounded_channel::<Vec<u8>>();
+        if let Some(transmitter) = self.transmitter.take() {
+            tasks.push(tokio::task::spawn_local(put_on_air(transmitter, air_rx)));
         }
         (heard, air, AbortAll(tasks))
     }
@@ -379,14 +360,7 @@ impl Bridge {
                 let _ = self.leds.show(color).await;
             }
             LinkMsg::Refused(code) => {
-                let why = match code {
-                    1 => "bad protocol parameters",
-                    2 => "its receivers and the sectors differ",
-                    3 => "a zero duration",
-                    4 => "a swarm key without keyed framing",
-                    firmware::hil::robot::REFUSED_HOST_CLOCK => "it cannot follow the host's clock",
-                    _ => "another reason",
-                };
+                let why = refusal(code);
                 return Err(format!(
                     "refused the run's setup over {}: {why} (code {code})",
                     self.transport
@@ -452,6 +426,46 @@ impl Bridge {
             }
         }
         Ok(())
+    }
+}
+
+/// Why a robot refused its setup, from [`LinkMsg::Refused`]'s code.
+pub(super) fn refusal(code: u8) -> &'static str {
+    match code {
+        1 => "bad protocol parameters",
+        2 => "its receivers and the sectors differ",
+        3 => "a zero duration",
+        4 => "a swarm key without keyed framing",
+        firmware::hil::robot::REFUSED_HOST_CLOCK => "it cannot follow the host's clock",
+        _ => "another reason",
+    }
+}
+
+/// Hands what reaches `rx` (every sector, until its stream ends) to `to`, with the sector.
+pub(super) async fn hear(mut rx: EmuReceivers, to: UnboundedSender<(usize, Vec<u8>)>) {
+    let mut buf = [0u8; CHUNK_MAX];
+    let mut open = u8::MAX;
+    while open != 0 {
+        let (sector, got) = rx.read(open, &mut buf).await;
+        match got {
+            Ok(n @ 1..) => {
+                if to.send((sector, buf[..n].to_vec())).is_err() {
+                    return;
+                }
+            }
+            _ => open &= !bit(sector),
+        }
+    }
+}
+
+/// Puts each frame from `frames` on air through `transmitter`, one at a time as from the
+/// robot's own transmitter.
+pub(super) async fn put_on_air(
+    mut transmitter: EmuTransmitter,
+    mut frames: UnboundedReceiver<Vec<u8>>,
+) {
+    while let Some(f) = frames.recv().await {
+        let _ = transmitter.write(&f).await;
     }
 }
 

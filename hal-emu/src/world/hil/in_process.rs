@@ -50,7 +50,7 @@ pub(super) async fn in_process(
 }
 
 /// A channel's sending end as an [`embedded_io_async::Write`].
-struct ChanWriter(UnboundedSender<Vec<u8>>);
+pub(super) struct ChanWriter(pub(super) UnboundedSender<Vec<u8>>);
 
 impl ErrorType for ChanWriter {
     type Error = ErrorKind;

@@ -19,18 +19,15 @@ use std::rc::Rc;
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration as WallDuration, Instant as WallInstant};
 
-use embedded_io_async::Write;
-use firmware::hal::Receivers as _;
-use firmware::hil::robot::{HELD, REFUSED_HOST_CLOCK, led_decision};
+use firmware::hil::robot::{HELD, led_decision};
 use firmware::hil::{CHUNK_MAX, LINK_VERSION, LinkDecoder, LinkMsg};
 use firmware::{Clock, LedColor, Leds, Quantity, Sensor};
 use protocol::{Duration, Instant};
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
-use super::bridge::{Bridge, HilReport};
+use super::bridge::{Bridge, HilReport, hear, put_on_air, refusal};
 use super::follower::{Follower, FromRobot, frame};
 use super::twin::Twin;
-use crate::board::light::bit;
 use crate::board::timeline::Gate;
 
 /// Messages a follower may send for one `Sync` before the host calls it a flood.
@@ -533,14 +530,7 @@ async fn on_message(
             let _ = bridge.leds.show(color).await;
         }
         LinkMsg::Refused(code) => {
-            let why = match code {
-                1 => "bad protocol parameters",
-                2 => "its receivers and the sectors differ",
-                3 => "a zero duration",
-                4 => "a swarm key without keyed framing",
-                REFUSED_HOST_CLOCK => "it cannot follow the host's clock",
-                _ => "another reason",
-            };
+            let why = refusal(code);
             return Err(format!(
                 "refused the run's setup over {}: {why} (code {code})",
                 bridge.transport
@@ -578,30 +568,12 @@ async fn readings(bridge: &mut Bridge, lockstep: &Lockstep) {
 /// sender on air, one at a time as from the robot's own transmitter. They end with the run.
 fn start_light(bridge: &mut Bridge) -> Light {
     let (heard_tx, heard) = unbounded_channel::<(usize, Vec<u8>)>();
-    if let Some(mut rx) = bridge.receivers.take() {
-        bridge.clock.spawn(async move {
-            let mut buf = [0u8; CHUNK_MAX];
-            let mut open = u8::MAX;
-            while open != 0 {
-                let (sector, got) = rx.read(open, &mut buf).await;
-                match got {
-                    Ok(n @ 1..) => {
-                        if heard_tx.send((sector, buf[..n].to_vec())).is_err() {
-                            return;
-                        }
-                    }
-                    _ => open &= !bit(sector),
-                }
-            }
-        });
+    if let Some(rx) = bridge.receivers.take() {
+        bridge.clock.spawn(hear(rx, heard_tx));
     }
-    let (air, mut air_rx) = unbounded_channel::<Vec<u8>>();
-    if let Some(mut transmitter) = bridge.transmitter.take() {
-        bridge.clock.spawn(async move {
-            while let Some(f) = air_rx.recv().await {
-                let _ = transmitter.write(&f).await;
-            }
-        });
+    let (air, air_rx) = unbounded_channel::<Vec<u8>>();
+    if let Some(transmitter) = bridge.transmitter.take() {
+        bridge.clock.spawn(put_on_air(transmitter, air_rx));
     }
     (heard, air)
 }

@@ -14,13 +14,13 @@ use std::pin::Pin;
 use std::rc::Rc;
 use std::task::{Context, Poll, Waker};
 
-use embedded_io_async::{ErrorKind, ErrorType, Write};
 use firmware::Config;
 use firmware::hil::robot::{HostClock, Link, RNG_STREAM, run};
 use protocol::Instant;
 use rand_pcg::Pcg32;
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
+use super::in_process::ChanWriter;
 use crate::board::clock::EmuClock;
 use crate::board::light::EmuReceiver;
 
@@ -196,25 +196,5 @@ pub(crate) fn start(clock: &EmuClock, base: Config) -> Twin {
         6 => with::<6>(clock, base),
         7 => with::<7>(clock, base),
         _ => with::<8>(clock, base),
-    }
-}
-
-/// A channel's sending end as an [`embedded_io_async::Write`].
-struct ChanWriter(UnboundedSender<Vec<u8>>);
-
-impl ErrorType for ChanWriter {
-    type Error = ErrorKind;
-}
-
-impl Write for ChanWriter {
-    async fn write(&mut self, buf: &[u8]) -> Result<usize, ErrorKind> {
-        self.0
-            .send(buf.to_vec())
-            .map_err(|_| ErrorKind::BrokenPipe)?;
-        Ok(buf.len())
-    }
-
-    async fn flush(&mut self) -> Result<(), ErrorKind> {
-        Ok(())
     }
 }

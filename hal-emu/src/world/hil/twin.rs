@@ -130,11 +130,15 @@ impl<F: Future> Future for Polled<F> {
     type Output = F::Output;
 
     fn poll(mut self: Pin<&mut Self>, cx: &mut Context<'_>) -> Poll<F::Output> {
-        let clock = self.clock.clone();
-        let previous = POLLED.replace(Some(clock));
-        let out = self.inner.as_mut().poll(cx);
-        POLLED.set(previous);
-        out
+        /// Puts the clock polled before back, however the poll ends (a panic included).
+        struct Restore(Option<Rc<TwinClock>>);
+        impl Drop for Restore {
+            fn drop(&mut self) {
+                POLLED.set(self.0.take());
+            }
+        }
+        let _restore = Restore(POLLED.replace(Some(self.clock.clone())));
+        self.inner.as_mut().poll(cx)
     }
 }
 

@@ -3,7 +3,7 @@
 "Numbers").
 
 For each cycle, runs the paper's six lab patterns with four QEMU robots
-(`cimax arena --hil qemu:4 --lights P --cycle C --runs R --json`, in real time, one run after the
+(`cimax arena --hil qemu:4 --hil-clock wall --lights P --cycle C --runs R --json`, in real time, one run after the
 other) and the same with four virtual robots (`--runs 20`, virtual time), and prints a Markdown
 table: right runs with QEMU robots and with virtual ones, the median time to consensus in cycles,
 and the link's heartbeat round trip (mean and worst) and traffic. Build first:
@@ -48,7 +48,7 @@ def main():
                 with open(os.path.join(a.source, f"cyc-{c}-{p}.json")) as f:
                     d = json.load(f)
             else:
-                d = arena(a.cimax, ["--hil", "qemu:4", "--lights", p, "--cycle", c,
+                d = arena(a.cimax, ["--hil", "qemu:4", "--hil-clock", "wall", "--lights", p, "--cycle", c,
                                     "--runs", str(a.runs)])
             runs += d["runs"]
             v = arena(a.cimax, ["--lights", p, "--cycle", c, "--runs", "20"])["summary"]

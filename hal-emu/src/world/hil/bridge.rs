@@ -82,7 +82,10 @@ pub struct HilReport {
     pub bytes_sent: u64,
     /// Bytes the host received from it.
     pub bytes_received: u64,
-    /// Heartbeats it answered: round trips measured.
+    /// True if it ran on the arena's clock (lockstep): `round_trips` counts its `Sync`s and
+    /// their `Idle`s then, with no wall time measured.
+    pub lockstep: bool,
+    /// Heartbeats it answered: round trips measured (on the arena's clock: `Sync`s answered).
     pub round_trips: u64,
     /// The mean round trip of a heartbeat (host → robot → host), microseconds of the run's
     /// clock (zero in virtual time).

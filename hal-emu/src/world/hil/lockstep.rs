@@ -197,6 +197,7 @@ impl Lockstep {
             report.frames_sent = s.frames_sent;
             report.frames_received = s.frames_received;
             report.round_trips = s.rounds;
+            report.lockstep = true;
             if let Some(t) = &s.twin {
                 report.bytes_sent = t.bytes_sent;
                 report.bytes_received = t.bytes_received;

@@ -148,12 +148,25 @@ pub(super) fn print_hil(runs: &[(usize, LabRun)]) -> Result<(), StdoutError> {
             }
             e.1.round_trips = trips;
             e.1.rtt_max_us = e.1.rtt_max_us.max(h.rtt_max_us);
+            e.1.lockstep |= h.lockstep;
             e.2 += 1;
         }
     }
     for (robot, (transport, h, n)) in places {
+        let timing = if h.lockstep {
+            format!(
+                "on the arena's clock, {} lockstep rounds (Sync and Idle)",
+                h.round_trips
+            )
+        } else {
+            format!(
+                "heartbeat round trip {:.2} ms mean, {:.2} ms max",
+                h.rtt_mean_us as f64 / 1000.0,
+                h.rtt_max_us as f64 / 1000.0
+            )
+        };
         outln!(
-            "robot {robot} in the loop over {transport}: {n} runs, {} link frames ({} B) sent to it, {} ({} B) received with {} light frames, {} link errors; hello within {} ms, heartbeat round trip {:.2} ms mean, {:.2} ms max",
+            "robot {robot} in the loop over {transport}: {n} runs, {} link frames ({} B) sent to it, {} ({} B) received with {} light frames, {} link errors; hello within {} ms, {timing}",
             h.frames_sent,
             h.bytes_sent,
             h.frames_received,
@@ -161,8 +174,6 @@ pub(super) fn print_hil(runs: &[(usize, LabRun)]) -> Result<(), StdoutError> {
             h.tx,
             h.link_errors,
             h.hello_ms,
-            h.rtt_mean_us as f64 / 1000.0,
-            h.rtt_max_us as f64 / 1000.0
         )?;
     }
     Ok(())

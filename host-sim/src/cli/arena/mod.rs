@@ -258,7 +258,7 @@ pub fn main(args: &ArenaArgs, matches: &clap::ArgMatches) -> ExitCode {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::line::{build, replay_lights, run_all};
     use super::plane::plane_spec;
     use super::print::expected_str;
@@ -266,15 +266,15 @@ mod tests {
     use clap::Parser as _;
     use hal_emu::judge::leds_str;
 
-    /// `cimax arena` as the tool parses it.
+    /// `cimax arena` as the tool parses it (also the replay tests').
     #[derive(clap::Parser)]
-    struct Cli {
+    pub(super) struct Cli {
         #[command(subcommand)]
-        command: Cmd,
+        pub(super) command: Cmd,
     }
 
     #[derive(clap::Subcommand)]
-    enum Cmd {
+    pub(super) enum Cmd {
         Arena(ArenaArgs),
     }
 

@@ -72,20 +72,9 @@ fn quoted(v: &str) -> String {
 mod tests {
     use super::super::line::{build, replay_lights};
     use super::super::print::replay_command;
+    use super::super::tests::{Cli, Cmd};
     use super::*;
     use clap::{CommandFactory as _, FromArgMatches as _};
-
-    /// `cimax arena` as the tool parses it.
-    #[derive(clap::Parser)]
-    struct Cli {
-        #[command(subcommand)]
-        command: Cmd,
-    }
-
-    #[derive(clap::Subcommand)]
-    enum Cmd {
-        Arena(ArenaArgs),
-    }
 
     /// The options and matches of `cimax arena ARGS...`.
     fn parse(a: &[String]) -> (ArenaArgs, ArgMatches) {

@@ -9,10 +9,11 @@ use std::io::{Read, Write};
 use std::net::TcpListener;
 use std::sync::{Arc, Mutex};
 
+use firmware::LedColor;
 use firmware::hil::{LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkMsg};
 use hal_emu::world::hil::{FLOOD, HilClock, HilRobot, Transport};
 use hal_emu::{ArenaConfig, ArenaError};
-use protocol::Duration;
+use protocol::{Duration, Instant};
 
 fn frame(msg: &LinkMsg) -> Vec<u8> {
     let mut buf = [0u8; LINK_FRAME_MAX];
@@ -249,4 +250,52 @@ fn host_twins_on_the_lockstep_decide_right_and_replay_bit_for_bit() {
             assert_eq!(h.link_errors, 0, "{h:?}");
         }
     }
+}
+
+#[test]
+fn a_host_twin_killed_and_restarted_boots_afresh_and_decides_again_bit_for_bit() {
+    // Robot 2 of 1100 dies at 800 s (after consensus) and boots again 5 s later, as in the
+    // campaign's reboot scenario; robot 4 of 11000 is dead from the start and boots at 300 s.
+    let mut reboot = twins("1100", 5, &[2]);
+    reboot.kills.push((Instant::from_secs(800), 2));
+    reboot.restarts.push((Instant::from_secs(805), 2));
+    let mut late = twins("11000", 6, &[4]);
+    late.dead_at_start.push(4);
+    late.restarts.push((Instant::from_secs(300), 4));
+    for (cfg, robot, up) in [(reboot, 2, 805), (late, 4, 300)] {
+        let a = hal_emu::judge::judge(&cfg).unwrap();
+        assert!(a.success, "{}", hal_emu::judge::leds_str(&a.leds));
+        let after: Vec<_> = a
+            .report
+            .leds
+            .iter()
+            .filter(|c| c.robot == robot && c.t >= Instant::from_secs(up))
+            .collect();
+        assert!(
+            after.iter().any(|c| c.color != LedColor::Off),
+            "robot {robot} shows nothing after its boot at {up} s: {after:?}"
+        );
+        // One report per life; the new life's link counts from its boot.
+        let lives: Vec<_> = a.report.hil.iter().filter(|h| h.robot == robot).collect();
+        let want = if robot == 2 { 2 } else { 1 };
+        assert_eq!(lives.len(), want, "{:?}", a.report.hil);
+        let last = lives[want - 1];
+        assert!(last.round_trips > 100 && last.tx > 5, "{last:?}");
+        let b = hal_emu::judge::judge(&cfg).unwrap();
+        assert_eq!(a.report.leds, b.report.leds);
+        assert_eq!(a.report.hil, b.report.hil);
+    }
+}
+
+#[test]
+fn a_robot_on_a_socket_cannot_be_restarted() {
+    let (addr, _) = robot(LINK_VERSION, Box::new(|t, _| vec![idle(t)]));
+    let mut cfg = lab(&addr);
+    cfg.kills.push((Instant::from_secs(100), 0));
+    cfg.restarts.push((Instant::from_secs(105), 0));
+    let e = hal_emu::run(&cfg).unwrap_err();
+    assert!(
+        matches!(&e, ArenaError::Hil(m) if m.contains("cannot be restarted")),
+        "{e}"
+    );
 }

@@ -23,6 +23,7 @@
 
 use std::cell::RefCell;
 use std::rc::Rc;
+use std::time::Duration as StdDuration;
 
 use embassy_futures::select::{Either, select};
 use firmware::SetupError;
@@ -32,7 +33,7 @@ use crate::board::clock::EmuClock;
 use crate::board::timeline::{self, Timeline};
 use crate::world::adversary;
 use crate::world::env::SwarmEnv;
-use crate::world::hil::{Follower, Lockstep, Transport, start_twin};
+use crate::world::hil::{Boot, Follower, Lockstep, Transport};
 use crate::world::medium::Medium;
 
 mod camera;
@@ -76,8 +77,8 @@ pub fn run(cfg: &ArenaConfig) -> Result<RunReport, ArenaError> {
     } else if cfg.lockstep() {
         // QEMU robots on the arena's clock: booted and greeted first, then the run on the own
         // executor, time waiting for them (`world::hil::lockstep`).
-        let patience = std::time::Duration::from_millis(cfg.hil_timeouts.silence.as_millis());
-        let lockstep = Rc::new(Lockstep::new(boot_followers(cfg)?, patience));
+        let patience = StdDuration::from_millis(cfg.hil_timeouts.silence.as_millis());
+        let lockstep = Rc::new(boot_followers(cfg, patience)?);
         let (clock, timeline) = EmuClock::virtual_run();
         timeline.set_gate(lockstep.clone());
         let time = Time::Own(clock, timeline.clone());
@@ -162,16 +163,20 @@ fn check_hil(cfg: &ArenaConfig) -> Result<(), ArenaError> {
         if !seen.insert(h.robot) {
             return Err(ArenaError::Hil(format!("place {} is taken twice", h.robot)));
         }
-        let scheduled = cfg
-            .kills
-            .iter()
-            .chain(&cfg.restarts)
-            .any(|&(_, r)| r == h.robot)
+        let restarts = cfg.restarts.iter().any(|&(_, r)| r == h.robot);
+        let scheduled = restarts
+            || cfg.kills.iter().any(|&(_, r)| r == h.robot)
             || cfg.dead_at_start.contains(&h.robot);
-        if scheduled {
+        // On the arena's clock, a kill ends its link (and its QEMU process), a restart boots
+        // it afresh; a board on its own clock, or one behind a socket, cannot be rebooted.
+        let bootable = h.follows() && !matches!(h.transport, Transport::Tcp(_));
+        if scheduled && !(bootable || h.follows() && !restarts) {
             return Err(ArenaError::Hil(format!(
-                "robot {} is in the loop: it cannot be killed or restarted",
-                h.robot
+                "robot {} is in the loop over {}: it cannot be {} (only robots on the \
+                 arena's clock can, and only QEMU robots and host twins restarted)",
+                h.robot,
+                h.transport,
+                if restarts { "restarted" } else { "killed" }
             )));
         }
         if cfg.lockstep() && !h.follows() {
@@ -287,7 +292,7 @@ fn world(cfg: &ArenaConfig, time: Time, lockstep: Option<Rc<Lockstep>>) -> Rc<Sh
         };
         for h in cfg.hil.iter().filter(|h| h.follows()) {
             if h.transport == Transport::InProcess {
-                l.add_twin(h.robot, start_twin(&clock, base));
+                l.add_twin(h.robot, &clock, base, cfg.dead_at_start.contains(&h.robot));
             }
         }
     }
@@ -324,45 +329,58 @@ fn world(cfg: &ArenaConfig, time: Time, lockstep: Option<Rc<Lockstep>>) -> Rc<Sh
     })
 }
 
-/// Boots the QEMU robots of `cfg` that follow the arena's clock and connects those on sockets,
-/// all at once, and greets each ([`Follower::boot`], [`Follower::connect`]): `(place,
-/// follower)`.
-fn boot_followers(cfg: &ArenaConfig) -> Result<Vec<(usize, Follower)>, ArenaError> {
-    let hello = std::time::Duration::from_millis(cfg.hil_timeouts.hello.as_millis());
+/// The lockstep of `cfg`'s robots on the arena's clock, each given `patience` to answer: its
+/// QEMU robots booted and those on sockets connected, all at once, and each greeted
+/// ([`Follower::boot`], [`Follower::connect`]); robots dead from the start boot at their first
+/// restart. Host twins are added when the run starts (they need its executor).
+fn boot_followers(cfg: &ArenaConfig, patience: StdDuration) -> Result<Lockstep, ArenaError> {
+    let hello = StdDuration::from_millis(cfg.hil_timeouts.hello.as_millis());
     let sectors = cfg.robot.params.sectors;
-    let booted: Vec<(usize, String, Result<Follower, String>)> = std::thread::scope(|scope| {
+    /// A follower's place, transport, how it boots again, and its boot (none if dead now).
+    type Booted = (usize, String, Boot, Option<Result<Follower, String>>);
+    let booted: Vec<Booted> = std::thread::scope(|scope| {
         let boots: Vec<_> = cfg
             .hil
             .iter()
             .filter(|h| h.follows() && h.transport != Transport::InProcess)
             .map(|h| {
+                let dead = cfg.dead_at_start.contains(&h.robot);
                 let boot = move || match &h.transport {
                     Transport::Qemu(image) => Follower::boot(image, sectors, hello),
                     Transport::Tcp(addr) => Follower::connect(addr, sectors, hello),
                     t => Err(format!("{t} cannot follow the arena's clock")),
                 };
-                (h.robot, &h.transport, scope.spawn(boot))
+                (h.robot, &h.transport, (!dead).then(|| scope.spawn(boot)))
             })
             .collect();
         boots
             .into_iter()
             .map(|(robot, t, b)| {
-                let out = b
-                    .join()
-                    .unwrap_or_else(|_| Err("its boot thread panicked".into()));
-                (robot, t.to_string(), out)
+                let out = b.map(|b| {
+                    b.join()
+                        .unwrap_or_else(|_| Err("its boot thread panicked".into()))
+                });
+                let again = match t {
+                    Transport::Qemu(image) => Boot::Qemu {
+                        image: image.clone(),
+                        sectors,
+                        hello,
+                    },
+                    _ => Boot::Socket,
+                };
+                (robot, t.to_string(), again, out)
             })
             .collect()
     });
-    let mut followers = Vec::new();
-    for (robot, t, f) in booted {
+    let lockstep = Lockstep::new(patience);
+    for (robot, t, again, f) in booted {
         // The others are dropped (killed) on an error.
-        followers.push((
-            robot,
-            f.map_err(|e| ArenaError::Hil(format!("robot {robot} ({t}): {e}")))?,
-        ));
+        let f = f
+            .transpose()
+            .map_err(|e| ArenaError::Hil(format!("robot {robot} ({t}): {e}")))?;
+        lockstep.add(robot, f, again);
     }
-    Ok(followers)
+    Ok(lockstep)
 }
 
 /// The report of a run that ended well, `emulated` long (its wall time and final LEDs are

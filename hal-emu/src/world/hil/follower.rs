@@ -44,8 +44,7 @@ pub struct Follower {
     log: Arc<Mutex<VecDeque<String>>>,
     /// Bad link frames seen by the reader.
     errors: Arc<AtomicU64>,
-    /// Bytes received and sent.
-    received: Arc<AtomicU64>,
+    /// Bytes sent.
     pub(crate) sent: u64,
     /// The id it said hello with.
     pub(crate) hello_id: u16,
@@ -103,7 +102,6 @@ impl Follower {
             from: channel().1,
             log,
             errors: Arc::default(),
-            received: Arc::default(),
             sent: 0,
             hello_id: 0,
             hello: WallDuration::ZERO,
@@ -138,7 +136,6 @@ impl Follower {
             from: channel().1,
             log: Arc::default(),
             errors: Arc::default(),
-            received: Arc::default(),
             sent: 0,
             hello_id: 0,
             hello: WallDuration::ZERO,
@@ -160,8 +157,7 @@ impl Follower {
         let (tx, rx) = channel();
         self.from = rx;
         let errors = self.errors.clone();
-        let received = self.received.clone();
-        std::thread::spawn(move || read_link(stream, &tx, &errors, &received));
+        std::thread::spawn(move || read_link(stream, &tx, &errors));
         Ok(())
     }
 
@@ -240,11 +236,6 @@ impl Follower {
         self.errors.load(Ordering::Relaxed)
     }
 
-    /// Bytes received from it so far.
-    pub(crate) fn bytes_received(&self) -> u64 {
-        self.received.load(Ordering::Relaxed)
-    }
-
     /// `; its output ends: ...` with the last lines QEMU printed, or nothing.
     pub(crate) fn last_words(&self) -> String {
         last_words(&self.log)
@@ -295,12 +286,7 @@ fn accept(listener: &TcpListener, within: WallDuration) -> Result<TcpStream, Str
 }
 
 /// The reader thread: decodes the robot's frames into `to` until the stream ends.
-fn read_link(
-    mut stream: TcpStream,
-    to: &Sender<FromRobot>,
-    errors: &AtomicU64,
-    received: &AtomicU64,
-) {
+fn read_link(mut stream: TcpStream, to: &Sender<FromRobot>, errors: &AtomicU64) {
     let mut decoder = LinkDecoder::new();
     let mut buf = [0u8; 512];
     loop {
@@ -311,7 +297,6 @@ fn read_link(
             }
             Ok(n) => n,
         };
-        received.fetch_add(n as u64, Ordering::Relaxed);
         for &b in &buf[..n] {
             let out = match decoder.push(b) {
                 None => continue,

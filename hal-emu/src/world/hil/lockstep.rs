@@ -15,19 +15,21 @@
 
 use std::cell::RefCell;
 use std::collections::VecDeque;
+use std::path::PathBuf;
 use std::rc::Rc;
 use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration as WallDuration, Instant as WallInstant};
 
 use firmware::hil::robot::{HELD, led_decision};
 use firmware::hil::{CHUNK_MAX, LINK_VERSION, LinkDecoder, LinkMsg};
-use firmware::{Clock, LedColor, Leds, Quantity, Sensor};
+use firmware::{Clock, Config, LedColor, Leds, Quantity, Sensor};
 use protocol::{Duration, Instant};
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
 use super::bridge::{Bridge, HilReport, hear, put_on_air, refusal};
 use super::follower::{Follower, FromRobot, frame};
-use super::twin::Twin;
+use super::twin::{self, Twin};
+use crate::board::clock::EmuClock;
 use crate::board::timeline::Gate;
 
 /// Messages a follower may send for one `Sync` before the host calls it a flood.
@@ -42,11 +44,32 @@ pub(crate) enum Batch {
     Failed(String),
 }
 
+/// How a follower boots when a life of it begins with nothing on its link: restarted in the
+/// run (killed before), or dead from the start.
+#[derive(Debug)]
+pub(crate) enum Boot {
+    /// A fresh QEMU process on this image ([`Follower::boot`]): the robot reboots.
+    Qemu {
+        /// The HIL image.
+        image: PathBuf,
+        /// Its receivers.
+        sectors: u8,
+        /// How long its `Hello` may take.
+        hello: WallDuration,
+    },
+    /// A fresh host twin with this configuration on this clock's executor.
+    Twin(EmuClock, Config),
+    /// A robot on a socket: the arena cannot reboot it (the run's check refuses its restarts).
+    Socket,
+}
+
 /// One follower's place in the run.
 #[derive(Debug)]
 struct Slot {
     /// Its place in the arena.
     robot: usize,
+    /// How it boots again.
+    boot: Boot,
     follower: Option<Follower>,
     /// The host twin in this process instead of a follower over a link.
     twin: Option<TwinState>,
@@ -67,6 +90,9 @@ struct Slot {
     frames_sent: u64,
     /// Link frames received from it.
     frames_received: u64,
+    /// Bytes of the frames it said for the `Sync`s of this run (not of the `Hello`s it says on
+    /// its own clock before its setup, whose number depends on wall time).
+    bytes_received: u64,
 }
 
 /// A host twin's link ([`twin`](super::twin)): channels, its decoder, and whether its `Idle` was
@@ -81,15 +107,27 @@ struct TwinState {
     /// settle.
     asked: bool,
     bytes_sent: u64,
-    bytes_received: u64,
+}
+
+impl TwinState {
+    fn new(twin: Twin) -> Self {
+        TwinState {
+            twin,
+            decoder: LinkDecoder::new(),
+            fresh: false,
+            asked: false,
+            bytes_sent: 0,
+        }
+    }
 }
 
 impl Slot {
-    fn new(robot: usize, follower: Option<Follower>, twin: Option<TwinState>) -> Self {
+    fn new(robot: usize, boot: Boot) -> Self {
         Slot {
             robot,
-            follower,
-            twin,
+            boot,
+            follower: None,
+            twin: None,
             said: Vec::new(),
             out: VecDeque::new(),
             wants: false,
@@ -99,6 +137,7 @@ impl Slot {
             rounds: 0,
             frames_sent: 0,
             frames_received: 0,
+            bytes_received: 0,
         }
     }
 
@@ -125,31 +164,30 @@ pub struct Lockstep {
 }
 
 impl Lockstep {
-    /// Followers at the places given, each given `patience` (wall time) to answer a `Sync`.
-    pub(crate) fn new(followers: Vec<(usize, Follower)>, patience: WallDuration) -> Self {
-        let slots = followers
-            .into_iter()
-            .map(|(robot, f)| Slot::new(robot, Some(f), None))
-            .collect();
+    /// No followers yet; each will be given `patience` (wall time) to answer a `Sync`.
+    pub(crate) fn new(patience: WallDuration) -> Self {
         Lockstep {
-            slots: RefCell::new(slots),
+            slots: RefCell::new(Vec::new()),
             patience,
         }
     }
 
-    /// Adds the host twin at `robot` ([`twin`](super::twin)).
-    pub(crate) fn add_twin(&self, robot: usize, twin: Twin) {
-        let state = TwinState {
-            twin,
-            decoder: LinkDecoder::new(),
-            fresh: false,
-            asked: false,
-            bytes_sent: 0,
-            bytes_received: 0,
-        };
-        self.slots
-            .borrow_mut()
-            .push(Slot::new(robot, None, Some(state)));
+    /// Adds the follower at `robot`: `follower` if it is booted and greeted already (`None`:
+    /// it is dead from the start), and how it boots again.
+    pub(crate) fn add(&self, robot: usize, follower: Option<Follower>, boot: Boot) {
+        let mut slot = Slot::new(robot, boot);
+        slot.follower = follower;
+        self.slots.borrow_mut().push(slot);
+    }
+
+    /// Adds the host twin at `robot` ([`twin`](super::twin)) with the image's `base`
+    /// configuration, started on `clock`'s executor now, or at its first life if `dead` now.
+    pub(crate) fn add_twin(&self, robot: usize, clock: &EmuClock, base: Config, dead: bool) {
+        let mut slot = Slot::new(robot, Boot::Twin(clock.clone(), base));
+        if !dead {
+            slot.twin = Some(TwinState::new(twin::start(clock, base)));
+        }
+        self.slots.borrow_mut().push(slot);
     }
 
     /// True if the robot at `robot` is one of these followers.
@@ -157,14 +195,65 @@ impl Lockstep {
         self.slots.borrow().iter().any(|s| s.robot == robot)
     }
 
-    /// Connects the robot at `robot` to its bridge: what its follower says comes out of the
-    /// returned channel.
-    fn attach(&self, robot: usize) -> Option<UnboundedReceiver<Batch>> {
+    /// Connects a new life of the robot at `robot` to its bridge: what its follower says comes
+    /// out of the returned channel. A follower with nothing on its link (killed before, or
+    /// dead from the start) boots first ([`Boot`]): its QEMU starts afresh, or a fresh twin.
+    /// Its link's counters start from zero.
+    ///
+    /// # Errors
+    /// It is none of these followers, or it cannot boot (the message says why).
+    fn attach(&self, robot: usize) -> Result<UnboundedReceiver<Batch>, String> {
         let mut slots = self.slots.borrow_mut();
-        let s = slots.iter_mut().find(|s| s.robot == robot)?;
+        let Some(s) = slots.iter_mut().find(|s| s.robot == robot) else {
+            return Err("is no robot on the arena's clock".into());
+        };
+        if s.follower.is_none() && s.twin.is_none() {
+            match &s.boot {
+                Boot::Qemu {
+                    image,
+                    sectors,
+                    hello,
+                } => s.follower = Some(Follower::boot(image, *sectors, *hello)?),
+                Boot::Twin(clock, base) => {
+                    s.twin = Some(TwinState::new(twin::start(clock, *base)));
+                }
+                Boot::Socket => return Err("is on a socket: the arena cannot boot it".into()),
+            }
+        }
         let (tx, rx) = unbounded_channel();
         s.to_bridge = Some(tx);
-        Some(rx)
+        s.answered = false;
+        s.rounds = 0;
+        s.frames_sent = 0;
+        s.frames_received = 0;
+        s.bytes_received = 0;
+        if let Some(f) = s.follower.as_mut() {
+            f.sent = 0;
+        }
+        if let Some(t) = s.twin.as_mut() {
+            t.bytes_sent = 0;
+        }
+        Ok(rx)
+    }
+
+    /// Ends the life of the robot at `robot` (it is killed, or the run ends): its QEMU process
+    /// is killed (or its twin dropped), nothing more is sent to it, and nothing it owes is
+    /// waited for.
+    fn detach(&self, robot: usize) {
+        if let Some(s) = self
+            .slots
+            .borrow_mut()
+            .iter_mut()
+            .find(|s| s.robot == robot)
+        {
+            s.follower = None;
+            s.twin = None;
+            s.to_bridge = None;
+            s.said.clear();
+            s.out.clear();
+            s.wants = false;
+            s.owes = None;
+        }
     }
 
     /// Queues `msg` for the robot at `robot`, sent before its next `Sync`.
@@ -200,16 +289,15 @@ impl Lockstep {
             report.lockstep = true;
             if let Some(t) = &s.twin {
                 report.bytes_sent = t.bytes_sent;
-                report.bytes_received = t.bytes_received;
                 report.link_errors = u64::from(t.decoder.stats().errors());
             }
             if let Some(f) = &s.follower {
                 report.hello_id = f.hello_id;
                 report.hello_ms = u64::try_from(f.hello.as_millis()).unwrap_or(u64::MAX);
                 report.bytes_sent = f.sent;
-                report.bytes_received = f.bytes_received();
                 report.link_errors = f.link_errors();
             }
+            report.bytes_received = s.bytes_received;
         }
     }
 
@@ -288,7 +376,6 @@ impl Lockstep {
         over: &str,
         batch: &mut Vec<LinkMsg>,
     ) -> Result<bool, String> {
-        s.frames_received += 1;
         match msg {
             LinkMsg::Idle { now: t, .. } if u64::from(t) != now.as_millis() => {
                 return Err(format!(
@@ -296,19 +383,23 @@ impl Lockstep {
                     now.as_millis()
                 ));
             }
-            LinkMsg::Idle { .. } => {
-                batch.push(msg);
-                s.answered = true;
-                return Ok(true);
-            }
             LinkMsg::Hello { .. } if s.answered => {
                 return Err(format!(
                     "said hello again over {over}: it rebooted during the run"
                 ));
             }
-            // Hellos from before its setup (it says hello on its own clock until then).
-            LinkMsg::Hello { .. } | LinkMsg::Heartbeat(_) => {}
-            m => batch.push(m),
+            // Hellos from before its setup (it says hello on its own clock until then, so
+            // their number depends on wall time: they are not counted).
+            LinkMsg::Hello { .. } | LinkMsg::Heartbeat(_) => return Ok(false),
+            _ => {}
+        }
+        s.frames_received += 1;
+        s.bytes_received += frame(&msg).len() as u64;
+        let idle = matches!(msg, LinkMsg::Idle { .. });
+        batch.push(msg);
+        if idle {
+            s.answered = true;
+            return Ok(true);
         }
         if batch.len() > FLOOD {
             return Err(format!(
@@ -333,7 +424,6 @@ impl Lockstep {
         let mut msgs = Vec::new();
         if let Some(t) = s.twin.as_mut() {
             while let Ok(bytes) = t.twin.from_robot.try_recv() {
-                t.bytes_received += bytes.len() as u64;
                 msgs.extend(bytes.iter().filter_map(|&b| t.decoder.push(b)?.ok()));
             }
         }
@@ -440,9 +530,7 @@ pub(crate) async fn serve(
         transport: bridge.transport.to_string(),
         ..HilReport::default()
     };
-    let Some(mut batches) = lockstep.attach(robot) else {
-        return Err("is no robot on the arena's clock".into());
-    };
+    let mut batches = lockstep.attach(robot)?;
     let clock = bridge.clock.clone();
     let t0 = clock.now();
     readings(&mut bridge, &lockstep).await;
@@ -465,6 +553,7 @@ pub(crate) async fn serve(
         match input {
             None => {
                 lockstep.fill(robot, &mut report);
+                lockstep.detach(robot);
                 return check_at_end(&bridge, now.saturating_since(t0), &report);
             }
             Some(Input::Batch(None)) => return Err("its lockstep ended".into()),

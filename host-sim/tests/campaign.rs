@@ -22,6 +22,7 @@ fn a_small_campaign_meets_the_bars() {
         seeds: 6,
         loss: None,
         decide: Decide::Fixed,
+        hil: None,
     };
     let report = campaign::run(&plan, &Progress::hidden()).unwrap();
     assert_eq!(report.results.len(), SCENARIOS.len());
@@ -72,6 +73,7 @@ fn results_do_not_depend_on_the_number_of_threads() {
         seeds: 3,
         loss: None,
         decide: Decide::Fixed,
+        hil: None,
     };
     let on = |threads| {
         let r = pool(threads).install(|| campaign::run(&plan, &Progress::hidden()).unwrap());
@@ -146,10 +148,62 @@ fn campaign_bad_options_name_the_problem_and_exit_2() {
         (&["arena", "campaign", "--loss", "2"], "--loss"),
         (&["arena", "campaign", "--seeds", "0"], "--seeds"),
         (&["arena", "--loss", "0.1", "campaign"], "campaign"),
+        (
+            &["arena", "campaign", "--hil", "loopback:5"],
+            "5 robots in the loop",
+        ),
+        (
+            &["arena", "campaign", "--hil", "tcp:127.0.0.1:9"],
+            "only qemu:N and loopback:N",
+        ),
+        (
+            &[
+                "arena",
+                "campaign",
+                "--hil",
+                "qemu:1",
+                "--hil-image",
+                "/no/such.elf",
+            ],
+            "/no/such.elf",
+        ),
     ] {
         let out = cimax(args);
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.contains(needle), "{args:?}: {err}");
     }
+}
+
+#[test]
+fn the_robot_in_the_loop_is_the_one_rebooted_and_recovers_on_the_arenas_clock() {
+    // The HIL program's host build (a twin, on the lockstep) in the place of the robot the
+    // scenario kills and boots again: consensus comes back, and the replay line says so.
+    let hil = campaign::InTheLoop {
+        robots: 1,
+        image: None,
+    };
+    let reboot = &SCENARIOS[index("reboot")];
+    for seed in [2, 9] {
+        let (cfg, t) =
+            campaign::run_config(reboot, seed, None, Decide::Adaptive, Some(&hil)).unwrap();
+        assert_eq!(cfg.hil.len(), 1);
+        assert_eq!(cfg.hil[0].robot, cfg.kills[0].1, "seed {seed}");
+        assert!(t.is_some());
+        let o = campaign::run_in_loop(reboot, seed, None, Decide::Adaptive, Some(&hil)).unwrap();
+        assert!(o.success && !o.crashed, "seed {seed}: {o:?}");
+        assert!(o.restore_s.is_some(), "seed {seed}: {o:?}");
+    }
+    let plan = Plan {
+        scenarios: vec![index("reboot")],
+        seed: 2,
+        seeds: 1,
+        loss: None,
+        decide: Decide::Adaptive,
+        hil: Some(hil),
+    };
+    assert!(
+        campaign::replay_command("reboot", 2, &plan)
+            .ends_with("--decide adaptive --hil loopback:1")
+    );
 }

@@ -23,6 +23,7 @@ use std::fmt::Write as _;
 
 use hal_emu::judge::{judge, leds_str, pattern_str};
 use hal_emu::world::arena::RobotFailure;
+use hal_emu::world::hil::{HilClock, HilRobot, Transport};
 use hal_emu::{ArenaConfig, ArenaError, MediumStats, Readings};
 use protocol::params::DecisionRule;
 use protocol::wave::WaveStats;
@@ -32,7 +33,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::progress::Progress;
 
-pub use scenarios::{ADVERSARY_AT, Fault, REBOOT_DOWN, SCENARIOS, Scenario, config, pattern_for};
+pub use scenarios::{
+    ADVERSARY_AT, Fault, REBOOT_DOWN, SCENARIOS, Scenario, config, hil_places, pattern_for,
+};
 
 /// `--decide`: the protocol's [`DecisionRule`] on the command line.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]
@@ -117,6 +120,31 @@ pub struct Plan {
     pub loss: Option<f64>,
     /// The robots' decision rule.
     pub decide: Decide,
+    /// Robots in the loop in every run (the Cortex-M build on the arena's clock), if any.
+    pub hil: Option<InTheLoop>,
+}
+
+/// Robots in the loop in every run of a campaign (`--hil qemu:N` or `--hil loopback:N`), on the
+/// arena's clock (docs/hil.md, "Time"), at the places [`hil_places`] gives: the robot the
+/// scenario reboots first, the robot it kills from the start last.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct InTheLoop {
+    /// How many per run.
+    pub robots: usize,
+    /// The HIL image QEMU boots for each; `None`: host twins of it in this process.
+    pub image: Option<std::path::PathBuf>,
+}
+
+impl InTheLoop {
+    /// As `cimax arena campaign --hil` says it: `qemu:N` or `loopback:N`.
+    pub fn spec(&self) -> String {
+        let kind = if self.image.is_some() {
+            "qemu"
+        } else {
+            "loopback"
+        };
+        format!("{kind}:{}", self.robots)
+    }
 }
 
 /// One scenario's runs and what they add up to.
@@ -272,9 +300,52 @@ pub fn run_one(
     loss: Option<f64>,
     decide: Decide,
 ) -> Result<Outcome, String> {
+    run_in_loop(scenario, seed, loss, decide, None)
+}
+
+/// [`run_one`] with `hil` robots in the loop.
+///
+/// # Errors
+/// A message if the run cannot start.
+pub fn run_in_loop(
+    scenario: &Scenario,
+    seed: u64,
+    loss: Option<f64>,
+    decide: Decide,
+    hil: Option<&InTheLoop>,
+) -> Result<Outcome, String> {
+    let (cfg, reboot) = run_config(scenario, seed, loss, decide, hil)?;
+    outcome(&cfg, reboot)
+}
+
+/// The run of `scenario` for `seed` under `decide`, with `hil` robots in the loop, and its
+/// reboot time if it has one ([`config`]).
+///
+/// # Errors
+/// A message if the run cannot be set up.
+pub fn run_config(
+    scenario: &Scenario,
+    seed: u64,
+    loss: Option<f64>,
+    decide: Decide,
+    hil: Option<&InTheLoop>,
+) -> Result<(ArenaConfig, Option<Instant>), String> {
     let (mut cfg, reboot) = config(scenario, seed, loss)?;
     cfg.robot.params.decide = decide.into();
-    outcome(&cfg, reboot)
+    if let Some(h) = hil {
+        cfg.hil = hil_places(&cfg, h.robots)?
+            .into_iter()
+            .map(|robot| HilRobot {
+                robot,
+                transport: h
+                    .image
+                    .clone()
+                    .map_or(Transport::InProcess, Transport::Qemu),
+                clock: HilClock::Virtual,
+            })
+            .collect();
+    }
+    Ok((cfg, reboot))
 }
 
 /// Runs the plan, in parallel; the result does not depend on the number of threads. Its runs
@@ -289,7 +360,13 @@ pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
     let outcomes: Vec<Outcome> = jobs
         .par_iter()
         .map(|&(s, seed)| {
-            let o = run_one(&SCENARIOS[s], seed, plan.loss, plan.decide);
+            let o = run_in_loop(
+                &SCENARIOS[s],
+                seed,
+                plan.loss,
+                plan.decide,
+                plan.hil.as_ref(),
+            );
             progress.inc();
             o
         })
@@ -355,13 +432,19 @@ pub fn report(plan: &Plan, outcomes: Vec<Outcome>, wall_s: f64, threads: usize) 
     }
 }
 
-/// The command that replays one run.
-pub fn replay_command(scenario: &str, seed: u64, loss: Option<f64>, decide: Decide) -> String {
+/// The command that replays one run of `plan`.
+pub fn replay_command(scenario: &str, seed: u64, plan: &Plan) -> String {
     let mut c = format!("cimax arena campaign --scenario {scenario} --seed {seed} --seeds 1");
-    if let Some(p) = loss {
+    if let Some(p) = plan.loss {
         let _ = write!(c, " --loss {p}");
     }
-    let _ = write!(c, " --decide {}", decide.name());
+    let _ = write!(c, " --decide {}", plan.decide.name());
+    if let Some(h) = &plan.hil {
+        let _ = write!(c, " --hil {}", h.spec());
+        if let Some(image) = &h.image {
+            let _ = write!(c, " --hil-image {}", image.display());
+        }
+    }
     c
 }
 

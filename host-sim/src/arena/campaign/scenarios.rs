@@ -183,6 +183,28 @@ pub fn config(
     Ok((cfg, reboot))
 }
 
+/// Where `count` robots in the loop go in `cfg`, a scenario's run: the robots it kills (and
+/// restarts) first, then the living ones from the left, the dead from the start last (a robot
+/// in the loop dead from the start never runs).
+///
+/// # Errors
+/// More robots in the loop than the run has.
+pub fn hil_places(cfg: &ArenaConfig, count: usize) -> Result<Vec<usize>, String> {
+    let n = cfg.positions.len();
+    if count > n {
+        return Err(format!(
+            "{count} robots in the loop, but the campaign's runs have {n} robots"
+        ));
+    }
+    let killed = |r: &usize| cfg.kills.iter().any(|&(_, k)| k == *r);
+    let dead = |r: &usize| cfg.dead_at_start.contains(r);
+    let mut places: Vec<usize> = (0..n).filter(killed).collect();
+    places.extend((0..n).filter(|r| !killed(r) && !dead(r)));
+    places.extend((0..n).filter(|r| !killed(r) && dead(r)));
+    places.truncate(count);
+    Ok(places)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -210,5 +232,15 @@ mod tests {
         let t = t.unwrap();
         assert!((800..=1400).contains(&(t.as_millis() / 1000)));
         assert_eq!(cfg.restarts, vec![(t + REBOOT_DOWN, cfg.kills[0].1)]);
+        // In the loop: the rebooting robot first; the dead one last.
+        let r = cfg.kills[0].1;
+        let places = hil_places(&cfg, 4).unwrap();
+        assert_eq!(places[0], r);
+        assert_eq!(hil_places(&cfg, 1).unwrap(), vec![r]);
+        let (cfg, _) = config(dead, 5, None).unwrap();
+        let places = hil_places(&cfg, 4).unwrap();
+        assert_eq!(places[3], cfg.dead_at_start[0]);
+        assert!(!hil_places(&cfg, 3).unwrap().contains(&cfg.dead_at_start[0]));
+        assert!(hil_places(&cfg, 5).unwrap_err().contains("have 4 robots"));
     }
 }

@@ -158,7 +158,7 @@ const IMAGE_DIR: &str = "firmware/qemu/target/thumbv7em-none-eabihf/release";
 /// The image `--hil qemu:N` boots without `--hil-image`: `hil` (2 sectors) or `hil6`, under
 /// [`IMAGE_DIR`] of the working folder if it is there, else of the checkout this `cimax` was
 /// built from (as the docs folder is found, [`host_sim::report::default_docs_dir`]).
-fn default_image(sectors: u8) -> PathBuf {
+pub(in crate::cli) fn default_image(sectors: u8) -> PathBuf {
     let name = if sectors == 2 { "hil" } else { "hil6" };
     let here = PathBuf::from(IMAGE_DIR).join(name);
     if here.is_file() {

@@ -14,8 +14,8 @@ use protocol::{Duration, Params};
 use serde::Serialize;
 
 use crate::arena::campaign::{
-    ADVERSARY_AT, Decide, Fault, Outcome, Plan, REBOOT_DOWN, Report, SCENARIOS, SUITE_BAR,
-    ScenarioResult, SuiteResult, config, replay_command,
+    ADVERSARY_AT, Fault, Outcome, Plan, REBOOT_DOWN, Report, SCENARIOS, SUITE_BAR, ScenarioResult,
+    SuiteResult, config, replay_command,
 };
 use crate::stats::quantile;
 
@@ -546,7 +546,7 @@ fn failing_seeds(report: &Report) -> Vec<FailingGroup> {
         .filter_map(|r| {
             let lines: Vec<String> = r
                 .failures()
-                .map(|o| failure_line(r.scenario.name, o, report.plan.loss, report.plan.decide))
+                .map(|o| failure_line(r.scenario.name, o, &report.plan))
                 .collect();
             (!lines.is_empty()).then_some(FailingGroup {
                 scenario: r.scenario.name,
@@ -559,7 +559,7 @@ fn failing_seeds(report: &Report) -> Vec<FailingGroup> {
 }
 
 /// One failed run: seed, pattern, LEDs, what was expected and why, and its replay command.
-pub fn failure_line(scenario: &str, o: &Outcome, loss: Option<f64>, decide: Decide) -> String {
+pub fn failure_line(scenario: &str, o: &Outcome, plan: &Plan) -> String {
     format!(
         "seed {}: pattern {}, LEDs {}, expected {} ({}); replay: `{}`",
         o.seed,
@@ -567,7 +567,7 @@ pub fn failure_line(scenario: &str, o: &Outcome, loss: Option<f64>, decide: Deci
         o.leds,
         o.expected,
         o.why.as_deref().unwrap_or("failed"),
-        replay_command(scenario, o.seed, loss, decide)
+        replay_command(scenario, o.seed, plan)
     )
 }
 
@@ -584,7 +584,7 @@ pub fn missed_line(r: &ScenarioResult) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::arena::campaign::{crashed, pattern_for};
+    use crate::arena::campaign::{Decide, crashed, pattern_for};
     use hal_emu::world::arena::RobotFailure;
 
     #[test]
@@ -604,7 +604,24 @@ mod tests {
         assert_eq!((o.seed, o.pattern.as_str()), (7, pattern_for(7)));
         assert_eq!(o.leds, "????");
         assert_eq!(o.expected, "LLLL", "pattern 0111");
-        let line = failure_line(scenario.name, &o, None, Decide::Fixed);
+        let mut plan = Plan {
+            scenarios: vec![0],
+            seed: 7,
+            seeds: 1,
+            loss: None,
+            decide: Decide::Fixed,
+            hil: Some(crate::arena::campaign::InTheLoop {
+                robots: 1,
+                image: Some("hil.elf".into()),
+            }),
+        };
+        let in_loop = failure_line(scenario.name, &o, &plan);
+        assert!(
+            in_loop.ends_with("--decide fixed --hil qemu:1 --hil-image hil.elf`"),
+            "{in_loop}"
+        );
+        plan.hil = None;
+        let line = failure_line(scenario.name, &o, &plan);
         assert_eq!(
             line,
             "seed 7: pattern 0111, LEDs ????, expected LLLL (robot 2 panicked: index out of \
@@ -613,13 +630,7 @@ mod tests {
         );
         // Listed among the failing seeds, and it counts against the bar.
         let report = Report {
-            plan: Plan {
-                scenarios: vec![0],
-                seed: 7,
-                seeds: 1,
-                loss: None,
-                decide: Decide::Fixed,
-            },
+            plan,
             results: vec![ScenarioResult {
                 scenario: *scenario,
                 runs: vec![o],

@@ -9,7 +9,7 @@
 
 use hal_emu::Readings;
 use host_sim::arena::campaign::{
-    self, Decide, Outcome, Plan, Report, SCENARIOS, SUITE_READINGS, SuiteResult,
+    self, Decide, InTheLoop, Outcome, Plan, Report, SCENARIOS, SUITE_READINGS, SuiteResult,
 };
 use host_sim::arena::stress::{self, LossPoint};
 use host_sim::shard::Timing;
@@ -31,6 +31,10 @@ pub struct CampaignJob {
     /// Whether the page is written (with both rules it runs the lab suite and the loss sweep
     /// too).
     pub page: bool,
+    /// Robots in the loop in every run of the campaign (not in the page's lab suite and loss
+    /// sweep); absent in the parts of a campaign without.
+    #[serde(default)]
+    pub hil: Option<InTheLoop>,
 }
 
 /// A unit's result.
@@ -113,6 +117,7 @@ impl CampaignJob {
                     seeds: self.seeds,
                     loss: self.loss,
                     decide,
+                    hil: self.hil.clone(),
                 };
                 campaign::check(&plan).map(|()| plan)
             })
@@ -138,8 +143,15 @@ impl CampaignJob {
             let per_rule = (self.scenarios.len() as u64 * seeds).max(1);
             let plan = &plans[(k / per_rule) as usize];
             let s = plan.scenarios[((k % per_rule) / seeds) as usize];
-            return campaign::run_one(&SCENARIOS[s], seed(k, seeds), plan.loss, plan.decide)
-                .map(|o| Unit::Run(Box::new(o)));
+            let hil = plan.hil.as_ref();
+            return campaign::run_in_loop(
+                &SCENARIOS[s],
+                seed(k, seeds),
+                plan.loss,
+                plan.decide,
+                hil,
+            )
+            .map(|o| Unit::Run(Box::new(o)));
         }
         if k < runs + suite {
             let k = k - runs;

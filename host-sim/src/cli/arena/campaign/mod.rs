@@ -12,7 +12,8 @@ use std::process::ExitCode;
 use clap::Args;
 use clap::builder::PossibleValuesParser;
 use hal_emu::judge::judge;
-use host_sim::arena::campaign::{Decide, Report, SCENARIOS, Scenario, config};
+use hal_emu::world::hil::HilSpec;
+use host_sim::arena::campaign::{Decide, InTheLoop, Plan, Report, SCENARIOS, Scenario, run_config};
 use host_sim::pages::figures::{rules_chart, success_chart};
 use host_sim::pages::reliability::{
     Page, campaign_section, failure_line, missed_line, rules_section, secs, suite_section, table,
@@ -65,6 +66,16 @@ pub struct CampaignArgs {
     /// PARTS --out DIR` then writes DIR/reliability.md and its figures.
     #[arg(long, value_name = "I/N", requires = "out", conflicts_with_all = ["figure", "trace"])]
     pub shard: Option<ShardSpec>,
+    /// Robots in the loop in every run of every scenario, on the arena's clock (docs/hil.md):
+    /// `qemu:N` (N QEMU robots running the Cortex-M HIL image, `cargo hil-image`) or
+    /// `loopback:N` (its host build in this process). They take the places of the robot the
+    /// scenario reboots first, then of the living robots from the left, the robot dead from
+    /// the start last. Not in the page's lab suite and loss sweep.
+    #[arg(long, value_name = "qemu:N|loopback:N")]
+    pub hil: Option<HilSpec>,
+    /// The image --hil qemu:N boots (default: the one `cargo hil-image` builds).
+    #[arg(long, value_name = "ELF", requires = "hil")]
+    pub hil_image: Option<PathBuf>,
 }
 
 /// Runs `cimax arena campaign`: 0 if every bar is met, 1 if one is missed or a robot crashed
@@ -94,6 +105,7 @@ fn run(args: &CampaignArgs) -> Exit {
             .decide
             .map_or(vec![Decide::Fixed, Decide::Adaptive], |d| vec![d]),
         page: args.shard.is_some() || page.is_some(),
+        hil: in_the_loop(args)?,
     };
     let plans = job.plans()?;
     let total = job.units();
@@ -119,7 +131,7 @@ fn run(args: &CampaignArgs) -> Exit {
     if let Some(path) = &args.trace {
         for plan in &plans {
             if let Some(&s) = plan.scenarios.first() {
-                write_trace(&SCENARIOS[s], plan.seed, plan.loss, plan.decide, path)?;
+                write_trace(&SCENARIOS[s], plan, path)?;
             }
         }
     }
@@ -180,6 +192,44 @@ fn finish(results: &Results, page: Option<(PathBuf, Option<PathBuf>)>) -> Exit {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// The robots in the loop `--hil` asks for, checked: QEMU robots need their image.
+fn in_the_loop(args: &CampaignArgs) -> Result<Option<InTheLoop>, String> {
+    let Some(spec) = &args.hil else {
+        return Ok(None);
+    };
+    let most = hal_emu::judge::PAPER_PATTERNS[0].len();
+    match spec {
+        HilSpec::Qemu(n) | HilSpec::Loopback(n) if *n > most => Err(format!(
+            "--hil: {n} robots in the loop, but the campaign's runs have {most} robots"
+        )),
+        HilSpec::Qemu(robots) => {
+            let image = args
+                .hil_image
+                .clone()
+                .unwrap_or_else(|| crate::cli::arena::options::default_image(2));
+            if !image.is_file() {
+                return Err(format!(
+                    "--hil qemu: no image at {} (build it with `cargo hil-image`; docs/hil.md)",
+                    image.display()
+                ));
+            }
+            Ok(Some(InTheLoop {
+                robots: *robots,
+                image: Some(image),
+            }))
+        }
+        HilSpec::Loopback(robots) => Ok(Some(InTheLoop {
+            robots: *robots,
+            image: None,
+        })),
+        HilSpec::Serial(..) | HilSpec::Tcp(_) => Err(
+            "--hil: the campaign reboots robots in the loop, so only qemu:N and loopback:N \
+             (on the arena's clock) can take part, not a board or a socket"
+                .into(),
+        ),
+    }
 }
 
 /// The scenarios `--scenario` names, in [`SCENARIOS`] order, each once; all without it.
@@ -258,7 +308,7 @@ fn print_failures(reports: &[Report]) -> bool {
                 eprintln!(
                     "FAILED {} {}",
                     r.scenario.name,
-                    failure_line(r.scenario.name, o, plan.loss, plan.decide).replace('`', "")
+                    failure_line(r.scenario.name, o, plan).replace('`', "")
                 );
             }
         }
@@ -367,18 +417,12 @@ fn write_page(
     Ok((missed, wrote))
 }
 
-/// Runs seed `seed` of `scenario` again with its trace on, and writes the trace to `path` as
+/// Runs the first seed of `plan` for `scenario` again with its trace on, and writes the trace to `path` as
 /// JSON lines, the run's set-up first as `cimax arena --trace` writes it (so that `cimax view`
 /// opens it).
-fn write_trace(
-    scenario: &Scenario,
-    seed: u64,
-    loss: Option<f64>,
-    decide: Decide,
-    path: &Path,
-) -> Result<(), String> {
-    let (mut cfg, _) = config(scenario, seed, loss)?;
-    cfg.robot.params.decide = decide.into();
+fn write_trace(scenario: &Scenario, plan: &Plan, path: &Path) -> Result<(), String> {
+    let (seed, decide) = (plan.seed, plan.decide);
+    let (mut cfg, _) = run_config(scenario, seed, plan.loss, decide, plan.hil.as_ref())?;
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
     let mut header = host_sim::viewer::header_of(&cfg, &run.report.trace);

@@ -11,7 +11,7 @@ use std::sync::{Arc, Mutex};
 
 use firmware::LedColor;
 use firmware::hil::{LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkMsg};
-use hal_emu::world::hil::{FLOOD, HilClock, HilRobot, Transport};
+use hal_emu::world::hil::{FLOOD, Follower, HilClock, HilRobot, Transport};
 use hal_emu::{ArenaConfig, ArenaError};
 use protocol::{Duration, Instant};
 
@@ -296,6 +296,36 @@ fn a_robot_on_a_socket_cannot_be_restarted() {
     let e = hal_emu::run(&cfg).unwrap_err();
     assert!(
         matches!(&e, ArenaError::Hil(m) if m.contains("cannot be restarted")),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_robot_on_a_socket_says_in_its_hello_which_clock_it_runs_on() {
+    // `cimax arena --hil tcp:...` without --hil-clock asks it so, before the run.
+    let hello = std::time::Duration::from_secs(2);
+    let (addr, heard) = robot(LINK_VERSION, Box::new(|t, _| vec![idle(t)]));
+    assert_eq!(Follower::follows_host_clock(&addr, hello), Ok(true));
+    assert!(matches!(heard.lock().unwrap()[..], [LinkMsg::Hello { .. }]));
+    // A board's image (no host clock) behind a socket.
+    let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+    let own = listener.local_addr().unwrap().to_string();
+    std::thread::spawn(move || {
+        let (mut s, _) = listener.accept().unwrap();
+        let mut buf = [0u8; 64];
+        let _ = s.read(&mut buf);
+        let _ = s.write_all(&frame(&LinkMsg::Hello {
+            version: LINK_VERSION,
+            id: 1,
+            sectors: 2,
+            host_clock: false,
+        }));
+        let _ = s.read(&mut buf);
+    });
+    assert_eq!(Follower::follows_host_clock(&own, hello), Ok(false));
+    let e = Follower::follows_host_clock("127.0.0.1:1", hello).unwrap_err();
+    assert!(
+        e.starts_with("its link did not open (tcp:127.0.0.1:1:"),
         "{e}"
     );
 }

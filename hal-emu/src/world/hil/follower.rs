@@ -121,6 +121,26 @@ impl Follower {
     /// Why not (no connection, no hello, another version or sectors, a robot that cannot
     /// follow the host's clock).
     pub fn connect(addr: &str, sectors: u8, hello: WallDuration) -> Result<Self, String> {
+        let mut f = Self::dial(addr)?;
+        let t0 = WallInstant::now();
+        f.greet(sectors, hello)?;
+        f.hello = t0.elapsed();
+        Ok(f)
+    }
+
+    /// Asks the robot on the TCP socket `addr` (`HOST:PORT`) whether it can follow the host's
+    /// clock (its `Hello` says so; docs/hil.md, "Time"), then hangs up: `cimax arena --hil
+    /// tcp:...` without `--hil-clock` runs it on the clock it says.
+    ///
+    /// # Errors
+    /// Why it could not tell (no connection, no hello within `hello`, another version).
+    pub fn follows_host_clock(addr: &str, hello: WallDuration) -> Result<bool, String> {
+        let mut f = Self::dial(addr).map_err(|e| format!("its link did not open ({e})"))?;
+        f.hello(hello).map(|(_, _, host_clock)| host_clock)
+    }
+
+    /// Connects to `addr` (within 10 s) and starts reading.
+    fn dial(addr: &str) -> Result<Self, String> {
         use std::net::ToSocketAddrs;
         let to = addr
             .to_socket_addrs()
@@ -140,10 +160,7 @@ impl Follower {
             hello_id: 0,
             hello: WallDuration::ZERO,
         };
-        let t0 = WallInstant::now();
         f.start_reader()?;
-        f.greet(sectors, hello)?;
-        f.hello = t0.elapsed();
         Ok(f)
     }
 
@@ -163,6 +180,27 @@ impl Follower {
 
     /// Sends a 0x00 and asks who it is; waits for its `Hello` and checks it.
     fn greet(&mut self, sectors: u8, within: WallDuration) -> Result<(), String> {
+        let (id, k, host_clock) = self.hello(within)?;
+        if k != sectors {
+            return Err(format!(
+                "has {k} receivers (said hello over {}); the arena's robots have {sectors}",
+                self.name
+            ));
+        }
+        if !host_clock {
+            return Err(
+                "its image cannot follow the host's clock (its Hello says so): rebuild it with \
+                 `cargo hil-image`, or run it with --hil-clock wall"
+                    .into(),
+            );
+        }
+        self.hello_id = id;
+        Ok(())
+    }
+
+    /// Sends a 0x00 and asks who it is: its `Hello`'s id, sectors and whether it can follow
+    /// the host's clock, within `within`.
+    fn hello(&mut self, within: WallDuration) -> Result<(u16, u8, bool), String> {
         let mut bytes = vec![0u8];
         bytes.extend_from_slice(&frame(&LinkMsg::Hello {
             version: LINK_VERSION,
@@ -177,27 +215,10 @@ impl Follower {
             match self.from.recv_timeout(left) {
                 Ok(FromRobot::Msg(LinkMsg::Hello {
                     id,
-                    sectors: k,
+                    sectors,
                     host_clock,
                     ..
-                })) => {
-                    if k != sectors {
-                        return Err(format!(
-                            "has {k} receivers (said hello over {}); the arena's robots have \
-                             {sectors}",
-                            self.name
-                        ));
-                    }
-                    if !host_clock {
-                        return Err(
-                            "its image cannot follow the host's clock (its Hello says so): \
-                             rebuild it with `cargo hil-image`, or run it with --hil-clock wall"
-                                .into(),
-                        );
-                    }
-                    self.hello_id = id;
-                    return Ok(());
-                }
+                })) => return Ok((id, sectors, host_clock)),
                 Ok(FromRobot::Version(v)) => {
                     return Err(format!(
                         "speaks link version {v} over {}; this host speaks {LINK_VERSION}",

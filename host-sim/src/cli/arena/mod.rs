@@ -186,14 +186,15 @@ pub struct ArenaArgs {
     /// `tcp:HOST:PORT` (anything speaking the link on a socket) or `loopback:N` (the robot
     /// program in this process, over the link). Repeatable. They take the first places of the
     /// line or plane (--hil-at picks others); the others stay virtual. QEMU robots run on the
-    /// arena's clock (--hil-clock); with a board or a socket the run goes in real time: shrink
-    /// it with --cycle.
+    /// arena's clock (--hil-clock); with a board, or a socket robot on its own clock, the run
+    /// goes in real time: shrink it with --cycle.
     #[arg(long, value_name = "SPEC")]
     pub hil: Vec<HilSpec>,
     /// Whose clock the robots in the loop run on (docs/hil.md, "Time"): `virtual`, the arena's,
     /// in lockstep (deterministic, faster than real time; the default for qemu: and
-    /// loopback:, and for tcp: a robot whose Hello says it can follow), or `wall`, their own
-    /// (the only one for serial:, the default for tcp:; the run goes in real time).
+    /// loopback:), or `wall`, their own (the only one for serial:; the run goes in real time).
+    /// Without it, a tcp: robot is asked before the run and runs on the clock its Hello says
+    /// it can follow.
     #[arg(long, value_enum, value_name = "CLOCK", requires = "hil")]
     pub hil_clock: Option<HilClockArg>,
     /// The places of the robots in the loop, in the order of --hil: I,J,... (from 0).

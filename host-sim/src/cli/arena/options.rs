@@ -4,7 +4,9 @@
 use std::path::{Path, PathBuf};
 
 use hal_emu::MediumParams;
-use hal_emu::world::hil::{HilClock, HilRobot, Transport};
+use std::time::Duration as StdDuration;
+
+use hal_emu::world::hil::{Follower, HilClock, HilRobot, HilTimeouts, Transport};
 use protocol::{Duration, Params};
 
 use super::{ArenaArgs, HilClockArg, MAX_RUN_SECS};
@@ -89,7 +91,8 @@ pub(super) fn hil_robots(
 }
 
 /// The clock a robot in the loop over `t` runs on: `--hil-clock`, or the transport's default
-/// (docs/hil.md, "Time").
+/// (docs/hil.md, "Time"): the arena's for QEMU and loopback, its own for a board on a serial
+/// port, and for one on a socket the one its `Hello` says it can follow.
 fn hil_clock(args: &ArenaArgs, t: &Transport) -> Result<HilClock, String> {
     match (args.hil_clock, t) {
         (Some(HilClockArg::Virtual) | None, Transport::Qemu(_) | Transport::InProcess) => {
@@ -105,6 +108,17 @@ fn hil_clock(args: &ArenaArgs, t: &Transport) -> Result<HilClock, String> {
              (its image cannot follow the arena's clock); use --hil-clock wall"
         )),
         (Some(HilClockArg::Virtual), Transport::Tcp(_)) => Ok(HilClock::Virtual),
+        (None, Transport::Tcp(addr)) => {
+            // Its Hello says which (it is asked once, before the run).
+            let hello = HilTimeouts::default().hello.as_millis();
+            let follows = Follower::follows_host_clock(addr, StdDuration::from_millis(hello))
+                .map_err(|e| format!("--hil {t}: {e}"))?;
+            Ok(if follows {
+                HilClock::Virtual
+            } else {
+                HilClock::Wall
+            })
+        }
         (Some(HilClockArg::Wall), _) | (None, _) => Ok(HilClock::Wall),
     }
 }

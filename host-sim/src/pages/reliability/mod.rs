@@ -36,6 +36,10 @@ fn command(plan: &Plan) -> String {
     if let Some(p) = plan.loss {
         let _ = write!(c, " --loss {p}");
     }
+    if let Some(h) = &plan.hil {
+        // The rule too: a campaign in the loop is one rule's page.
+        let _ = write!(c, " --decide {} --hil {}", plan.decide.name(), h.spec());
+    }
     c
 }
 

@@ -328,10 +328,13 @@ fn print_failures(reports: &[Report]) -> bool {
 fn print_report(report: &Report) -> Result<(), StdoutError> {
     let plan = &report.plan;
     outln!(
-        "CIMAX fault campaign, {} rule: {} scenarios x {} seeds in the emulated arena ({:.1} s wall, {} threads)",
+        "CIMAX fault campaign, {} rule: {} scenarios x {} seeds in the emulated arena{} ({:.1} s wall, {} threads)",
         plan.decide.name(),
         plan.scenarios.len(),
         plan.seeds,
+        plan.hil
+            .as_ref()
+            .map_or(String::new(), |h| format!(", {} in the loop", h.spec())),
         report.wall_s,
         report.threads
     )?;

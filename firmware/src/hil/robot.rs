@@ -186,7 +186,13 @@ impl<W: Write, const N: usize> Link<W, N> {
     /// others at that instant; otherwise taken at once.
     fn take(&self, msg: LinkMsg) {
         #[cfg(feature = "host-clock")]
-        if let Some(f) = self.follow.as_ref().filter(|f| f.on.get()) {
+        if let Some(f) = &self.follow
+            && (f.on.get() || matches!(&msg, LinkMsg::Setup(s) if s.host_clock))
+        {
+            // A `Setup` asking for the host's clock is held too, even while the robot is
+            // still on its own clock (a freshly booted robot): its program starts at the
+            // `Sync`, at the host's time, however the bytes of the `Sync` trickle in.
+            f.on.set(true);
             if let LinkMsg::Sync(t) = msg {
                 // What was held first (a `Setup` among it starts the clock again at 0), then
                 // the time: no task runs in between, so each sees both.

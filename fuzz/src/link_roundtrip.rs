@@ -120,7 +120,7 @@ pub fn check(data: &[u8]) {
     };
     let mut d = LinkDecoder::new();
     let got: Vec<_> = frame.iter().filter_map(|&b| d.push(b)).collect();
-    assert_eq!(got, [expected.clone()]);
+    assert_eq!(got, std::slice::from_ref(&expected));
     assert_eq!(d.stats().frames, u32::from(expected.is_ok()));
     assert_eq!(d.stats().errors(), u32::from(expected.is_err()));
     assert_eq!(d.stats().unknown_version, u32::from(expected.is_err()));

@@ -582,7 +582,7 @@ pub fn link_host() -> Vec<(&'static str, Vec<u8>)> {
                 vec![
                     item(Some(b"noise"), LinkMsg::Led(2)),
                     item(
-                        Some(&[0x42; 60]),
+                        Some(&[0x42; link_host::GARBAGE_MAX]),
                         LinkMsg::Idle {
                             now: 5,
                             next: u32::MAX,

@@ -19,7 +19,7 @@
 //!
 //! Checks: the events `read_link` makes of the stream (a message, a `Version(v)` for
 //! `UnknownVersion(v)`, an error counted for every other error) are the same fed in one piece,
-//! in the cut lengths (0..=40, in turn; the decoder also cloned at each of the first 15 cuts and
+//! in the cut lengths (0..=40, in turn; the decoder also cloned at each of the first 4 cuts and
 //! the clone going on), in 512-byte reads, and byte by byte through the model decoder
 //! ([`crate::link_ref`]), with the model's counters; the twin's path (only the messages kept)
 //! gives the messages of those events. In batch mode the events are exactly, item by item, what
@@ -34,9 +34,12 @@ use crate::input::{Writer, byte_list, get, list};
 use crate::link_ref::{self, ModelDecoder};
 
 /// Items of a batch at most.
-pub const BATCH_MAX: usize = 40;
+pub const BATCH_MAX: usize = 24;
 /// Garbage bytes before an item at most.
-pub const GARBAGE_MAX: usize = 64;
+pub const GARBAGE_MAX: usize = 48;
+
+/// Cuts at which a copy of the decoder is checked (each costs a pass over the rest).
+pub const CLONED_CUTS: usize = 4;
 
 /// The mode bytes.
 pub const STREAM: u8 = 0;
@@ -161,7 +164,7 @@ pub fn check(data: &[u8]) {
     let mut by_cut = Vec::new();
     for (i, c) in cut.iter().enumerate() {
         by_cut.extend(c.iter().filter_map(|&b| d.push(b)).map(event));
-        if i >= deframer::MAX_CUTS {
+        if i >= CLONED_CUTS {
             continue;
         }
         // A copy of the decoder at one of the first cuts reads the rest as the kept one will.

@@ -61,9 +61,9 @@ pub const N: usize = 2;
 /// Its id (in its `Hello`).
 pub const ID: u16 = 0x0A17;
 /// Steps read at most.
-pub const OPS_MAX: usize = 48;
+pub const OPS_MAX: usize = 32;
 /// Messages in one burst at most (more than [`HELD`]).
-pub const MSGS_MAX: usize = HELD + 8;
+pub const MSGS_MAX: usize = HELD + 4;
 /// Raw bytes in one step at most.
 pub const BYTES_MAX: usize = 96;
 

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Fuzz smoke test of the protocol crate: runs every cargo-fuzz target for FUZZ_SECONDS seconds
-# (default 60, each target in turn, never in parallel) on a throwaway copy of its seed corpus,
+# Fuzz smoke test of the protocol crate and the HIL link: runs every cargo-fuzz target (the ten
+# of `cargo fuzz list`) for FUZZ_SECONDS seconds (default 60, each target in turn, never in
+# parallel) on a throwaway copy of its seed corpus,
 # so the committed corpus/ is never changed. Exits non-zero if any target crashes, hangs (an
 # input running over 10 s) or runs out of memory; the input that did is kept under
 # fuzz/artifacts/<target>/ (see README.md, "Replaying a crash").

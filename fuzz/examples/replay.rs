@@ -5,7 +5,10 @@
 //! cd fuzz && cargo run --example replay -- fused_node artifacts/fused_node/crash-…
 //! ```
 
-use protocol_fuzz::{deframer, fused_node, keyed, message_decode, roundtrip, three_phase};
+use protocol_fuzz::{
+    deframer, fused_node, keyed, link_decode, link_host, link_pump, link_roundtrip, message_decode,
+    roundtrip, three_phase,
+};
 
 fn main() {
     let mut args = std::env::args().skip(1);
@@ -47,6 +50,35 @@ fn main() {
                 data.len()
             );
             keyed::check
+        }
+        "link_decode" => {
+            let stream = link_decode::stream(&data);
+            println!("stream {stream:02x?}");
+            let mut d = firmware::hil::LinkDecoder::new();
+            let got: Vec<_> = stream.iter().filter_map(|&b| d.push(b)).collect();
+            println!("results {got:?}\n{:?}", d.stats());
+            link_decode::check
+        }
+        "link_roundtrip" => {
+            println!("{:#?}", link_roundtrip::Input::read(&data));
+            link_roundtrip::check
+        }
+        "link_pump" => {
+            println!("{:#?}", link_pump::Input::read(&data));
+            link_pump::check
+        }
+        "link_host" => {
+            match data.split_first() {
+                Some((m, rest)) if m % 2 == link_host::BATCH => {
+                    println!("{:#?}", link_host::Batch::read(rest));
+                }
+                Some((_, rest)) => {
+                    let (cuts, stream) = deframer::split(rest);
+                    println!("cuts {cuts:?}\nstream {stream:02x?}");
+                }
+                None => println!("empty"),
+            }
+            link_host::check
         }
         other => {
             eprintln!(

@@ -4,7 +4,7 @@
 //! `cargo run --example gen_corpus` (from `fuzz/`) writes them to `corpus/<target>/<name>.bin`,
 //! replacing what was there; `tests/corpus.rs` checks that the committed files are exactly
 //! these, that each passes its target's check, and that the framing seeds give the results
-//! listed here.
+//! listed here. The seeds of the `link_*` targets are in [`crate::link_corpus`].
 
 use std::io;
 use std::path::Path;
@@ -23,7 +23,7 @@ use crate::reference::{
     tagged, tagged_four,
 };
 use crate::scenario::{Custom, ParamsChoice, Setup, Start, TimeStep};
-use crate::{deframer, fused_node, roundtrip, three_phase};
+use crate::{deframer, fused_node, link_corpus, roundtrip, three_phase};
 
 type Outcome = Result<Message, FrameError>;
 
@@ -1230,6 +1230,18 @@ pub fn files() -> Vec<(&'static str, String, Vec<u8>)> {
     }
     for s in keyed() {
         add("keyed", s.name, s.bytes);
+    }
+    for s in link_corpus::link_decode() {
+        add("link_decode", s.name, s.data);
+    }
+    for (name, i) in link_corpus::link_roundtrip() {
+        add("link_roundtrip", name, i.write());
+    }
+    for (name, i) in link_corpus::link_pump() {
+        add("link_pump", name, i.write());
+    }
+    for (name, bytes) in link_corpus::link_host() {
+        add("link_host", name, bytes);
     }
     out
 }

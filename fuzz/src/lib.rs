@@ -14,8 +14,17 @@
 //! | `fused_node`     | [`fused_node::check`]                  |
 //! | `three_phase`    | [`three_phase::check`]                 |
 //! | `keyed`          | [`keyed::check`]                       |
+//! | `link_decode`    | [`link_decode::check`]                 |
+//! | `link_roundtrip` | [`link_roundtrip::check`]              |
+//! | `link_pump`      | [`link_pump::check`]                   |
+//! | `link_host`      | [`link_host::check`]                   |
 //!
-//! `README.md` lists every invariant; `docs/protocol.md` is the specification they come from.
+//! The `link_*` targets fuzz the hardware-in-the-loop link (`firmware::hil`, `docs/hil.md`):
+//! its codec against an independent model ([`link_ref`]), the robot's receive pump and the
+//! host's reading of a robot.
+//!
+//! `README.md` lists every invariant; `docs/protocol.md` and `docs/hil.md` are the
+//! specifications they come from.
 
 #![forbid(unsafe_code)]
 
@@ -24,6 +33,12 @@ pub mod deframer;
 pub mod fused_node;
 pub mod input;
 pub mod keyed;
+pub mod link_corpus;
+pub mod link_decode;
+pub mod link_host;
+pub mod link_pump;
+pub mod link_ref;
+pub mod link_roundtrip;
 pub mod message_decode;
 pub mod reference;
 pub mod roundtrip;
@@ -31,11 +46,15 @@ pub mod scenario;
 pub mod three_phase;
 
 /// The names of the fuzz targets, as in `Cargo.toml` and `corpus/<target>/`.
-pub const TARGETS: [&str; 6] = [
+pub const TARGETS: [&str; 10] = [
     "deframer",
     "message_decode",
     "roundtrip",
     "fused_node",
     "three_phase",
     "keyed",
+    "link_decode",
+    "link_roundtrip",
+    "link_pump",
+    "link_host",
 ];

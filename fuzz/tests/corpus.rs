@@ -8,7 +8,8 @@ use protocol::frame::decode_frame;
 use protocol::{Event, Reception};
 use protocol_fuzz::fused_node::Out;
 use protocol_fuzz::{
-    TARGETS, corpus, deframer, fused_node, keyed, message_decode, roundtrip, three_phase,
+    TARGETS, corpus, deframer, fused_node, keyed, link_corpus, link_decode, link_host, link_pump,
+    link_roundtrip, message_decode, roundtrip, three_phase,
 };
 
 fn committed() -> BTreeMap<(String, String), Vec<u8>> {
@@ -33,6 +34,10 @@ fn check_of(target: &str) -> fn(&[u8]) {
         "fused_node" => fused_node::check,
         "three_phase" => three_phase::check,
         "keyed" => keyed::check,
+        "link_decode" => link_decode::check,
+        "link_roundtrip" => link_roundtrip::check,
+        "link_pump" => link_pump::check,
+        "link_host" => link_host::check,
         other => panic!("unknown target {other}"),
     }
 }
@@ -131,6 +136,55 @@ fn structured_seeds_read_back() {
     for (name, i) in corpus::three_phase() {
         assert_eq!(three_phase::Input::read(&i.write()), i, "{name}");
     }
+    for (name, i) in link_corpus::link_roundtrip() {
+        assert_eq!(link_roundtrip::Input::read(&i.write()), i, "{name}");
+    }
+    for (name, i) in link_corpus::link_pump() {
+        assert_eq!(link_pump::Input::read(&i.write()), i, "{name}");
+    }
+    for (name, bytes) in link_corpus::link_host() {
+        if bytes[0] == link_host::BATCH {
+            let b = link_host::Batch::read(&bytes[1..]);
+            assert_eq!(b.write(), bytes, "{name}");
+        }
+    }
+}
+
+#[test]
+fn link_decode_seeds_give_their_results() {
+    for s in link_corpus::link_decode() {
+        let mut d = firmware::hil::LinkDecoder::new();
+        let got: Vec<_> = link_decode::stream(&s.data)
+            .iter()
+            .filter_map(|&b| d.push(b))
+            .collect();
+        assert_eq!(got, s.expect, "{}", s.name);
+    }
+}
+
+#[test]
+fn link_pump_seeds_reach_what_they_are_named_for() {
+    let stats = |name: &str| {
+        let (_, input) = link_corpus::link_pump()
+            .into_iter()
+            .find(|(n, _)| *n == name)
+            .expect("a seed of that name");
+        link_pump::run_model(&input)
+    };
+    assert_eq!(stats("held-overflow").held_over, 4);
+    assert_eq!(stats("pipe-overflow").rx_lost, 32);
+    assert_eq!(stats("sync-on-own-clock").unexpected, 2);
+    assert_eq!(
+        stats("host-clock-asked-of-a-robot-that-cannot").unexpected,
+        1
+    );
+    assert_eq!(stats("robot-messages-to-a-robot").unexpected, 5);
+    let run = stats("host-clock-run");
+    assert_eq!((run.setups, run.sent, run.held_over), (1, 3, 0));
+    let w = stats("writer-fails");
+    assert_eq!((w.sent, w.uart_errors), (2, 3));
+    let g = stats("garbage-truncation-uart-errors");
+    assert_eq!((g.uart_errors, g.link.frames, g.setups), (2, 2, 1));
 }
 
 fn fused(name: &str) -> Vec<Out> {

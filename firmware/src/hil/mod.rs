@@ -37,7 +37,8 @@ pub const PAYLOAD_MAX: usize = 39;
 /// Bytes of the frame check.
 const CRC_LEN: usize = 2;
 
-/// Largest frame on the link, its 0x00 included (42 bytes).
+/// Largest frame on the link, its 0x00 included (43 bytes). A [`LinkDecoder`] keeps this many
+/// bytes of a frame before its 0x00, one more than any sender writes.
 pub const LINK_FRAME_MAX: usize = cobs::max_encoding_length(PAYLOAD_MAX + CRC_LEN) + 1;
 
 /// The frame check: the light frame's CRC (`docs/protocol.md` §1.3).
@@ -89,7 +90,8 @@ pub enum LinkMsg {
     Setup(Setup),
     /// 7, robot → host: it cannot run the last `Setup` (its robot program refused it), and
     /// waits for another. The code says why: 1 bad protocol parameters, 2 receivers and
-    /// sectors differ, 3 a zero duration, 4 a swarm key without keyed framing, 0 anything else.
+    /// sectors differ, 3 a zero duration, 4 a swarm key without keyed framing, 5 a host clock
+    /// it cannot follow, 0 anything else.
     Refused(u8),
     /// 8, host → robot, on the host's clock ([`Setup::host_clock`]): the time is now this many
     /// milliseconds since the run's start (a `u32`: runs up to 49 days; a `u64` cost the

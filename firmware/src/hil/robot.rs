@@ -86,7 +86,9 @@ pub struct HostClock {
     /// `true`: stop the own clock, and from now on move only at `set_now`; the time is 0 and
     /// every timer set so far is forgotten (a new run). `false`: the own clock again.
     pub follow: fn(bool),
-    /// The time is now `ms` (never earlier than the last): every timer due by then wakes.
+    /// The time is now `ms`: every timer due by then wakes. The link passes each `Sync`'s
+    /// instant as it came, so a host that sends an earlier one gets it here: the driver keeps
+    /// the later time (both drivers do: the QEMU image's and the host twin's).
     pub set_now: fn(u64),
     /// The next timer set, milliseconds (`u64::MAX`: none).
     pub next_alarm: fn() -> u64,

@@ -23,8 +23,9 @@
 //!   `Rx` for a sector ≥ N, a robot's message, a `Reading` of another quantity, a `Sync` or
 //!   `Idle` on the own clock), UART errors (reading and writing), setups, frames sent, and
 //!   messages that found the hold full (`held_over`);
-//! - on the host's clock (a `Setup` with `host_clock` to a link that can follow), every message
-//!   but a `Sync` is held, at most [`HELD`]; one more is taken at once and counted; at a
+//! - on the host's clock (from a `Setup` with `host_clock` to a link that can follow, that
+//!   `Setup` included, even on the own clock), every message but a `Sync` is held, at most
+//!   [`HELD`]; one more is taken at once and counted; at a
 //!   `Sync(T)` the held messages are taken in order, then `set_now(T)` is called, and the next
 //!   idle hook makes the beat say `Idle { now: T, next }` with the driver's next timer (`u32::MAX`
 //!   beyond `u32`); on the own clock every message is taken at once;
@@ -367,6 +368,11 @@ impl Model {
     }
 
     fn take(&mut self, msg: LinkMsg) {
+        // A `Setup` asking for the host's clock is held even by a link still on its own clock
+        // (a freshly booted robot): its program starts at the `Sync`, at the host's time.
+        if self.can_follow && matches!(&msg, LinkMsg::Setup(s) if s.host_clock) {
+            self.following = true;
+        }
         if !self.following {
             return self.dispatch(msg);
         }

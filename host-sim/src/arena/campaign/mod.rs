@@ -23,7 +23,6 @@ use std::fmt::Write as _;
 
 use hal_emu::judge::{judge, leds_str, pattern_str};
 use hal_emu::world::arena::RobotFailure;
-use hal_emu::world::hil::{HilClock, HilRobot, Transport};
 use hal_emu::{ArenaConfig, ArenaError, MediumStats, Readings};
 use protocol::params::DecisionRule;
 use protocol::wave::WaveStats;
@@ -32,6 +31,8 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::progress::Progress;
+
+pub use super::InTheLoop;
 
 pub use scenarios::{
     ADVERSARY_AT, Fault, REBOOT_DOWN, SCENARIOS, Scenario, config, hil_places, pattern_for,
@@ -122,29 +123,6 @@ pub struct Plan {
     pub decide: Decide,
     /// Robots in the loop in every run (the Cortex-M build on the arena's clock), if any.
     pub hil: Option<InTheLoop>,
-}
-
-/// Robots in the loop in every run of a campaign (`--hil qemu:N` or `--hil loopback:N`), on the
-/// arena's clock (docs/hil.md, "Time"), at the places [`hil_places`] gives: the robot the
-/// scenario reboots first, the robot it kills from the start last.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct InTheLoop {
-    /// How many per run.
-    pub robots: usize,
-    /// The HIL image QEMU boots for each; `None`: host twins of it in this process.
-    pub image: Option<std::path::PathBuf>,
-}
-
-impl InTheLoop {
-    /// As `cimax arena campaign --hil` says it: `qemu:N` or `loopback:N`.
-    pub fn spec(&self) -> String {
-        let kind = if self.image.is_some() {
-            "qemu"
-        } else {
-            "loopback"
-        };
-        format!("{kind}:{}", self.robots)
-    }
 }
 
 /// One scenario's runs and what they add up to.
@@ -333,17 +311,7 @@ pub fn run_config(
     let (mut cfg, reboot) = config(scenario, seed, loss)?;
     cfg.robot.params.decide = decide.into();
     if let Some(h) = hil {
-        cfg.hil = hil_places(&cfg, h.robots)?
-            .into_iter()
-            .map(|robot| HilRobot {
-                robot,
-                transport: h
-                    .image
-                    .clone()
-                    .map_or(Transport::InProcess, Transport::Qemu),
-                clock: HilClock::Virtual,
-            })
-            .collect();
+        cfg.hil = h.at(&hil_places(&cfg, h.robots)?);
     }
     Ok((cfg, reboot))
 }

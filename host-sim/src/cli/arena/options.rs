@@ -6,10 +6,57 @@ use std::path::{Path, PathBuf};
 use hal_emu::MediumParams;
 use std::time::Duration as StdDuration;
 
-use hal_emu::world::hil::{Follower, HilClock, HilRobot, HilTimeouts, Transport};
+use hal_emu::world::hil::{Follower, HilClock, HilRobot, HilSpec, HilTimeouts, Transport};
+use host_sim::arena::InTheLoop;
 use protocol::{Duration, Params};
 
 use super::{ArenaArgs, HilClockArg, MAX_RUN_SECS};
+
+/// The robots in the loop in every run of a campaign or a sweep (`--hil`, `--hil-image`), for
+/// runs of `most` robots with `sectors` receivers each, checked: only `qemu:N` and
+/// `loopback:N` (on the arena's clock, which can reboot them), QEMU robots need their image.
+pub(in crate::cli) fn in_the_loop(
+    spec: Option<&HilSpec>,
+    image: Option<&PathBuf>,
+    sectors: u8,
+    most: usize,
+) -> Result<Option<InTheLoop>, String> {
+    let Some(spec) = spec else {
+        return Ok(None);
+    };
+    match spec {
+        HilSpec::Qemu(n) | HilSpec::Loopback(n) if *n > most => Err(format!(
+            "--hil: {n} robots in the loop, but the runs have {most} robots"
+        )),
+        HilSpec::Qemu(robots) => {
+            let image = image.cloned().unwrap_or_else(|| default_image(sectors));
+            if !image.is_file() {
+                return Err(format!(
+                    "--hil qemu: no image at {} (build it with `cargo hil-image`; docs/hil.md)",
+                    image.display()
+                ));
+            }
+            if sectors != 2 && sectors != 6 {
+                return Err(format!(
+                    "--hil qemu: the HIL images have 2 (hil) or 6 (hil6) receivers, not {sectors}"
+                ));
+            }
+            Ok(Some(InTheLoop {
+                robots: *robots,
+                image: Some(image),
+            }))
+        }
+        HilSpec::Loopback(robots) => Ok(Some(InTheLoop {
+            robots: *robots,
+            image: None,
+        })),
+        HilSpec::Serial(..) | HilSpec::Tcp(_) => Err(
+            "--hil: robots in the loop of many runs are rebooted between them, so only qemu:N \
+             and loopback:N (on the arena's clock) can take part, not a board or a socket"
+                .into(),
+        ),
+    }
+}
 
 /// `--cycle` over the paper's 55 s (1 without `--cycle`).
 pub(super) fn time_scale(args: &ArenaArgs) -> Result<f64, String> {

@@ -10,7 +10,9 @@
 
 use std::path::{Path, PathBuf};
 
+use hal_emu::world::hil::HilSpec;
 use hal_emu::{MediumParams, Readings};
+use host_sim::arena::InTheLoop;
 use host_sim::arena::plane::{self, Layout, PlaneError, PlaneSpec, SweepRun};
 use host_sim::progress::Progress;
 use host_sim::shard::{self, Job, ShardSpec, merge::Merged};
@@ -20,6 +22,7 @@ use host_sim::swarm::scenario::{MAX_EXTENT, Placement, Scenario, check_runs};
 use protocol::Params;
 use serde::{Deserialize, Serialize};
 
+use super::options::in_the_loop;
 use super::plane::shape_parser;
 use crate::cli::job::ScenarioSource;
 use crate::cli::out::{Exit, Fail, StdoutError, outln};
@@ -80,6 +83,15 @@ pub struct SweepArgs {
     /// OUT/part-I-of-N.jsonl, nothing else; `cimax merge` makes the outputs of all N parts.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<ShardSpec>,
+    /// Robots in the loop in every run of the robots, on the arena's clock (docs/hil.md):
+    /// `qemu:N` (N QEMU robots running the Cortex-M HIL image, `hil6` with 6 sectors, `hil`
+    /// with 2) or `loopback:N` (its host build in this process), spread evenly over the
+    /// robots' places (0, R/N, 2R/N, ... of R robots). Not in the 2D simulator's runs.
+    #[arg(long, value_name = "qemu:N|loopback:N")]
+    pub hil: Option<HilSpec>,
+    /// The image --hil qemu:N boots (default: the one `cargo hil-image` builds).
+    #[arg(long, value_name = "ELF", requires = "hil")]
+    pub hil_image: Option<PathBuf>,
 }
 
 /// Everything that makes a sweep's results, resolved: the job in a part's header.
@@ -100,6 +112,9 @@ pub struct SweepJob {
     /// As `--readings` spells it.
     readings: String,
     swarm_runs: u32,
+    /// Robots in the loop in every run of the robots; absent in parts of sweeps without.
+    #[serde(default)]
+    hil: Option<InTheLoop>,
 }
 
 /// A unit's result: one run of the robots or one of the 2D simulator.
@@ -194,6 +209,12 @@ impl SweepJob {
             loss: a.loss,
             readings: a.readings.to_string(),
             swarm_runs: a.swarm_runs,
+            hil: in_the_loop(
+                a.hil.as_ref(),
+                a.hil_image.as_ref(),
+                a.sectors,
+                usize::from(a.robots),
+            )?,
         })
     }
 
@@ -238,7 +259,11 @@ impl SweepJob {
                 .readings
                 .parse()
                 .map_err(|e| format!("--readings: {e}"))?,
-            hil: Vec::new(),
+            hil: self.hil.as_ref().map_or_else(Vec::new, |h| {
+                let n = usize::from(self.robots);
+                let places: Vec<usize> = (0..h.robots).map(|k| k * n / h.robots).collect();
+                h.at(&places)
+            }),
             sample_period: None,
         };
         let mut swarm = scenario.clone();

@@ -13,7 +13,9 @@ use clap::Args;
 use clap::builder::PossibleValuesParser;
 use hal_emu::judge::judge;
 use hal_emu::world::hil::HilSpec;
-use host_sim::arena::campaign::{Decide, InTheLoop, Plan, Report, SCENARIOS, Scenario, run_config};
+
+use crate::cli::arena::options::in_the_loop;
+use host_sim::arena::campaign::{Decide, Plan, Report, SCENARIOS, Scenario, run_config};
 use host_sim::pages::figures::{rules_chart, success_chart};
 use host_sim::pages::reliability::{
     Page, campaign_section, failure_line, missed_line, rules_section, secs, suite_section, table,
@@ -105,7 +107,12 @@ fn run(args: &CampaignArgs) -> Exit {
             .decide
             .map_or(vec![Decide::Fixed, Decide::Adaptive], |d| vec![d]),
         page: args.shard.is_some() || page.is_some(),
-        hil: in_the_loop(args)?,
+        hil: in_the_loop(
+            args.hil.as_ref(),
+            args.hil_image.as_ref(),
+            2,
+            hal_emu::judge::PAPER_PATTERNS[0].len(),
+        )?,
     };
     let plans = job.plans()?;
     let total = job.units();
@@ -192,44 +199,6 @@ fn finish(results: &Results, page: Option<(PathBuf, Option<PathBuf>)>) -> Exit {
     } else {
         ExitCode::SUCCESS
     })
-}
-
-/// The robots in the loop `--hil` asks for, checked: QEMU robots need their image.
-fn in_the_loop(args: &CampaignArgs) -> Result<Option<InTheLoop>, String> {
-    let Some(spec) = &args.hil else {
-        return Ok(None);
-    };
-    let most = hal_emu::judge::PAPER_PATTERNS[0].len();
-    match spec {
-        HilSpec::Qemu(n) | HilSpec::Loopback(n) if *n > most => Err(format!(
-            "--hil: {n} robots in the loop, but the campaign's runs have {most} robots"
-        )),
-        HilSpec::Qemu(robots) => {
-            let image = args
-                .hil_image
-                .clone()
-                .unwrap_or_else(|| crate::cli::arena::options::default_image(2));
-            if !image.is_file() {
-                return Err(format!(
-                    "--hil qemu: no image at {} (build it with `cargo hil-image`; docs/hil.md)",
-                    image.display()
-                ));
-            }
-            Ok(Some(InTheLoop {
-                robots: *robots,
-                image: Some(image),
-            }))
-        }
-        HilSpec::Loopback(robots) => Ok(Some(InTheLoop {
-            robots: *robots,
-            image: None,
-        })),
-        HilSpec::Serial(..) | HilSpec::Tcp(_) => Err(
-            "--hil: the campaign reboots robots in the loop, so only qemu:N and loopback:N \
-             (on the arena's clock) can take part, not a board or a socket"
-                .into(),
-        ),
-    }
 }
 
 /// The scenarios `--scenario` names, in [`SCENARIOS`] order, each once; all without it.

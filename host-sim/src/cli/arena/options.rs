@@ -28,24 +28,10 @@ pub(in crate::cli) fn in_the_loop(
         HilSpec::Qemu(n) | HilSpec::Loopback(n) if *n > most => Err(format!(
             "--hil: {n} robots in the loop, but the runs have {most} robots"
         )),
-        HilSpec::Qemu(robots) => {
-            let image = image.cloned().unwrap_or_else(|| default_image(sectors));
-            if !image.is_file() {
-                return Err(format!(
-                    "--hil qemu: no image at {} (build it with `cargo hil-image`; docs/hil.md)",
-                    image.display()
-                ));
-            }
-            if sectors != 2 && sectors != 6 {
-                return Err(format!(
-                    "--hil qemu: the HIL images have 2 (hil) or 6 (hil6) receivers, not {sectors}"
-                ));
-            }
-            Ok(Some(InTheLoop {
-                robots: *robots,
-                image: Some(image),
-            }))
-        }
+        HilSpec::Qemu(robots) => Ok(Some(InTheLoop {
+            robots: *robots,
+            image: Some(qemu_image(image, sectors)?),
+        })),
         HilSpec::Loopback(robots) => Ok(Some(InTheLoop {
             robots: *robots,
             image: None,
@@ -56,6 +42,24 @@ pub(in crate::cli) fn in_the_loop(
                 .into(),
         ),
     }
+}
+
+/// The image QEMU robots with `sectors` receivers boot: `image` (`--hil-image`) or the one
+/// `cargo hil-image` builds; it must be there, and the HIL images have 2 or 6 receivers.
+fn qemu_image(image: Option<&PathBuf>, sectors: u8) -> Result<PathBuf, String> {
+    let image = image.cloned().unwrap_or_else(|| default_image(sectors));
+    if !image.is_file() {
+        return Err(format!(
+            "--hil qemu: no image at {} (build it with `cargo hil-image`; docs/hil.md)",
+            image.display()
+        ));
+    }
+    if sectors != 2 && sectors != 6 {
+        return Err(format!(
+            "--hil qemu: the HIL images have 2 (hil) or 6 (hil6) receivers, not {sectors}"
+        ));
+    }
+    Ok(image)
 }
 
 /// `--cycle` over the paper's 55 s (1 without `--cycle`).
@@ -86,17 +90,7 @@ pub(super) fn hil_robots(
         .unwrap_or_else(|| default_image(sectors));
     let transports: Vec<Transport> = args.hil.iter().flat_map(|h| h.transports(&image)).collect();
     if transports.iter().any(|t| matches!(t, Transport::Qemu(_))) {
-        if !image.is_file() {
-            return Err(format!(
-                "--hil qemu: no image at {} (build it with `cargo hil-image`; docs/hil.md)",
-                image.display()
-            ));
-        }
-        if sectors != 2 && sectors != 6 {
-            return Err(format!(
-                "--hil qemu: the HIL images have 2 (hil) or 6 (hil6) receivers, not {sectors}"
-            ));
-        }
+        qemu_image(Some(&image), sectors)?;
     }
     let places: Vec<usize> = if args.hil_at.is_empty() {
         (0..transports.len()).collect()

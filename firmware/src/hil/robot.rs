@@ -359,19 +359,22 @@ impl<W: Write, const N: usize> Link<W, N> {
                 let _ = self.send(&answer).await;
             } else {
                 // (On the host's clock the setup stops the own clock: this sleep never ends,
-                // and the first `Idle` owed wakes it instead.)
-                match select(clock.sleep_until(next), self.answer()).await {
+                // and the first `Idle` owed wakes it instead. The answer is polled first: the
+                // sleep, polled again after the setup cleared the timers, would set its own
+                // clock's next beat as a timer on the host's, an instant that depends on how
+                // long the robot waited for its setup in wall time.)
+                match select(self.answer(), clock.sleep_until(next)).await {
                     // Unless the setup came meanwhile.
-                    Either::First(()) if !self.set_up.get() => {
+                    Either::Second(()) if !self.set_up.get() => {
                         let _ = self.send(&hello).await;
                         next += BEAT;
                     }
-                    Either::First(()) => {}
-                    Either::Second(Answer::Hello) => {
+                    Either::Second(()) => {}
+                    Either::First(Answer::Hello) => {
                         let _ = self.send(&hello).await;
                     }
                     // The setup's first heartbeat (or `Idle`), which woke it: answered at once.
-                    Either::Second(beat) => owed = Some(beat),
+                    Either::First(beat) => owed = Some(beat),
                 }
             }
         }

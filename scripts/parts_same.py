@@ -7,20 +7,28 @@ are not compared.
 
     python3 scripts/parts_same.py A.jsonl B.jsonl [--units N]
 
-Exit code 1, with the first unit that differs, if they differ or if either has not N units.
+Exit code 1, with the first unit that differs, if they differ or if either has not N units; 2,
+naming the path, if a file cannot be read as a part.
 """
 import json
 import sys
 
 
 def units(path):
-    """The part's units, in order, as parsed JSON."""
+    """The part's units, in order, as parsed JSON; exits 2 naming the path if it cannot."""
     out = []
-    with open(path) as f:
-        for line in f:
-            v = json.loads(line)
-            if "unit" in v:
-                out.append(v)
+    try:
+        with open(path) as f:
+            for n, line in enumerate(f, 1):
+                v = json.loads(line)
+                if "unit" in v:
+                    out.append(v)
+    except OSError as e:
+        print(f"{path}: {e.strerror}", file=sys.stderr)
+        sys.exit(2)
+    except (json.JSONDecodeError, TypeError) as e:
+        print(f"{path}:{n}: not a part ({e})", file=sys.stderr)
+        sys.exit(2)
     return out
 
 

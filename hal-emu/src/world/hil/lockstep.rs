@@ -240,12 +240,7 @@ impl Lockstep {
     /// is killed (or its twin dropped), nothing more is sent to it, and nothing it owes is
     /// waited for.
     fn detach(&self, robot: usize) {
-        if let Some(s) = self
-            .slots
-            .borrow_mut()
-            .iter_mut()
-            .find(|s| s.robot == robot)
-        {
+        self.with_slot(robot, |s| {
             s.follower = None;
             s.twin = None;
             s.to_bridge = None;
@@ -253,30 +248,28 @@ impl Lockstep {
             s.out.clear();
             s.wants = false;
             s.owes = None;
-        }
+        });
     }
 
     /// Queues `msg` for the robot at `robot`, sent before its next `Sync`.
     fn push(&self, robot: usize, msg: LinkMsg) {
-        if let Some(s) = self
-            .slots
-            .borrow_mut()
-            .iter_mut()
-            .find(|s| s.robot == robot)
-        {
-            s.out.push_back(msg);
-        }
+        self.with_slot(robot, |s| s.out.push_back(msg));
     }
 
     /// The robot at `robot` needs a `Sync` (its timer is due).
     fn want(&self, robot: usize) {
+        self.with_slot(robot, |s| s.wants = true);
+    }
+
+    /// `f` of the slot of the robot at `robot`, if it is one of these followers.
+    fn with_slot(&self, robot: usize, f: impl FnOnce(&mut Slot)) {
         if let Some(s) = self
             .slots
             .borrow_mut()
             .iter_mut()
             .find(|s| s.robot == robot)
         {
-            s.wants = true;
+            f(s);
         }
     }
 

@@ -253,6 +253,14 @@ fn bad_plane_options_exit_2_naming_the_problem() {
             "no success criterion",
         ),
         (
+            &["arena", "sweep", "--hil", "tcp:127.0.0.1:9"],
+            "only qemu:N and loopback:N",
+        ),
+        (
+            &["arena", "sweep", "--hil", "qemu:2", "--sectors", "4"],
+            "2 (hil) or 6 (hil6) receivers",
+        ),
+        (
             &["arena", "--field", "sharp", "--shape", "file"],
             "--positions",
         ),

@@ -47,16 +47,16 @@ pub(in crate::cli) fn in_the_loop(
 /// The image QEMU robots with `sectors` receivers boot: `image` (`--hil-image`) or the one
 /// `cargo hil-image` builds; it must be there, and the HIL images have 2 or 6 receivers.
 fn qemu_image(image: Option<&PathBuf>, sectors: u8) -> Result<PathBuf, String> {
+    if sectors != 2 && sectors != 6 {
+        return Err(format!(
+            "--hil qemu: the HIL images have 2 (hil) or 6 (hil6) receivers, not {sectors}"
+        ));
+    }
     let image = image.cloned().unwrap_or_else(|| default_image(sectors));
     if !image.is_file() {
         return Err(format!(
             "--hil qemu: no image at {} (build it with `cargo hil-image`; docs/hil.md)",
             image.display()
-        ));
-    }
-    if sectors != 2 && sectors != 6 {
-        return Err(format!(
-            "--hil qemu: the HIL images have 2 (hil) or 6 (hil6) receivers, not {sectors}"
         ));
     }
     Ok(image)

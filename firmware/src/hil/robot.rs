@@ -358,18 +358,26 @@ impl<W: Write, const N: usize> Link<W, N> {
                 };
                 let _ = self.send(&answer).await;
             } else {
-                // (On the host's clock the setup stops the own clock: this sleep never ends,
-                // and the first `Idle` owed wakes it instead. The answer is polled first: the
-                // sleep, polled again after the setup cleared the timers, would set its own
-                // clock's next beat as a timer on the host's, an instant that depends on how
-                // long the robot waited for its setup in wall time.)
-                match select(self.answer(), clock.sleep_until(next)).await {
-                    // Unless the setup came meanwhile.
-                    Either::Second(()) if !self.set_up.get() => {
+                // Once the setup came the sleep is not polled again: it never ends, and the
+                // answer owed (a heartbeat's, or the first `Idle`) ends the select. (The pump,
+                // the beat and the program are one task: every byte the pump takes polls this
+                // select again. Polled after a setup for the host's clock, the sleep would set
+                // its own clock's next beat as a timer on the host's clock, at an instant that
+                // depends on how long the robot waited for its setup in wall time, and the host
+                // would send a `Sync` at it.)
+                let mut sleep = core::pin::pin!(clock.sleep_until(next));
+                let sleep = core::future::poll_fn(|cx| {
+                    if self.set_up.get() {
+                        core::task::Poll::Pending
+                    } else {
+                        sleep.as_mut().poll(cx)
+                    }
+                });
+                match select(self.answer(), sleep).await {
+                    Either::Second(()) => {
                         let _ = self.send(&hello).await;
                         next += BEAT;
                     }
-                    Either::Second(()) => {}
                     Either::First(Answer::Hello) => {
                         let _ = self.send(&hello).await;
                     }

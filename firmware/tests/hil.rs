@@ -111,7 +111,7 @@ async fn it_says_hello_until_set_up_then_runs_and_answers_heartbeats() {
     assert_eq!(
         hellos[0],
         &LinkMsg::Hello {
-            version: 2,
+            version: firmware::hil::LINK_VERSION,
             id: 9,
             sectors: 2,
             host_clock: false,
@@ -306,7 +306,7 @@ async fn a_running_robot_says_hello_when_asked_and_restarts_at_the_next_setup() 
     // asks who it is, the robot says hello, and the new setup restarts it.
     let t = Instant::from_millis;
     let ask = frame(&LinkMsg::Hello {
-        version: 2,
+        version: firmware::hil::LINK_VERSION,
         id: 0,
         sectors: 0,
         host_clock: false,

@@ -18,7 +18,8 @@ use embassy_sync::pipe::Pipe;
 use firmware::Config;
 use firmware::hil::robot::{HostClock, Link, RNG_STREAM, run};
 use firmware::hil::{LINK_FRAME_MAX, LinkDecoder, LinkMsg, Setup, encode};
-use firmware::protocol::Instant;
+use firmware::protocol::auth::SwarmKey;
+use firmware::protocol::{Deframer, Instant};
 use rand_pcg::Pcg32;
 
 type Wire = Pipe<NoopRawMutex, 8192>;
@@ -131,8 +132,9 @@ fn setup() -> Setup {
 }
 
 /// Boots a robot whose own clock reads `booted` ms, lets it say hello, sets it up on the host's
-/// clock and plays the lockstep until `until` ms: every message it said from its setup on.
-fn lockstep(booted: u64, until: u32) -> Vec<LinkMsg> {
+/// clock (with the swarm key `key`: a `Key` before the `Setup`) and plays the lockstep until
+/// `until` ms: every message it said from its setup on.
+fn lockstep(booted: u64, until: u32, key: Option<SwarmKey>) -> Vec<LinkMsg> {
     CLOCK.with(|c| {
         c.now.set(booted);
         c.timers.borrow_mut().clear();
@@ -199,6 +201,9 @@ fn lockstep(booted: u64, until: u32) -> Vec<LinkMsg> {
         quantity: 0,
         level: 120,
     });
+    if let Some(key) = key {
+        bytes.extend(frame(&LinkMsg::Key(key)));
+    }
     bytes.extend(frame(&LinkMsg::Setup(setup())));
     let mut now = 0;
     let mut out = Vec::new();
@@ -225,8 +230,8 @@ fn lockstep(booted: u64, until: u32) -> Vec<LinkMsg> {
 
 #[test]
 fn what_a_robot_does_on_the_hosts_clock_does_not_depend_on_its_own_clock_before() {
-    let fresh = lockstep(0, 120_000);
-    let waited = lockstep(1_213, 120_000);
+    let fresh = lockstep(0, 120_000, None);
+    let waited = lockstep(1_213, 120_000, None);
     let instants = |msgs: &[LinkMsg]| -> Vec<u32> {
         msgs.iter()
             .filter_map(|m| match m {
@@ -250,4 +255,38 @@ fn what_a_robot_does_on_the_hosts_clock_does_not_depend_on_its_own_clock_before(
         fresh.iter().any(|m| matches!(m, LinkMsg::Tx(_))),
         "{fresh:?}"
     );
+}
+
+/// The light frames a robot sent, as one byte stream.
+fn light(msgs: &[LinkMsg]) -> Vec<u8> {
+    msgs.iter()
+        .filter_map(|m| match m {
+            LinkMsg::Tx(b) => Some(b.as_slice()),
+            _ => None,
+        })
+        .flatten()
+        .copied()
+        .collect()
+}
+
+#[test]
+fn a_key_before_the_setup_makes_the_run_keyed() {
+    let key = SwarmKey::new([0x5A; 16]);
+    let keyed = light(&lockstep(0, 120_000, Some(key)));
+    let plain = light(&lockstep(0, 120_000, None));
+    assert!(!keyed.is_empty() && !plain.is_empty());
+    // Every frame of the keyed run carries the key's MAC: the keyed deframer takes them all,
+    // a plain one (or one with another key) none.
+    let mut with_key = Deframer::with_key(key);
+    let good = with_key.frames(&keyed).filter(Result::is_ok).count();
+    assert!(good > 0);
+    assert_eq!(with_key.frames(&keyed).filter(Result::is_err).count(), 0);
+    let mut without = Deframer::new();
+    assert_eq!(without.frames(&keyed).filter(Result::is_ok).count(), 0);
+    let mut other = Deframer::with_key(SwarmKey::new([0xA5; 16]));
+    assert_eq!(other.frames(&keyed).filter(Result::is_ok).count(), 0);
+    // Without a `Key` the run is plain.
+    let mut plain_deframer = Deframer::new();
+    assert!(plain_deframer.frames(&plain).filter(Result::is_ok).count() > 0);
+    assert_eq!(with_key.frames(&plain).filter(Result::is_ok).count(), 0);
 }

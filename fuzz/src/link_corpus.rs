@@ -5,7 +5,8 @@
 //! with the others; `tests/corpus.rs` checks them.
 
 use firmware::hil::robot::HELD;
-use firmware::hil::{CHUNK_MAX, LINK_FRAME_MAX, LinkError, LinkMsg, Setup};
+use firmware::hil::{CHUNK_MAX, LINK_FRAME_MAX, LINK_VERSION, LinkError, LinkMsg, Setup};
+use firmware::protocol::auth::SwarmKey;
 
 use crate::link_decode::{BODY, PAYLOAD, STREAM};
 use crate::link_host::{self, Batch, Item};
@@ -58,10 +59,27 @@ pub fn link_decode() -> Vec<DecodeSeed> {
             vec![ok(LinkMsg::Heartbeat(1))],
         ),
         seed(
-            "golden-hello-v2",
+            "golden-hello-v3",
             STREAM,
-            vec![0x01, 0x08, 0x02, 0xAC, 0x02, 0x02, 0x01, 0xF4, 0xF7, 0x00],
-            vec![ok(hello(2))],
+            vec![0x01, 0x08, 0x03, 0xAC, 0x02, 0x02, 0x01, 0xA5, 0x5D, 0x00],
+            vec![ok(hello(3))],
+        ),
+        seed(
+            "golden-key-00-0f",
+            STREAM,
+            vec![
+                0x02, 0x0A, 0x12, 0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0A, 0x0B,
+                0x0C, 0x0D, 0x0E, 0x0F, 0x05, 0x30, 0x00,
+            ],
+            vec![ok(LinkMsg::Key(SwarmKey::new(std::array::from_fn(|i| {
+                i as u8
+            }))))],
+        ),
+        seed(
+            "hello-version-2",
+            STREAM,
+            frame(&hello(2)),
+            vec![Err(LinkError::UnknownVersion(2))],
         ),
         seed(
             "golden-sync-55000",
@@ -88,10 +106,10 @@ pub fn link_decode() -> Vec<DecodeSeed> {
             vec![Err(LinkError::UnknownVersion(1))],
         ),
         seed(
-            "hello-version-3-then-led",
+            "hello-version-4-then-led",
             STREAM,
-            [frame(&hello(3)), frame(&LinkMsg::Led(1))].concat(),
-            vec![Err(LinkError::UnknownVersion(3)), ok(LinkMsg::Led(1))],
+            [frame(&hello(4)), frame(&LinkMsg::Led(1))].concat(),
+            vec![Err(LinkError::UnknownVersion(4)), ok(LinkMsg::Led(1))],
         ),
         seed(
             "truncated-then-delimiter-then-frame",
@@ -155,9 +173,21 @@ pub fn link_decode() -> Vec<DecodeSeed> {
             vec![Err(LinkError::TooShort)],
         ),
         seed(
-            "payload-variant-10",
+            "payload-key-without-its-bytes",
             PAYLOAD,
             vec![0x0A],
+            vec![Err(LinkError::Undecodable)],
+        ),
+        seed(
+            "payload-key-one-byte-short",
+            PAYLOAD,
+            [&[0x0A][..], &[0x11; 15]].concat(),
+            vec![Err(LinkError::Undecodable)],
+        ),
+        seed(
+            "payload-variant-11",
+            PAYLOAD,
+            vec![0x0B],
             vec![Err(LinkError::Undecodable)],
         ),
         seed(
@@ -345,7 +375,7 @@ pub fn link_pump() -> Vec<(&'static str, link_pump::Input)> {
                 false,
                 vec![
                     Op::Msgs(vec![LinkMsg::Hello {
-                        version: 2,
+                        version: LINK_VERSION,
                         id: 0,
                         sectors: 0,
                         host_clock: false,
@@ -461,9 +491,9 @@ pub fn link_pump() -> Vec<(&'static str, link_pump::Input)> {
                 true,
                 vec![
                     Op::Msgs(vec![LinkMsg::Heartbeat(1), LinkMsg::Heartbeat(2)]),
-                    Op::Msgs(vec![hello(2)]),
+                    Op::Msgs(vec![hello(LINK_VERSION)]),
                     Op::Msgs(vec![host_setup(false)]),
-                    Op::Msgs(vec![LinkMsg::Heartbeat(3), hello(2)]),
+                    Op::Msgs(vec![LinkMsg::Heartbeat(3), hello(LINK_VERSION)]),
                 ],
             ),
         ),
@@ -509,7 +539,12 @@ pub fn link_pump() -> Vec<(&'static str, link_pump::Input)> {
                 true,
                 vec![
                     Op::WriterFails(true),
-                    Op::Msgs(vec![hello(2), host_setup(true), LinkMsg::Heartbeat(9)]),
+                    Op::Msgs(vec![
+                        hello(LINK_VERSION),
+                        LinkMsg::Key(SwarmKey::new([7; 16])),
+                        host_setup(true),
+                        LinkMsg::Heartbeat(9),
+                    ]),
                     Op::Msgs(vec![LinkMsg::Sync(1)]),
                     Op::Idle,
                     Op::WriterFails(false),

@@ -34,7 +34,7 @@
 //!   time never goes backwards but at a `follow(true)` (a new run);
 //! - every receiver holds exactly the light bytes the model's pipe holds (read back in order),
 //!   and the sensor gives the last level taken for each quantity (`NotReady` before one);
-//! - the beat's frames decode to exactly the model's answers: `Hello` (version 2, the id, N
+//! - the beat's frames decode to exactly the model's answers: `Hello` (`LINK_VERSION`, the id, N
 //!   sectors, whether it can follow) when the host asked, the number of the last heartbeat taken,
 //!   and each `Idle` owed, the heartbeat's answer first; before the beat has seen the first
 //!   `Setup`, a heartbeat's answer (or an `Idle`) is kept, a later one replacing it, and sent
@@ -417,12 +417,15 @@ impl Model {
             }
             LinkMsg::Heartbeat(seq) => self.echo = Some(Answer::Beat(seq)),
             LinkMsg::Hello { .. } => self.echo = Some(Answer::Hello),
+            // Kept for the next `Setup` by a link that follows; nothing to see here.
+            LinkMsg::Key(_) if self.can_follow => {}
             LinkMsg::Reading { .. }
             | LinkMsg::Tx(_)
             | LinkMsg::Led(_)
             | LinkMsg::Refused(_)
             | LinkMsg::Sync(_)
-            | LinkMsg::Idle { .. } => self.unexpected(),
+            | LinkMsg::Idle { .. }
+            | LinkMsg::Key(_) => self.unexpected(),
         }
     }
 

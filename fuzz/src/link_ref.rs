@@ -1,5 +1,5 @@
 //! An independent model of the hardware-in-the-loop link's framing (`docs/hil.md`, "Frame",
-//! "Messages", "Errors", link version 2), written from the document rather than from
+//! "Messages", "Errors", link version 3), written from the document rather than from
 //! `firmware::hil`: the payload parser and encoder below do not call postcard or the
 //! firmware's `Deserialize`; COBS is [`reference::cobs_decode`] / [`reference::cobs_encode`].
 //!
@@ -22,6 +22,8 @@ use arbitrary::Unstructured;
 use firmware::hil::{
     CHUNK_MAX, LINK_FRAME_MAX, LINK_VERSION, LinkError, LinkMsg, LinkStats, Setup,
 };
+
+use firmware::protocol::auth::SwarmKey;
 
 use crate::input::{Writer, byte_list, get};
 use crate::reference::{CRC16, cobs_decode, cobs_encode};
@@ -52,6 +54,10 @@ pub const REFUSED: u8 = 7;
 pub const SYNC: u8 = 8;
 /// `Idle`.
 pub const IDLE: u8 = 9;
+/// `Key`.
+pub const KEY: u8 = 10;
+/// The variants: [`read_msg`] reads the variant byte modulo this.
+pub const VARIANTS: u8 = 11;
 
 /// A canonical varint: 7 bits a byte, least significant first, the top bit "more follows".
 pub fn varint(out: &mut Vec<u8>, mut x: u64) {
@@ -121,6 +127,10 @@ pub fn payload_of(msg: &LinkMsg) -> Vec<u8> {
             p.push(IDLE);
             varint(&mut p, u64::from(*now));
             varint(&mut p, u64::from(*next));
+        }
+        LinkMsg::Key(key) => {
+            p.push(KEY);
+            p.extend_from_slice(&key.to_bytes());
         }
     }
     p
@@ -246,6 +256,14 @@ fn parse(c: &mut Cursor<'_>) -> Option<LinkMsg> {
             now: c.u32()?,
             next: c.u32()?,
         },
+        // The key's 16 bytes as they are (a byte array, no length).
+        10 => {
+            let mut key = [0u8; 16];
+            for b in &mut key {
+                *b = c.byte()?;
+            }
+            LinkMsg::Key(SwarmKey::new(key))
+        }
         _ => return None,
     })
 }
@@ -322,13 +340,13 @@ impl ModelDecoder {
     }
 }
 
-/// Reads a message: a variant byte (modulo 10), then its fields in order (`u8`, `u16`, `u32`,
+/// Reads a message: a variant byte (modulo [`VARIANTS`]), then its fields in order (`u8`, `u16`, `u32`,
 /// `bool` as [`crate::input`] reads them; a chunk as a byte list of at most [`CHUNK_MAX`]).
 pub fn read_msg(u: &mut Unstructured<'_>) -> LinkMsg {
     let chunk = |u: &mut Unstructured<'_>| {
         heapless::Vec::from_slice(&byte_list(u, CHUNK_MAX)).expect("at most CHUNK_MAX")
     };
-    match get::<u8>(u) % 10 {
+    match get::<u8>(u) % VARIANTS {
         HELLO => LinkMsg::Hello {
             version: get(u),
             id: get(u),
@@ -360,6 +378,7 @@ pub fn read_msg(u: &mut Unstructured<'_>) -> LinkMsg {
         }),
         REFUSED => LinkMsg::Refused(get(u)),
         SYNC => LinkMsg::Sync(get(u)),
+        KEY => LinkMsg::Key(SwarmKey::new(std::array::from_fn(|_| get(u)))),
         _ => LinkMsg::Idle {
             now: get(u),
             next: get(u),
@@ -416,6 +435,12 @@ pub fn write_msg(w: &mut Writer, msg: &LinkMsg) {
         LinkMsg::Idle { now, next } => {
             w.u8(IDLE).u32(*now).u32(*next);
         }
+        LinkMsg::Key(key) => {
+            w.u8(KEY);
+            for b in key.to_bytes() {
+                w.u8(b);
+            }
+        }
     }
 }
 
@@ -465,6 +490,7 @@ pub fn every_kind() -> Vec<LinkMsg> {
             now: u32::MAX,
             next: u32::MAX,
         },
+        LinkMsg::Key(SwarmKey::new([0xFF; 16])),
     ]
 }
 
@@ -480,12 +506,12 @@ mod tests {
             [0x05, 0x05, 0x01, 0xDB, 0xF2, 0x00]
         );
         let hello = LinkMsg::Hello {
-            version: 2,
+            version: 3,
             id: 300,
             sectors: 2,
             host_clock: true,
         };
-        let golden = [0x01, 0x08, 0x02, 0xAC, 0x02, 0x02, 0x01, 0xF4, 0xF7, 0x00];
+        let golden = [0x01, 0x08, 0x03, 0xAC, 0x02, 0x02, 0x01, 0xA5, 0x5D, 0x00];
         assert_eq!(frame(&hello), golden);
         assert_eq!(ModelDecoder::default().all(&golden), [Ok(hello)]);
         assert_eq!(
@@ -496,6 +522,13 @@ mod tests {
             frame(&LinkMsg::Idle { now: 0, next: 55 }),
             [0x02, 0x09, 0x04, 0x37, 0xB9, 0x14, 0x00]
         );
+        let key = LinkMsg::Key(SwarmKey::new(std::array::from_fn(|i| i as u8)));
+        let golden = [
+            0x02, 0x0A, 0x12, 0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0A, 0x0B,
+            0x0C, 0x0D, 0x0E, 0x0F, 0x05, 0x30, 0x00,
+        ];
+        assert_eq!(frame(&key), golden);
+        assert_eq!(ModelDecoder::default().all(&golden), [Ok(key)]);
         assert_eq!(payload_of(&LinkMsg::Setup(LONGEST_SETUP)).len(), 39);
         assert_eq!(frame(&LinkMsg::Setup(LONGEST_SETUP)).len(), LINK_FRAME_MAX);
     }

@@ -218,6 +218,38 @@ fn arena_with_a_swarm_key() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}");
     assert!(stdout.contains("2 runs, 2 successful"), "{stdout}");
+    // Link version 3 carries the key to robots in the loop on the arena's clock (two host
+    // twins here), and refuses it for one on its own clock, before any work.
+    let key = "000102030405060708090A0B0C0D0E0F";
+    let out = cimax(&[
+        "arena",
+        "--lights",
+        "1100",
+        "--runs",
+        "1",
+        "--key",
+        key,
+        "--hil",
+        "loopback:2",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{stdout}");
+    assert!(stdout.contains("1 runs, 1 successful"), "{stdout}");
+    let out = cimax(&[
+        "arena",
+        "--lights",
+        "1100",
+        "--key",
+        key,
+        "--hil",
+        "serial:/dev/null@9600",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--key with --hil serial:/dev/null") && err.contains("on its own clock"),
+        "{err}"
+    );
     for (key, needle) in [
         ("0011", "32 hex digits (128 bits), not 4"),
         ("0x0102030405060708090a0b0c0d0e0f", "character 2"),

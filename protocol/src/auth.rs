@@ -36,8 +36,9 @@ pub type MacTag = [u8; TAG_LEN];
 
 /// The secret every robot of a swarm shares: 128 bits keying SipHash-2-4.
 ///
-/// Its `Debug` (and `defmt::Format`) output never shows the key.
-#[derive(Clone, Copy, PartialEq, Eq)]
+/// Its `Debug` (and `defmt::Format`) output never shows the key. Serde (the HIL link's `Key`
+/// message) writes its 16 bytes as they are.
+#[derive(Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct SwarmKey([u8; KEY_LEN]);
 
 impl SwarmKey {

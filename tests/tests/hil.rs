@@ -101,7 +101,7 @@ fn places_the_link_cannot_take_are_refused() {
     bad(c, "cannot be killed");
     let mut c = lab("1100", 1, &[1]);
     c.robot.key = Some(protocol::SwarmKey::new(*b"sixteen byte key"));
-    bad(c, "no swarm key");
+    bad(c, "gives the swarm key only to robots on the arena's clock");
 }
 
 /// A robot on a TCP socket that follows `script` (what it writes after accepting, then
@@ -170,17 +170,23 @@ fn a_robot_that_never_says_hello_fails_the_run_by_name() {
 fn another_link_version_or_other_sectors_are_refused_by_name() {
     let e = scripted(vec![hello(1, 2)], true);
     assert!(e.contains("speaks link version 1"), "{e}");
-    assert!(e.contains("this host speaks 2"), "{e}");
-    let e = scripted(vec![hello(2, 3)], true);
+    assert!(
+        e.contains(&format!("this host speaks {}", firmware::hil::LINK_VERSION)),
+        "{e}"
+    );
+    let e = scripted(vec![hello(firmware::hil::LINK_VERSION, 3)], true);
     assert!(e.contains("has 3 receivers"), "{e}");
 }
 
 #[test]
 fn a_robot_that_disconnects_or_goes_silent_fails_the_run() {
-    let e = scripted(vec![hello(2, 2)], false);
+    let e = scripted(vec![hello(firmware::hil::LINK_VERSION, 2)], false);
     assert!(e.contains("link ended (disconnected)"), "{e}");
     let e = scripted(
-        vec![hello(2, 2), frame(&firmware::hil::LinkMsg::Heartbeat(0))],
+        vec![
+            hello(firmware::hil::LINK_VERSION, 2),
+            frame(&firmware::hil::LinkMsg::Heartbeat(0)),
+        ],
         true,
     );
     assert!(e.contains("stopped its heartbeat"), "{e}");
@@ -190,9 +196,9 @@ fn a_robot_that_disconnects_or_goes_silent_fails_the_run() {
 fn a_robot_that_reboots_during_the_run_fails_it() {
     let e = scripted(
         vec![
-            hello(2, 2),
+            hello(firmware::hil::LINK_VERSION, 2),
             frame(&firmware::hil::LinkMsg::Heartbeat(0)),
-            hello(2, 2),
+            hello(firmware::hil::LINK_VERSION, 2),
         ],
         true,
     );
@@ -224,7 +230,7 @@ fn responder(on_setup: Vec<u8>) -> String {
     let port = listener.local_addr().unwrap().port();
     let robot = std::thread::spawn(move || {
         let (mut s, _) = listener.accept().unwrap();
-        s.write_all(&hello(2, 2)).unwrap();
+        s.write_all(&hello(firmware::hil::LINK_VERSION, 2)).unwrap();
         let mut d = LinkDecoder::new();
         let mut buf = [0u8; 256];
         while let Ok(n @ 1..) = s.read(&mut buf) {

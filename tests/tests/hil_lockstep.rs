@@ -1,4 +1,4 @@
-//! Robots in the loop on the arena's clock (link version 2, `docs/hil.md` "Time") without QEMU:
+//! Robots in the loop on the arena's clock (link version 3, `docs/hil.md` "Time") without QEMU:
 //! a robot on a TCP socket, scripted here, that says it can follow the host's clock and then
 //! answers each `Sync` as told. QEMU robots run the same lockstep in `.ci/run` (twelve lab
 //! runs, twice, compared byte for byte).
@@ -328,4 +328,51 @@ fn a_robot_on_a_socket_says_in_its_hello_which_clock_it_runs_on() {
         e.starts_with("its link did not open (tcp:127.0.0.1:1:"),
         "{e}"
     );
+}
+
+#[test]
+fn host_twins_take_the_swarm_key_over_the_link_and_decide_right_keyed() {
+    // Link version 3: the run's key goes to each robot in the loop just before its Setup.
+    let key = protocol::SwarmKey::new(*b"sixteen byte key");
+    let mut cfg = twins("1100", 4, &[0, 2]);
+    cfg.robot.key = Some(key);
+    cfg.trace = true;
+    let a = hal_emu::judge::judge(&cfg).unwrap();
+    assert!(a.success, "{}", hal_emu::judge::leds_str(&a.leds));
+    // The virtual robots heard keyed frames, the twins' among them, and none failed its MAC.
+    // (A robot in the loop counts on its own side of the link: its entries here are empty.)
+    for s in [&a.report.robots[1], &a.report.robots[3]] {
+        assert!(s.messages > 5 && s.bad_mac == 0, "{:?}", a.report.robots);
+    }
+    // The twins' initiations are keyed: 21 bytes, never the plain 19.
+    let sent = |robot: usize| -> Vec<usize> {
+        a.report
+            .trace
+            .iter()
+            .filter_map(|e| match e {
+                hal_emu::TraceEvent::Sent { robot: r, len, .. } if *r == robot => Some(*len),
+                _ => None,
+            })
+            .collect()
+    };
+    for twin in [0, 2] {
+        assert!(
+            sent(twin).contains(&21) && !sent(twin).contains(&19),
+            "{:?}",
+            sent(twin)
+        );
+    }
+    // The same run twice: bit for bit.
+    let b = hal_emu::judge::judge(&cfg).unwrap();
+    assert_eq!((a.report.leds, a.report.hil), (b.report.leds, b.report.hil));
+
+    // A twin given no key (its own configuration) sends plain frames, which its keyed
+    // neighbours drop as bad MACs: the key does come over the link.
+    let plain = cfg.robot;
+    let mut withheld = cfg
+        .clone()
+        .with_config(0, firmware::Config { key: None, ..plain });
+    withheld.trace = false;
+    let c = hal_emu::judge::judge(&withheld).unwrap();
+    assert!(c.report.robots[1].bad_mac > 5, "{:?}", c.report.robots);
 }

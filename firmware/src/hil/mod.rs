@@ -1,4 +1,4 @@
-//! The hardware-in-the-loop link, version 2 (`docs/hil.md`): what a robot and the host say to
+//! The hardware-in-the-loop link, version 3 (`docs/hil.md`): what a robot and the host say to
 //! each other over one byte stream (a UART, a QEMU serial port, a TCP socket), so that a robot
 //! running the real image can sit in the emulated light medium among virtual robots.
 //!
@@ -21,8 +21,9 @@ pub mod robot;
 use heapless::Vec;
 use serde::{Deserialize, Serialize};
 
-/// The link's version, sent in [`LinkMsg::Hello`]; a decoder refuses any other.
-pub const LINK_VERSION: u8 = 2;
+/// The link's version, sent in [`LinkMsg::Hello`]; a decoder refuses any other. (2 added the
+/// host's clock, `Sync` and `Idle`; 3 the swarm key, [`LinkMsg::Key`].)
+pub const LINK_VERSION: u8 = 3;
 
 /// Most light bytes one [`LinkMsg::Tx`] or [`LinkMsg::Rx`] carries: a whole light frame
 /// (`protocol::frame::FRAME_MAX`, 32). A stream of more is sent as several messages.
@@ -30,8 +31,8 @@ pub const CHUNK_MAX: usize = 32;
 
 /// Largest payload: a [`LinkMsg::Setup`] with every field at its longest varint (39 bytes:
 /// the tag, 3 for the id, 5 for each of the seed and five durations, 3 for the negotiation
-/// period, 1 for the rule, 1 for the clock). An `Rx` of [`CHUNK_MAX`] bytes takes 35, an
-/// `Idle` at most 11, a `Sync` at most 6, a `Hello` at most 7, a `Heartbeat` at most 6.
+/// period, 1 for the rule, 1 for the clock). An `Rx` of [`CHUNK_MAX`] bytes takes 35, a `Key`
+/// 17, an `Idle` at most 11, a `Sync` at most 6, a `Hello` at most 7, a `Heartbeat` at most 6.
 pub const PAYLOAD_MAX: usize = 39;
 
 /// Bytes of the frame check.
@@ -47,10 +48,10 @@ const CRC16: crc::Crc<u16, crc::NoTable> =
 
 /// One message of the link. Postcard encodes the variant as its index (a varint), then the
 /// fields in order: `u8` raw, `u16`/`u32` as varints, byte vectors as a varint length and the
-/// bytes. `Sync` and `Idle` exist with the `host-clock` feature only: a robot that cannot
-/// follow the host's clock never meets them (the host sends them only to one whose `Hello`
-/// said it can), and would count one as undecodable; without them the Nucleo image in the
-/// loop is 0.2 KB smaller.
+/// bytes. `Sync`, `Idle` and `Key` exist with the `host-clock` feature only: a robot that
+/// cannot follow the host's clock never meets them (the host sends them only to one whose
+/// `Hello` said it can), and would count one as undecodable; without them the Nucleo image in
+/// the loop is 0.2 KB smaller.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub enum LinkMsg {
     /// 0, robot → host, first after a (re)start: which robot this is.
@@ -110,6 +111,15 @@ pub enum LinkMsg {
         /// The robot's next timer, milliseconds.
         next: u32,
     },
+    /// 10, host → robot, just before a [`LinkMsg::Setup`]: the swarm key of the run it sets up
+    /// (a `Setup` with no `Key` since the last one runs with the image's own key, if it was
+    /// built with one: none for the QEMU images). The robot program
+    /// then sends and accepts keyed frames only (`docs/protocol.md`, "Authenticated frames");
+    /// an image built without the firmware's `keyed` feature refuses the `Setup` (code 4).
+    /// With the `host-clock` feature only, as `Sync` and `Idle`: the host sends it only to a
+    /// robot whose `Hello` said it can follow the host's clock.
+    #[cfg(feature = "host-clock")]
+    Key(protocol::auth::SwarmKey),
 }
 
 /// What [`LinkMsg::Setup`] tells a robot: who it is in this run, its seed, and the protocol's
@@ -355,7 +365,7 @@ mod tests {
         host_clock: true,
     };
 
-    fn every_kind() -> [LinkMsg; 12] {
+    fn every_kind() -> [LinkMsg; 13] {
         [
             LinkMsg::Hello {
                 version: LINK_VERSION,
@@ -386,6 +396,7 @@ mod tests {
                 next: u32::MAX,
             },
             LinkMsg::Idle { now: 0, next: 55 },
+            LinkMsg::Key(protocol::auth::SwarmKey::new([0xFF; 16])),
         ]
     }
 
@@ -429,15 +440,15 @@ mod tests {
             frame(&LinkMsg::Heartbeat(1)),
             [0x05, 0x05, 0x01, 0xDB, 0xF2, 0x00]
         );
-        // Hello { version 2, id 300, K 2, host clock }: payload 00 02 ac 02 02 01 (300 =
-        // varint ac 02), CRC f7f4; the payload's leading 0x00 becomes COBS code 1.
+        // Hello { version 3, id 300, K 2, host clock }: payload 00 03 ac 02 02 01 (300 =
+        // varint ac 02), CRC 5da5; the payload's leading 0x00 becomes COBS code 1.
         let hello = LinkMsg::Hello {
-            version: 2,
+            version: 3,
             id: 300,
             sectors: 2,
             host_clock: true,
         };
-        let golden = [0x01, 0x08, 0x02, 0xAC, 0x02, 0x02, 0x01, 0xF4, 0xF7, 0x00];
+        let golden = [0x01, 0x08, 0x03, 0xAC, 0x02, 0x02, 0x01, 0xA5, 0x5D, 0x00];
         assert_eq!(frame(&hello), golden);
         let mut d = LinkDecoder::new();
         assert_eq!(all(&mut d, &golden), [Ok(hello)]);
@@ -451,6 +462,18 @@ mod tests {
             frame(&LinkMsg::Idle { now: 0, next: 55 }),
             [0x02, 0x09, 0x04, 0x37, 0xB9, 0x14, 0x00]
         );
+        // Key(00 01 .. 0f): payload 0a and the key's 16 bytes as they are, CRC 3005; the key's
+        // first byte 0x00 splits the COBS runs.
+        let key = LinkMsg::Key(protocol::auth::SwarmKey::new(core::array::from_fn(|i| {
+            i as u8
+        })));
+        let golden = [
+            0x02, 0x0A, 0x12, 0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x09, 0x0A, 0x0B,
+            0x0C, 0x0D, 0x0E, 0x0F, 0x05, 0x30, 0x00,
+        ];
+        assert_eq!(frame(&key), golden);
+        let mut d = LinkDecoder::new();
+        assert_eq!(all(&mut d, &golden), [Ok(key)]);
     }
 
     #[test]
@@ -494,8 +517,9 @@ mod tests {
 
     #[test]
     fn another_version_says_so_and_the_link_goes_on() {
+        // Version 2: the link before the swarm key.
         let mut s = frame(&LinkMsg::Hello {
-            version: 3,
+            version: 2,
             id: 1,
             sectors: 2,
             host_clock: false,
@@ -504,7 +528,7 @@ mod tests {
         let mut d = LinkDecoder::new();
         assert_eq!(
             all(&mut d, &s),
-            [Err(LinkError::UnknownVersion(3)), Ok(LinkMsg::Led(1))]
+            [Err(LinkError::UnknownVersion(2)), Ok(LinkMsg::Led(1))]
         );
         assert_eq!(d.stats().unknown_version, 1);
     }

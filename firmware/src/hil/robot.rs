@@ -35,6 +35,7 @@ use embassy_sync::mutex::Mutex;
 use embassy_sync::pipe::Pipe;
 use embassy_sync::signal::Signal;
 use embedded_io_async::{ErrorKind, Read, Write};
+use protocol::auth::SwarmKey;
 use protocol::params::DecisionRule;
 use protocol::{Duration, Level, Sector};
 use rand_core::RngCore;
@@ -106,6 +107,10 @@ struct Follow {
     owed: Cell<Option<u32>>,
     /// Everything is done: the beat sends the `Idle` for this instant.
     idle: Signal<NoopRawMutex, u32>,
+    /// The swarm key the next `Setup` runs with ([`LinkMsg::Key`]).
+    key: Cell<Option<SwarmKey>>,
+    /// The swarm key of the last `Setup`.
+    run_key: Cell<Option<SwarmKey>>,
 }
 
 /// What the robot's hardware shares over one link: `W` is the UART's writing half, `N` the
@@ -161,6 +166,8 @@ impl<W: Write, const N: usize> Link<W, N> {
             held: RefCell::new(heapless::Deque::new()),
             owed: Cell::new(None),
             idle: Signal::new(),
+            key: Cell::new(None),
+            run_key: Cell::new(None),
         });
         link
     }
@@ -174,6 +181,14 @@ impl<W: Write, const N: usize> Link<W, N> {
         {
             f.idle.signal(t);
         }
+    }
+
+    /// The swarm key of the last `Setup` ([`LinkMsg::Key`]; none without the host's clock).
+    fn run_key(&self) -> Option<SwarmKey> {
+        #[cfg(feature = "host-clock")]
+        return self.follow.as_ref().and_then(|f| f.run_key.get());
+        #[cfg(not(feature = "host-clock"))]
+        None
     }
 
     /// True if the robot's clock can follow the host's.
@@ -301,13 +316,20 @@ impl<W: Write, const N: usize> Link<W, N> {
                 self.count(|s| s.setups = s.setups.wrapping_add(1));
                 #[cfg(feature = "host-clock")]
                 if let Some(f) = &self.follow {
-                    // A new run: the clock starts at 0 with no timer (or the own clock again).
+                    // A new run: the clock starts at 0 with no timer (or the own clock again),
+                    // with the key given since the last setup, if any.
                     f.on.set(setup.host_clock);
                     (f.hooks.follow)(setup.host_clock);
+                    f.run_key.set(f.key.take());
                 }
                 self.set_up.set(true);
                 self.setup.signal(setup);
             }
+            #[cfg(feature = "host-clock")]
+            LinkMsg::Key(key) => match &self.follow {
+                Some(f) => f.key.set(Some(key)),
+                None => self.count(|s| s.unexpected = s.unexpected.wrapping_add(1)),
+            },
             // Answered by the beat, at once.
             LinkMsg::Heartbeat(seq) => self.echo.signal(Answer::Beat(seq)),
             // The host asks who this is (it connected to a robot that may be running already).
@@ -485,6 +507,10 @@ where
                 p.clear();
             }
             let mut config = configure(base, &setup);
+            // The run's swarm key, else the image's own (none for the QEMU images).
+            if let Some(key) = link.run_key() {
+                config.key = Some(key);
+            }
             // The image's receivers are what it has, whatever its configuration says.
             config.params.sectors = N as u8;
             let robot = if setup.host_clock && !link.can_follow() {

@@ -148,7 +148,8 @@ fn check(cfg: &ArenaConfig) -> Result<(), ArenaError> {
 }
 
 /// Checks the robots in the loop: places that exist, each taken once, no kills or restarts of
-/// them, no swarm key (link version 1 carries none).
+/// robots on their own clocks, and a swarm key only for robots on the arena's clock (link
+/// version 3 gives it to them alone).
 fn check_hil(cfg: &ArenaConfig) -> Result<(), ArenaError> {
     let n = cfg.positions.len();
     let mut seen = std::collections::BTreeSet::new();
@@ -186,10 +187,12 @@ fn check_hil(cfg: &ArenaConfig) -> Result<(), ArenaError> {
                 h.robot, h.transport
             )));
         }
-        if cfg.config_of(h.robot).key.is_some() {
-            return Err(ArenaError::Hil(
-                "link version 1 carries no swarm key: robots in the loop send plain frames".into(),
-            ));
+        if cfg.config_of(h.robot).key.is_some() && !h.follows() {
+            return Err(ArenaError::Hil(format!(
+                "robot {} ({}) runs on its own clock: link version 3 gives the swarm key only \
+                 to robots on the arena's clock",
+                h.robot, h.transport
+            )));
         }
     }
     Ok(())

@@ -163,6 +163,14 @@ impl Bridge {
         // 2. Its sensor's first readings, then the run's setup, and at once a heartbeat: its
         // answer says the robot runs the setup (what it sent before is stale: a board that ran
         // already may still be sending the last run's light and LEDs).
+        if self.config.key.is_some() {
+            // Link version 3 carries the key only to a robot on the arena's clock.
+            return Err(format!(
+                "cannot take the run's swarm key over {} on its own clock: link version 3 \
+                 gives it only to robots on the arena's clock",
+                self.transport
+            ));
+        }
         self.readings(&to, report).await?;
         send(&to, &LinkMsg::Setup(self.setup), report)?;
 

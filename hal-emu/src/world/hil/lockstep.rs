@@ -529,6 +529,10 @@ pub(crate) async fn serve(
     readings(&mut bridge, &lockstep).await;
     let mut setup = bridge.setup;
     setup.host_clock = true;
+    // A keyed run: its swarm key just before the setup (link version 3).
+    if let Some(key) = bridge.config.key {
+        lockstep.push(robot, LinkMsg::Key(key));
+    }
     lockstep.push(robot, LinkMsg::Setup(setup));
     let (mut heard, air) = start_light(&mut bridge);
     let mut alarm = Instant::MAX;

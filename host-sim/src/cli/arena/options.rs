@@ -115,10 +115,7 @@ pub(super) fn hil_robots(
             robots - 1
         ));
     }
-    if args.key.is_some() {
-        return Err("--key with --hil: link version 2 carries no swarm key".into());
-    }
-    places
+    let robots: Vec<HilRobot> = places
         .into_iter()
         .zip(transports)
         .map(|(robot, transport)| {
@@ -128,7 +125,18 @@ pub(super) fn hil_robots(
                 transport,
             })
         })
-        .collect()
+        .collect::<Result<_, String>>()?;
+    if args.key.is_some()
+        && let Some(r) = robots.iter().find(|r| r.clock == HilClock::Wall)
+    {
+        return Err(format!(
+            "--key with --hil {} on its own clock: link version 3 gives the swarm key only to \
+             robots on the arena's clock (--hil-clock virtual: qemu, loopback, or a socket \
+             robot that can follow)",
+            r.transport
+        ));
+    }
+    Ok(robots)
 }
 
 /// The clock a robot in the loop over `t` runs on: `--hil-clock`, or the transport's default

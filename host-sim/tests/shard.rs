@@ -360,3 +360,145 @@ fn bad_shard_values_are_refused_by_the_parser() {
     assert!(files(&root).is_empty(), "nothing written");
     std::fs::remove_dir_all(&root).unwrap();
 }
+
+#[test]
+fn a_part_in_the_loop_is_set_beside_the_pages_own_runs_of_its_seeds() {
+    // One scenario and rule (the documented campaign has both; one keeps the page's lab
+    // suite and loss sweep out): a part with a host twin of the HIL image in the loop over
+    // seeds 1 and 2, then the page over seeds 1 to 3 with it beside.
+    let root = scratch("campaign-hil-part");
+    let _ = std::fs::remove_dir_all(&root);
+    let scenario = [
+        "arena",
+        "campaign",
+        "--scenario",
+        "cycle-spread",
+        "--decide",
+        "adaptive",
+    ];
+    let d = root.join("loop");
+    let out = cimax_in(
+        &d,
+        &with(
+            &scenario,
+            &[
+                "--seeds",
+                "2",
+                "--hil",
+                "loopback:1",
+                "--shard",
+                "1/1",
+                "--out",
+                ".",
+            ],
+        ),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let part = d.join("part-1-of-1.jsonl");
+    let part_arg = part.to_str().unwrap();
+    let page_dir = root.join("page");
+    let out = cimax_in(
+        &page_dir,
+        &with(
+            &scenario,
+            &[
+                "--seeds",
+                "3",
+                "--out",
+                "reliability.md",
+                "--hil-part",
+                part_arg,
+            ],
+        ),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let page = std::fs::read_to_string(page_dir.join("reliability.md")).unwrap();
+    assert!(
+        page.contains(&format!("--hil-part {part_arg}` in")),
+        "{page}"
+    );
+    let section = &page[page
+        .find("## The HIL program's host build in the loop")
+        .expect("the section")..];
+    assert!(section.contains("`loopback:1` in the loop"), "{section}");
+    assert!(section.contains("Seeds 1 to 2"), "{section}");
+    assert!(
+        section.contains("**2 of 2 runs in the loop right**"),
+        "{section}"
+    );
+    assert!(
+        section.contains("| scenario | adaptive: right, in the loop / host |"),
+        "{section}"
+    );
+    assert!(
+        section.contains("cimax arena campaign --hil loopback:1 --seeds 2 --shard 1/1"),
+        "{section}"
+    );
+    assert!(
+        section.contains("| `cycle-spread` | 100.0 % / 100.0 % |"),
+        "{section}"
+    );
+
+    // Refused before any run, naming the part: other scenarios, seeds the page does not run,
+    // a part without robots in the loop, no such file; and no page is written.
+    let plain = root.join("plain");
+    let out = cimax_in(
+        &plain,
+        &with(&scenario, &["--seeds", "1", "--shard", "1/1", "--out", "."]),
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let plain_part = plain.join("part-1-of-1.jsonl");
+    let missing = root.join("no-such-part.jsonl");
+    for (args, why) in [
+        (
+            vec!["--scenario", "cycle-spread", "--seeds", "3"],
+            "scenarios, rules or loss",
+        ),
+        (
+            vec![
+                "--scenario",
+                "cycle-spread",
+                "--decide",
+                "adaptive",
+                "--seeds",
+                "1",
+            ],
+            "its seeds 1 to 2 are not all among this campaign's (1 to 1)",
+        ),
+    ] {
+        let mut a = vec!["arena", "campaign"];
+        a.extend(args);
+        a.extend(["--out", "refused.md", "--hil-part", part_arg]);
+        let out = cimax_in(&root.join("refused"), &a);
+        assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+        assert!(
+            text(&out.stderr).contains(part_arg),
+            "{}",
+            text(&out.stderr)
+        );
+        assert!(text(&out.stderr).contains(why), "{}", text(&out.stderr));
+    }
+    for (p, why) in [
+        (&plain_part, "without robots in the loop"),
+        (&missing, "no-such-part.jsonl"),
+    ] {
+        let out = cimax_in(
+            &root.join("refused"),
+            &with(
+                &scenario,
+                &[
+                    "--seeds",
+                    "1",
+                    "--out",
+                    "refused.md",
+                    "--hil-part",
+                    p.to_str().unwrap(),
+                ],
+            ),
+        );
+        assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+        assert!(text(&out.stderr).contains(why), "{}", text(&out.stderr));
+    }
+    assert!(!root.join("refused").join("refused.md").exists());
+    let _ = std::fs::remove_dir_all(&root);
+}

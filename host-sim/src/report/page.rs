@@ -44,6 +44,10 @@ const TEMPLATES: &[(&str, &str)] = &[
         include_str!("../../templates/reliability/loss.md.j2"),
     ),
     (
+        "reliability/in_the_loop.md.j2",
+        include_str!("../../templates/reliability/in_the_loop.md.j2"),
+    ),
+    (
         "reproduction.md.j2",
         include_str!("../../templates/reproduction.md.j2"),
     ),

@@ -4,6 +4,7 @@
 //! `pages::figures`' [`success_chart`](crate::pages::figures::success_chart) and
 //! [`rules_chart`](crate::pages::figures::rules_chart).
 
+pub mod in_the_loop;
 pub mod stress;
 
 use std::fmt::Write as _;
@@ -117,7 +118,7 @@ pub fn table(report: &Report) -> String {
 
 /// The time a run is judged by in the comparison of the rules: consensus from the start, or
 /// for a reboot the time from the reboot until consensus was back.
-fn decision_time(o: &Outcome) -> Option<f64> {
+pub(crate) fn decision_time(o: &Outcome) -> Option<f64> {
     o.restore_s.or(o.consensus_s)
 }
 
@@ -427,6 +428,8 @@ pub struct Page {
     pub initiations: Option<stress::InitiationsSection>,
     /// The loss sweep.
     pub loss: Option<stress::LossSection>,
+    /// The campaign with robots in the loop beside the host build's (`--hil-part`).
+    pub in_the_loop: Option<in_the_loop::LoopSection>,
 }
 
 impl Page {
@@ -538,6 +541,7 @@ pub fn markdown(report: &Report, figure: Option<&str>) -> String {
         suites: Vec::new(),
         initiations: None,
         loss: None,
+        in_the_loop: None,
     };
     page.render().unwrap_or_else(|e| panic!("{e}"))
 }

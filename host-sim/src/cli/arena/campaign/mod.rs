@@ -78,6 +78,83 @@ pub struct CampaignArgs {
     /// The image --hil qemu:N boots (default: the one `cargo hil-image` builds).
     #[arg(long, value_name = "ELF", requires = "hil")]
     pub hil_image: Option<PathBuf>,
+    /// A part (`--shard 1/1`) of this campaign made with --hil over some of its seeds: the page
+    /// gains a section setting those runs in the loop beside its own host-build runs of the
+    /// same seeds (docs/reliability.md, "The Cortex-M build in the loop", from the committed
+    /// docs/data/campaign-qemu-1.jsonl). Read and checked before any run.
+    #[arg(long, value_name = "PART", conflicts_with_all = ["shard", "hil"])]
+    pub hil_part: Option<PathBuf>,
+}
+
+/// The runs in the loop of a `--hil-part`, as the page sets them beside its own.
+struct LoopPart {
+    /// The part, as given.
+    path: PathBuf,
+    /// One report per rule.
+    reports: Vec<Report>,
+    /// The command that made it.
+    made_by: String,
+    /// Its wall time, s.
+    wall_s: f64,
+}
+
+/// Reads `--hil-part` `path`: a whole campaign (one part, `--shard 1/1`) made with `--hil`, of
+/// the same scenarios, rules and loss as `job`, over seeds `job` runs too.
+///
+/// # Errors
+/// The path and what is wrong with it.
+fn read_loop_part(path: &Path, job: &CampaignJob) -> Result<LoopPart, String> {
+    let named = |e: &dyn std::fmt::Display| format!("--hil-part {}: {e}", path.display());
+    let m = shard::merge::merge(&[path.to_path_buf()]).map_err(|e| named(&e))?;
+    if m.job.command != COMMAND {
+        return Err(named(&format!(
+            "a part of `cimax {}`, not of `cimax {COMMAND}`",
+            m.job.command
+        )));
+    }
+    let (part, units): (CampaignJob, Vec<job::Unit>) = m.decode().map_err(|e| named(&e))?;
+    let Some(hil) = &part.hil else {
+        return Err(named(
+            &"a campaign without robots in the loop (made without --hil)",
+        ));
+    };
+    if part.scenarios != job.scenarios || part.rules != job.rules || part.loss != job.loss {
+        return Err(named(
+            &"its scenarios, rules or loss are not this campaign's (it must be made with the \
+              same options but --hil, --seeds and --seed)",
+        ));
+    }
+    let (first, last) = (part.seed, part.seed.saturating_add(part.seeds - 1));
+    if first < job.seed || last > job.seed.saturating_add(job.seeds - 1) {
+        return Err(named(&format!(
+            "its seeds {first} to {last} are not all among this campaign's ({} to {})",
+            job.seed,
+            job.seed.saturating_add(job.seeds - 1)
+        )));
+    }
+    let plans = part.plans().map_err(|e| named(&e))?;
+    let timing = Timing {
+        wall_s: m.wall_s,
+        threads: m.threads,
+    };
+    let results = part
+        .assemble(&plans, units, timing)
+        .map_err(|e| named(&e))?;
+    let mut made_by = format!(
+        "cimax arena campaign --hil {} --seeds {}",
+        hil.spec(),
+        part.seeds
+    );
+    if part.seed != 1 {
+        made_by.push_str(&format!(" --seed {}", part.seed));
+    }
+    made_by.push_str(" --shard 1/1 --out DIR");
+    Ok(LoopPart {
+        path: path.to_path_buf(),
+        reports: results.reports,
+        made_by,
+        wall_s: m.wall_s,
+    })
 }
 
 /// Runs `cimax arena campaign`: 0 if every bar is met, 1 if one is missed or a robot crashed
@@ -114,6 +191,15 @@ fn run(args: &CampaignArgs) -> Exit {
             hal_emu::judge::PAPER_PATTERNS[0].len(),
         )?,
     };
+    let in_loop = match &args.hil_part {
+        Some(_) if page.is_none() => {
+            return Err(
+                "--hil-part: only with the page (--out, or the documented campaign)".into(),
+            );
+        }
+        Some(p) => Some(read_loop_part(p, &job)?),
+        None => None,
+    };
     let plans = job.plans()?;
     let total = job.units();
     let unit = |k| job.unit(&plans, k);
@@ -143,7 +229,11 @@ fn run(args: &CampaignArgs) -> Exit {
         }
     }
     let results = job.assemble(&plans, units, timing)?;
-    finish(&results, page.map(|out| (out, args.figure.clone())))
+    finish(
+        &results,
+        page.map(|out| (out, args.figure.clone())),
+        in_loop.as_ref(),
+    )
 }
 
 /// `cimax merge` of a campaign's parts: prints its tables, writes `OUT/reliability.md` with its
@@ -168,19 +258,23 @@ pub fn merge(m: &Merged, out: &Path) -> Exit {
     let results = job
         .assemble(&plans, units, timing)
         .map_err(|e| m.bad_config(e).to_string())?;
-    finish(&results, Some((out.join("reliability.md"), None)))
+    finish(&results, Some((out.join("reliability.md"), None)), None)
 }
 
 /// What the campaign does with its results, whole or merged: prints each rule's table, writes
 /// the page (`page`: where, and the figure if not beside it), prints the failures; 0 if every
 /// bar is met, 1 if not or a robot crashed, 2 if the page cannot be written.
-fn finish(results: &Results, page: Option<(PathBuf, Option<PathBuf>)>) -> Exit {
+fn finish(
+    results: &Results,
+    page: Option<(PathBuf, Option<PathBuf>)>,
+    in_loop: Option<&LoopPart>,
+) -> Exit {
     for report in &results.reports {
         print_report(report)?;
     }
     let mut failed = false;
     if let Some((out, figure)) = page {
-        match write_page(results, &out, figure) {
+        match write_page(results, &out, figure, in_loop) {
             Ok((missed, wrote)) => {
                 outln!("{wrote}")?;
                 for m in missed {
@@ -339,6 +433,7 @@ fn write_page(
     results: &Results,
     out: &Path,
     figure: Option<PathBuf>,
+    in_loop: Option<&LoopPart>,
 ) -> Result<(Vec<String>, String), String> {
     let mut missed = Vec::new();
     let reports = &results.reports;
@@ -355,7 +450,24 @@ fn write_page(
         suites: Vec::new(),
         initiations: None,
         loss: None,
+        in_the_loop: None,
     };
+    if let Some(l) = in_loop {
+        let part = l.path.to_string_lossy().replace('\\', "/");
+        page.in_the_loop = Some(
+            host_sim::pages::reliability::in_the_loop::loop_section(
+                &l.reports,
+                reports,
+                &part,
+                l.made_by.clone(),
+                l.wall_s,
+            )
+            .map_err(|e| format!("--hil-part {part}: {e}"))?,
+        );
+        page.campaign
+            .command
+            .push_str(&format!(" --hil-part {part}"));
+    }
     let wrote = if let [fixed, adaptive] = reports.as_slice() {
         staged.write_with(&rules_figure, |p| rules_chart(fixed, adaptive, p))?;
         page.rules = Some(rules_section(

@@ -386,6 +386,7 @@ fn a_part_in_the_loop_is_set_beside_the_pages_own_runs_of_its_seeds() {
                 "2",
                 "--hil",
                 "loopback:1",
+                "--runs-only",
                 "--shard",
                 "1/1",
                 "--out",
@@ -431,7 +432,10 @@ fn a_part_in_the_loop_is_set_beside_the_pages_own_runs_of_its_seeds() {
         "{section}"
     );
     assert!(
-        section.contains("cimax arena campaign --hil loopback:1 --seeds 2 --shard 1/1"),
+        section.contains(
+            "cimax arena campaign --scenario cycle-spread --decide adaptive --hil loopback:1 \
+             --seeds 2 --runs-only --shard 1/1 --out DIR"
+        ),
         "{section}"
     );
     assert!(

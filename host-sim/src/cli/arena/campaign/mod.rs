@@ -84,6 +84,10 @@ pub struct CampaignArgs {
     /// docs/data/campaign-qemu-1.jsonl). Read and checked before any run.
     #[arg(long, value_name = "PART", conflicts_with_all = ["shard", "hil"])]
     pub hil_part: Option<PathBuf>,
+    /// With --shard: the campaign's runs only, without the page's lab suite and loss sweep (a
+    /// part for --hil-part, a fifth of the size; `cimax merge` refuses it: it has no page).
+    #[arg(long, requires = "shard")]
+    pub runs_only: bool,
 }
 
 /// The runs in the loop of a `--hil-part`, as the page sets them beside its own.
@@ -140,13 +144,24 @@ fn read_loop_part(path: &Path, job: &CampaignJob) -> Result<LoopPart, String> {
     let results = part
         .assemble(&plans, units, timing)
         .map_err(|e| named(&e))?;
-    let mut made_by = format!(
-        "cimax arena campaign --hil {} --seeds {}",
-        hil.spec(),
-        part.seeds
-    );
+    let mut made_by = "cimax arena campaign".to_string();
+    if part.scenarios.len() != SCENARIOS.len() {
+        for s in &part.scenarios {
+            made_by.push_str(&format!(" --scenario {s}"));
+        }
+    }
+    if let [rule] = part.rules.as_slice() {
+        made_by.push_str(&format!(" --decide {}", rule.name()));
+    }
+    if let Some(loss) = part.loss {
+        made_by.push_str(&format!(" --loss {loss}"));
+    }
+    made_by.push_str(&format!(" --hil {} --seeds {}", hil.spec(), part.seeds));
     if part.seed != 1 {
         made_by.push_str(&format!(" --seed {}", part.seed));
+    }
+    if !part.page {
+        made_by.push_str(" --runs-only");
     }
     made_by.push_str(" --shard 1/1 --out DIR");
     Ok(LoopPart {
@@ -183,7 +198,7 @@ fn run(args: &CampaignArgs) -> Exit {
         rules: args
             .decide
             .map_or(vec![Decide::Fixed, Decide::Adaptive], |d| vec![d]),
-        page: args.shard.is_some() || page.is_some(),
+        page: (args.shard.is_some() && !args.runs_only) || page.is_some(),
         hil: in_the_loop(
             args.hil.as_ref(),
             args.hil_image.as_ref(),

@@ -113,11 +113,10 @@ pub enum LinkMsg {
     },
     /// 10, host → robot, just before a [`LinkMsg::Setup`]: the swarm key of the run it sets up
     /// (a `Setup` with no `Key` since the last one runs with the image's own key, if it was
-    /// built with one: none for the QEMU images). The robot program
-    /// then sends and accepts keyed frames only (`docs/protocol.md`, "Authenticated frames");
-    /// an image built without the firmware's `keyed` feature refuses the `Setup` (code 4).
-    /// With the `host-clock` feature only, as `Sync` and `Idle`: the host sends it only to a
-    /// robot whose `Hello` said it can follow the host's clock.
+    /// built with one: none for the QEMU images). The robot program then sends and accepts
+    /// keyed frames only (`docs/protocol.md`, "Authenticated frames"); an image built without
+    /// the firmware's `keyed` feature refuses the `Setup` (code 4). With the `host-clock`
+    /// feature only, as `Sync` and `Idle`: the host sends it only to robots on its clock.
     #[cfg(feature = "host-clock")]
     Key(protocol::auth::SwarmKey),
 }

@@ -81,7 +81,7 @@ pub struct CampaignArgs {
     /// A part (`--shard 1/1`) of this campaign made with --hil over some of its seeds: the page
     /// gains a section setting those runs in the loop beside its own host-build runs of the
     /// same seeds (docs/reliability.md, "The Cortex-M build in the loop", from the committed
-    /// docs/data/campaign-qemu-1.jsonl). Read and checked before any run.
+    /// docs/data/campaign-qemu-1/part-1-of-1.jsonl). Read and checked before any run.
     #[arg(long, value_name = "PART", conflicts_with_all = ["shard", "hil"])]
     pub hil_part: Option<PathBuf>,
     /// With --shard: the campaign's runs only, without the page's lab suite and loss sweep (a

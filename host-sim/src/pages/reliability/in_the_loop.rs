@@ -68,6 +68,19 @@ fn summary<'a>(runs: impl IntoIterator<Item = &'a Outcome> + Clone) -> (String, 
     (pct(right as f64 / n as f64), secs(quantile(&t, 0.5)))
 }
 
+/// Checks that `in_loop` and `host` hold the same decision rules, in the same order.
+fn same_rules(in_loop: &[Report], host: &[Report]) -> Result<(), String> {
+    if in_loop.len() != host.len()
+        || in_loop
+            .iter()
+            .zip(host)
+            .any(|(l, h)| l.plan.decide != h.plan.decide)
+    {
+        return Err("its decision rules are not the page's".into());
+    }
+    Ok(())
+}
+
 /// The section: `in_loop` (one report per rule, from the part `part` made by `made_by` in
 /// `wall_s` seconds) beside `host` (the page's reports, the same rules and scenarios over at
 /// least the same seeds).
@@ -82,14 +95,7 @@ pub fn loop_section(
     made_by: String,
     wall_s: f64,
 ) -> Result<LoopSection, String> {
-    if in_loop.len() != host.len()
-        || in_loop
-            .iter()
-            .zip(host)
-            .any(|(l, h)| l.plan.decide != h.plan.decide)
-    {
-        return Err("its decision rules are not the page's".into());
-    }
+    same_rules(in_loop, host)?;
     let Some(first) = in_loop.first() else {
         return Err("it holds no rule".into());
     };

@@ -443,6 +443,45 @@ fn a_part_in_the_loop_is_set_beside_the_pages_own_runs_of_its_seeds() {
         "{section}"
     );
 
+    // The same part in two shards, both given: the same section but for how it was made.
+    let two = root.join("two");
+    let mut parts = Vec::new();
+    for spec in ["1/2", "2/2"] {
+        let args = [
+            "--seeds",
+            "2",
+            "--hil",
+            "loopback:1",
+            "--runs-only",
+            "--shard",
+            spec,
+            "--out",
+            ".",
+        ];
+        let out = cimax_in(&two, &with(&scenario, &args));
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let i = &spec[..1];
+        parts.push(two.join(format!("part-{i}-of-2.jsonl")));
+    }
+    let mut args = vec!["--seeds", "3", "--out", "reliability.md"];
+    for p in &parts {
+        args.extend(["--hil-part", p.to_str().unwrap()]);
+    }
+    let out = cimax_in(&root.join("page-two"), &with(&scenario, &args));
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let page2 = std::fs::read_to_string(root.join("page-two").join("reliability.md")).unwrap();
+    let section2 = &page2[page2.find("## The HIL").unwrap()..];
+    assert!(
+        section2.contains("**2 of 2 runs in the loop right**"),
+        "{section2}"
+    );
+    assert!(
+        section2.contains("--runs-only --shard I/2 --out DIR, I = 1 to 2"),
+        "{section2}"
+    );
+    let table = |s: &str| s[s.find("| scenario").unwrap()..].to_string();
+    assert_eq!(table(section), table(section2));
+
     // Refused before any run, naming the part: other scenarios, seeds the page does not run,
     // a part without robots in the loop, no such file; and no page is written.
     let plain = root.join("plain");

@@ -78,22 +78,23 @@ pub struct CampaignArgs {
     /// The image --hil qemu:N boots (default: the one `cargo hil-image` builds).
     #[arg(long, value_name = "ELF", requires = "hil")]
     pub hil_image: Option<PathBuf>,
-    /// A part (`--shard 1/1`) of this campaign made with --hil over some of its seeds: the page
-    /// gains a section setting those runs in the loop beside its own host-build runs of the
-    /// same seeds (docs/reliability.md, "The Cortex-M build in the loop", from the committed
-    /// docs/data/campaign-qemu-1/part-1-of-1.jsonl). Read and checked before any run.
+    /// The parts (repeat it for each, every shard of one job) of this campaign made with --hil
+    /// over some of its seeds: the page gains a section setting those runs in the loop beside
+    /// its own host-build runs of the same seeds (docs/reliability.md, "The Cortex-M build in
+    /// the loop", from the committed docs/data/campaign-qemu-1/part-1-of-1.jsonl). Read and
+    /// checked before any run.
     #[arg(long, value_name = "PART", conflicts_with_all = ["shard", "hil"])]
-    pub hil_part: Option<PathBuf>,
+    pub hil_part: Vec<PathBuf>,
     /// With --shard: the campaign's runs only, without the page's lab suite and loss sweep (a
     /// part for --hil-part, a fifth of the size; `cimax merge` refuses it: it has no page).
     #[arg(long, requires = "shard")]
     pub runs_only: bool,
 }
 
-/// The runs in the loop of a `--hil-part`, as the page sets them beside its own.
+/// The runs in the loop of `--hil-part`, as the page sets them beside its own.
 struct LoopPart {
-    /// The part, as given.
-    path: PathBuf,
+    /// The parts, as given.
+    paths: Vec<PathBuf>,
     /// One report per rule.
     reports: Vec<Report>,
     /// The command that made it.
@@ -102,14 +103,28 @@ struct LoopPart {
     wall_s: f64,
 }
 
-/// Reads `--hil-part` `path`: a whole campaign (one part, `--shard 1/1`) made with `--hil`, of
-/// the same scenarios, rules and loss as `job`, over seeds `job` runs too.
+/// `p` with forward slashes (the page's paths read the same on every system).
+fn slashed(p: &Path) -> String {
+    p.to_string_lossy().replace('\\', "/")
+}
+
+/// `paths`, [`slashed`], comma-separated.
+fn shown(paths: &[PathBuf]) -> String {
+    paths
+        .iter()
+        .map(|p| slashed(p))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// Reads the `--hil-part`s `paths`: every shard of one campaign made with `--hil`, of the
+/// same scenarios, rules and loss as `job`, over seeds `job` runs too.
 ///
 /// # Errors
-/// The path and what is wrong with it.
-fn read_loop_part(path: &Path, job: &CampaignJob) -> Result<LoopPart, String> {
-    let named = |e: &dyn std::fmt::Display| format!("--hil-part {}: {e}", path.display());
-    let m = shard::merge::merge(&[path.to_path_buf()]).map_err(|e| named(&e))?;
+/// The paths and what is wrong with them.
+fn read_loop_part(paths: &[PathBuf], job: &CampaignJob) -> Result<LoopPart, String> {
+    let named = |e: &dyn std::fmt::Display| format!("--hil-part {}: {e}", shown(paths));
+    let m = shard::merge::merge(paths).map_err(|e| named(&e))?;
     if m.job.command != COMMAND {
         return Err(named(&format!(
             "a part of `cimax {}`, not of `cimax {COMMAND}`",
@@ -163,9 +178,12 @@ fn read_loop_part(path: &Path, job: &CampaignJob) -> Result<LoopPart, String> {
     if !part.page {
         made_by.push_str(" --runs-only");
     }
-    made_by.push_str(" --shard 1/1 --out DIR");
+    match m.parts.len() {
+        1 => made_by.push_str(" --shard 1/1 --out DIR"),
+        n => made_by.push_str(&format!(" --shard I/{n} --out DIR, I = 1 to {n}")),
+    }
     Ok(LoopPart {
-        path: path.to_path_buf(),
+        paths: paths.to_vec(),
         reports: results.reports,
         made_by,
         wall_s: m.wall_s,
@@ -206,14 +224,14 @@ fn run(args: &CampaignArgs) -> Exit {
             hal_emu::judge::PAPER_PATTERNS[0].len(),
         )?,
     };
-    let in_loop = match &args.hil_part {
-        Some(_) if page.is_none() => {
+    let in_loop = match args.hil_part.as_slice() {
+        [] => None,
+        _ if page.is_none() => {
             return Err(
                 "--hil-part: only with the page (--out, or the documented campaign)".into(),
             );
         }
-        Some(p) => Some(read_loop_part(p, &job)?),
-        None => None,
+        parts => Some(read_loop_part(parts, &job)?),
     };
     let plans = job.plans()?;
     let total = job.units();
@@ -468,7 +486,7 @@ fn write_page(
         in_the_loop: None,
     };
     if let Some(l) = in_loop {
-        let part = l.path.to_string_lossy().replace('\\', "/");
+        let part = shown(&l.paths);
         page.in_the_loop = Some(
             host_sim::pages::reliability::in_the_loop::loop_section(
                 &l.reports,
@@ -479,9 +497,11 @@ fn write_page(
             )
             .map_err(|e| format!("--hil-part {part}: {e}"))?,
         );
-        page.campaign
-            .command
-            .push_str(&format!(" --hil-part {part}"));
+        for p in &l.paths {
+            page.campaign
+                .command
+                .push_str(&format!(" --hil-part {}", slashed(p)));
+        }
     }
     let wrote = if let [fixed, adaptive] = reports.as_slice() {
         staged.write_with(&rules_figure, |p| rules_chart(fixed, adaptive, p))?;

@@ -216,7 +216,7 @@ pub struct ShapesResult {
 
 /// Runs every formation of [`formations`] [`RUNS`] times on X = 0 with `cfg` (formation `k`
 /// uses seed `derive(seed, [k])`), and the line and the cross again with the other rule for an
-/// exactly opposite opinion; writes nothing ([`write`] does).
+/// exactly opposite opinion; writes nothing ([`write`](fn@write) does).
 ///
 /// # Errors
 /// If a run fails.
@@ -249,7 +249,7 @@ pub fn write(figs: &Path, r: &ShapesResult) -> Result<(), Error> {
     Ok(())
 }
 
-/// [`compute`], then [`write`] into `figs`; the page's section.
+/// [`compute`], then [`write`](fn@write) into `figs`; the page's section.
 ///
 /// # Errors
 /// If a run fails or a file cannot be written.
@@ -408,7 +408,7 @@ fn with_keep(
     Ok((rows, holds))
 }
 
-/// Formations [`with_keep`] runs again (the line and the cross).
+/// Formations `with_keep` runs again (the line and the cross).
 pub const KEEP_FORMATIONS: u32 = 2;
 
 /// The figure's file name under `docs/figures/`.

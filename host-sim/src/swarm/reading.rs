@@ -22,7 +22,7 @@ pub trait Reading: Copy + Default + fmt::Debug + PartialEq + Send + Sync + 'stat
     /// A noisy reading from the fields' means at the agent (`QUANTITIES` values): each
     /// quantity gets its own noise draw, in order.
     fn sample(means: &[f64], noise: f64, rng: &mut Pcg64Mcg) -> Self;
-    /// The first quantity, as the observer's [`Tap`] pools it.
+    /// The first quantity, as the observer's [`Tap`](crate::swarm::tap::Tap) pools it.
     fn first(&self) -> f64;
 }
 

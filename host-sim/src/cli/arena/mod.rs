@@ -7,7 +7,7 @@
 //! watching the robots would.
 //!
 //! This module holds the options ([`ArenaArgs`]) and dispatches: robots in a line under light
-//! patterns ([`line`]), robots on a plane over a field and `cimax arena bench` ([`plane`]),
+//! patterns ([`line`](mod@line)), robots on a plane over a field and `cimax arena bench` ([`plane`]),
 //! `cimax arena sweep` ([`sweep`]), the fault campaign ([`campaign`]). The experiments themselves are the
 //! library's [`host_sim::arena`] and `hal_emu::judge`; [`options`] turns the options into
 //! their configurations.
@@ -65,7 +65,7 @@ pub const MAX_RUN_SECS: u64 = 1_000_000;
 /// The most metres `--spacing` and `--range` take (a kilometre: light crosses a lab).
 pub const MAX_METRES: f64 = 1000.0;
 
-/// Options of `cimax arena`. With none, the paper's suite ([`paper_suite`]): six patterns and
+/// Options of `cimax arena`. With none, the paper's suite ([`paper_suite`](hal_emu::judge::paper_suite)): six patterns and
 /// the alternating experiment from each to its mirror image, five runs each.
 #[derive(Args, Debug, Clone)]
 #[command(args_conflicts_with_subcommands = true, allow_negative_numbers = true)]

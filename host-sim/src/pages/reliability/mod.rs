@@ -122,7 +122,7 @@ pub(crate) fn decision_time(o: &Outcome) -> Option<f64> {
     o.restore_s.or(o.consensus_s)
 }
 
-/// Median and 95th percentile of [`decision_time`] over a scenario's runs.
+/// Median and 95th percentile of `decision_time` (consensus, or restoration after a reboot) over a scenario's runs.
 pub fn decision_times(r: &ScenarioResult) -> (Option<f64>, Option<f64>) {
     let t: Vec<f64> = r.runs.iter().filter_map(decision_time).collect();
     (quantile(&t, 0.5), quantile(&t, 0.95))

@@ -4,7 +4,7 @@
 //!
 //! In two phases, so that the work can be shared out and merged: [`compute`] runs one [`Unit`]
 //! (a stage: its runs, with seeds derived from the base seed and the unit alone) and returns
-//! its [`UnitResult`], writing nothing; [`write`] writes every file from the [`Results`] of all
+//! its [`UnitResult`], writing nothing; [`write`](fn@write) writes every file from the [`Results`] of all
 //! units, running nothing. [`reproduce`] does both, unit by unit in the order of [`units`]. A
 //! [`UnitResult`] goes through JSON (`serde_json`) and back bit for bit, so results computed
 //! elsewhere write the very same files.
@@ -195,7 +195,7 @@ pub struct Summary {
 
 /// Runs every experiment ([`compute`], unit by unit in the order of [`units`]), then writes
 /// the figures and CSV files into `docs/figures/` and regenerates `docs/reproduction.md`
-/// ([`write`]). `log` receives one line per stage.
+/// ([`write`](fn@write)). `log` receives one line per stage.
 ///
 /// # Errors
 /// If a run fails or a file cannot be written.

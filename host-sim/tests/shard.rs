@@ -376,26 +376,25 @@ fn a_part_in_the_loop_is_set_beside_the_pages_own_runs_of_its_seeds() {
         "--decide",
         "adaptive",
     ];
-    let d = root.join("loop");
-    let out = cimax_in(
-        &d,
-        &with(
-            &scenario,
-            &[
-                "--seeds",
-                "2",
-                "--hil",
-                "loopback:1",
-                "--runs-only",
-                "--shard",
-                "1/1",
-                "--out",
-                ".",
-            ],
-        ),
-    );
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let part = d.join("part-1-of-1.jsonl");
+    // Shard `spec` of the campaign in the loop over seeds 1 and 2, into `dir`: its part.
+    let loop_part = |dir: &Path, spec: &str| -> PathBuf {
+        let args = [
+            "--seeds",
+            "2",
+            "--hil",
+            "loopback:1",
+            "--runs-only",
+            "--shard",
+            spec,
+            "--out",
+            ".",
+        ];
+        let out = cimax_in(dir, &with(&scenario, &args));
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let (i, n) = spec.split_once('/').unwrap();
+        dir.join(format!("part-{i}-of-{n}.jsonl"))
+    };
+    let part = loop_part(&root.join("loop"), "1/1");
     let part_arg = part.to_str().unwrap();
     let page_dir = root.join("page");
     let out = cimax_in(
@@ -445,24 +444,7 @@ fn a_part_in_the_loop_is_set_beside_the_pages_own_runs_of_its_seeds() {
 
     // The same part in two shards, both given: the same section but for how it was made.
     let two = root.join("two");
-    let mut parts = Vec::new();
-    for spec in ["1/2", "2/2"] {
-        let args = [
-            "--seeds",
-            "2",
-            "--hil",
-            "loopback:1",
-            "--runs-only",
-            "--shard",
-            spec,
-            "--out",
-            ".",
-        ];
-        let out = cimax_in(&two, &with(&scenario, &args));
-        assert!(out.status.success(), "{}", text(&out.stderr));
-        let i = &spec[..1];
-        parts.push(two.join(format!("part-{i}-of-2.jsonl")));
-    }
+    let parts = [loop_part(&two, "1/2"), loop_part(&two, "2/2")];
     let mut args = vec!["--seeds", "3", "--out", "reliability.md"];
     for p in &parts {
         args.extend(["--hil-part", p.to_str().unwrap()]);

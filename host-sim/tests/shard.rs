@@ -524,6 +524,31 @@ fn a_part_in_the_loop_is_set_beside_the_pages_own_runs_of_its_seeds() {
         assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
         assert!(text(&out.stderr).contains(why), "{}", text(&out.stderr));
     }
+    // A part whose header was edited to hold no seeds: named, not a panic.
+    let edited = root.join("no-seeds.jsonl");
+    let text_of = std::fs::read_to_string(&part).unwrap();
+    assert!(text_of.contains("\"seeds\":2"));
+    std::fs::write(&edited, text_of.replacen("\"seeds\":2", "\"seeds\":0", 1)).unwrap();
+    let out = cimax_in(
+        &root.join("refused"),
+        &with(
+            &scenario,
+            &[
+                "--seeds",
+                "1",
+                "--out",
+                "refused.md",
+                "--hil-part",
+                edited.to_str().unwrap(),
+            ],
+        ),
+    );
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stderr).contains("no-seeds.jsonl"),
+        "{}",
+        text(&out.stderr)
+    );
     assert!(!root.join("refused").join("refused.md").exists());
     let _ = std::fs::remove_dir_all(&root);
 }

@@ -143,7 +143,11 @@ fn read_loop_part(paths: &[PathBuf], job: &CampaignJob) -> Result<LoopPart, Stri
               same options but --hil, --seeds and --seed)",
         ));
     }
-    let (first, last) = (part.seed, part.seed.saturating_add(part.seeds - 1));
+    // A part file is input: its seed count may be anything (0 too).
+    let Some(more) = part.seeds.checked_sub(1) else {
+        return Err(named(&"it holds no seeds"));
+    };
+    let (first, last) = (part.seed, part.seed.saturating_add(more));
     if first < job.seed || last > job.seed.saturating_add(job.seeds - 1) {
         return Err(named(&format!(
             "its seeds {first} to {last} are not all among this campaign's ({} to {})",

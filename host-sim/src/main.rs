@@ -2,9 +2,9 @@
 //!
 //! - `cimax arena` runs the paper's four-robot lab experiment (section 4), see [`cli::arena`].
 //! - `cimax swarm run|sweep|field|reproduce|bench` are the paper's 2D simulations (section 3),
-//!   over the [`host_sim`] library, see [`cli::swarm`].
+//!   over the `swarm-sim` crate, see [`cli::swarm`].
 //! - `cimax view TRACE -o PAGE.html` makes the replay viewer's page of a saved trace
-//!   ([`host_sim::viewer`]).
+//!   ([`viewer`]).
 //! - `cimax merge PARTS... --out DIR` puts the parts of a sharded `arena sweep`, `arena
 //!   campaign` or `swarm sweep` (`--shard I/N`) together, see [`cli::merge`].
 //!
@@ -74,7 +74,7 @@ fn view(trace: &std::path::Path, output: &std::path::Path) -> cli::out::Exit {
     }
     let text = std::fs::read_to_string(trace).map_err(|e| format!("{}: {e}", trace.display()))?;
     let source = trace.display().to_string();
-    let (header, events) = host_sim::viewer::read_trace(&text, &source).map_err(|e| {
+    let (header, events) = viewer::read_trace(&text, &source).map_err(|e| {
         // A trace of events only, as `arena campaign --trace` wrote them before they had the
         // set-up line.
         let first: Option<serde_json::Value> = text
@@ -91,11 +91,11 @@ fn view(trace: &std::path::Path, output: &std::path::Path) -> cli::out::Exit {
         }
     })?;
     if to_stdout {
-        let page = host_sim::viewer::page(&host_sim::viewer::Replay::from_trace(header, &events))?;
+        let page = viewer::page(&viewer::Replay::from_trace(header, &events))?;
         cli::out::text(&page)?;
     } else {
         let mut staged = cli::files::Staged::new();
-        staged.write_with(output, |p| host_sim::viewer::write_page(p, header, &events))?;
+        staged.write_with(output, |p| viewer::write_page(p, header, &events))?;
         staged.commit()?;
     }
     Ok(ExitCode::SUCCESS)

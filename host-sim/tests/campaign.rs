@@ -5,9 +5,9 @@
 mod common;
 
 use common::{cimax, pool, scratch};
-use host_sim::arena::campaign::{self, Decide, Plan, SCENARIOS};
-use host_sim::pages::reliability;
-use host_sim::progress::Progress;
+use lab::campaign::{self, Decide, Plan, SCENARIOS};
+use pages::reliability;
+use swarm_sim::progress::Progress;
 
 fn index(name: &str) -> usize {
     SCENARIOS.iter().position(|s| s.name == name).unwrap()

@@ -3,10 +3,10 @@
 
 use hal_emu::run;
 use hal_emu::world::arena::swarm_heading;
-use host_sim::arena::plane::{Layout, PlaneSpec, config};
-use host_sim::swarm::scenario::Placement;
-use host_sim::swarm::scenario::Scenario;
+use lab::plane::{Layout, PlaneSpec, config};
 use protocol::Params;
+use swarm_sim::scenario::Placement;
+use swarm_sim::scenario::Scenario;
 
 fn spec(robots: usize, x_init: f64, moves: u32) -> PlaneSpec {
     PlaneSpec {

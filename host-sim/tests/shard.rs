@@ -259,7 +259,7 @@ fn parts_that_are_not_one_whole_job_are_refused_and_named() {
     // A scenario file: the job carries its text.
     let scenario = root.join("mine.toml");
     std::fs::create_dir_all(&root).unwrap();
-    let sharp = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenarios/sharp.toml");
+    let sharp = Path::new(env!("CARGO_MANIFEST_DIR")).join("../swarm-sim/scenarios/sharp.toml");
     std::fs::copy(&sharp, &scenario).unwrap();
     let sweep = with(TINY_SWEEP, &["--scenario", scenario.to_str().unwrap()]);
     let p = shards(&sweep, 3, &root.join("parts"), 4);

@@ -4,12 +4,12 @@
 mod common;
 
 use common::{pool, scratch};
-use host_sim::pages::csv::write_sweep_csv;
-use host_sim::progress::Progress;
-use host_sim::swarm::experiment::{self, direction_map, radial_profile, sweep};
-use host_sim::swarm::geometry::Shape;
-use host_sim::swarm::scenario::{GridSpec, LATTICE_SPACING, Scenario};
 use nalgebra::Point2;
+use pages::csv::write_sweep_csv;
+use swarm_sim::experiment::{self, direction_map, radial_profile, sweep};
+use swarm_sim::geometry::Shape;
+use swarm_sim::progress::Progress;
+use swarm_sim::scenario::{GridSpec, LATTICE_SPACING, Scenario};
 
 fn scenario(name: &str) -> Scenario {
     Scenario::builtin(name).expect("built-in")
@@ -150,14 +150,14 @@ fn csv_files_have_the_documented_columns() {
 fn a_scenario_file_with_every_option_runs() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/scenarios/examples/two-clouds.toml"
+        "/../swarm-sim/scenarios/examples/two-clouds.toml"
     );
     let scn = Scenario::load(path).expect("example parses");
     assert_eq!(scn.name, "two-clouds");
     assert_eq!(scn.agents, 80);
     assert_eq!(
         scn.shape,
-        host_sim::swarm::geometry::Shape::Rectangle {
+        swarm_sim::geometry::Shape::Rectangle {
             width: 9.0,
             height: 4.0
         }
@@ -180,7 +180,7 @@ fn a_scenario_file_with_every_option_runs() {
 fn a_scenario_with_the_entropy_as_diversity_runs_and_measures_in_bits() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/scenarios/examples/gradient-entropy.toml"
+        "/../swarm-sim/scenarios/examples/gradient-entropy.toml"
     );
     let scn = Scenario::load(path).expect("example parses");
     assert_eq!(scn.run.diversity.kind(), "entropy");
@@ -190,8 +190,8 @@ fn a_scenario_with_the_entropy_as_diversity_runs_and_measures_in_bits() {
     assert!((2.0..6.0).contains(&d), "{d}");
     let variance = experiment::run(
         &scn,
-        host_sim::swarm::sim::RunConfig {
-            diversity: host_sim::swarm::measure::Measure::Variance,
+        swarm_sim::sim::RunConfig {
+            diversity: swarm_sim::measure::Measure::Variance,
             ..scn.run
         },
         Point2::new(2.33, 0.0),
@@ -207,7 +207,7 @@ fn a_scenario_with_the_entropy_as_diversity_runs_and_measures_in_bits() {
 fn a_second_quantity_alone_leads_the_swarm_to_its_border() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/scenarios/examples/two-quantities.toml"
+        "/../swarm-sim/scenarios/examples/two-quantities.toml"
     );
     let two = Scenario::load(path).expect("example parses");
     assert!(two.field2.is_some());
@@ -223,7 +223,7 @@ fn a_second_quantity_alone_leads_the_swarm_to_its_border() {
     assert!(one <= 0.5, "{one}");
     // The entropy scores two quantities as well.
     let mut entropy = two.clone();
-    entropy.run.diversity = host_sim::swarm::measure::Measure::entropy(0.5).unwrap();
+    entropy.run.diversity = swarm_sim::measure::Measure::entropy(0.5).unwrap();
     let e = rate(&entropy);
     assert!(e >= 0.8, "{e}");
 }
@@ -246,7 +246,7 @@ fn recording_a_run_for_the_viewer_changes_nothing_in_it() {
         e,
         hal_emu::TraceEvent::Decided { scores, .. } if scores.iter().any(Option::is_some)
     )));
-    let replay = host_sim::viewer::swarm::replay(&scn, &traced, 3, &trace);
+    let replay = viewer::swarm::replay(&scn, &traced, 3, &trace);
     assert_eq!(replay.moves.len(), 6);
     assert_eq!(replay.header.positions.len(), scn.agents);
     let last = traced.periods.last().unwrap().to;

@@ -4,7 +4,7 @@
 //! (`x`, `y`, or the distance from a centre): a list of [`Segment`]s, each starting at `from`
 //! with `level` and rising by `slope` per R until the next segment starts. A repeated jump is a
 //! sharp border; a non-zero slope is a gradient; a radial profile is a cloud. The built-in
-//! scenarios (`host-sim/scenarios/*.toml`) are written in exactly this form. The 2D swarm
+//! scenarios (`swarm-sim/scenarios/*.toml`) are written in exactly this form. The 2D swarm
 //! simulator (`cimax swarm`) and the emulated arena on a plane (`cimax arena --field`) both
 //! read it from here.
 //!

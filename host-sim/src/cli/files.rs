@@ -114,14 +114,14 @@ fn temp_in(dir: &Path) -> std::io::Result<NamedTempFile> {
     b.tempfile_in(dir)
 }
 
-/// The checkout's `docs/` folder ([`host_sim::report::default_docs_dir`]), the default of
+/// The checkout's `docs/` folder ([`report::default_docs_dir`]), the default of
 /// the commands that regenerate its pages, if the working folder is inside that checkout;
 /// outside it the command must be told where to write (`option`).
 ///
 /// # Errors
 /// Outside the checkout: a message naming the checkout and `option`.
 pub fn checkout_docs(option: &str) -> Result<PathBuf, String> {
-    let docs = host_sim::report::default_docs_dir();
+    let docs = report::default_docs_dir();
     let root = docs.parent().unwrap_or(&docs).to_path_buf();
     let here = std::env::current_dir()
         .and_then(|d| d.canonicalize())

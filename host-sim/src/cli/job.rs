@@ -1,8 +1,8 @@
 //! What the sharded commands (`--shard I/N`) put in a part's job besides numbers: the scenario
 //! they ran, resolved so that `cimax merge` needs no file but the parts.
 
-use host_sim::swarm::scenario::Scenario;
 use serde::{Deserialize, Serialize};
+use swarm_sim::scenario::Scenario;
 
 /// A scenario as a job names it: a built-in one by name, a file by its path and its text (so
 /// that a changed file makes another job, and the merge reads the very scenario the shards

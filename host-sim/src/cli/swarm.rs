@@ -12,17 +12,17 @@ use std::path::{Path, PathBuf};
 use std::time::Instant as Clock;
 
 use clap::{Args, Subcommand};
-use host_sim::pages::csv::{write_field_csv, write_run_csv};
-use host_sim::pages::figures;
-use host_sim::progress::Progress;
-use host_sim::seeds;
-use host_sim::swarm::experiment;
-use host_sim::swarm::scenario::{
+use nalgebra::Point2;
+use pages::csv::{write_field_csv, write_run_csv};
+use pages::figures;
+use protocol::Duration;
+use swarm_sim::experiment;
+use swarm_sim::progress::Progress;
+use swarm_sim::scenario::{
     DEFAULT_PLACEMENT, MAX_AGENTS, MAX_EXTENT, MAX_PERIODS, MAX_RUNS_PER_POINT, Placement, Scenario,
 };
-use host_sim::swarm::sim::MAX_PERIOD_SECS;
-use nalgebra::Point2;
-use protocol::Duration;
+use swarm_sim::seeds;
+use swarm_sim::sim::MAX_PERIOD_SECS;
 
 use crate::cli::files::{self, Staged};
 use crate::cli::out::{StdoutError, outln};
@@ -264,8 +264,8 @@ fn swarm_run(
         Some(path) => {
             // The same run (recording draws nothing), with its events.
             let (out, trace) = experiment::run_traced(&scn, scn.run, start, periods, c.seed)?;
-            let replay = host_sim::viewer::swarm::replay(&scn, &out, c.seed, &trace);
-            staged.write(path, host_sim::viewer::page(&replay)?)?;
+            let replay = viewer::swarm::replay(&scn, &out, c.seed, &trace);
+            staged.write(path, viewer::page(&replay)?)?;
             out
         }
     };
@@ -318,13 +318,7 @@ fn swarm_field(c: &Common) -> Res {
     let mut staged = Staged::new();
     staged.write_with(&csv, |p| write_field_csv(p, &arrows))?;
     staged.write_with(&svg, |p| {
-        figures::direction_figure(
-            p,
-            &scn,
-            &grid,
-            &arrows,
-            &host_sim::pages::marks::map_for(&scn),
-        )
+        figures::direction_figure(p, &scn, &grid, &arrows, &pages::marks::map_for(&scn))
     })?;
     staged.commit()?;
     outln!(

@@ -22,9 +22,9 @@ use std::path::{Path, PathBuf};
 use rayon::prelude::*;
 use serde::Serialize;
 
-use crate::progress::Progress;
 pub use part::{Job, PartError};
 pub use spec::ShardSpec;
+use swarm_sim::progress::Progress;
 
 /// How long a job took and on how many threads: measured for an unsharded run, the shards'
 /// wall times added up (and their most threads) for a merged one.

@@ -10,9 +10,9 @@ use hal_emu::judge::{
 };
 use hal_emu::world::hil::HilRobot;
 use hal_emu::{ArenaConfig, ArenaError, MediumParams};
-use host_sim::progress::Progress;
 use protocol::{Duration, Instant, Params};
 use rayon::prelude::*;
+use swarm_sim::progress::Progress;
 
 use super::ArenaArgs;
 use super::options::{
@@ -355,13 +355,11 @@ fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
         let header = lab_header(&cfg, &run, args);
         if let Some(path) = &args.trace {
             staged.write_with(path, |p| {
-                host_sim::viewer::write_trace(p, header.clone(), &run.report.trace)
+                viewer::write_trace(p, header.clone(), &run.report.trace)
             })?;
         }
         if let Some(path) = &args.html {
-            staged.write_with(path, |p| {
-                host_sim::viewer::write_page(p, header, &run.report.trace)
-            })?;
+            staged.write_with(path, |p| viewer::write_page(p, header, &run.report.trace))?;
         }
     }
     if let Some(path) = &args.svg {
@@ -371,8 +369,8 @@ fn write_artifacts(args: &ArenaArgs, cfg: &ArenaConfig) -> Result<(), String> {
 }
 
 /// The viewer's header of a lab run: the set-up, a title and the verdict.
-fn lab_header(cfg: &ArenaConfig, run: &LabRun, args: &ArenaArgs) -> host_sim::viewer::Header {
-    let mut h = host_sim::viewer::header_of(cfg, &run.report.trace);
+fn lab_header(cfg: &ArenaConfig, run: &LabRun, args: &ArenaArgs) -> viewer::Header {
+    let mut h = viewer::header_of(cfg, &run.report.trace);
     h.title = format!(
         "cimax arena: {} robots, lights {}, seed {}, {:?} rule",
         cfg.positions.len(),
@@ -396,7 +394,7 @@ fn lab_header(cfg: &ArenaConfig, run: &LabRun, args: &ArenaArgs) -> host_sim::vi
             None => format!("FAILED: LEDs at the end {leds}, expected {x}"),
         },
     };
-    h.verdict = Some(host_sim::viewer::Verdict {
+    h.verdict = Some(viewer::Verdict {
         success: run.success,
         leds,
         expected,
@@ -405,11 +403,11 @@ fn lab_header(cfg: &ArenaConfig, run: &LabRun, args: &ArenaArgs) -> host_sim::vi
     h
 }
 
-/// The timeline of `run` as SVG ([`host_sim::pages::figures::draw_timeline`]); an error is reported on
+/// The timeline of `run` as SVG ([`pages::figures::draw_timeline`]); an error is reported on
 /// stderr and leaves what was drawn.
 fn timeline_svg(cfg: &ArenaConfig, run: &LabRun) -> String {
     let mut svg = String::new();
-    if let Err(e) = host_sim::pages::figures::draw_timeline(cfg, run, &mut svg) {
+    if let Err(e) = pages::figures::draw_timeline(cfg, run, &mut svg) {
         eprintln!("cimax arena: timeline: {e}");
     }
     svg

@@ -9,7 +9,7 @@
 //! This module holds the options ([`ArenaArgs`]) and dispatches: robots in a line under light
 //! patterns ([`line`](mod@line)), robots on a plane over a field and `cimax arena bench` ([`plane`]),
 //! `cimax arena sweep` ([`sweep`]), the fault campaign ([`campaign`]). The experiments themselves are the
-//! library's [`host_sim::arena`] and `hal_emu::judge`; [`options`] turns the options into
+//! library's [`lab`] and `hal_emu::judge`; [`options`] turns the options into
 //! their configurations.
 
 mod campaign;
@@ -28,10 +28,10 @@ use crate::cli::out::finish;
 use clap::{Args, Subcommand};
 use hal_emu::Readings;
 use hal_emu::world::hil::HilSpec;
-use host_sim::arena::campaign::Decide;
-use host_sim::arena::plane::Layout;
-use host_sim::swarm::scenario::MAX_EXTENT;
+use lab::campaign::Decide;
+use lab::plane::Layout;
 use protocol::SwarmKey;
+use swarm_sim::scenario::MAX_EXTENT;
 
 pub use campaign::CampaignArgs;
 pub(crate) use campaign::{COMMAND as CAMPAIGN_COMMAND, merge as merge_campaign};

@@ -7,7 +7,7 @@ use hal_emu::MediumParams;
 use std::time::Duration as StdDuration;
 
 use hal_emu::world::hil::{Follower, HilClock, HilRobot, HilSpec, HilTimeouts, Transport};
-use host_sim::arena::InTheLoop;
+use lab::InTheLoop;
 use protocol::{Duration, Params};
 
 use super::{ArenaArgs, HilClockArg, MAX_RUN_SECS};
@@ -220,7 +220,7 @@ const IMAGE_DIR: &str = "firmware/qemu/target/thumbv7em-none-eabihf/release";
 
 /// The image `--hil qemu:N` boots without `--hil-image`: `hil` (2 sectors) or `hil6`, under
 /// [`IMAGE_DIR`] of the working folder if it is there, else of the checkout this `cimax` was
-/// built from (as the docs folder is found, [`host_sim::report::default_docs_dir`]).
+/// built from (as the docs folder is found, [`report::default_docs_dir`]).
 pub(in crate::cli) fn default_image(sectors: u8) -> PathBuf {
     let name = if sectors == 2 { "hil" } else { "hil6" };
     let here = PathBuf::from(IMAGE_DIR).join(name);

@@ -1,5 +1,5 @@
 //! `cimax arena --field ...` and `cimax arena bench`: robots on a plane over one of the 2D
-//! simulator's fields ([`host_sim::arena::plane`]), as the options ask, printed. `cimax arena
+//! simulator's fields ([`lab::plane`]), as the options ask, printed. `cimax arena
 //! sweep` is [`super::sweep`].
 
 use std::process::ExitCode;
@@ -7,11 +7,11 @@ use std::process::ExitCode;
 use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
 use firmware::Config;
 use hal_emu::MediumParams;
-use host_sim::arena::plane::{self, Layout, PlaneRun, PlaneSpec};
-use host_sim::swarm::scenario::{Placement, Scenario};
+use lab::plane::{self, Layout, PlaneRun, PlaneSpec};
 use protocol::Params;
 use rayon::prelude::*;
 use serde::Serialize;
+use swarm_sim::scenario::{Placement, Scenario};
 
 use super::ArenaArgs;
 use super::options::{hil_robots, medium, robot_params, scaled, time_scale};
@@ -48,7 +48,7 @@ pub(super) fn main(args: &ArenaArgs) -> Exit {
     let wall = std::time::Instant::now();
     let seeds: Vec<u64> = (0..args.runs).map(|k| args.seed.wrapping_add(k)).collect();
     // A bar of runs on a terminal (61 robots: about half a second a run).
-    let bar = host_sim::progress::Progress::new(seeds.len() as u64, "arena plane", false);
+    let bar = swarm_sim::progress::Progress::new(seeds.len() as u64, "arena plane", false);
     let one = |s: u64| {
         let r = plane::run(&spec, s);
         bar.inc();
@@ -76,12 +76,10 @@ fn plane_artifacts(args: &ArenaArgs, spec: &PlaneSpec) -> Result<(), String> {
     let header = plane::viewer_header(spec, &cfg, &run, &trace);
     let mut staged = crate::cli::files::Staged::new();
     if let Some(path) = &args.trace {
-        staged.write_with(path, |p| {
-            host_sim::viewer::write_trace(p, header.clone(), &trace)
-        })?;
+        staged.write_with(path, |p| viewer::write_trace(p, header.clone(), &trace))?;
     }
     if let Some(path) = &args.html {
-        staged.write_with(path, |p| host_sim::viewer::write_page(p, header, &trace))?;
+        staged.write_with(path, |p| viewer::write_page(p, header, &trace))?;
     }
     staged.commit()
 }
@@ -258,7 +256,7 @@ fn print_run_table(spec: &PlaneSpec, runs: &[PlaneRun]) -> Result<(), StdoutErro
 
 /// The mean of `xs`, `None` if empty.
 fn mean(xs: impl Iterator<Item = f64>) -> Option<f64> {
-    host_sim::stats::mean(&xs.collect::<Vec<_>>())
+    swarm_sim::stats::mean(&xs.collect::<Vec<_>>())
 }
 
 /// Options of `cimax arena bench`.

@@ -363,7 +363,7 @@ pub(super) fn print_table(
             .collect();
         let ok = rs.iter().filter(|r| r.success).count();
         let times: Vec<f64> = rs.iter().filter_map(|r| r.consensus_s).collect();
-        let mean = host_sim::stats::mean(&times);
+        let mean = swarm_sim::stats::mean(&times);
         let speed: f64 = rs
             .iter()
             .map(|r| r.report.emulated.as_secs_f64())

@@ -1,6 +1,6 @@
 //! `cimax arena sweep`: success rate and mean moves to success against the initial position,
-//! the robot program on a plane ([`host_sim::arena::plane::sweep_run`]) beside the 2D
-//! simulator ([`host_sim::swarm::experiment::sweep_run`]) and the paper; and its shards.
+//! the robot program on a plane ([`lab::plane::sweep_run`]) beside the 2D
+//! simulator ([`swarm_sim::experiment::sweep_run`]) and the paper; and its shards.
 //!
 //! The job ([`SweepJob`]) is numbered in units: first every robots' run, position by position
 //! (`p * runs + k`: run `k` from `xs[p]`), then every run of the 2D simulator the same way. The
@@ -12,15 +12,15 @@ use std::path::{Path, PathBuf};
 
 use hal_emu::world::hil::HilSpec;
 use hal_emu::{MediumParams, Readings};
-use host_sim::arena::InTheLoop;
-use host_sim::arena::plane::{self, Layout, PlaneError, PlaneSpec, SweepRun};
-use host_sim::progress::Progress;
 use host_sim::shard::{self, Job, ShardSpec, merge::Merged};
-use host_sim::swarm::experiment::{self, SweepPoint};
-use host_sim::swarm::geometry::Shape;
-use host_sim::swarm::scenario::{MAX_EXTENT, Placement, Scenario, check_runs};
+use lab::InTheLoop;
+use lab::plane::{self, Layout, PlaneError, PlaneSpec, SweepRun};
 use protocol::Params;
 use serde::{Deserialize, Serialize};
+use swarm_sim::experiment::{self, SweepPoint};
+use swarm_sim::geometry::Shape;
+use swarm_sim::progress::Progress;
+use swarm_sim::scenario::{MAX_EXTENT, Placement, Scenario, check_runs};
 
 use super::options::in_the_loop;
 use super::plane::shape_parser;
@@ -73,7 +73,7 @@ pub struct SweepArgs {
     pub readings: Readings,
     /// Runs of the 2D simulator (`cimax swarm`, three-phase variant, same placement) per
     /// position, for the curve beside, 0 to 100,000; 0 leaves it out.
-    #[arg(long, default_value_t = 20, value_parser = crate::cli::values::whole::<u32>(0, u64::from(host_sim::swarm::scenario::MAX_RUNS_PER_POINT)))]
+    #[arg(long, default_value_t = 20, value_parser = crate::cli::values::whole::<u32>(0, u64::from(swarm_sim::scenario::MAX_RUNS_PER_POINT)))]
     pub swarm_runs: u32,
     /// Where to write the CSV and the SVG (`arena-<field>-sweep.csv|svg`); with --shard, the
     /// part.
@@ -338,10 +338,10 @@ impl SweepJob {
         let name = &r.scenario.name;
         let csv = out.join(format!("arena-{name}-sweep.csv"));
         let mut staged = crate::cli::files::Staged::new();
-        staged.write_with(&csv, |p| host_sim::pages::csv::write_sweep_csv(p, &arena))?;
+        staged.write_with(&csv, |p| pages::csv::write_sweep_csv(p, &arena))?;
         if let Some(pts) = &swarm {
             let csv = out.join(format!("swarm-{name}-sweep.csv"));
-            staged.write_with(&csv, |p| host_sim::pages::csv::write_sweep_csv(p, pts))?;
+            staged.write_with(&csv, |p| pages::csv::write_sweep_csv(p, pts))?;
         }
         let svg = self.figure(r, &arena, swarm.as_deref(), out, &mut staged)?;
         staged.commit()?;
@@ -366,7 +366,7 @@ impl SweepJob {
         }
         // The same paper marks as docs/reproduction.md's sweeps (the gradient's 85–100 % band
         // and its 25 % at −4), for the built-in scenarios.
-        let paper = host_sim::pages::marks::sweep_for(&r.scenario.name);
+        let paper = pages::marks::sweep_for(&r.scenario.name);
         let svg = out.join(format!("arena-{}-sweep.svg", r.scenario.name));
         let title = format!(
             "{}: {} robots ({}), success within {} moves, {} runs per point",
@@ -377,7 +377,7 @@ impl SweepJob {
             self.runs
         );
         staged.write_with(&svg, |p| {
-            host_sim::pages::figures::sweep_figure(p, &title, &series, &paper)
+            pages::figures::sweep_figure(p, &title, &series, &paper)
         })?;
         Ok(svg)
     }

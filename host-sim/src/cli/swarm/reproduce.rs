@@ -1,5 +1,5 @@
 //! `cimax swarm reproduce`: every experiment of the paper's section 3 and
-//! `docs/reproduction.md` ([`host_sim::pages::reproduction`]), whole or one shard, and the
+//! `docs/reproduction.md` ([`pages::reproduction`]), whole or one shard, and the
 //! merge of its shards.
 //!
 //! The job ([`ReproduceJob`]: the seed and the placement) has one unit per entry of
@@ -14,11 +14,11 @@ use crate::cli::out::{Exit, StdoutError, outln};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use host_sim::pages::reproduction::{self, Options, Results, Summary, UnitResult, units};
 use host_sim::shard::{self, Job, ShardSpec, merge::Merged};
-use host_sim::swarm::experiment;
-use host_sim::swarm::scenario::{DEFAULT_PLACEMENT, Placement};
+use pages::reproduction::{self, Options, Results, Summary, UnitResult, units};
 use serde::{Deserialize, Serialize};
+use swarm_sim::experiment;
+use swarm_sim::scenario::{DEFAULT_PLACEMENT, Placement};
 
 use super::Res;
 

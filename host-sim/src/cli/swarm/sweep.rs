@@ -10,13 +10,13 @@ use crate::cli::out::{Exit, outln};
 use std::path::Path;
 use std::process::ExitCode;
 
-use host_sim::pages::csv::write_sweep_csv;
-use host_sim::pages::figures;
-use host_sim::progress::Progress;
 use host_sim::shard::{self, Job, ShardSpec, Timing, merge::Merged};
-use host_sim::swarm::experiment;
-use host_sim::swarm::scenario::{Placement, Scenario, check_runs};
+use pages::csv::write_sweep_csv;
+use pages::figures;
 use serde::{Deserialize, Serialize};
+use swarm_sim::experiment;
+use swarm_sim::progress::Progress;
+use swarm_sim::scenario::{Placement, Scenario, check_runs};
 
 use super::{Common, Res, placed, wrote};
 use crate::cli::job::ScenarioSource;
@@ -166,7 +166,7 @@ impl SwarmSweepJob {
                 p,
                 &format!("{}: success ({crit}), {n} runs per point", scn.description),
                 &[("this simulator", &pts)],
-                &host_sim::pages::marks::sweep_for(&scn.name),
+                &pages::marks::sweep_for(&scn.name),
             )
         })?;
         staged.commit()?;

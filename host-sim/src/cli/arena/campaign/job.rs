@@ -8,11 +8,11 @@
 //! computes them all; either way [`CampaignJob::assemble`] puts them together.
 
 use hal_emu::Readings;
-use host_sim::arena::campaign::{
+use host_sim::shard::Timing;
+use lab::campaign::{
     self, Decide, InTheLoop, Outcome, Plan, Report, SCENARIOS, SUITE_READINGS, SuiteResult,
 };
-use host_sim::arena::stress::{self, LossPoint};
-use host_sim::shard::Timing;
+use lab::stress::{self, LossPoint};
 use serde::{Deserialize, Serialize};
 
 /// Everything that makes a campaign's results, resolved: the job in a part's header.

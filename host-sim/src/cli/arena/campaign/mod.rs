@@ -1,6 +1,6 @@
-//! `cimax arena campaign`: runs the fault campaign ([`host_sim::arena::campaign`]) under one
+//! `cimax arena campaign`: runs the fault campaign ([`lab::campaign`]) under one
 //! rule or both, prints its tables, writes `docs/reliability.md`
-//! ([`host_sim::pages::reliability`]) with its figures, and exits 1 if a bar is missed or a robot
+//! ([`pages::reliability`]) with its figures, and exits 1 if a bar is missed or a robot
 //! crashed. With `--shard I/N` it runs only its share of the runs into a part ([`job`]), and
 //! `cimax merge` of the parts ([`merge`]) prints, writes and exits as the whole campaign would.
 
@@ -15,14 +15,14 @@ use hal_emu::judge::judge;
 use hal_emu::world::hil::HilSpec;
 
 use crate::cli::arena::options::in_the_loop;
-use host_sim::arena::campaign::{Decide, Plan, Report, SCENARIOS, Scenario, run_config};
-use host_sim::pages::figures::{rules_chart, success_chart};
-use host_sim::pages::reliability::{
-    Page, campaign_section, failure_line, missed_line, rules_section, secs, suite_section, table,
-};
-use host_sim::progress::Progress;
 use host_sim::shard::{self, Job, ShardSpec, Timing, merge::Merged};
 use job::{CampaignJob, Results};
+use lab::campaign::{Decide, Plan, Report, SCENARIOS, Scenario, run_config};
+use pages::figures::{rules_chart, success_chart};
+use pages::reliability::{
+    Page, campaign_section, failure_line, missed_line, rules_section, secs, suite_section, table,
+};
+use swarm_sim::progress::Progress;
 
 use crate::cli::files::{self, Staged};
 use crate::cli::out::{Exit, StdoutError, outln};
@@ -195,7 +195,7 @@ fn read_loop_part(paths: &[PathBuf], job: &CampaignJob) -> Result<LoopPart, Stri
 }
 
 /// Runs `cimax arena campaign`: 0 if every bar is met, 1 if one is missed or a robot crashed
-/// in a run ([`host_sim::arena::campaign::Outcome::crashed`]), 2 for bad options. A shard: 0 once its part is
+/// in a run ([`lab::campaign::Outcome::crashed`]), 2 for bad options. A shard: 0 once its part is
 /// written.
 pub(super) fn main(args: &CampaignArgs) -> Exit {
     run(args)
@@ -492,7 +492,7 @@ fn write_page(
     if let Some(l) = in_loop {
         let part = shown(&l.paths);
         page.in_the_loop = Some(
-            host_sim::pages::reliability::in_the_loop::loop_section(
+            pages::reliability::in_the_loop::loop_section(
                 &l.reports,
                 reports,
                 &part,
@@ -519,13 +519,13 @@ fn write_page(
             missed.extend(section.missed.iter().map(|m| m.replace('`', "")));
             page.suites.push(section);
         }
-        page.initiations = Some(host_sim::pages::reliability::stress::initiations_section(
+        page.initiations = Some(pages::reliability::stress::initiations_section(
             fixed, adaptive,
         ));
         page.loss = results
             .loss
             .as_ref()
-            .map(|(f, a, seeds)| host_sim::pages::reliability::stress::loss_section(f, a, *seeds));
+            .map(|(f, a, seeds)| pages::reliability::stress::loss_section(f, a, *seeds));
         format!(
             "wrote {}, {} and {}",
             out.display(),
@@ -548,16 +548,14 @@ fn write_trace(scenario: &Scenario, plan: &Plan, path: &Path) -> Result<(), Stri
     let (mut cfg, _) = run_config(scenario, seed, plan.loss, decide, plan.hil.as_ref())?;
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
-    let mut header = host_sim::viewer::header_of(&cfg, &run.report.trace);
+    let mut header = viewer::header_of(&cfg, &run.report.trace);
     header.title = format!(
         "cimax arena campaign: scenario {}, seed {seed}, {} rule",
         scenario.name,
         decide.name()
     );
     let mut staged = Staged::new();
-    staged.write_with(path, |p| {
-        host_sim::viewer::write_trace(p, header, &run.report.trace)
-    })?;
+    staged.write_with(path, |p| viewer::write_trace(p, header, &run.report.trace))?;
     staged.commit()
 }
 

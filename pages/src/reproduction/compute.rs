@@ -1,0 +1,383 @@
+//! The compute phase of `swarm reproduce`: one [`Unit`] at a time, from the options alone
+//! (its seeds derive from the base seed and the unit, never from another unit's result), with
+//! its log lines and progress bar. Nothing here writes a file.
+
+use std::time::Instant as Clock;
+
+use nalgebra::Point2;
+use protocol::Duration;
+use rand::SeedableRng;
+use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
+
+use super::results::{Outcome, UnitResult};
+use super::units::{Field, Scene, Side, Unit};
+use super::{
+    CLOUD_REFINED, COURSE_RUNS, COURSE_STAGE, CYCLE_RUNS, CYCLE_XS, CYCLES, OTHER_RUNS, Options,
+    PLACEMENTS, PLATEAU_MIN_AFTER, PROFILE_RUNS, PlacementStats, RUN_TRIES, beyond, builtin_placed,
+    by_distance, caption_cloud, refined, sensitivity, settle,
+};
+use swarm_sim::experiment::{
+    self, Arrow, BenchResult, Error, RadialPoint, RunOutput, SweepPoint, direction_map,
+    radial_profile, sweep, waves_heard,
+};
+use swarm_sim::geometry::Swarm;
+use swarm_sim::progress::Progress;
+use swarm_sim::scenario::{Placement, Scenario};
+use swarm_sim::seeds::derive;
+use swarm_sim::timecourse::{TimeCourse, time_course};
+
+/// Swarm sizes of the speed figures.
+const BENCH_AGENTS: [usize; 3] = [61, 1000, 10_000];
+
+/// A stage's log lines, progress bar and seeds.
+pub(super) struct Stage<'a> {
+    log: &'a mut dyn FnMut(&str),
+    quiet: bool,
+    t: Clock,
+    /// The base seed.
+    base: u64,
+}
+
+impl Stage<'_> {
+    /// The seed of stage `stage`.
+    pub(super) fn seed(&self, stage: u64) -> u64 {
+        derive(self.base, &[stage])
+    }
+
+    /// Logs `what` and starts its progress bar over `runs` runs.
+    pub(super) fn start(&mut self, what: &str, runs: u64) -> Progress {
+        self.t = Clock::now();
+        (self.log)(&format!("{what} ({runs} runs)..."));
+        Progress::new(runs, what, self.quiet)
+    }
+
+    /// Ends the progress bar and logs the stage's time.
+    pub(super) fn done(&mut self, p: &Progress) {
+        p.finish();
+        (self.log)(&format!(
+            "  done in {:.1} s",
+            self.t.elapsed().as_secs_f64()
+        ));
+    }
+}
+
+/// The scenarios of the page, placed by the main placement.
+pub(super) struct Scenes {
+    /// `sharp`.
+    pub(super) sharp: Scenario,
+    /// `gradient`.
+    pub(super) gradient: Scenario,
+    /// `cloud`.
+    pub(super) cloud: Scenario,
+}
+
+impl Scenes {
+    /// The built-in scenarios with their agents placed by `main`.
+    ///
+    /// # Errors
+    /// If a built-in scenario is missing or cannot be placed.
+    pub(super) fn new(main: Placement) -> Result<Scenes, Error> {
+        Ok(Scenes {
+            sharp: builtin_placed("sharp", main)?,
+            gradient: builtin_placed("gradient", main)?,
+            cloud: builtin_placed("cloud", main)?,
+        })
+    }
+
+    /// The field's scenario.
+    pub(super) fn field(&self, f: Field) -> &Scenario {
+        match f {
+            Field::Sharp => &self.sharp,
+            Field::Gradient => &self.gradient,
+        }
+    }
+
+    /// Both fields' scenarios.
+    pub(super) fn fields(&self) -> [&Scenario; 2] {
+        [&self.sharp, &self.gradient]
+    }
+
+    /// The scenario of a direction map.
+    fn scene(&self, m: Scene) -> &Scenario {
+        match m {
+            Scene::Sharp => &self.sharp,
+            Scene::Gradient => &self.gradient,
+            Scene::Cloud => &self.cloud,
+        }
+    }
+}
+
+/// The placement of `side` when the page's is `main`.
+pub(super) fn placement(main: Placement, side: Side) -> Placement {
+    match side {
+        Side::Main => main,
+        Side::Other => main.other(),
+    }
+}
+
+/// Computes one unit of `swarm reproduce` with `opts` (its seed and placement; `docs` is not
+/// read). `log` receives the unit's log lines.
+///
+/// # Errors
+/// If a run fails, or the unit's index is out of its list.
+pub fn compute(unit: Unit, opts: &Options, log: &mut dyn FnMut(&str)) -> Result<UnitResult, Error> {
+    let t0 = Clock::now();
+    let mut st = Stage {
+        log,
+        quiet: opts.quiet,
+        t: Clock::now(),
+        base: opts.seed,
+    };
+    let scns = Scenes::new(opts.placement)?;
+    let outcome = outcome(unit, &mut st, opts.placement, &scns)?;
+    Ok(UnitResult::new(
+        unit,
+        t0.elapsed().as_secs_f64(),
+        rayon::current_num_threads(),
+        outcome,
+    ))
+}
+
+/// What `unit` measures.
+fn outcome(unit: Unit, st: &mut Stage<'_>, main: Placement, s: &Scenes) -> Result<Outcome, Error> {
+    use Outcome as O;
+    Ok(match unit {
+        Unit::Run(f) => O::Run(run_figure(st, f, s.field(f))?),
+        Unit::Sweep(f, side) => O::Sweep(sweep_of(st, main, f, side, s.field(f))?),
+        Unit::Map(m) => O::Map(map_of(st, m, s.scene(m))?),
+        Unit::CloudProfile => O::Profile(cloud_profile(st, &s.cloud)?),
+        Unit::CaptionMap => O::Map(caption_cloud::map(st, main)?),
+        Unit::CaptionProfile => O::Profile(caption_cloud::profile(st, main)?),
+        Unit::Course(f, side) => O::Course(course(st, main, f, side, s.field(f))?),
+        Unit::Tapped(f) => O::Tapped(Box::new(settle::tapped(st, f, s.field(f))?)),
+        Unit::Sensor(f) => O::Sensor(settle::sensor(st, f, s.field(f))?),
+        Unit::Plateau(side, k) => O::Plateau(settle::plateau(st, main, side, k, &s.sharp)?),
+        Unit::Heading(f) => O::Heading(settle::heading(st, f, s.field(f))?),
+        Unit::Start(f, side) => O::Start(settle::start(st, main, f, side, s.field(f))?),
+        Unit::Steep(k) => O::Steep(settle::steep(st, k, s.fields())?),
+        Unit::Refractory => O::Refractory(settle::refractory(st)?),
+        Unit::Cycle => O::Cycle(cycle_effect(st, &s.sharp)?),
+        Unit::Knob(k) => O::Knob(sensitivity::knob(st, main, k, &s.sharp, &s.gradient)?),
+        Unit::Slope => O::Slope(sensitivity::slope(st, &s.gradient)?),
+        Unit::Extent => O::Extent(sensitivity::extent(st, &s.sharp, &s.gradient)?),
+        Unit::Shapes => O::Shapes(Box::new(shapes(st, &s.sharp)?)),
+        Unit::BeyondSuccess => O::BeyondSuccess(beyond::success(st, s.fields())?),
+        Unit::BeyondAlong => O::BeyondAlong(beyond::along(st, &s.gradient)?),
+        Unit::BeyondTwo => O::BeyondTwo(beyond::two(st, &s.sharp)?),
+        Unit::Waves => O::Waves(wave(st)?),
+        Unit::Speed => O::Speed(speed(st, &s.sharp)?),
+        Unit::Placements => O::Placements(placement_stats(st)?),
+    })
+}
+
+/// A run figure's run: the first of up to [`RUN_TRIES`] that succeeded (or the first), and
+/// which try it was.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct RunFigure {
+    /// Tries before it (0: the first).
+    pub(super) tries: u64,
+    /// The run.
+    pub(super) out: RunOutput,
+}
+
+/// Figs. 4 and 7: the first of up to [`RUN_TRIES`] runs that succeeds.
+fn run_figure(st: &mut Stage<'_>, f: Field, scn: &Scenario) -> Result<RunFigure, Error> {
+    let p = st.start(&format!("{} run", scn.name), RUN_TRIES);
+    let mut chosen = None;
+    for tries in 0..RUN_TRIES {
+        let s = derive(st.seed(f.index() as u64), &[tries]);
+        let out = experiment::run(scn, scn.run, scn.start, scn.periods, s, false)?;
+        let ok = out.success_at.is_some();
+        if chosen.is_none() || ok {
+            chosen = Some(RunFigure { tries, out });
+        }
+        if ok {
+            break;
+        }
+    }
+    st.done(&p);
+    Ok(chosen.ok_or("no run")?)
+}
+
+/// Figs. 5 and 8: the sweep of field `f` with placement `side`. `scn` is placed by `main`.
+/// Each placement keeps the seeds it had as the main or the second one (random 10, 11;
+/// lattice 12, 13); the other placement runs at most [`OTHER_RUNS`] per point.
+fn sweep_of(
+    st: &mut Stage<'_>,
+    main: Placement,
+    f: Field,
+    side: Side,
+    scn: &Scenario,
+) -> Result<Vec<SweepPoint>, Error> {
+    let spec = scn
+        .sweep
+        .as_ref()
+        .ok_or("built-in scenario without sweep")?;
+    let placement = placement(main, side);
+    let stage = match placement {
+        Placement::Random => 10,
+        Placement::Lattice => 12,
+    };
+    let (placed, suffix, runs) = match side {
+        Side::Main => (scn.clone(), String::new(), spec.runs),
+        Side::Other => (
+            builtin_placed(&scn.name, placement)?,
+            format!("-{placement}"),
+            spec.runs.min(OTHER_RUNS),
+        ),
+    };
+    let p = st.start(
+        &format!("{} sweep{suffix}", placed.name),
+        spec.xs.len() as u64 * u64::from(runs),
+    );
+    let seed = st.seed(stage + f.index() as u64);
+    let pts = sweep(&placed, placed.run, &spec.xs, runs, seed, &p)?;
+    st.done(&p);
+    Ok(pts)
+}
+
+/// Figs. 6, 9, 10: a direction map.
+fn map_of(st: &mut Stage<'_>, m: Scene, scn: &Scenario) -> Result<Vec<Arrow>, Error> {
+    let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
+    let p = st.start(
+        &format!("{} field", scn.name),
+        (grid.xs.len() * grid.ys.len()) as u64,
+    );
+    let arrows = direction_map(scn, grid, st.seed(20 + m.index() as u64), &p)?;
+    st.done(&p);
+    Ok(arrows)
+}
+
+/// Cloud: how far the swarm perceives it, by increasing distance.
+fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint>, Error> {
+    let distances = refined(
+        (0..=24).map(|k| 0.5 * f64::from(k)).collect(),
+        &CLOUD_REFINED,
+    );
+    let p = st.start(
+        "cloud radial profile",
+        distances.len() as u64 * u64::from(PROFILE_RUNS),
+    );
+    let profile = radial_profile(
+        cloud,
+        cloud.run,
+        Point2::origin(),
+        &distances,
+        PROFILE_RUNS,
+        st.seed(30),
+        &p,
+    )?;
+    let profile = by_distance(profile);
+    st.done(&p);
+    Ok(profile)
+}
+
+/// Figs. 4b and 7b averaged: [`COURSE_RUNS`] full runs from the start of field `f` with
+/// placement `side`. The main placement's runs give the diversity plateaus.
+fn course(
+    st: &mut Stage<'_>,
+    main: Placement,
+    f: Field,
+    side: Side,
+    scn: &Scenario,
+) -> Result<TimeCourse, Error> {
+    let placement = placement(main, side);
+    let placed = match side {
+        Side::Main => scn.clone(),
+        Side::Other => builtin_placed(&scn.name, placement)?,
+    };
+    let p = st.start(
+        &format!("{} course, {placement} placement", scn.name),
+        u64::from(COURSE_RUNS),
+    );
+    let seed = st.seed(COURSE_STAGE + 2 * f.index() as u64 + side.index() as u64);
+    let c = time_course(&placed, COURSE_RUNS, PLATEAU_MIN_AFTER, seed, &p)?;
+    st.done(&p);
+    Ok(c)
+}
+
+/// One cycle length of the cycle-length experiment.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct CycleRun {
+    /// The cycle length t_p^max, seconds.
+    pub(super) cycle_s: u64,
+    /// Waves heard per agent per cycle.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) waves_heard: f64,
+    /// Success from each start of [`CYCLE_XS`].
+    pub(super) points: Vec<SweepPoint>,
+}
+
+/// The cycle length: success and waves heard per cycle length of [`CYCLES`].
+fn cycle_effect(st: &mut Stage<'_>, sharp: &Scenario) -> Result<Vec<CycleRun>, Error> {
+    let mut rows = Vec::new();
+    let p = st.start(
+        "cycle length (sharp)",
+        (CYCLES.len() * CYCLE_XS.len()) as u64 * u64::from(CYCLE_RUNS),
+    );
+    for (k, &c) in CYCLES.iter().enumerate() {
+        let mut cfg = sharp.run;
+        cfg.params.wave.cycle = Duration::from_secs(c);
+        let seed = st.seed(50 + k as u64);
+        let points = sweep(sharp, cfg, &CYCLE_XS, CYCLE_RUNS, seed, &p)?;
+        let heard = waves_heard(sharp, cfg, 10, st.seed(60 + k as u64))?;
+        rows.push(CycleRun {
+            cycle_s: c,
+            waves_heard: heard,
+            points,
+        });
+    }
+    st.done(&p);
+    Ok(rows)
+}
+
+/// The discussion's shapes on a random field (line, cross, …), both opposite-bearing rules.
+fn shapes(st: &mut Stage<'_>, sharp: &Scenario) -> Result<crate::shapes::ShapesResult, Error> {
+    use crate::shapes::{KEEP_FORMATIONS, RUNS, compute};
+    let runs_n = (4 + u64::from(KEEP_FORMATIONS)) * u64::from(RUNS);
+    let p = st.start("shapes on a random field", runs_n);
+    let shapes = compute(sharp.run, st.seed(200), &p)?;
+    st.done(&p);
+    Ok(shapes)
+}
+
+/// One wave through the swarm of Fig. 2.
+fn wave(st: &mut Stage<'_>) -> Result<swarm_sim::waves::Wave, Error> {
+    use swarm_sim::waves::{WaveSpec, one_wave};
+    let p = st.start("one wave (Fig. 2)", 1);
+    let w = one_wave(&WaveSpec::paper(), st.seed(95))?;
+    st.done(&p);
+    Ok(w)
+}
+
+/// Speed: one negotiation period per size of [`BENCH_AGENTS`] on one thread (`swarm bench`).
+fn speed(st: &Stage<'_>, sharp: &Scenario) -> Result<Vec<BenchResult>, Error> {
+    BENCH_AGENTS
+        .iter()
+        .map(|&n| experiment::bench(sharp, n, st.seed(70 + n as u64)))
+        .collect()
+}
+
+/// Neighbour counts of [`PLACEMENTS`] random placements of the sharp scenario's swarm.
+fn placement_stats(st: &Stage<'_>) -> Result<PlacementStats, Error> {
+    let scn = builtin_placed("sharp", Placement::Random)?;
+    let seed = st.seed(80);
+    let (mut redrawn, mut plain, mut disconnected) = (0.0, 0.0, 0u64);
+    for k in 0..PLACEMENTS {
+        let mut rng = Pcg64Mcg::seed_from_u64(derive(seed, &[k]));
+        redrawn += Swarm::place(scn.agents, scn.shape, 1.0, &mut rng)?.mean_degree();
+        let offsets = (0..scn.agents)
+            .map(|_| scn.shape.sample(&mut rng).unwrap_or_default())
+            .collect();
+        let s = Swarm::from_offsets(offsets, 1.0);
+        plain += s.mean_degree();
+        disconnected += u64::from(!s.is_connected());
+    }
+    let n = PLACEMENTS as f64;
+    Ok(PlacementStats {
+        redrawn_degree: redrawn / n,
+        plain_degree: plain / n,
+        plain_disconnected: disconnected as f64 / n,
+    })
+}

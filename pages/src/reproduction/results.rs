@@ -1,0 +1,227 @@
+//! What the units of `swarm reproduce` measured ([`UnitResult`], one per [`Unit`]) and the
+//! set of them the page is written from ([`Results`]). A [`UnitResult`] goes through JSON
+//! without loss (serde, every float bit for bit: [`swarm_sim::json`]), so the results of
+//! a sharded run can be merged from part files and written as if computed here.
+
+use std::collections::BTreeMap;
+
+use serde::{Deserialize, Serialize};
+
+use super::PlacementStats;
+use super::beyond::Along;
+use super::compute::{CycleRun, RunFigure};
+use super::sensitivity::{ExtentRun, SlopeRuns};
+use super::settle::{CourseDigest, Levels, RefractoryRuns, Times};
+use super::units::{UNITS, Unit};
+use crate::shapes::ShapesResult;
+use swarm_sim::experiment::{Arrow, BenchResult, Error, RadialPoint, SweepPoint};
+use swarm_sim::probe::{Plateaus, StartRun};
+use swarm_sim::timecourse::TimeCourse;
+use swarm_sim::waves::Wave;
+
+/// One unit's result: what it measured, and how long it took where it ran.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct UnitResult {
+    /// The unit.
+    pub unit: Unit,
+    /// Wall time of the unit, seconds (it varies from run to run; only the page's timing
+    /// lines read it).
+    pub wall_s: f64,
+    /// Rayon's threads where it ran.
+    pub threads: usize,
+    /// What it measured.
+    outcome: Outcome,
+}
+
+impl UnitResult {
+    /// The result of `unit`, measured in `wall_s` seconds on `threads` threads.
+    pub(super) fn new(unit: Unit, wall_s: f64, threads: usize, outcome: Outcome) -> UnitResult {
+        UnitResult {
+            unit,
+            wall_s,
+            threads,
+            outcome,
+        }
+    }
+}
+
+/// What a unit measured, by kind of unit.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub(super) enum Outcome {
+    /// [`Unit::Run`].
+    Run(RunFigure),
+    /// [`Unit::Sweep`].
+    Sweep(Vec<SweepPoint>),
+    /// [`Unit::Map`], [`Unit::CaptionMap`].
+    Map(Vec<Arrow>),
+    /// [`Unit::CloudProfile`], [`Unit::CaptionProfile`].
+    Profile(Vec<RadialPoint>),
+    /// [`Unit::Course`].
+    Course(TimeCourse),
+    /// [`Unit::Tapped`].
+    Tapped(Box<CourseDigest>),
+    /// [`Unit::Sensor`].
+    Sensor(Levels),
+    /// [`Unit::Plateau`] (`None`: the courses' own cycle and placement, not run again).
+    Plateau(Option<Plateaus>),
+    /// [`Unit::Heading`]: `(x, mean cos, s.e.)` per start.
+    Heading(#[serde(with = "swarm_sim::json")] Vec<(f64, f64, f64)>),
+    /// [`Unit::Start`].
+    Start(Vec<StartRun>),
+    /// [`Unit::Steep`].
+    Steep(Vec<Times>),
+    /// [`Unit::Refractory`].
+    Refractory(RefractoryRuns),
+    /// [`Unit::Cycle`].
+    Cycle(Vec<CycleRun>),
+    /// [`Unit::Knob`]: per case, one point per value.
+    Knob(Vec<Vec<SweepPoint>>),
+    /// [`Unit::Slope`].
+    Slope(SlopeRuns),
+    /// [`Unit::Extent`].
+    Extent(Vec<ExtentRun>),
+    /// [`Unit::Shapes`].
+    Shapes(Box<ShapesResult>),
+    /// [`Unit::BeyondSuccess`]: per field, one point per measure.
+    BeyondSuccess(Vec<Vec<SweepPoint>>),
+    /// [`Unit::BeyondAlong`].
+    BeyondAlong(Along),
+    /// [`Unit::BeyondTwo`]: one point per measure.
+    BeyondTwo(Vec<SweepPoint>),
+    /// [`Unit::Waves`].
+    Waves(Wave),
+    /// [`Unit::Speed`].
+    Speed(Vec<BenchResult>),
+    /// [`Unit::Placements`].
+    Placements(PlacementStats),
+}
+
+impl Outcome {
+    /// Whether this is the kind of result `unit` gives.
+    fn fits(&self, unit: Unit) -> bool {
+        use Outcome as O;
+        matches!(
+            (unit, self),
+            (Unit::Run(_), O::Run(_))
+                | (Unit::Sweep(..), O::Sweep(_))
+                | (Unit::Map(_) | Unit::CaptionMap, O::Map(_))
+                | (Unit::CloudProfile | Unit::CaptionProfile, O::Profile(_))
+                | (Unit::Course(..), O::Course(_))
+                | (Unit::Tapped(_), O::Tapped(_))
+                | (Unit::Sensor(_), O::Sensor(_))
+                | (Unit::Plateau(..), O::Plateau(_))
+                | (Unit::Heading(_), O::Heading(_))
+                | (Unit::Start(..), O::Start(_))
+                | (Unit::Steep(_), O::Steep(_))
+                | (Unit::Refractory, O::Refractory(_))
+                | (Unit::Cycle, O::Cycle(_))
+                | (Unit::Knob(_), O::Knob(_))
+                | (Unit::Slope, O::Slope(_))
+                | (Unit::Extent, O::Extent(_))
+                | (Unit::Shapes, O::Shapes(_))
+                | (Unit::BeyondSuccess, O::BeyondSuccess(_))
+                | (Unit::BeyondAlong, O::BeyondAlong(_))
+                | (Unit::BeyondTwo, O::BeyondTwo(_))
+                | (Unit::Waves, O::Waves(_))
+                | (Unit::Speed, O::Speed(_))
+                | (Unit::Placements, O::Placements(_))
+        )
+    }
+}
+
+/// The units' results the page is written from ([`super::write`]): empty at first, filled
+/// unit by unit ([`Results::insert`]), complete when no unit is [`Results::missing`].
+#[derive(Clone, Debug, Default)]
+pub struct Results {
+    by_unit: BTreeMap<Unit, UnitResult>,
+}
+
+/// Typed access to one kind of result: `$name(unit)` is the result of `unit` if it is a
+/// `$variant`.
+macro_rules! getter {
+    ($name:ident, $variant:ident, $ty:ty) => {
+        #[doc = concat!("The result of `unit`, a [`Outcome::", stringify!($variant), "`].")]
+        pub(super) fn $name(&self, unit: Unit) -> Result<&$ty, Error> {
+            match &self.get(unit)?.outcome {
+                Outcome::$variant(v) => Ok(v),
+                _ => Err(format!("{unit}: its result is no {}", stringify!($variant)).into()),
+            }
+        }
+    };
+}
+
+impl Results {
+    /// Adds one unit's result.
+    ///
+    /// # Errors
+    /// If the unit already has a result, or the result is not of the unit's kind.
+    pub fn insert(&mut self, r: UnitResult) -> Result<(), Error> {
+        if !r.outcome.fits(r.unit) {
+            return Err(format!("{}: the result is not of this unit's kind", r.unit).into());
+        }
+        if self.by_unit.contains_key(&r.unit) {
+            return Err(format!("{}: a second result", r.unit).into());
+        }
+        self.by_unit.insert(r.unit, r);
+        Ok(())
+    }
+
+    /// The units of [`UNITS`] without a result yet, in order.
+    pub fn missing(&self) -> Vec<Unit> {
+        UNITS
+            .iter()
+            .copied()
+            .filter(|u| !self.by_unit.contains_key(u))
+            .collect()
+    }
+
+    /// The results, in unit order.
+    pub fn iter(&self) -> impl Iterator<Item = &UnitResult> {
+        self.by_unit.values()
+    }
+
+    /// The sum of the units' wall times, seconds: the page's "whole page in … s".
+    pub fn wall_s(&self) -> f64 {
+        self.by_unit.values().map(|r| r.wall_s).sum()
+    }
+
+    /// The most threads any unit ran on.
+    pub fn threads(&self) -> usize {
+        self.by_unit.values().map(|r| r.threads).max().unwrap_or(0)
+    }
+
+    /// The result of `unit`.
+    ///
+    /// # Errors
+    /// If it has none.
+    fn get(&self, unit: Unit) -> Result<&UnitResult, Error> {
+        self.by_unit
+            .get(&unit)
+            .ok_or_else(|| format!("{unit}: no result").into())
+    }
+
+    getter!(run, Run, RunFigure);
+    getter!(sweep, Sweep, Vec<SweepPoint>);
+    getter!(map, Map, Vec<Arrow>);
+    getter!(profile, Profile, Vec<RadialPoint>);
+    getter!(course, Course, TimeCourse);
+    getter!(tapped, Tapped, CourseDigest);
+    getter!(sensor, Sensor, Levels);
+    getter!(plateau, Plateau, Option<Plateaus>);
+    getter!(heading, Heading, Vec<(f64, f64, f64)>);
+    getter!(start, Start, Vec<StartRun>);
+    getter!(steep, Steep, Vec<Times>);
+    getter!(refractory, Refractory, RefractoryRuns);
+    getter!(cycle, Cycle, Vec<CycleRun>);
+    getter!(knob, Knob, Vec<Vec<SweepPoint>>);
+    getter!(slope, Slope, SlopeRuns);
+    getter!(extent, Extent, Vec<ExtentRun>);
+    getter!(shapes, Shapes, ShapesResult);
+    getter!(beyond_success, BeyondSuccess, Vec<Vec<SweepPoint>>);
+    getter!(beyond_along, BeyondAlong, Along);
+    getter!(beyond_two, BeyondTwo, Vec<SweepPoint>);
+    getter!(waves, Waves, Wave);
+    getter!(speed, Speed, Vec<BenchResult>);
+    getter!(placements, Placements, PlacementStats);
+}

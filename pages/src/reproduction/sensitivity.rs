@@ -1,0 +1,480 @@
+//! The sensitivity stage of `swarm reproduce`: the knobs the paper leaves open, one at a time
+//! (cycle, period, diffusion, noise), the gradient's diversity against its slope, and the
+//! swarm's extent against the perception edges.
+
+use super::results::Results;
+use super::units::Unit;
+use super::*;
+
+/// Runs per point of the sensitivity figures.
+pub const SENS_RUNS: u32 = 20;
+/// Runs per point of the extent's heading profiles.
+pub const EXTENT_RUNS: u32 = 30;
+/// Where the sensitivity runs start (both fields).
+pub(super) const SENS_X: f64 = -2.0;
+
+/// One sensitivity table: a knob's values down, the cases across.
+#[derive(Serialize)]
+pub(super) struct SensTable {
+    pub(super) key: &'static str,
+    pub(super) what: &'static str,
+    pub(super) figure: String,
+    pub(super) cases: Vec<String>,
+    /// Per value: the value, then per case "success (mean time)".
+    pub(super) rows: Vec<Vec<String>>,
+}
+
+/// The swarm's extent: perception edges per field and extent.
+#[derive(Serialize)]
+pub(super) struct ExtentRow {
+    pub(super) field: String,
+    pub(super) diameter: String,
+    pub(super) agents: usize,
+    /// The edge, R, two decimals.
+    pub(super) edge: Option<String>,
+    /// The edge and its standard error ([`extent_edge`]).
+    #[serde(skip)]
+    pub(super) edge_se: Option<(f64, f64)>,
+    /// The verdict against the paper's edge on this field.
+    pub(super) verdict: &'static str,
+}
+
+/// Where the first move's heading toward the border (`(x, mean cos, s.e.)`, x < 0) last falls
+/// through 0.5 going away from the border, interpolated: the farthest start from which the swarm
+/// heads for the border, as a distance, with its standard error.
+pub(super) fn extent_edge(profile: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
+    let mut by_distance: Vec<(f64, f64, f64)> =
+        profile.iter().map(|&(x, m, se)| (x.abs(), m, se)).collect();
+    by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
+    swarm_sim::stats::crossing(&by_distance, 0.5, false)
+}
+
+/// Where the extent's starts are refined to 0.25 R: around the claimed edges 2.5 and 2.2.
+const EXTENT_REFINED: [f64; 4] = [-3.25, -2.75, -2.25, -1.75];
+
+/// The sensitivity section.
+#[derive(Serialize)]
+pub(super) struct SensitivitySection {
+    pub(super) runs: u32,
+    pub(super) x: String,
+    pub(super) tables: Vec<SensTable>,
+    /// Gradient: per slope, the diversity at the success line.
+    pub(super) slope_rows: Vec<[String; 4]>,
+    pub(super) extent_runs: u32,
+    pub(super) extent: Vec<ExtentRow>,
+    /// The 3 R swarm's edges are within 0.5 R (the sampling step) of the paper's 2.5 and 2.2.
+    pub(super) extent_big_matches: bool,
+    /// The 2.5 R swarm's edges are shorter than the 3 R swarm's on both fields.
+    pub(super) extent_small_shorter: bool,
+}
+
+/// One knob's sensitivity run: its key, what the axis shows, (value, knob) pairs, a
+/// logarithmic axis, and whether the other placement runs too.
+type SensSpec = (&'static str, &'static str, Vec<(f64, Knob)>, bool, bool);
+
+/// Success and mean time as a table cell.
+pub(super) fn cell(p: &SweepPoint) -> String {
+    format!(
+        "{} ({})",
+        fixed(p.success_rate(), 2),
+        opt(p.mean_success_periods, 1)
+    )
+}
+
+/// The sensitivity section from the units [`Unit::Knob`], [`Unit::Slope`] and
+/// [`Unit::Extent`]: success against each knob the paper leaves open (cycle, period,
+/// diffusion, noise), the gradient's diversity against its slope, and the perception edge of a
+/// smaller swarm; writes the `sensitivity-*.svg` figures.
+///
+/// # Errors
+/// If a unit has no result or a figure cannot be written.
+pub(super) fn write(
+    figs: &Path,
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+    results: &Results,
+) -> Result<SensitivitySection, Error> {
+    let tables = knob_tables(figs, main, sharp, gradient, results)?;
+    let slope_rows = slope_rows(figs, main, gradient, results.slope(Unit::Slope)?)?;
+    let extent = extent_rows(figs, main, sharp, gradient, results.extent(Unit::Extent)?)?;
+    let edge = |k: usize| extent[k].edge_se.map_or(0.0, |e| e.0);
+    let extent_big_matches = {
+        use crate::{claims::Id, verdict::Verdict};
+        verdicts::edge_verdict(extent[0].edge_se, Id::SharpEdge) == Verdict::Reproduced
+            && verdicts::edge_verdict(extent[2].edge_se, Id::GradientEdge) == Verdict::Reproduced
+    };
+    let extent_small_shorter = edge(1) < edge(0) && edge(3) < edge(2);
+    Ok(SensitivitySection {
+        extent_big_matches,
+        extent_small_shorter,
+        runs: SENS_RUNS,
+        x: SENS_X.to_string(),
+        tables,
+        slope_rows,
+        extent_runs: EXTENT_RUNS,
+        extent,
+    })
+}
+
+/// The knobs of the sensitivity tables: key, axis, values, log axis, both placements.
+fn knob_specs() -> [SensSpec; 4] {
+    [
+        (
+            "cycle",
+            "cycle length t_p^max / s",
+            [20u64, 50, 100, 200, 500, 1000, 2000]
+                .map(|c| (c as f64, Knob::Cycle(c)))
+                .to_vec(),
+            true,
+            true,
+        ),
+        (
+            "period",
+            "negotiation period / cycles (half gathering, half deciding)",
+            [2u16, 4, 10]
+                .map(|c| (f64::from(c), Knob::Period(c)))
+                .to_vec(),
+            false,
+            false,
+        ),
+        (
+            "diffusion",
+            "diffusion rate / %",
+            [0.05f32, 0.10, 0.20]
+                .map(|d| (f64::from(d * 100.0).round(), Knob::Diffusion(d)))
+                .to_vec(),
+            false,
+            false,
+        ),
+        (
+            "noise",
+            "noise width (ξ uniform in ±width/2)",
+            [0.5, 1.0, 2.0, 4.0].map(|w| (w, Knob::Noise(w))).to_vec(),
+            false,
+            false,
+        ),
+    ]
+}
+
+/// The cases of a knob's table, by label: each field with the main placement, and with the
+/// other too if `both_placements` (the sharp border's other placement after its main one).
+fn cases(
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+    both_placements: bool,
+) -> Result<Vec<(String, Scenario)>, Error> {
+    let name = |s: &Scenario, p: Placement| format!("{}, {p}", s.name);
+    let mut cases = vec![
+        (name(sharp, main), sharp.clone()),
+        (name(gradient, main), gradient.clone()),
+    ];
+    if both_placements {
+        let sharp_o = builtin_placed(&sharp.name, main.other())?;
+        let gradient_o = builtin_placed(&gradient.name, main.other())?;
+        cases.insert(1, (name(&sharp_o, main.other()), sharp_o));
+        cases.push((name(&gradient_o, main.other()), gradient_o));
+    }
+    Ok(cases)
+}
+
+/// Knob `k` of [`knob_specs`]: success from [`SENS_X`] per value, per case (field, and
+/// placement for the cycle).
+///
+/// # Errors
+/// If `k` is no knob or a run fails.
+pub(super) fn knob(
+    st: &mut Stage<'_>,
+    main: Placement,
+    k: u8,
+    sharp: &Scenario,
+    gradient: &Scenario,
+) -> Result<Vec<Vec<SweepPoint>>, Error> {
+    let k = usize::from(k);
+    let (key, _, values, _, both_placements) = knob_specs()
+        .into_iter()
+        .nth(k)
+        .ok_or_else(|| format!("no knob {k}"))?;
+    let cases = cases(main, sharp, gradient, both_placements)?;
+    let knobs: Vec<Knob> = values.iter().map(|v| v.1).collect();
+    let p = st.start(
+        &format!("sensitivity: {key}"),
+        (cases.len() * knobs.len()) as u64 * u64::from(SENS_RUNS),
+    );
+    let mut results = Vec::new();
+    for (j, (_, scn)) in cases.iter().enumerate() {
+        let seed = st.seed(500 + 10 * k as u64 + j as u64);
+        results.push(success_against(scn, &knobs, SENS_X, SENS_RUNS, seed, &p)?);
+    }
+    st.done(&p);
+    Ok(results)
+}
+
+/// One table and figure per knob of [`knob_specs`], from its unit's results.
+fn knob_tables(
+    figs: &Path,
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+    all: &Results,
+) -> Result<Vec<SensTable>, Error> {
+    let mut tables = Vec::new();
+    for (k, (key, what, values, log_x, both_placements)) in knob_specs().into_iter().enumerate() {
+        let cases = cases(main, sharp, gradient, both_placements)?;
+        let labels: Vec<String> = cases.into_iter().map(|c| c.0).collect();
+        let results = all.knob(Unit::Knob(k as u8))?;
+        let figure = format!("sensitivity-{key}.svg");
+        knob_figure(figs, &figure, key, what, &labels, &values, results, log_x)?;
+        tables.push(SensTable {
+            key,
+            what,
+            figure,
+            cases: labels,
+            rows: values
+                .iter()
+                .enumerate()
+                .map(|(i, v)| {
+                    std::iter::once(v.0.to_string())
+                        .chain(results.iter().map(|pts| cell(&pts[i])))
+                        .collect()
+                })
+                .collect(),
+        });
+    }
+    Ok(tables)
+}
+
+/// One knob's figure: success against the knob's value, one line per case.
+#[allow(clippy::too_many_arguments)]
+fn knob_figure(
+    figs: &Path,
+    figure: &str,
+    key: &str,
+    what: &str,
+    labels: &[String],
+    values: &[(f64, Knob)],
+    results: &[Vec<SweepPoint>],
+    log_x: bool,
+) -> Result<(), Error> {
+    let lines: Vec<Line> = labels
+        .iter()
+        .zip(results)
+        .map(|(label, pts)| Line {
+            label: label.clone(),
+            points: values
+                .iter()
+                .zip(pts)
+                .map(|(v, p)| (v.0, p.success_rate(), 0.0))
+                .collect(),
+        })
+        .collect();
+    plot::xy_figure(
+        &figs.join(figure),
+        &format!("success from x = {SENS_X} against the {key}, {SENS_RUNS} runs per point"),
+        what,
+        "success rate",
+        &lines,
+        (0.0, 1.05),
+        &[],
+        log_x,
+    )?;
+    Ok(())
+}
+
+/// Slopes of the gradient's sensitivity to its slope, per R.
+const SLOPES: [f64; 6] = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0];
+
+/// The gradient against its slope: per slope of [`SLOPES`], success from [`SENS_X`] and the
+/// diversity at the success line.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct SlopeRuns {
+    /// Success per slope.
+    success: Vec<SweepPoint>,
+    /// `(slope, mean, s.e.)` of the diversity at the success line, per slope.
+    #[serde(with = "swarm_sim::json")]
+    diversity: Vec<(f64, f64, f64)>,
+}
+
+/// The gradient's success line.
+fn line_x(gradient: &Scenario) -> f64 {
+    match &gradient.success {
+        Some(swarm_sim::scenario::Success::BeyondX { x }) => *x,
+        _ => 2.33,
+    }
+}
+
+/// The gradient's slope: success from [`SENS_X`] and the diversity at the success line, per
+/// slope of [`SLOPES`].
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn slope(st: &mut Stage<'_>, gradient: &Scenario) -> Result<SlopeRuns, Error> {
+    let knobs: Vec<Knob> = SLOPES.iter().map(|&k| Knob::Slope(k)).collect();
+    let p = st.start(
+        "sensitivity: slope",
+        2 * SLOPES.len() as u64 * u64::from(SENS_RUNS),
+    );
+    let success = success_against(gradient, &knobs, SENS_X, SENS_RUNS, st.seed(550), &p)?;
+    let at = Point2::new(line_x(gradient), 0.0);
+    let mut diversity = Vec::new();
+    for (k, knob) in knobs.iter().enumerate() {
+        let s = knob.apply(gradient)?;
+        let (m, se) = diversity_at(&s, at, SENS_RUNS, st.seed(560 + k as u64), &p)?;
+        diversity.push((SLOPES[k], m, se));
+    }
+    st.done(&p);
+    Ok(SlopeRuns { success, diversity })
+}
+
+/// The slope's rows, and `sensitivity-slope.svg`.
+fn slope_rows(
+    figs: &Path,
+    main: Placement,
+    gradient: &Scenario,
+    runs: &SlopeRuns,
+) -> Result<Vec<[String; 4]>, Error> {
+    let line_x = line_x(gradient);
+    let slope_rows = runs
+        .diversity
+        .iter()
+        .zip(&runs.success)
+        .map(|(&(slope, m, se), success)| {
+            [
+                slope.to_string(),
+                format!("{} ± {}", fixed(m, 1), fixed(se, 1)),
+                fixed(success.success_rate(), 2),
+                opt(success.mean_success_periods, 1),
+            ]
+        })
+        .collect();
+    plot::xy_figure(
+        &figs.join("sensitivity-slope.svg"),
+        &format!(
+            "gradient: the agents' mean diversity with the swarm at x = {line_x}, {SENS_RUNS} runs per slope"
+        ),
+        "slope of the ramp / per R",
+        "mean V_k",
+        &[Line {
+            label: format!("{} placement", main),
+            points: runs.diversity.clone(),
+        }],
+        (0.0, 30.0),
+        &[],
+        false,
+    )?;
+    Ok(slope_rows)
+}
+
+/// Diameters of the swarm's extent, R: the page's and a smaller one.
+const DIAMETERS: [f64; 2] = [6.0, 5.0];
+
+/// One field and extent: the heading of the first move against the start.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct ExtentRun {
+    /// The swarm's agents.
+    agents: usize,
+    /// `(x, mean cos, s.e.)` by increasing x.
+    #[serde(with = "swarm_sim::json")]
+    profile: Vec<(f64, f64, f64)>,
+}
+
+/// The swarm's extent: the heading of the first move against the start, per field and
+/// diameter of [`DIAMETERS`] (sharp 6 R, sharp 5 R, gradient 6 R, gradient 5 R).
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn extent(
+    st: &mut Stage<'_>,
+    sharp: &Scenario,
+    gradient: &Scenario,
+) -> Result<Vec<ExtentRun>, Error> {
+    let xs = refined(
+        (1..=9).map(|k| -0.5 * f64::from(k)).rev().collect(),
+        &EXTENT_REFINED,
+    );
+    let mut runs = Vec::new();
+    let p = st.start(
+        "sensitivity: extent",
+        4 * xs.len() as u64 * u64::from(EXTENT_RUNS),
+    );
+    for (k, scn) in [sharp, gradient].into_iter().enumerate() {
+        for (j, d) in DIAMETERS.into_iter().enumerate() {
+            let s = Knob::Extent(d).apply(scn)?;
+            let seed = st.seed(570 + 2 * k as u64 + j as u64);
+            let mut profile = heading_against_x(&s, &xs, EXTENT_RUNS, seed, &p)?;
+            profile.sort_by(|a, b| a.0.total_cmp(&b.0));
+            runs.push(ExtentRun {
+                agents: s.agents,
+                profile,
+            });
+        }
+    }
+    st.done(&p);
+    Ok(runs)
+}
+
+/// The extent's rows (edges and verdicts), and `sensitivity-extent.svg`.
+fn extent_rows(
+    figs: &Path,
+    main: Placement,
+    sharp: &Scenario,
+    gradient: &Scenario,
+    runs: &[ExtentRun],
+) -> Result<Vec<ExtentRow>, Error> {
+    let mut extent = Vec::new();
+    let mut lines = Vec::new();
+    let cases = [sharp, gradient]
+        .into_iter()
+        .enumerate()
+        .flat_map(|(k, scn)| DIAMETERS.map(|d| (k, scn, d)));
+    for ((k, scn, d), run) in cases.zip(runs) {
+        let edge = extent_edge(&run.profile);
+        let id = [
+            crate::claims::Id::SharpEdge,
+            crate::claims::Id::GradientEdge,
+        ][k];
+        extent.push(ExtentRow {
+            field: scn.name.clone(),
+            diameter: d.to_string(),
+            agents: run.agents,
+            edge: edge.map(|e| format!("{} ± {}", fixed(e.0, 2), fixed(e.1, 2))),
+            edge_se: edge,
+            verdict: verdicts::edge_verdict(edge, id).words(),
+        });
+        lines.push(Line {
+            label: format!("{}, diameter {d} R ({} agents)", scn.name, run.agents),
+            points: run.profile.clone(),
+        });
+    }
+    plot::xy_figure(
+        &figs.join("sensitivity-extent.svg"),
+        &format!(
+            "heading of the first move toward +x against the start, {EXTENT_RUNS} runs per point ({main})"
+        ),
+        "x_init / R",
+        "mean cos(direction)",
+        &lines,
+        (-0.3, 1.05),
+        &marks::extent(),
+        false,
+    )?;
+    Ok(extent)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn there_is_a_unit_per_knob() {
+        let knobs: Vec<u8> = super::super::UNITS
+            .iter()
+            .filter_map(|u| match u {
+                Unit::Knob(k) => Some(*k),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(knobs, (0..knob_specs().len() as u8).collect::<Vec<_>>());
+    }
+}

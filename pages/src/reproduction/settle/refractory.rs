@@ -1,0 +1,253 @@
+//! The refractory state, off and on (§2: it "assures that a signal will neither 'flood' a
+//! swarm … nor periodically propagate through the swarm"). The protocol refuses a refractory
+//! time not above the relay delay (`ParamError::RefractoryNotAboveRelayDelay`), so below it
+//! the wave is run by [`swarm_sim::probe::flood`], the simulator's delivery rule as a model;
+//! where the protocol takes the time, the model's wave is checked to be the protocol's.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::{Stage, write_csv};
+use report::csv_files::fixed;
+use report::plot::{self, Line};
+use swarm_sim::experiment::Error;
+use swarm_sim::probe::flood;
+use swarm_sim::waves::{Wave, WaveSpec, one_wave};
+
+/// Refractory times tried, seconds (the paper's figure: 10).
+const REFRACTORY: [u64; 6] = [0, 1, 2, 3, 5, 10];
+/// Seconds followed after the initiation.
+const HORIZON: u64 = 120;
+/// Seconds drawn in the figure.
+const SHOWN: u64 = 40;
+/// The waves section's seed stage (the same swarm and initiator as Fig. 2).
+const WAVE_STAGE: u64 = 95;
+
+/// The refractory time off and on, as the comparison reads it.
+pub(in super::super) struct Flooding {
+    /// Without refractory time (the model, t_ref = 0): still transmitting at the horizon, and
+    /// transmissions per agent until then.
+    pub(in super::super) floods_without: bool,
+    pub(in super::super) sends_without: f64,
+    /// The smallest refractory time the protocol takes, and whether every agent then sent
+    /// exactly once.
+    pub(in super::super) smallest: Option<u64>,
+    pub(in super::super) once_with: bool,
+    /// The horizon, seconds.
+    pub(in super::super) horizon: u64,
+}
+
+/// The part of the section the template sees.
+#[derive(Serialize)]
+pub(super) struct RefractoryPart {
+    agents: usize,
+    relay_s: u64,
+    horizon: u64,
+    /// Per refractory time: t_ref, the protocol's answer, transmissions per agent in the
+    /// horizon, the last second with a transmission.
+    rows: Vec<Vec<String>>,
+    /// The smallest refractory time the protocol takes.
+    smallest: Option<u64>,
+}
+
+/// One refractory time on the swarm of the paper's Fig. 2.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(in super::super) struct RefractoryRun {
+    /// t_ref, seconds.
+    refractory_s: u64,
+    /// What the protocol does with it.
+    answer: String,
+    /// Where the protocol runs it: whether every agent sent exactly once.
+    once: Option<bool>,
+    /// The model's transmissions per second from the initiation to [`HORIZON`].
+    sends: Vec<u32>,
+}
+
+/// Each refractory time of [`REFRACTORY`] on the swarm of the paper's Fig. 2.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(in super::super) struct RefractoryRuns {
+    /// The swarm's agents.
+    agents: usize,
+    /// The relay delay, seconds.
+    relay_s: u64,
+    /// One per refractory time.
+    runs: Vec<RefractoryRun>,
+}
+
+/// Runs each refractory time on the swarm of the paper's Fig. 2.
+///
+/// # Errors
+/// If a wave cannot be run, or the model differs from the protocol where both run.
+pub(super) fn runs(st: &mut Stage<'_>) -> Result<RefractoryRuns, Error> {
+    let p = st.start("refractory time, off and on", REFRACTORY.len() as u64);
+    let seed = st.seed(WAVE_STAGE);
+    let paper = one_wave(&WaveSpec::paper(), seed)?;
+    let relay_s = WaveSpec::paper()
+        .config()
+        .params
+        .wave
+        .relay_delay
+        .as_millis()
+        / 1000;
+    let mut runs = Vec::new();
+    for refractory_s in REFRACTORY {
+        let spec = WaveSpec {
+            refractory_s,
+            ..WaveSpec::paper()
+        };
+        let (answer, once) = protocol_answer(&spec, seed, relay_s)?;
+        let sends = flood(
+            &paper.swarm,
+            paper.initiator,
+            relay_s,
+            refractory_s,
+            HORIZON,
+        );
+        runs.push(RefractoryRun {
+            refractory_s,
+            answer,
+            once,
+            sends,
+        });
+        p.inc();
+    }
+    st.done(&p);
+    Ok(RefractoryRuns {
+        agents: paper.len(),
+        relay_s,
+        runs,
+    })
+}
+
+/// The part from the runs; writes `settle-refractory.{csv,svg}`.
+///
+/// # Errors
+/// If a file cannot be written.
+pub(super) fn write(figs: &Path, r: &RefractoryRuns) -> Result<(RefractoryPart, Flooding), Error> {
+    let (mut rows, mut lines, mut smallest) = (Vec::new(), Vec::new(), None);
+    let mut flooding = Flooding {
+        floods_without: false,
+        sends_without: f64::NAN,
+        smallest: None,
+        once_with: false,
+        horizon: HORIZON,
+    };
+    for run in &r.runs {
+        let (refractory_s, sends) = (run.refractory_s, &run.sends);
+        if let (None, Some(once)) = (smallest, run.once) {
+            smallest = Some(refractory_s);
+            flooding.smallest = Some(refractory_s);
+            flooding.once_with = once;
+        }
+        let total: u32 = sends.iter().sum();
+        let last = sends.iter().rposition(|&k| k > 0).unwrap_or(0);
+        if refractory_s == 0 {
+            flooding.floods_without = last as u64 == HORIZON;
+            flooding.sends_without = f64::from(total) / r.agents as f64;
+        }
+        rows.push(vec![
+            refractory_s.to_string(),
+            run.answer.clone(),
+            fixed(f64::from(total) / r.agents as f64, 2),
+            if last as u64 == HORIZON {
+                format!("{HORIZON} (still going)")
+            } else {
+                last.to_string()
+            },
+        ]);
+        if [0, 1, 2, 10].contains(&refractory_s) {
+            lines.push(Line {
+                label: format!("t_ref = {refractory_s} s"),
+                points: (0..=SHOWN)
+                    .map(|t| (t as f64, f64::from(sends[t as usize]), 0.0))
+                    .collect(),
+            });
+        }
+    }
+    write_files(figs, &rows, &lines, r.agents)?;
+    let part = RefractoryPart {
+        agents: r.agents,
+        relay_s: r.relay_s,
+        horizon: HORIZON,
+        rows,
+        smallest,
+    };
+    Ok((part, flooding))
+}
+
+/// Writes the table as CSV and the lines as the figure.
+fn write_files(
+    figs: &Path,
+    rows: &[Vec<String>],
+    lines: &[Line],
+    agents: usize,
+) -> Result<(), Error> {
+    write_csv(
+        figs,
+        "settle-refractory.csv",
+        &["refractory_s", "protocol", "sends_per_agent", "last_send_s"],
+        rows,
+    )?;
+    plot::xy_figure(
+        &figs.join("settle-refractory.svg"),
+        &format!("one initiation in the {agents} agents of Fig. 2: transmissions per second"),
+        "t / s since the initiation",
+        "agents transmitting",
+        lines,
+        (0.0, 1.1 * lines_top(lines)),
+        &[],
+        false,
+    )?;
+    Ok(())
+}
+
+/// What the protocol does with `spec`'s refractory time: refuses it (with its error), or runs
+/// the wave (checked against the model); with whether every agent sent exactly once.
+fn protocol_answer(
+    spec: &WaveSpec,
+    seed: u64,
+    relay_s: u64,
+) -> Result<(String, Option<bool>), Error> {
+    if let Err(e) = spec.config().params.validate() {
+        return Ok((format!("refuses it: \"{e}\""), None));
+    }
+    let w = one_wave(spec, seed)?;
+    check(&w, relay_s, spec.refractory_s)?;
+    // `one_wave` keeps only waves in which no agent sends twice.
+    let once = w.reached() == w.len();
+    Ok((
+        format!(
+            "runs it: {} of {} agents send, each once; the swarm is quiet again at t = {} s",
+            w.reached(),
+            w.len(),
+            w.end_s()
+        ),
+        Some(once),
+    ))
+}
+
+/// The model's wave on `w`'s swarm is the protocol's: the same agents send in the same seconds.
+fn check(w: &Wave, relay_s: u64, refractory_s: u64) -> Result<(), Error> {
+    let horizon = w.end_s();
+    let sends = flood(&w.swarm, w.initiator, relay_s, refractory_s, horizon);
+    let mut expected = vec![0u32; horizon as usize + 1];
+    for &t in w.sent_at.iter().flatten() {
+        if let Some(e) = expected.get_mut(t as usize) {
+            *e += 1;
+        }
+    }
+    if sends != expected {
+        return Err(
+            format!("refractory {refractory_s} s: the model's wave is not the protocol's").into(),
+        );
+    }
+    Ok(())
+}
+
+fn lines_top(lines: &[Line]) -> f64 {
+    lines
+        .iter()
+        .flat_map(|l| l.points.iter().map(|p| p.1))
+        .fold(1.0, f64::max)
+}

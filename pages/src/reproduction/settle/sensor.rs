@@ -1,0 +1,140 @@
+//! The sensor model the paper leaves open: its noise is "time dependent" and it says no more.
+//! Ours draws a fresh sample whenever an agent becomes active ([`Sensor::PerActivation`]); the
+//! other reading, one sample per agent and negotiation period ([`Sensor::PerPeriod`]), runs the
+//! averaged courses again with the same seeds, and the comparison's level rows (starting
+//! diversity, arrival, plateau) are judged under both.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::{Stage, pm, write_csv};
+use swarm_sim::experiment::Error;
+use swarm_sim::probe::{Tapped, plateaus, tapped_runs};
+use swarm_sim::scenario::Scenario;
+use swarm_sim::sim::Sensor;
+use swarm_sim::stats;
+
+/// One field's levels under one sensor model: `(mean, s.e.)` each.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub(in super::super) struct Levels {
+    /// The first period's diversity.
+    #[serde(with = "swarm_sim::json")]
+    pub(in super::super) start: (f64, f64),
+    /// Periods until arrival, over the runs that arrived.
+    #[serde(with = "swarm_sim::json")]
+    pub(in super::super) arrival: (f64, f64),
+    /// The plateau (mean over agents of `V_k` after arrival).
+    #[serde(with = "swarm_sim::json")]
+    pub(in super::super) plateau: (f64, f64),
+    /// Runs that arrived, of all.
+    pub(in super::super) arrived: usize,
+    pub(in super::super) runs: usize,
+}
+
+/// Both fields under the other sensor model, as the comparison reads them.
+pub(in super::super) struct SensorFacts {
+    /// Per field (sharp, gradient), one sample per period.
+    pub(in super::super) per_period: [Levels; 2],
+}
+
+/// The part of the section the template sees.
+#[derive(Serialize)]
+pub(super) struct SensorPart {
+    runs: u32,
+    /// Per field and quantity: field, quantity, per activation, per period.
+    rows: Vec<[String; 4]>,
+}
+
+/// The levels of a set of runs.
+pub(super) fn levels(runs: &[Tapped]) -> Levels {
+    let start: Vec<f64> = runs
+        .iter()
+        .filter_map(|t| t.out.periods.first().map(|p| p.diversity))
+        .collect();
+    let arrival: Vec<f64> = runs
+        .iter()
+        .filter_map(|t| t.out.success_at.map(f64::from))
+        .collect();
+    let p = plateaus(runs, super::super::PLATEAU_MIN_AFTER).agents;
+    let spread = |v: &[f64]| {
+        (
+            stats::mean(v).unwrap_or(f64::NAN),
+            stats::standard_error(v).unwrap_or(f64::NAN),
+        )
+    };
+    Levels {
+        start: spread(&start),
+        arrival: spread(&arrival),
+        plateau: (p.mean, p.se),
+        arrived: arrival.len(),
+        runs: runs.len(),
+    }
+}
+
+/// Runs `scn`'s averaged course again with one sample per period (its seed `seed`, the
+/// course's); their levels.
+///
+/// # Errors
+/// If a run fails.
+pub(super) fn per_period(st: &mut Stage<'_>, scn: &Scenario, seed: u64) -> Result<Levels, Error> {
+    let runs = super::super::COURSE_RUNS;
+    let p = st.start(
+        &format!("{}: the courses, one reading per period", scn.name),
+        u64::from(runs),
+    );
+    let cfg = swarm_sim::sim::RunConfig {
+        sensor: Sensor::PerPeriod,
+        ..scn.run
+    };
+    let held = tapped_runs(scn, cfg, scn.start.x, scn.periods, runs, seed, &p)?;
+    st.done(&p);
+    Ok(levels(&held))
+}
+
+/// The part from both fields' levels per activation (`fresh`, the courses' runs) and per
+/// period (`held`); writes `settle-sensor.csv`.
+///
+/// # Errors
+/// If the file cannot be written.
+pub(super) fn write(
+    figs: &Path,
+    scns: [&Scenario; 2],
+    fresh: [&Levels; 2],
+    held: [Levels; 2],
+) -> Result<(SensorPart, SensorFacts), Error> {
+    let mut rows = Vec::new();
+    for ((scn, a), b) in scns.into_iter().zip(fresh).zip(&held) {
+        let row = |what: &str, pick: fn(&Levels) -> (f64, f64), digits| {
+            let (x, y) = (pick(a), pick(b));
+            [
+                scn.name.clone(),
+                what.to_string(),
+                pm(x.0, x.1, digits),
+                pm(y.0, y.1, digits),
+            ]
+        };
+        rows.push(row("diversity at t = 0", |l| l.start, 2));
+        rows.push(row("periods until arrival", |l| l.arrival, 1));
+        rows.push(row("diversity plateau", |l| l.plateau, 2));
+        rows.push([
+            scn.name.clone(),
+            "runs that arrived".into(),
+            format!("{} of {}", a.arrived, a.runs),
+            format!("{} of {}", b.arrived, b.runs),
+        ]);
+    }
+    write_csv(
+        figs,
+        "settle-sensor.csv",
+        &["field", "quantity", "per_activation", "per_period"],
+        &rows.iter().map(|r| r.to_vec()).collect::<Vec<_>>(),
+    )?;
+    Ok((
+        SensorPart {
+            runs: super::super::COURSE_RUNS,
+            rows,
+        },
+        SensorFacts { per_period: held },
+    ))
+}

@@ -1,0 +1,287 @@
+//! "The artificial swarms using this algorithm perform better the steeper a gradient in
+//! measured quantity is" (§4, from the sharp border's shorter times): success and time from the
+//! page's start for ramps of several slopes and the sharp border, timed two ways: to the
+//! scenario's criterion, and to the same line for all (within 0.33 R of x = 0, the border or
+//! the ramp's start), since the gradient's criterion (x ≥ 2.33) lies 2.33 R farther.
+
+use std::path::Path;
+
+use nalgebra::Point2;
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::super::results::Results;
+use super::super::units::Unit;
+use super::{STAGE, Stage, pm, write_csv};
+use report::csv_files::fixed;
+use report::plot::{self, Line};
+use swarm_sim::experiment::Error;
+use swarm_sim::scenario::Scenario;
+use swarm_sim::seeds::derive;
+use swarm_sim::sensitivity::Knob;
+use swarm_sim::stats;
+
+/// Slopes of the ramp, per R (the page's 2.5 among them).
+pub(super) const SLOPES: [f64; 5] = [1.0, 2.5, 5.0, 10.0, 20.0];
+/// Runs per slope.
+const RUNS: u32 = 50;
+/// The common line: within this of x = 0 (the sharp border's criterion).
+const NEAR: f64 = 0.33;
+
+/// One run's periods to the criterion and to the common line (`None`: not met).
+pub(in super::super) type Times = (Option<u32>, Option<u32>);
+
+/// Which of a run's [`Times`].
+type Pick = fn(&Times) -> Option<u32>;
+
+/// One field's runs from the start.
+struct Case {
+    label: String,
+    /// The slope (the sharp border: none).
+    slope: Option<f64>,
+    /// Per run: periods to the criterion, and to the common line (`None`: not met).
+    runs: Vec<Times>,
+}
+
+/// Steeper, faster: as the comparison judges it.
+pub(in super::super) struct Steepness {
+    /// The slope of the mean time to the common line against log2 of the slope (periods per
+    /// doubling), with its 95 % half-width, over the ramps.
+    pub(in super::super) per_doubling: (f64, f64),
+    /// The sharp border's mean time to the line, and the steepest ramp's.
+    pub(in super::super) sharp_time: f64,
+    pub(in super::super) steepest_time: f64,
+    /// The shallowest and the steepest slope, and per measure their values there: success,
+    /// mean time to the common line, mean time to the criterion.
+    pub(in super::super) slopes: (f64, f64),
+    pub(in super::super) success: (f64, f64),
+    pub(in super::super) to_line: (f64, f64),
+    pub(in super::super) to_criterion: (f64, f64),
+}
+
+/// The part of the section the template sees.
+#[derive(Serialize)]
+pub(super) struct SteepPart {
+    runs: u32,
+    x: String,
+    near: String,
+    /// Per case: field, slope, success, mean time to the criterion, to the common line.
+    rows: Vec<Vec<String>>,
+    per_doubling: String,
+    sharp_time: String,
+    steepest_time: String,
+    /// The page's own slope, and its mean time to the common line.
+    page_slope: String,
+    page_slope_time: String,
+    /// Shallowest and steepest: slope, success, time to the line, time to the criterion.
+    slopes: [String; 2],
+    success: [String; 2],
+    to_line: [String; 2],
+    to_criterion: [String; 2],
+}
+
+/// The slope of case `k`: none for the sharp border (0), then [`SLOPES`].
+fn slope_of(k: usize) -> Result<Option<f64>, Error> {
+    match k {
+        0 => Ok(None),
+        _ => Ok(Some(
+            *SLOPES
+                .get(k - 1)
+                .ok_or_else(|| format!("no steepness case {k}"))?,
+        )),
+    }
+}
+
+/// The label of the case with `slope` (none: the sharp border).
+fn label(sharp: &Scenario, slope: Option<f64>) -> String {
+    match slope {
+        None => format!("{} border", sharp.name),
+        Some(s) => format!("ramp of slope {s}"),
+    }
+}
+
+/// Runs case `k` (0 the sharp border, then each slope of [`SLOPES`]) from the page's start.
+///
+/// # Errors
+/// If `k` is no case or a run fails.
+pub(super) fn case(
+    st: &mut Stage<'_>,
+    k: usize,
+    scns: [&Scenario; 2],
+) -> Result<Vec<Times>, Error> {
+    let [sharp, gradient] = scns;
+    let slope = slope_of(k)?;
+    let scn = match slope {
+        None => sharp.clone(),
+        Some(s) => Knob::Slope(s).apply(gradient)?,
+    };
+    let p = st.start(
+        &format!("steepness: {}", label(sharp, slope)),
+        u64::from(RUNS),
+    );
+    let seed = st.seed(STAGE + 40 + k as u64);
+    let runs = (0..RUNS)
+        .into_par_iter()
+        .map(|r| {
+            let start = Point2::new(gradient.start.x, 0.0);
+            let s = derive(seed, &[u64::from(r)]);
+            let out = swarm_sim::experiment::run(&scn, scn.run, start, scn.periods, s, true)?;
+            p.inc();
+            let near = out.periods.iter().find(|q| q.to.x > -NEAR).map(|q| q.index);
+            Ok((out.success_at, near))
+        })
+        .collect::<Result<Vec<_>, Error>>()?;
+    st.done(&p);
+    Ok(runs)
+}
+
+/// The part from the units [`Unit::Steep`]; writes `settle-steep.{csv,svg}`.
+///
+/// # Errors
+/// If a unit has no result or a file cannot be written.
+pub(super) fn write(
+    figs: &Path,
+    scns: [&Scenario; 2],
+    results: &Results,
+) -> Result<(SteepPart, Steepness), Error> {
+    let [sharp, gradient] = scns;
+    let page_slope =
+        gradient.field.mean(Point2::new(1.0, 0.0)) - gradient.field.mean(Point2::origin());
+    let mut cases = Vec::new();
+    for k in 0..=SLOPES.len() {
+        let slope = slope_of(k)?;
+        cases.push(Case {
+            label: label(sharp, slope),
+            slope,
+            runs: results.steep(Unit::Steep(k as u8))?.clone(),
+        });
+    }
+    let steep = steepness(&cases);
+    figure(figs, &cases)?;
+    let rows: Vec<Vec<String>> = cases.iter().map(cells).collect();
+    write_csv(
+        figs,
+        "settle-steep.csv",
+        &[
+            "case",
+            "slope",
+            "success",
+            "time_to_criterion",
+            "time_to_x0",
+        ],
+        &rows,
+    )?;
+    let part = SteepPart {
+        runs: RUNS,
+        x: gradient.start.x.to_string(),
+        near: NEAR.to_string(),
+        rows,
+        per_doubling: pm(steep.per_doubling.0, steep.per_doubling.1, 2),
+        sharp_time: fixed(steep.sharp_time, 1),
+        steepest_time: fixed(steep.steepest_time, 1),
+        page_slope: page_slope.to_string(),
+        page_slope_time: cases
+            .iter()
+            .find(|c| c.slope == Some(page_slope))
+            .map_or("—".into(), |c| fixed(mean_time(c, |r| r.1).0, 1)),
+        slopes: [steep.slopes.0.to_string(), steep.slopes.1.to_string()],
+        success: [fixed(steep.success.0, 2), fixed(steep.success.1, 2)],
+        to_line: [fixed(steep.to_line.0, 1), fixed(steep.to_line.1, 1)],
+        to_criterion: [
+            fixed(steep.to_criterion.0, 1),
+            fixed(steep.to_criterion.1, 1),
+        ],
+    };
+    Ok((part, steep))
+}
+
+/// Mean periods of the runs that met a time (`pick`), and how many.
+fn mean_time(c: &Case, pick: Pick) -> (f64, usize) {
+    let v: Vec<f64> = c.runs.iter().filter_map(pick).map(f64::from).collect();
+    (stats::mean(&v).unwrap_or(f64::NAN), v.len())
+}
+
+fn cells(c: &Case) -> Vec<String> {
+    let (crit, met) = mean_time(c, |r| r.0);
+    let (near, _) = mean_time(c, |r| r.1);
+    vec![
+        c.label.clone(),
+        c.slope.map_or("∞".into(), |s| s.to_string()),
+        fixed(met as f64 / c.runs.len().max(1) as f64, 2),
+        fixed(crit, 1),
+        fixed(near, 1),
+    ]
+}
+
+fn steepness(cases: &[Case]) -> Steepness {
+    let pts: Vec<(f64, f64)> = cases
+        .iter()
+        .filter_map(|c| Some((c.slope?.log2(), mean_time(c, |r| r.1).0)))
+        .collect();
+    let fit = stats::line_fit(&pts);
+    let ramps: Vec<&Case> = cases.iter().filter(|c| c.slope.is_some()).collect();
+    let ends = |f: &dyn Fn(&Case) -> f64| {
+        (
+            ramps.first().map_or(f64::NAN, |c| f(c)),
+            ramps.last().map_or(f64::NAN, |c| f(c)),
+        )
+    };
+    let success = |c: &Case| {
+        c.runs.iter().filter(|r| r.0.is_some()).count() as f64 / c.runs.len().max(1) as f64
+    };
+    Steepness {
+        slopes: ends(&|c| c.slope.unwrap_or(f64::NAN)),
+        success: ends(&success),
+        to_line: ends(&|c| mean_time(c, |r| r.1).0),
+        to_criterion: ends(&|c| mean_time(c, |r| r.0).0),
+        per_doubling: fit.map_or((f64::NAN, f64::NAN), |f| (f.slope, f.slope_ci)),
+        sharp_time: cases
+            .iter()
+            .find(|c| c.slope.is_none())
+            .map_or(f64::NAN, |c| mean_time(c, |r| r.1).0),
+        steepest_time: cases
+            .iter()
+            .rfind(|c| c.slope.is_some())
+            .map_or(f64::NAN, |c| mean_time(c, |r| r.1).0),
+    }
+}
+
+/// Mean times against the slope (log axis), both ways; the sharp border as a level.
+fn figure(figs: &Path, cases: &[Case]) -> Result<(), Error> {
+    let ramps: Vec<&Case> = cases.iter().filter(|c| c.slope.is_some()).collect();
+    let line = |label: &str, pick: Pick| Line {
+        label: label.into(),
+        points: ramps
+            .iter()
+            .filter_map(|c| Some((c.slope?, mean_time(c, pick).0, 0.0)))
+            .collect(),
+    };
+    let sharp = cases
+        .iter()
+        .find(|c| c.slope.is_none())
+        .map_or(f64::NAN, |c| mean_time(c, |r| r.1).0);
+    let lines = [
+        line("ramp: mean periods to the criterion x ≥ 2.33", |r| r.0),
+        line("ramp: mean periods to within 0.33 R of x = 0", |r| r.1),
+        Line {
+            label: "sharp border: mean periods to within 0.33 R of x = 0 (its criterion)".into(),
+            points: SLOPES.iter().map(|&s| (s, sharp, 0.0)).collect(),
+        },
+    ];
+    let top = lines
+        .iter()
+        .flat_map(|l| l.points.iter().map(|p| p.1))
+        .filter(|v| v.is_finite())
+        .fold(1.0, f64::max);
+    plot::xy_figure(
+        &figs.join("settle-steep.svg"),
+        &format!("steeper ramps: time from x = −2.5 ({RUNS} runs per slope)"),
+        "slope of the ramp / per R",
+        "mean periods (runs that got there)",
+        &lines,
+        (0.0, (top * 1.1).ceil()),
+        &[],
+        true,
+    )?;
+    Ok(())
+}

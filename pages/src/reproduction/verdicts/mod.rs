@@ -1,0 +1,686 @@
+//! The summary table: every claim of [`CLAIMS`] with ours beside it, a [`Verdict`] computed
+//! from the runs by the claim's kind ([`crate::verdict`]), and the reason, on every row
+//! (reproduced rows keep their caveats).
+
+use serde::Serialize;
+
+use super::{Report, mean_time_at, outward_limit, perception_limit};
+use crate::claims::{CLAIMS, Claim, Id, Kind, claim};
+use crate::verdict::{self, CONE_DEG, Heading, Sign, Verdict};
+use report::csv_files::fixed;
+use swarm_sim::experiment::{Arrow, SweepPoint};
+use swarm_sim::stats;
+
+mod settled;
+
+/// One row of the table.
+#[derive(Serialize)]
+pub(super) struct Row {
+    quantity: &'static str,
+    source: &'static str,
+    paper: &'static str,
+    ours: String,
+    verdict: &'static str,
+    why: String,
+    #[serde(skip)]
+    kind: Verdict,
+}
+
+/// Ours, the verdict and the reason for one claim.
+struct Judged {
+    ours: String,
+    verdict: Verdict,
+    why: String,
+}
+
+fn row(c: &'static Claim, j: Judged) -> Row {
+    Row {
+        quantity: c.quantity,
+        source: c.source,
+        paper: c.paper,
+        ours: j.ours,
+        verdict: j.verdict.words(),
+        why: j.why,
+        kind: j.verdict,
+    }
+}
+
+/// `lo–hi`, or one value when they agree to two decimals.
+fn span((lo, hi): (f64, f64)) -> String {
+    if (hi - lo).abs() < 0.005 {
+        fixed(lo, 2)
+    } else {
+        format!("{}–{}", fixed(lo, 2), fixed(hi, 2))
+    }
+}
+
+/// The points of `pts` inside the claim's x range ([`Claim::covers`]).
+fn within<'a>(pts: &'a [SweepPoint], c: &Claim) -> Vec<&'a SweepPoint> {
+    pts.iter().filter(|p| c.covers(p.x_init)).collect()
+}
+
+/// A rate claim on one placement's sweep: the worst point inside the claim's range is judged
+/// (a range's claim holds at every start). Returns the verdict and the span of rates.
+fn rate_claim(c: &Claim, pts: &[SweepPoint]) -> (Verdict, (f64, f64)) {
+    let band = c.band().unwrap_or((1.0, 1.0));
+    let sel = within(pts, c);
+    let worst = sel
+        .iter()
+        .map(|p| verdict::rate(p.successes, p.runs, band))
+        .max_by_key(|v| Verdict::ALL.iter().position(|w| w == v))
+        .unwrap_or(Verdict::NotReproduced);
+    let rates = sel
+        .iter()
+        .map(|p| p.success_rate())
+        .fold((f64::MAX, f64::MIN), |(lo, hi), r| (lo.min(r), hi.max(r)));
+    (worst, rates)
+}
+
+/// Every row, computed from the report's runs, in the order of [`CLAIMS`].
+pub(super) fn verdicts(r: &Report<'_>) -> Vec<Row> {
+    CLAIMS.iter().map(|c| row(c, judge(r, c))).collect()
+}
+
+fn judge(r: &Report<'_>, c: &'static Claim) -> Judged {
+    match c.id {
+        Id::SharpNear | Id::GradientMid | Id::GradientFar => rates(r, c),
+        Id::SharpFar => sharp_far(r),
+        Id::SharpTime => sharp_time(r),
+        Id::SharpStart | Id::GradientStart => start(r, c),
+        Id::SharpArrival | Id::GradientArrival => arrival(r, c),
+        Id::SharpPlateau | Id::GradientPlateau => plateau(r, c),
+        Id::SharpMapNear | Id::SharpMapFar | Id::GradientMapNear | Id::GradientMapFar => {
+            directions(r, c)
+        }
+        Id::SharpEdge | Id::GradientEdge => edge(r, c),
+        Id::CloudLimit | Id::CloudOutward | Id::CaptionLimit => cloud(r, c),
+        Id::ShapesLine | Id::ShapesCross => shapes(r, c.id),
+        Id::SharpWalk | Id::GradientWalk => settled::walk(r, c),
+        Id::Steeper => settled::steeper(r),
+        Id::CaptionToward => settled::toward_border(r),
+        Id::Refractory => settled::refractory(r),
+    }
+}
+
+/// Which of the report's two fields a claim is about: 0 sharp, 1 gradient.
+fn field_of(id: Id) -> usize {
+    match id {
+        Id::SharpNear
+        | Id::SharpFar
+        | Id::SharpTime
+        | Id::SharpStart
+        | Id::SharpArrival
+        | Id::SharpPlateau
+        | Id::SharpMapNear
+        | Id::SharpMapFar
+        | Id::SharpEdge
+        | Id::SharpWalk => 0,
+        _ => 1,
+    }
+}
+
+fn runs_of(pts: &[SweepPoint]) -> u32 {
+    pts.first().map_or(0, |p| p.runs)
+}
+
+/// Rates over a range of starts (or at one), both placements.
+fn rates(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let k = field_of(c.id);
+    let (main, other) = (r.main, r.main.other());
+    let (vm, sm) = rate_claim(c, &r.sweeps[k]);
+    let (vo, so) = rate_claim(c, &r.other_sweeps[k]);
+    let short: Vec<String> = within(&r.other_sweeps[k], c)
+        .iter()
+        .filter(|p| {
+            verdict::rate(p.successes, p.runs, c.band().unwrap_or((1.0, 1.0)))
+                != Verdict::Reproduced
+        })
+        .map(|p| format!("{} ({})", p.x_init, fixed(p.success_rate(), 2)))
+        .collect();
+    let why = match c.id {
+        Id::SharpNear if short.is_empty() => format!(
+            "both placements hold; the {other} placement's swarms settle where the border halves their agents, which need not pass within 0.33 R of the centre of mass (see the sharp border below)"
+        ),
+        Id::SharpNear => format!(
+            "{other} placement short at x = {}: its swarms settle where the border halves their agents, which need not pass within 0.33 R of the centre of mass (see the sharp border below)",
+            short.join(", ")
+        ),
+        Id::GradientMid => format!(
+            "{other} placement{}: its swarms' preferences along the ramp largely cancel and many march along y (see the gradient below)",
+            if short.is_empty() {
+                " holds too".to_string()
+            } else {
+                format!(" short at x = {}", short.join(", "))
+            }
+        ),
+        _ => format!(
+            "a rare event at {} R: the paper's value is one rate of a few runs either way",
+            c.over.map_or(f64::NAN, |o| -o.0)
+        ),
+    };
+    Judged {
+        ours: format!(
+            "{main}: {} ({} runs per start); {other}: {} ({} runs)",
+            span(sm),
+            runs_of(&r.sweeps[k]),
+            span(so),
+            runs_of(&r.other_sweeps[k])
+        ),
+        verdict: vm.both(vo),
+        why,
+    }
+}
+
+/// "Falls beyond 2.5 R": the rate's slope against x beyond 2.5 R is positive (it falls with the
+/// distance) with its whole interval, and the farthest start's rate is below the level inside
+/// 2.5 R by more than two standard errors.
+fn sharp_far(r: &Report<'_>) -> Judged {
+    let sharp = &r.sweeps[0];
+    let far: Vec<&SweepPoint> = sharp.iter().filter(|p| p.x_init < -2.5 - 1e-9).collect();
+    let pts: Vec<(f64, f64)> = far.iter().map(|p| (p.x_init, p.success_rate())).collect();
+    let fit = stats::line_fit(&pts);
+    let near = within(sharp, claim(Id::SharpNear));
+    let (ok, n) = near
+        .iter()
+        .fold((0, 0), |(k, n), p| (k + p.successes, n + p.runs));
+    let inside = f64::from(ok) / f64::from(n.max(1));
+    let farthest = far.first();
+    let (fall, fall_se) = farthest.map_or((0.0, 0.0), |p| {
+        let q = p.success_rate();
+        let se = (inside * (1.0 - inside) / f64::from(n.max(1))
+            + q * (1.0 - q) / f64::from(p.runs.max(1)))
+        .sqrt();
+        (inside - q, se)
+    });
+    let falls = fall > 2.0 * fall_se;
+    let v = fit.map_or(Verdict::NotReproduced, |f| {
+        verdict::trend(f.slope, f.slope_ci, Sign::Rises, falls)
+    });
+    Judged {
+        ours: format!(
+            "{}: {}; slope {} per R; {} inside 2.5 R, {} at x = {}",
+            r.main,
+            pts.iter()
+                .map(|(x, v)| format!("{x}: {}", fixed(*v, 2)))
+                .collect::<Vec<_>>()
+                .join(", "),
+            fit.map_or("–".into(), |f| format!(
+                "{} ± {}",
+                fixed(f.slope, 2),
+                fixed(f.slope_ci, 2)
+            )),
+            fixed(inside, 2),
+            farthest.map_or("–".into(), |p| fixed(p.success_rate(), 2)),
+            farthest.map_or("–".into(), |p| p.x_init.to_string()),
+        ),
+        verdict: v,
+        why: format!(
+            "the rule: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}) below the rate inside 2.5 R",
+            fixed(2.0 * fall_se, 2)
+        ),
+    }
+}
+
+/// "Decreases linearly toward the border": the mean time's slope against x is negative with its
+/// whole interval, and a line explains at least 90 % of its variance.
+fn sharp_time(r: &Report<'_>) -> Judged {
+    let c = claim(Id::SharpTime);
+    let sharp = &r.sweeps[0];
+    let times: Vec<(f64, f64)> = sharp
+        .iter()
+        .filter(|p| c.covers(p.x_init))
+        .filter_map(|p| mean_time_at(sharp, p.x_init).map(|t| (p.x_init, t)))
+        .collect();
+    let fit = stats::line_fit(&times);
+    const LINEAR_R2: f64 = 0.9;
+    let v = fit.map_or(Verdict::NotReproduced, |f| {
+        verdict::trend(f.slope, f.slope_ci, Sign::Falls, f.r2 >= LINEAR_R2)
+    });
+    Judged {
+        ours: format!(
+            "{} periods; {}",
+            times
+                .iter()
+                .map(|t| fixed(t.1, 1))
+                .collect::<Vec<_>>()
+                .join(", "),
+            fit.map_or("no fit".into(), |f| format!(
+                "{} ± {} periods per R toward the border, R² {}",
+                fixed(-f.slope, 1),
+                fixed(f.slope_ci, 1),
+                fixed(f.r2, 2)
+            ))
+        ),
+        verdict: v,
+        why: format!(
+            "the rule: the slope's 95 % interval below zero, and a line explaining at least {} % of the variance (R² ≥ {LINEAR_R2}); means of the successful runs only",
+            fixed(100.0 * LINEAR_R2, 0)
+        ),
+    }
+}
+
+/// The average diversity at t = 0.
+fn start(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let k = field_of(c.id);
+    let course = &r.courses[k][0];
+    let first = course.points.first();
+    let (m, se) = first.map_or((f64::NAN, f64::NAN), |p| (p.diversity.mean, p.diversity.se));
+    let paper = c.band().map_or(f64::NAN, |b| b.0);
+    let rel = c.tolerance();
+    let noise = [r.sharp, r.gradient][k].run.noise;
+    let floor = noise * noise / 12.0;
+    let across = fixed(100.0 * course.across_at_start, 0);
+    let judged = Judged {
+        ours: format!(
+            "{}: {} ± {} ({} runs; 10–90 %: {}–{})",
+            r.main,
+            fixed(m, 2),
+            fixed(se, 2),
+            course.runs,
+            first.map_or("–".into(), |p| fixed(p.diversity.q10, 2)),
+            first.map_or("–".into(), |p| fixed(p.diversity.q90, 2)),
+        ),
+        verdict: verdict::level(m, se, paper, rel),
+        why: format!(
+            "{}; the noise alone gives {}; {}",
+            if m > paper {
+                format!(
+                    "{across} % of our agents ({}) stand across x = 0 at the start and read the other side",
+                    r.settled.start.at_start[k]
+                )
+            } else {
+                format!(
+                    "ours is about the noise alone: the {across} % of our agents across x = 0 stand low on the ramp"
+                )
+            },
+            fixed(floor, 2),
+            start_against_across(r, k, paper),
+        ),
+    };
+    sensor_both(r, c, judged, |l| l.start, 2)
+}
+
+/// A level row judged again under the other sensor model (one reading per agent and period,
+/// the settling section): when one model reproduces the claim and the other does not, it
+/// depends on that rule; the row's reason gives the other model's value either way.
+fn sensor_both(
+    r: &Report<'_>,
+    c: &'static Claim,
+    mut j: Judged,
+    pick: fn(&super::settle::sensor::Levels) -> (f64, f64),
+    digits: usize,
+) -> Judged {
+    let (m, se) = pick(&r.settled.sensor.per_period[field_of(c.id)]);
+    let paper = c.band().map_or(f64::NAN, |b| b.0);
+    let other = verdict::level(m, se, paper, c.tolerance());
+    let reproduced = |v: Verdict| v == Verdict::Reproduced;
+    if reproduced(other) != reproduced(j.verdict) {
+        j.verdict = Verdict::DependsOnUnspecifiedRule;
+    }
+    j.why = format!(
+        "{}; with one sensor reading per agent and period instead of one per activation: {} ± {} ({})",
+        j.why,
+        fixed(m, digits),
+        fixed(se, digits),
+        other.words()
+    );
+    j
+}
+
+/// What the settling section's starts say of the paper's starting diversity: between which
+/// counts of agents across (main placement) it lies, or that no count reaches it.
+fn start_against_across(r: &Report<'_>, k: usize, paper: f64) -> String {
+    let by = if k == 0 {
+        &r.settled.start.sharp
+    } else {
+        &r.settled.start.gradient
+    };
+    let above = by.iter().position(|&(_, m, _)| m >= paper);
+    let count = |n: usize| format!("{n} agent{}", if n == 1 { "" } else { "s" });
+    match above {
+        Some(0) => format!(
+            "with {} across the first period already gives {} (settling section)",
+            count(by[0].0),
+            fixed(by[0].1, 2)
+        ),
+        Some(i) => format!(
+            "the paper's value lies between what {} and {} across give ({} and {}; settling section)",
+            by[i - 1].0,
+            count(by[i].0),
+            fixed(by[i - 1].1, 2),
+            fixed(by[i].1, 2)
+        ),
+        None => by.last().map_or(String::new(), |&(n, m, _)| {
+            format!(
+                "no start of the settling section reaches the paper's value: at most {} (with {} across)",
+                fixed(m, 2),
+                count(n)
+            )
+        }),
+    }
+}
+
+/// Periods from the start until the swarm arrives: the paper's one run against our runs' mean.
+fn arrival(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let k = field_of(c.id);
+    let course = &r.courses[k][0];
+    let at: Vec<f64> = course
+        .success_at
+        .iter()
+        .flatten()
+        .map(|&t| f64::from(t))
+        .collect();
+    let m = stats::mean(&at).unwrap_or(f64::NAN);
+    let se = stats::standard_error(&at).unwrap_or(f64::NAN);
+    let (q10, q90) = (
+        stats::quantile(&at, 0.1).unwrap_or(f64::NAN),
+        stats::quantile(&at, 0.9).unwrap_or(f64::NAN),
+    );
+    let paper = c.band().map_or(f64::NAN, |b| b.0);
+    let rel = c.tolerance();
+    let in_spread = (q10..=q90).contains(&paper);
+    let judged = Judged {
+        ours: format!(
+            "{}: {} ± {} (the {} of {} runs that arrived; 10–90 %: {}–{})",
+            r.main,
+            fixed(m, 1),
+            fixed(se, 1),
+            at.len(),
+            course.runs,
+            fixed(q10, 0),
+            fixed(q90, 0)
+        ),
+        verdict: verdict::level(m, se, paper, rel),
+        why: format!(
+            "the paper's is one run, {} our runs' 10–90 % range; {} % of the distance our swarms walk is gained along +x (the averaged courses){}",
+            if in_spread { "inside" } else { "outside" },
+            fixed(100.0 * course.straightness, 0),
+            if k == 1 {
+                arrival_way(r)
+            } else {
+                String::new()
+            }
+        ),
+    };
+    sensor_both(r, c, judged, |l| l.arrival, 1)
+}
+
+/// "rises", "falls" or "changes", as `values` (in order) do.
+fn trend_words(values: impl Iterator<Item = f64> + Clone) -> &'static str {
+    let v: Vec<f64> = values.collect();
+    if v.windows(2).all(|w| w[1] > w[0]) {
+        "rises"
+    } else if v.windows(2).all(|w| w[1] < w[0]) {
+        "falls"
+    } else {
+        "changes"
+    }
+}
+
+/// Where the gradient's periods go (settling section).
+fn arrival_way(r: &Report<'_>) -> String {
+    let a = &r.settled.arrival;
+    format!(
+        "; {} of our {} runs arrive within the paper's periods (the fastest in {}); they spend {} periods before the ramp and {} on it, {} of them in its last R before the line, where the first move's heading toward +x has faded to {} (settling section)",
+        a.within_paper,
+        a.arrived,
+        fixed(a.fastest, 0),
+        fixed(a.before_ramp, 1),
+        fixed(a.on_ramp, 1),
+        fixed(a.last_r, 1),
+        fixed(a.heading_mid_last_r, 2)
+    )
+}
+
+/// The diversity plateau after arrival.
+fn plateau(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let k = field_of(c.id);
+    let (m, se, n) = r.plateaus[k];
+    let ours = format!("{} ± {} ({n} runs)", fixed(m, 1), fixed(se, 2));
+    match c.kind {
+        Kind::Tuned => Judged {
+            ours,
+            verdict: Verdict::ByConstruction,
+            why: format!(
+                "the paper gives no slope; ours ({} per R) was chosen to give about {}; it grows with the slope squared (sensitivity below)",
+                r.gradient.field.mean(nalgebra::Point2::new(1.0, 0.0))
+                    - r.gradient.field.mean(nalgebra::Point2::new(0.0, 0.0)),
+                c.values().first().map_or(f64::NAN, |v| v.0)
+            ),
+        },
+        _ => {
+            let paper = c.band().map_or(f64::NAN, |b| b.0);
+            let rel = c.tolerance();
+            let f = &r.settled.plateau;
+            let fits = |&&(_, _, m, se): &&(u64, swarm_sim::scenario::Placement, f64, f64)| {
+                verdict::level(m, se, paper, rel) == Verdict::Reproduced
+            };
+            let ours_verdict = verdict::level(m, se, paper, rel);
+            let open = ours_verdict != Verdict::Reproduced && f.by_cycle.iter().any(|c| fits(&c));
+            let list = f
+                .by_cycle
+                .iter()
+                .filter(|c| c.1 == r.main)
+                .map(|c| format!("{} at {} s", fixed(c.2, 2), c.0))
+                .collect::<Vec<_>>()
+                .join(", ");
+            let judged = Judged {
+                ours,
+                verdict: if open {
+                    Verdict::DependsOnUnspecifiedRule
+                } else {
+                    ours_verdict
+                },
+                why: format!(
+                    "the plateau {} with the cycle length t_p^max, which the paper does not give ({}: {list}; the {} placement within {}); {}; the mean variance per message ({}) and the pooled variance ({}) are farther from the paper's (settling section)",
+                    trend_words(f.by_cycle.iter().filter(|c| c.1 == r.main).map(|c| c.2)),
+                    r.main,
+                    r.main.other(),
+                    fixed(
+                        f.by_cycle
+                            .iter()
+                            .filter(|c| c.1 != r.main)
+                            .filter_map(|o| {
+                                let same =
+                                    f.by_cycle.iter().find(|c| c.1 == r.main && c.0 == o.0)?;
+                                Some((o.2 - same.2).abs())
+                            })
+                            .fold(0.0, f64::max),
+                        2
+                    ),
+                    if open {
+                        let ok: Vec<String> = f
+                            .by_cycle
+                            .iter()
+                            .filter(|c| fits(c))
+                            .map(|c| format!("{} s ({})", c.0, c.1))
+                            .collect();
+                        format!(
+                            "within ± {} % of it with {}",
+                            fixed(100.0 * rel, 0),
+                            ok.join(", ")
+                        )
+                    } else {
+                        "no cycle tried brings it within the band".to_string()
+                    },
+                    fixed(f.message, 2),
+                    fixed(f.pooled, 2)
+                ),
+            };
+            sensor_both(r, c, judged, |l| l.plateau, 2)
+        }
+    }
+}
+
+/// The bearing an arrow at `at` should point in: at the border (sharp) or toward +x
+/// (gradient).
+fn target(sharp: bool, a: &Arrow) -> f64 {
+    if sharp && a.at.x > 0.0 {
+        std::f64::consts::PI
+    } else {
+        0.0
+    }
+}
+
+/// Arrows of a direction map inside a claim's range, counted inside the ±45° cone around
+/// their target, with the mean cosine to it (an arrow without a direction counts 0).
+fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let sharp = field_of(c.id) == 0;
+    let arrows = &r.maps[if sharp { 0 } else { 1 }];
+    let (a, b) = c.over.unwrap_or_default();
+    let far = matches!(c.id, Id::SharpMapFar | Id::GradientMapFar);
+    let keep = |x: f64| match (sharp, far) {
+        (true, false) => x != 0.0 && x.abs() <= b + 1e-9,
+        (true, true) => x.abs() > b + 1e-9,
+        (false, false) => x > a - 1e-9 && x < b + 1e-9,
+        (false, true) => x > a + 1e-9,
+    };
+    let sel: Vec<&Arrow> = arrows.iter().filter(|a| keep(a.at.x)).collect();
+    let cos: Vec<f64> = sel
+        .iter()
+        .map(|a| a.direction.map_or(0.0, |d| (d - target(sharp, a)).cos()))
+        .collect();
+    let cone = CONE_DEG.to_radians().cos();
+    let inside = cos.iter().filter(|&&c| c >= cone - 1e-12).count();
+    let half = cos.iter().filter(|&&c| c > 0.0).count();
+    let toward = matches!(c.kind, Kind::Direction { toward: true });
+    let heading = if toward {
+        Heading::Toward { share: 0.95 }
+    } else {
+        Heading::Random
+    };
+    let v = verdict::direction(inside, sel.len(), heading);
+    let mean_cos = stats::mean(&cos).unwrap_or(f64::NAN);
+    Judged {
+        ours: format!(
+            "{inside} of {} within ±{CONE_DEG}°; mean cos {}; {half} with a component toward it",
+            sel.len(),
+            fixed(mean_cos, 2)
+        ),
+        verdict: v,
+        why: match (toward, sharp) {
+            (true, _) => format!(
+                "the rule: at least 95 % of the arrows within ±{CONE_DEG}° of the target direction"
+            ),
+            (false, true) => format!(
+                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; at \\|x\\| = 3 our swarm (radius 3 R) still touches the border, so those arrows point at it"
+            ),
+            (false, false) => format!(
+                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp, both ways"
+            ),
+        },
+    }
+}
+
+/// The farthest start from which the first move heads for the border, both extents.
+fn edge(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let k = field_of(c.id);
+    let big = &r.sensitivity.extent[2 * k];
+    let small = &r.sensitivity.extent[2 * k + 1];
+    let v = edge_verdict(big.edge_se, c.id);
+    let show = |e: Option<(f64, f64)>| {
+        e.map_or("none".into(), |(d, se)| {
+            format!("{} ± {} R", fixed(d, 2), fixed(se, 2))
+        })
+    };
+    Judged {
+        ours: format!(
+            "{} ({} R swarm); {} for a {} R one",
+            show(big.edge_se),
+            big.diameter,
+            show(small.edge_se),
+            small.diameter
+        ),
+        verdict: v,
+        why: format!(
+            "where the mean heading toward the border falls through 0.5, interpolated on a 0.25 R grid around the claim; the smaller swarm's edge is {}",
+            match (big.edge_se, small.edge_se) {
+                (Some(b), Some(s)) if s.0 < b.0 => "shorter",
+                (Some(_), Some(_)) => "not shorter",
+                _ => "missing",
+            }
+        ),
+    }
+}
+
+/// The verdict on a perception edge `(d, s.e.)` against the claim `id`.
+pub(super) fn edge_verdict(edge: Option<(f64, f64)>, id: Id) -> Verdict {
+    let c = claim(id);
+    verdict::distance(
+        edge,
+        c.band().unwrap_or((f64::NAN, f64::NAN)),
+        c.tolerance(),
+    )
+}
+
+/// The clouds' distances.
+fn cloud(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let (d, what) = match c.id {
+        Id::CloudLimit => (
+            perception_limit(r.profile, 0.5),
+            "where the mean inward alignment last falls through 0.5 going out",
+        ),
+        Id::CloudOutward => (
+            outward_limit(r.profile),
+            "where the mean inward alignment turns from negative to positive going out",
+        ),
+        _ => (
+            perception_limit(&r.caption_cloud.profile, 0.5),
+            "where the mean inward alignment last falls through 0.5 going out",
+        ),
+    };
+    let v = edge_verdict(d, c.id);
+    let mut why = format!("{what}, interpolated on a 0.25 R grid around the claim");
+    if c.id == Id::CloudOutward {
+        let lines = crate::marks::setup_profile(r.cloud);
+        if let [start, end, ..] = &lines[..] {
+            why.push_str(&format!(
+                "; the text's cloud's ramp runs from d = {} to {}, and a swarm between them straddles it",
+                start.0, end.0
+            ));
+        }
+    }
+    Judged {
+        ours: d.map_or("not seen".into(), |(d, se)| {
+            format!("{} ± {} R", fixed(d, 2), fixed(se, 2))
+        }),
+        verdict: v,
+        why,
+    }
+}
+
+/// The discussion's line or cross, run with both rules for an exactly opposite opinion.
+fn shapes(r: &Report<'_>, id: Id) -> Judged {
+    let s = r.shapes;
+    let (name, main, holds) = match id {
+        Id::ShapesLine => ("line", &s.key.line, s.line_holds_by_rule),
+        _ => ("cross", &s.key.cross, s.cross_holds_by_rule),
+    };
+    let keep = s
+        .keep
+        .iter()
+        .find(|r| r.name == name)
+        .map_or("–".to_string(), |r| r.swarm.clone());
+    Judged {
+        ours: format!(
+            "swarm's direction on its axes: {} turning counter-clockwise (the protocol's rule), {keep} keeping its own bearing",
+            main.as_ref().map_or("–".to_string(), |r| r.swarm.clone()),
+        ),
+        verdict: verdict::open_rule(holds),
+        why: format!(
+            "an opinion exactly opposite an agent's own (0° against 180°) has no shorter arc, and the paper does not say which way diffusion turns; the claim holds if at least {} of the runs' directions lie within ± {}° of the axes (the shapes section below)",
+            s.claim, s.tolerance
+        ),
+    }
+}
+
+/// "N rows: a reproduced, b partly, …" for the page.
+pub(super) fn counts(rows: &[Row]) -> String {
+    let parts: Vec<String> = Verdict::ALL
+        .iter()
+        .map(|v| (v, rows.iter().filter(|r| r.kind == *v).count()))
+        .filter(|(_, n)| *n > 0)
+        .map(|(v, n)| format!("{n} {v}"))
+        .collect();
+    format!("Of {} rows: {}", rows.len(), parts.join(", "))
+}

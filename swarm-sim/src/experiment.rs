@@ -1,0 +1,543 @@
+//! Experiments over [`Sim`]: one run, sweeps over initial positions, preferred-direction maps,
+//! radial profiles. Runs are independent and each has its own seed
+//! ([`crate::seeds::derive`]`(seed, [point, run])`), so they are spread over all cores with rayon
+//! and the results do not depend on the number of threads.
+
+use crate::stats;
+use nalgebra::Point2;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64Mcg;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::Swarm;
+use crate::progress::Progress;
+use crate::scenario::{GridSpec, Scenario, Success};
+use crate::seeds::derive;
+use crate::sim::{Period, RunConfig, Sim, SimError};
+use crate::tap::Tap;
+
+/// Any failure of an experiment (parameters that do not validate, a swarm that cannot be placed).
+pub type Error = Box<dyn std::error::Error + Send + Sync>;
+
+/// One run: the placement, every period, and when it first met the success criterion.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RunOutput {
+    /// The swarm's geometry.
+    pub swarm: Swarm,
+    /// The initial centre of mass.
+    #[serde(with = "crate::json")]
+    pub start: Point2<f64>,
+    /// Every period run.
+    pub periods: Vec<Period>,
+    /// Periods after which the run first met the criterion (0: at the start).
+    pub success_at: Option<u32>,
+}
+
+/// Places a swarm for run `seed`.
+fn place(scn: &Scenario, agents: usize, seed: u64) -> Result<Swarm, Error> {
+    let mut rng = Pcg64Mcg::seed_from_u64(derive(seed, &[3]));
+    let shape = scn.shape.scaled_for(scn.agents, agents);
+    Ok(Swarm::place(agents, shape, 1.0, &mut rng)?)
+}
+
+/// Runs `scn` from `start` for up to `periods` negotiation periods. With `stop_on_success`, the
+/// run ends as soon as the scenario's criterion is met (at the start or after a move).
+///
+/// # Errors
+/// If the parameters do not validate or no connected placement exists.
+pub fn run(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    periods: u32,
+    seed: u64,
+    stop_on_success: bool,
+) -> Result<RunOutput, Error> {
+    Ok(run_inner(
+        scn,
+        cfg,
+        start,
+        periods,
+        seed,
+        stop_on_success,
+        Observe::default(),
+    )?
+    .0)
+}
+
+/// [`run`] (to the last period) with the observer's [`Tap`] of every period: the messages
+/// scored in that period's gathering phase. The run itself is the same as [`run`]'s.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_tapped(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    periods: u32,
+    seed: u64,
+) -> Result<(RunOutput, Vec<Tap>), Error> {
+    let observe = Observe {
+        trace: false,
+        tap: true,
+    };
+    let (out, _, taps) = run_inner(scn, cfg, start, periods, seed, false, observe)?;
+    Ok((out, taps))
+}
+
+/// What a run records besides its periods.
+#[derive(Clone, Copy, Debug, Default)]
+struct Observe {
+    /// The events, for the replay viewer ([`Sim::record`]).
+    trace: bool,
+    /// Each period's [`Tap`].
+    tap: bool,
+}
+
+/// [`run`] (to the last period) with its events recorded for the replay viewer
+/// ([`Sim::record`]).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_traced(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    periods: u32,
+    seed: u64,
+) -> Result<(RunOutput, Vec<hal_emu::TraceEvent>), Error> {
+    let observe = Observe {
+        trace: true,
+        tap: false,
+    };
+    let (out, events, _) = run_inner(scn, cfg, start, periods, seed, false, observe)?;
+    Ok((out, events))
+}
+
+/// A run's output, its events (if `observe.trace`) and its taps, one per period (if
+/// `observe.tap`).
+type Observed = (RunOutput, Vec<hal_emu::TraceEvent>, Vec<Tap>);
+
+/// [`run`], recording what `observe` asks for.
+fn run_inner(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    periods: u32,
+    seed: u64,
+    stop_on_success: bool,
+    observe: Observe,
+) -> Result<Observed, Error> {
+    let swarm = place(scn, scn.agents, seed)?;
+    let mut out = RunOutput {
+        swarm,
+        start,
+        periods: Vec::new(),
+        success_at: None,
+    };
+    let met = |c: Point2<f64>| scn.success.as_ref().is_some_and(|s: &Success| s.met(c));
+    if met(start) {
+        out.success_at = Some(0);
+        if stop_on_success {
+            return Ok((out, Vec::new(), Vec::new()));
+        }
+    }
+    let mut periods_out = Vec::with_capacity(periods as usize);
+    let mut taps = Vec::new();
+    let events;
+    {
+        let mut sim = AnySim::new(&out.swarm, scn, cfg, start, seed)?;
+        if observe.trace {
+            sim.record();
+        }
+        if observe.tap {
+            sim.tap();
+        }
+        for _ in 0..periods {
+            let p = sim.run_period()?;
+            periods_out.push(p);
+            if observe.tap {
+                taps.push(sim.take_tap());
+            }
+            if out.success_at.is_none() && met(p.to) {
+                out.success_at = Some(p.index);
+                if stop_on_success {
+                    break;
+                }
+            }
+        }
+        events = sim.take_trace();
+    }
+    out.periods = periods_out;
+    Ok((out, events, taps))
+}
+
+/// The simulation of a scenario: one quantity (the paper), or two when it has a `[[field2]]`.
+enum AnySim<'a> {
+    One(Sim<'a, f32>),
+    Two(Sim<'a, [f32; 2]>),
+}
+
+impl<'a> AnySim<'a> {
+    fn new(
+        swarm: &'a Swarm,
+        scn: &'a Scenario,
+        cfg: RunConfig,
+        start: Point2<f64>,
+        seed: u64,
+    ) -> Result<Self, SimError> {
+        Ok(match &scn.field2 {
+            None => AnySim::One(Sim::new(swarm, &scn.field, cfg, start, seed)?),
+            Some(f2) => AnySim::Two(Sim::with_fields(
+                swarm,
+                vec![&scn.field, f2],
+                cfg,
+                start,
+                seed,
+            )?),
+        })
+    }
+
+    fn run_period(&mut self) -> Result<Period, SimError> {
+        match self {
+            AnySim::One(s) => s.run_period(),
+            AnySim::Two(s) => s.run_period(),
+        }
+    }
+
+    fn record(&mut self) {
+        match self {
+            AnySim::One(s) => s.record(),
+            AnySim::Two(s) => s.record(),
+        }
+    }
+
+    fn tap(&mut self) {
+        match self {
+            AnySim::One(s) => s.tap(),
+            AnySim::Two(s) => s.tap(),
+        }
+    }
+
+    fn take_tap(&mut self) -> Tap {
+        match self {
+            AnySim::One(s) => s.take_tap(),
+            AnySim::Two(s) => s.take_tap(),
+        }
+    }
+
+    fn take_trace(&mut self) -> Vec<hal_emu::TraceEvent> {
+        match self {
+            AnySim::One(s) => s.take_trace(),
+            AnySim::Two(s) => s.take_trace(),
+        }
+    }
+
+    fn run_until(&mut self, t: u64) -> u64 {
+        match self {
+            AnySim::One(s) => s.run_until(t),
+            AnySim::Two(s) => s.run_until(t),
+        }
+    }
+
+    fn calls(&self) -> u64 {
+        match self {
+            AnySim::One(s) => s.calls(),
+            AnySim::Two(s) => s.calls(),
+        }
+    }
+
+    /// Messages the agents accepted (scored or diffused), summed.
+    fn accepted(&self) -> u64 {
+        match self {
+            AnySim::One(s) => s
+                .agents()
+                .iter()
+                .map(|a| u64::from(a.stats().accepted))
+                .sum(),
+            AnySim::Two(s) => s
+                .agents()
+                .iter()
+                .map(|a| u64::from(a.stats().accepted))
+                .sum(),
+        }
+    }
+}
+
+/// Success statistics at one initial position.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepPoint {
+    /// Initial x of the centre of mass (y = 0).
+    #[serde(with = "crate::json")]
+    pub x_init: f64,
+    /// Runs made.
+    pub runs: u32,
+    /// Runs that met the criterion.
+    pub successes: u32,
+    /// Mean number of negotiation periods (moves) until success, over successful runs.
+    #[serde(with = "crate::json")]
+    pub mean_success_periods: Option<f64>,
+}
+
+impl SweepPoint {
+    /// Fraction of successful runs.
+    pub fn success_rate(&self) -> f64 {
+        f64::from(self.successes) / f64::from(self.runs.max(1))
+    }
+}
+
+/// `runs` runs from each `(x, 0)` in `xs`, each stopped at success or after the scenario's
+/// periods. Run `r` at point `p` uses seed `derive(seed, [p, r])`: unit `p * runs + r` of
+/// [`sweep_run`], put together by [`sweep_points`].
+///
+/// # Errors
+/// The first run's error, if any run fails.
+pub fn sweep(
+    scn: &Scenario,
+    cfg: RunConfig,
+    xs: &[f64],
+    runs: u32,
+    seed: u64,
+    progress: &Progress,
+) -> Result<Vec<SweepPoint>, Error> {
+    let n = (xs.len() * runs as usize) as u64;
+    let outcomes: Vec<Option<u32>> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let out = sweep_run(scn, cfg, xs, runs, seed, k);
+            progress.inc();
+            out
+        })
+        .collect::<Result<_, _>>()?;
+    Ok(sweep_points(xs, runs, &outcomes))
+}
+
+/// Unit `k` of [`sweep`]: run `k % runs` from `(xs[k / runs], 0)`, with seed
+/// `derive(seed, [k / runs, k % runs])`; the periods until success, if it succeeded.
+///
+/// # Errors
+/// The run's error, or that `k` is beyond the sweep.
+pub fn sweep_run(
+    scn: &Scenario,
+    cfg: RunConfig,
+    xs: &[f64],
+    runs: u32,
+    seed: u64,
+    k: u64,
+) -> Result<Option<u32>, Error> {
+    let runs = u64::from(runs.max(1));
+    let (p, r) = (k / runs, k % runs);
+    let x = usize::try_from(p)
+        .ok()
+        .and_then(|p| xs.get(p))
+        .ok_or_else(|| format!("sweep unit {k} is beyond the sweep"))?;
+    let s = derive(seed, &[p, r]);
+    run(scn, cfg, Point2::new(*x, 0.0), scn.periods, s, true).map(|o| o.success_at)
+}
+
+/// The points of a sweep from its units' outcomes ([`sweep_run`], in unit order).
+pub fn sweep_points(xs: &[f64], runs: u32, outcomes: &[Option<u32>]) -> Vec<SweepPoint> {
+    xs.iter()
+        .enumerate()
+        .map(|(p, &x)| {
+            let mine = outcomes
+                .get(p * runs as usize..(p + 1) * runs as usize)
+                .unwrap_or_default();
+            let ok: Vec<f64> = mine.iter().flatten().map(|&t| f64::from(t)).collect();
+            SweepPoint {
+                x_init: x,
+                runs,
+                successes: ok.len() as u32,
+                mean_success_periods: stats::mean(&ok),
+            }
+        })
+        .collect()
+}
+
+/// The swarm's preferred direction with its centre at one point.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Arrow {
+    /// The swarm's centre.
+    #[serde(with = "crate::json")]
+    pub at: Point2<f64>,
+    /// Circular mean of the decided bearings (radians), if any agent decided.
+    #[serde(with = "crate::json")]
+    pub direction: Option<f64>,
+    /// Length of the mean resultant (0..1).
+    #[serde(with = "crate::json")]
+    pub consensus: f64,
+    /// Agents with a decision.
+    pub decided: u32,
+}
+
+/// One run of one negotiation period (of the grid's length) at each grid point, row by row
+/// (`y` outer, `x` inner). Point `k` uses seed `derive(seed, [k])`.
+///
+/// # Errors
+/// The first run's error, if any run fails.
+pub fn direction_map(
+    scn: &Scenario,
+    grid: &GridSpec,
+    seed: u64,
+    progress: &Progress,
+) -> Result<Vec<Arrow>, Error> {
+    let mut cfg = scn.run;
+    cfg.params.gather_cycles = grid.gather_cycles;
+    cfg.params.decide_cycles = grid.decide_cycles;
+    let points: Vec<Point2<f64>> = grid
+        .ys
+        .iter()
+        .flat_map(|&y| grid.xs.iter().map(move |&x| Point2::new(x, y)))
+        .collect();
+    points
+        .par_iter()
+        .enumerate()
+        .map(|(k, &at)| {
+            let out = run(scn, cfg, at, 1, derive(seed, &[k as u64]), false)?;
+            progress.inc();
+            let p = out.periods[0];
+            Ok(Arrow {
+                at,
+                direction: p.direction,
+                consensus: p.consensus,
+                decided: p.decided,
+            })
+        })
+        .collect()
+}
+
+/// How strongly a swarm at distance `d` from a centre heads toward it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RadialPoint {
+    /// Distance of the swarm's centre from the profile's centre.
+    #[serde(with = "crate::json")]
+    pub distance: f64,
+    /// Runs made.
+    pub runs: u32,
+    /// Mean of cos(angle between the decided direction and the direction to the centre); 0 for
+    /// a run without a direction. +1: straight in, −1: straight out, about 0: no preference.
+    #[serde(with = "crate::json")]
+    pub inward: f64,
+    /// Standard error of `inward`.
+    #[serde(with = "crate::json")]
+    pub inward_se: f64,
+}
+
+/// `runs` one-period runs at each distance in `distances` from `centre`, at random angles.
+/// Run `r` at distance index `p` uses seed `derive(seed, [p, r])`.
+///
+/// # Errors
+/// The first run's error, if any run fails.
+pub fn radial_profile(
+    scn: &Scenario,
+    cfg: RunConfig,
+    centre: Point2<f64>,
+    distances: &[f64],
+    runs: u32,
+    seed: u64,
+    progress: &Progress,
+) -> Result<Vec<RadialPoint>, Error> {
+    let n = distances.len() * runs as usize;
+    let cosines: Vec<f64> = (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let (p, r) = (k / runs as usize, k % runs as usize);
+            let s = derive(seed, &[p as u64, r as u64]);
+            let phi =
+                std::f64::consts::TAU * Pcg64Mcg::seed_from_u64(derive(s, &[4])).random::<f64>();
+            let d = distances[p];
+            let at = centre + nalgebra::Vector2::new(d * phi.cos(), d * phi.sin());
+            let out = run(scn, cfg, at, 1, s, false)?;
+            progress.inc();
+            // Direction to the centre is phi + π.
+            Ok(out.periods[0]
+                .direction
+                .map_or(0.0, |dir| (dir - phi - std::f64::consts::PI).cos()))
+        })
+        .collect::<Result<_, Error>>()?;
+    Ok(distances
+        .iter()
+        .enumerate()
+        .map(|(p, &d)| {
+            let c = &cosines[p * runs as usize..(p + 1) * runs as usize];
+            RadialPoint {
+                distance: d,
+                runs,
+                inward: stats::mean(c).unwrap_or(f64::NAN),
+                inward_se: stats::standard_error(c).unwrap_or(f64::NAN),
+            }
+        })
+        .collect())
+}
+
+/// Mean number of waves an agent takes part in during one gathering cycle (the messages that
+/// activated it), over `runs` runs at the scenario's start: with `N` agents each initiating once,
+/// `N` means that every wave flooded the whole swarm; fewer, that waves collided.
+///
+/// # Errors
+/// The first run's error, if any run fails.
+pub fn waves_heard(scn: &Scenario, cfg: RunConfig, runs: u32, seed: u64) -> Result<f64, Error> {
+    let per_run: Vec<f64> = (0..runs)
+        .into_par_iter()
+        .map(|r| {
+            let s = derive(seed, &[u64::from(r)]);
+            let swarm = place(scn, scn.agents, s)?;
+            let mut sim = AnySim::new(&swarm, scn, cfg, scn.start, s)?;
+            let cycle = cfg.params.wave.cycle.as_millis() / 1000;
+            sim.run_until(cycle);
+            let heard = sim.accepted();
+            Ok(heard as f64 / swarm.len().max(1) as f64)
+        })
+        .collect::<Result<_, Error>>()?;
+    Ok(stats::mean(&per_run).unwrap_or(0.0))
+}
+
+/// Agent-steps per second at one swarm size.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BenchResult {
+    /// Agents.
+    pub agents: usize,
+    /// Mean neighbours per agent.
+    #[serde(with = "crate::json")]
+    pub mean_degree: f64,
+    /// Wall time to place the swarm and build its neighbour lists, seconds.
+    #[serde(with = "crate::json")]
+    pub place_s: f64,
+    /// Simulated seconds.
+    pub sim_secs: u64,
+    /// Wall time of the simulation, seconds.
+    #[serde(with = "crate::json")]
+    pub wall_s: f64,
+    /// Calls into the agents (`handle_timeout` + `handle_message`).
+    pub calls: u64,
+}
+
+impl BenchResult {
+    /// Agents × simulated seconds per wall-clock second.
+    pub fn agent_steps_per_s(&self) -> f64 {
+        self.agents as f64 * self.sim_secs as f64 / self.wall_s
+    }
+}
+
+/// Places `agents` agents (the scenario's shape scaled to keep its density) and runs one
+/// negotiation period of the scenario at its start, on one thread.
+///
+/// # Errors
+/// If the parameters do not validate or no connected placement exists.
+pub fn bench(scn: &Scenario, agents: usize, seed: u64) -> Result<BenchResult, Error> {
+    let t0 = std::time::Instant::now();
+    let swarm = place(scn, agents, seed)?;
+    let place_s = t0.elapsed().as_secs_f64();
+    let t1 = std::time::Instant::now();
+    let mut sim = AnySim::new(&swarm, scn, scn.run, scn.start, seed)?;
+    sim.run_period()?;
+    Ok(BenchResult {
+        agents,
+        mean_degree: swarm.mean_degree(),
+        place_s,
+        sim_secs: scn.run.period_secs(),
+        wall_s: t1.elapsed().as_secs_f64(),
+        calls: sim.calls(),
+    })
+}

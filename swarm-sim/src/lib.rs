@@ -1,0 +1,32 @@
+//! # swarm-sim: the paper's 2D swarm simulator (section 3)
+//!
+//! N agents running the `protocol` crate's three-phase CIMAX ([`protocol::ThreePhaseAgent`]),
+//! stepped in whole seconds, in a swarm that moves rigidly after every negotiation period. The
+//! engine ([`sim`]) runs over the swarm's [`geometry`] and the environment's fields
+//! ([`hal_emu::world::field`], shared with the emulated lab), the [`scenario`]s, and the
+//! [`experiment`]s run on them (runs, sweeps, direction maps, profiles). The seed derivation
+//! ([`seeds`]), the summary statistics ([`stats`]) and the progress bar ([`progress`]) are
+//! shared by every crate above it. `docs/reproduction.md`, which runs them all, is made by the
+//! `pages` crate.
+//!
+//! ## What it never does
+//! - implement CIMAX a second time: every decision is made by `protocol`'s state machines;
+//! - depend on the number of threads: every run has its own seed ([`seeds`]), runs are
+//!   independent, and results are collected in run order.
+
+pub mod experiment;
+pub mod geometry;
+pub mod json;
+pub mod measure;
+pub mod probe;
+pub mod progress;
+pub mod reading;
+pub mod scenario;
+pub mod seeds;
+pub mod sensitivity;
+pub mod shapes;
+pub mod sim;
+pub mod stats;
+pub mod tap;
+pub mod timecourse;
+pub mod waves;

@@ -1,0 +1,898 @@
+//! The 2D simulation engine: the `protocol` crate's [`ThreePhaseAgent`]s stepped in whole
+//! seconds over a rigid swarm that moves after every negotiation period.
+//!
+//! There is no second implementation of CIMAX here: this module only delivers messages, feeds
+//! readings and moves the swarm. Per simulated second `t` at which anything happens:
+//!
+//! 1. every agent whose [`ThreePhaseAgent::poll_timeout`] is due at `t` is served, by increasing
+//!    index ([`ThreePhaseAgent::handle_timeout`]); what it transmits is collected;
+//! 2. each transmission (senders by increasing index) is delivered at `t` to every neighbour
+//!    within the perception range, with the bearing `atan2(sender − receiver)`
+//!    ([`ThreePhaseAgent::handle_message`]). An agent activated at `t` relays at `t + 1`, so a
+//!    wave advances one hop per second;
+//! 3. at the end of a negotiation period (every agent shares the cycle boundaries: created at
+//!    second 0, no cycle spread) the swarm's direction is the circular mean of the agents'
+//!    decided bearings (agents without a decision abstain; if all abstain, or the bearings cancel
+//!    exactly, the swarm stays put) and the swarm moves `step` along it.
+//!
+//! Time jumps from one due second to the next (a timing wheel of the agents' timeouts: one
+//! bucket per second over the next 4096 seconds, a heap beyond), so the idle part of a long
+//! cycle costs little.
+//!
+//! **Readings.** An agent samples X once per activation: when it may initiate (served at a
+//! timeout while not active) and when a message reaches it while it is inactive. The sample is
+//! `field(position) + ξ`, with ξ uniform in `(−noise/2, noise/2)` drawn fresh from the run's noise
+//! generator. The same sample is scored on reception and appended when relaying.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::fmt;
+
+use hal_emu::TraceEvent;
+use nalgebra::{Point2, Vector2};
+use protocol::direction::Opposite;
+use protocol::three_phase::{SimEvent, SimMessage, ThreePhaseAgent};
+use protocol::{Instant, ParamError, Params, Sector, WaveState};
+use rand::SeedableRng;
+use rand_pcg::Pcg64Mcg;
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::Swarm;
+use crate::measure::Measure;
+use crate::reading::Reading;
+use crate::stats::Resultant;
+use crate::tap::Tap;
+use hal_emu::world::field::Field;
+
+/// The agent the simulator steps: the run's [`Measure`] as the diversity (the variance unless
+/// the scenario says otherwise), up to 32 readings per message, up to 16 distinct bearings per
+/// period, one quantity per reading.
+pub type Agent = AgentOf<f32>;
+
+/// The agent of a run whose readings are `R` (one quantity or several).
+pub type AgentOf<R> = ThreePhaseAgent<<R as Reading>::Measure, 32, 16, R>;
+
+/// A message between agents.
+pub type Message = SimMessage<32>;
+
+/// What a run needs besides the geometry and the field.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunConfig {
+    /// Protocol parameters (`Params::simulation_2d()` unless a scenario changes them).
+    pub params: Params,
+    /// Move per negotiation period, in R (the paper: 0.33).
+    pub step: f64,
+    /// Width of the noise: ξ uniform in `(−noise/2, noise/2)` (the paper: 1).
+    pub noise: f64,
+    /// The agents' diversity measure (the paper: the variance).
+    pub diversity: Measure,
+    /// What an agent does with an opinion exactly opposite its own (the paper does not say;
+    /// counter-clockwise unless a run says otherwise).
+    pub opposite: Opposite,
+    /// When an agent's sensor is read (the paper's noise is "time dependent" and says no
+    /// more; a fresh sample per activation unless a run says otherwise).
+    pub sensor: Sensor,
+}
+
+/// When an agent's sensor is read: the sensor model the paper leaves open.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sensor {
+    /// A fresh sample whenever the agent becomes active (initiates or is activated by a
+    /// message): the sample it scores and relays.
+    #[default]
+    PerActivation,
+    /// One sample per agent and negotiation period, drawn as the period starts (agents by
+    /// index) and used for every activation in it.
+    PerPeriod,
+}
+
+/// The longest negotiation period a run accepts, in seconds (11.6 days; the paper's period is
+/// 2000 s and the longest in docs/reproduction.md 10,000 s). Any number of periods a `u32` can
+/// count then ends before 2^32 × 10^6 s ≈ 4.3 × 10^15 s, within the protocol's clock
+/// (milliseconds in a `u64`, 1.8 × 10^16 s): no period's end overflows.
+pub const MAX_PERIOD_SECS: u64 = 1_000_000;
+
+/// Why a run cannot start or go on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SimError {
+    /// The protocol parameters do not validate.
+    Params(ParamError),
+    /// A negotiation period, `(gather_cycles + decide_cycles) × cycle`, longer than
+    /// [`MAX_PERIOD_SECS`].
+    PeriodTooLong {
+        /// Gathering cycles per period.
+        gather_cycles: u16,
+        /// Deciding cycles per period.
+        decide_cycles: u16,
+        /// The cycle, whole seconds.
+        cycle_s: u64,
+    },
+    /// The run has counted `u32::MAX` periods: it cannot count another.
+    TooManyPeriods,
+    /// The run's readings need this many fields (quantities) but were given another number.
+    Fields {
+        /// Fields needed.
+        needed: usize,
+        /// Fields given.
+        given: usize,
+    },
+}
+
+impl fmt::Display for SimError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            SimError::Params(e) => e.fmt(f),
+            SimError::PeriodTooLong {
+                gather_cycles,
+                decide_cycles,
+                cycle_s,
+            } => {
+                let cycles = u128::from(gather_cycles) + u128::from(decide_cycles);
+                write!(
+                    f,
+                    "a negotiation period of (gather_cycles + decide_cycles) × cycle = \
+                     ({gather_cycles} + {decide_cycles}) × {cycle_s} s = {} s is longer than \
+                     the limit of {MAX_PERIOD_SECS} s",
+                    cycles * u128::from(cycle_s)
+                )
+            }
+            SimError::TooManyPeriods => {
+                write!(f, "a run cannot count more than {} periods", u32::MAX)
+            }
+            SimError::Fields { needed, given } => {
+                write!(
+                    f,
+                    "a run of {needed} quantities needs {needed} fields, not {given}"
+                )
+            }
+        }
+    }
+}
+
+impl std::error::Error for SimError {}
+
+impl From<ParamError> for SimError {
+    fn from(e: ParamError) -> Self {
+        SimError::Params(e)
+    }
+}
+
+impl RunConfig {
+    /// Length of one negotiation period in seconds, `(gather_cycles + decide_cycles) × cycle`
+    /// with the cycle rounded up to whole seconds; `u64::MAX` if that does not fit (a
+    /// configuration [`check`](Self::check) accepts has at most [`MAX_PERIOD_SECS`]).
+    pub fn period_secs(&self) -> u64 {
+        self.checked_period_secs().unwrap_or(u64::MAX)
+    }
+
+    /// [`period_secs`](Self::period_secs), `None` if it does not fit in a `u64`.
+    pub fn checked_period_secs(&self) -> Option<u64> {
+        let p = &self.params;
+        let cycles = u64::from(p.gather_cycles) + u64::from(p.decide_cycles);
+        cycles.checked_mul(p.wave.cycle.as_millis().div_ceil(1000))
+    }
+
+    /// Checks that a run can use this configuration: the protocol parameters validate and a
+    /// negotiation period is at most [`MAX_PERIOD_SECS`].
+    ///
+    /// # Errors
+    /// The [`SimError`] saying which.
+    pub fn check(&self) -> Result<(), SimError> {
+        self.params.validate()?;
+        match self.checked_period_secs() {
+            Some(s) if s <= MAX_PERIOD_SECS => Ok(()),
+            _ => Err(SimError::PeriodTooLong {
+                gather_cycles: self.params.gather_cycles,
+                decide_cycles: self.params.decide_cycles,
+                cycle_s: self.params.wave.cycle.as_millis().div_ceil(1000),
+            }),
+        }
+    }
+}
+
+/// What happened in one negotiation period.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Period {
+    /// Periods completed, counting this one (1 for the first).
+    pub index: u32,
+    /// Simulated second at which the period ended.
+    pub end_s: u64,
+    /// Centre of mass during the period.
+    #[serde(with = "crate::json")]
+    pub from: Point2<f64>,
+    /// Centre of mass after the move.
+    #[serde(with = "crate::json")]
+    pub to: Point2<f64>,
+    /// Direction moved (radians), if any.
+    #[serde(with = "crate::json")]
+    pub direction: Option<f64>,
+    /// Length of the mean resultant of the decided bearings (1 = unanimous, 0 = no agreement).
+    #[serde(with = "crate::json")]
+    pub consensus: f64,
+    /// Agents that had a decision.
+    pub decided: u32,
+    /// The observer's average diversity: the mean over agents of `V_k` from this period's
+    /// gathering phase.
+    #[serde(with = "crate::json")]
+    pub diversity: f64,
+}
+
+/// One run of the simulation: the agents, where the swarm is and the clock.
+pub struct Sim<'a, R: Reading = f32> {
+    swarm: &'a Swarm,
+    /// One field per quantity of `R`.
+    fields: Vec<&'a Field>,
+    cfg: RunConfig,
+    agents: Vec<AgentOf<R>>,
+    centre: Point2<f64>,
+    periods: u32,
+    queue: Calendar,
+    scheduled: Vec<u64>,
+    /// Per agent, the seconds at which it has an entry in `queue` (stale or not), so an agent
+    /// whose timeout returns to a second already queued is not queued twice.
+    queued: Vec<Vec<u64>>,
+    proto_rng: Pcg64Mcg,
+    noise_rng: Pcg64Mcg,
+    due: Vec<u32>,
+    tx: Vec<(u32, SimMessage<32, R>)>,
+    calls: u64,
+    /// The fields' means at every agent's position (agent-major, `R::QUANTITIES` per agent):
+    /// positions change only when the swarm moves, so the fields are evaluated once per agent
+    /// and period, not once per reading.
+    means: Vec<f64>,
+    /// The run's events for the replay viewer, if asked for ([`Sim::record`]).
+    trace: Option<Recorder>,
+    /// The observer's diversities of the accepted messages, if asked for ([`Sim::tap`]).
+    tap: Option<Tap>,
+    /// Each agent's reading of the current period ([`Sensor::PerPeriod`]; empty otherwise).
+    held: Vec<R>,
+}
+
+/// What [`Sim::record`] keeps: the events, and each agent's scores per sector before its
+/// last timeout and at its last evaluation (they go with its decision at the period's end).
+#[derive(Default)]
+struct Recorder {
+    events: Vec<TraceEvent>,
+    heard: Vec<Vec<Option<f32>>>,
+    scores: Vec<Vec<Option<f32>>>,
+}
+
+/// The sectors a bearing is binned into for the viewer (its LED colours).
+pub const TRACE_SECTORS: u8 = 8;
+
+/// The agents' due seconds: a wheel of one-second buckets covering `[now, now + WHEEL)` and a
+/// heap for anything later. Every entry in the wheel lies in that window, so a bucket holds
+/// exactly the entries of one second.
+struct Calendar {
+    buckets: Vec<Vec<u32>>,
+    in_wheel: usize,
+    later: BinaryHeap<Reverse<(u64, u32)>>,
+    now: u64,
+}
+
+impl Calendar {
+    const WHEEL: u64 = 4096;
+
+    fn new() -> Self {
+        Calendar {
+            buckets: vec![Vec::new(); Self::WHEEL as usize],
+            in_wheel: 0,
+            later: BinaryHeap::new(),
+            now: 0,
+        }
+    }
+
+    fn bucket(&mut self, t: u64) -> &mut Vec<u32> {
+        &mut self.buckets[(t % Self::WHEEL) as usize]
+    }
+
+    /// Queues agent `i` at second `t` (a second already passed counts as now).
+    fn push(&mut self, t: u64, i: u32) {
+        let t = t.max(self.now);
+        if t - self.now < Self::WHEEL {
+            self.bucket(t).push(i);
+            self.in_wheel += 1;
+        } else {
+            self.later.push(Reverse((t, i)));
+        }
+    }
+
+    /// Moves what the window now covers from the heap into the wheel.
+    fn refill(&mut self) {
+        while let Some(&Reverse((t, i))) = self.later.peek() {
+            if t - self.now >= Self::WHEEL {
+                break;
+            }
+            self.later.pop();
+            self.bucket(t).push(i);
+            self.in_wheel += 1;
+        }
+    }
+
+    /// The first second at or before `until` with entries, if any; the window moves up to it.
+    fn next_due(&mut self, until: u64) -> Option<u64> {
+        loop {
+            if self.now > until {
+                return None;
+            }
+            if self.in_wheel == 0 {
+                let &Reverse((t, _)) = self.later.peek()?;
+                if t > until {
+                    return None;
+                }
+                self.now = t;
+                self.refill();
+            }
+            if !self.bucket(self.now).is_empty() {
+                return Some(self.now);
+            }
+            self.now += 1;
+            self.refill();
+        }
+    }
+
+    /// Appends the agents queued at second `t` (the current second) to `out`.
+    fn take(&mut self, t: u64, out: &mut Vec<u32>) {
+        debug_assert_eq!(t, self.now);
+        let b = &mut self.buckets[(t % Self::WHEEL) as usize];
+        self.in_wheel -= b.len();
+        out.append(b);
+    }
+}
+
+/// Seconds since the epoch of an instant (the simulation only uses whole seconds).
+fn secs(t: Instant) -> u64 {
+    t.as_millis().div_ceil(1000)
+}
+
+impl<'a> Sim<'a> {
+    /// A run of `swarm` in `field` with its centre of mass at `centre`; every agent starts its
+    /// first cycle (gathering) at second 0. All randomness of the run (cycle draws, noise) comes
+    /// from `seed`.
+    ///
+    /// # Errors
+    /// A [`SimError`] if the configuration fails [`RunConfig::check`]: the protocol parameters
+    /// do not validate, or a negotiation period is longer than [`MAX_PERIOD_SECS`].
+    pub fn new(
+        swarm: &'a Swarm,
+        field: &'a Field,
+        cfg: RunConfig,
+        centre: Point2<f64>,
+        seed: u64,
+    ) -> Result<Self, SimError> {
+        Sim::with_fields(swarm, vec![field], cfg, centre, seed)
+    }
+}
+
+impl<'a, R: Reading> Sim<'a, R> {
+    /// [`Sim::new`] for readings of `R::QUANTITIES` quantities, one field each (the first is
+    /// X, sampled first at every reading).
+    ///
+    /// # Errors
+    /// As [`Sim::new`], and [`SimError::Fields`] unless `fields` has one field per quantity.
+    pub fn with_fields(
+        swarm: &'a Swarm,
+        fields: Vec<&'a Field>,
+        cfg: RunConfig,
+        centre: Point2<f64>,
+        seed: u64,
+    ) -> Result<Self, SimError> {
+        if fields.len() != R::QUANTITIES {
+            return Err(SimError::Fields {
+                needed: R::QUANTITIES,
+                given: fields.len(),
+            });
+        }
+        cfg.check()?;
+        let mut proto_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[1]));
+        let noise_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[2]));
+        let n = swarm.len();
+        let mut agents = Vec::with_capacity(n);
+        for _ in 0..n {
+            let mut agent = AgentOf::<R>::with_diversity(
+                cfg.params,
+                R::measure(cfg.diversity),
+                Instant::ZERO,
+                &mut proto_rng,
+            )?;
+            agent.set_opposite(cfg.opposite);
+            agents.push(agent);
+        }
+        let mut sim = Sim {
+            swarm,
+            fields,
+            cfg,
+            agents,
+            centre,
+            periods: 0,
+            queue: Calendar::new(),
+            scheduled: vec![u64::MAX; n],
+            queued: vec![Vec::new(); n],
+            proto_rng,
+            noise_rng,
+            due: Vec::new(),
+            tx: Vec::new(),
+            calls: 0,
+            means: Vec::with_capacity(n * R::QUANTITIES),
+            trace: None,
+            tap: None,
+            held: Vec::new(),
+        };
+        sim.place_means();
+        for i in 0..n {
+            sim.reschedule(i);
+        }
+        Ok(sim)
+    }
+
+    /// The centre of mass.
+    pub fn centre(&self) -> Point2<f64> {
+        self.centre
+    }
+
+    /// Negotiation periods completed.
+    pub fn periods(&self) -> u32 {
+        self.periods
+    }
+
+    /// The agents, by index.
+    pub fn agents(&self) -> &[AgentOf<R>] {
+        &self.agents
+    }
+
+    /// Calls made into the agents so far (`handle_timeout` and `handle_message`).
+    pub fn calls(&self) -> u64 {
+        self.calls
+    }
+
+    /// The run's configuration.
+    pub fn config(&self) -> &RunConfig {
+        &self.cfg
+    }
+
+    /// Records the run's events from now on for the replay viewer ([`take_trace`](Self::take_trace)):
+    /// wave states, transmissions (each of length 1: a hop takes a second), each
+    /// agent's preferred and decided bearing binned into [`TRACE_SECTORS`] sectors, and the
+    /// moves. Costs memory; a run without it records nothing.
+    pub fn record(&mut self) {
+        let n = self.agents.len();
+        self.trace.get_or_insert_with(|| Recorder {
+            events: Vec::new(),
+            heard: vec![Vec::new(); n],
+            scores: vec![Vec::new(); n],
+        });
+    }
+
+    /// The events recorded so far.
+    pub fn take_trace(&mut self) -> Vec<TraceEvent> {
+        self.trace
+            .as_mut()
+            .map(|r| std::mem::take(&mut r.events))
+            .unwrap_or_default()
+    }
+
+    /// Observes the messages the agents score from now on ([`Tap`]); changes nothing in the
+    /// run.
+    pub fn tap(&mut self) {
+        self.tap = Some(Tap::default());
+    }
+
+    /// What the tap saw since the last call (empty if [`Sim::tap`] was not called).
+    pub fn take_tap(&mut self) -> Tap {
+        self.tap.as_mut().map(std::mem::take).unwrap_or_default()
+    }
+
+    /// Keeps what agent `i` heard so far, per sector the best direction's score, if recording:
+    /// an evaluation at its next timeout clears the agent's own table before it is seen.
+    fn note_scores(&mut self, i: usize) {
+        let Some(rec) = self.trace.as_mut() else {
+            return;
+        };
+        let mut scores = vec![None::<f32>; usize::from(TRACE_SECTORS)];
+        for (b, w, _) in self.agents[i].weights() {
+            let s = &mut scores[usize::from(Sector::from_bearing(b, TRACE_SECTORS).index())];
+            *s = Some(s.map_or(w, |x| x.max(w)));
+        }
+        rec.heard[i] = scores;
+    }
+
+    /// Takes agent `i`'s events at second `t`, recording them if asked.
+    fn drain_events(&mut self, i: usize, t: u64) {
+        while let Some(e) = self.agents[i].poll_event() {
+            let Some(rec) = self.trace.as_mut() else {
+                continue;
+            };
+            let trace = &mut rec.events;
+            let t_ms = t * 1000;
+            let sector = |b: Option<f32>| b.map(|b| Sector::from_bearing(b, TRACE_SECTORS).index());
+            match e {
+                SimEvent::State(s) => trace.push(TraceEvent::State {
+                    t_ms,
+                    robot: i,
+                    state: match s {
+                        WaveState::Inactive => "inactive",
+                        WaveState::Active => "active",
+                        WaveState::Refractory => "refractory",
+                    }
+                    .into(),
+                }),
+                SimEvent::Evaluated { preferred, .. } => {
+                    // The scores it evaluated ([`Self::note_scores`] kept them).
+                    rec.scores[i] = std::mem::take(&mut rec.heard[i]);
+                    trace.push(TraceEvent::Preference {
+                        t_ms,
+                        robot: i,
+                        preference: sector(preferred)
+                            .map_or("none".into(), |s| format!("sector {s}")),
+                    });
+                }
+                SimEvent::Decided { period, bearing } => {
+                    trace.push(TraceEvent::Decided {
+                        t_ms,
+                        robot: i,
+                        period,
+                        decision: sector(bearing),
+                        votes: Vec::new(),
+                        scores: rec.scores[i].clone(),
+                        reading: self.means[i * R::QUANTITIES] as f32,
+                    });
+                    trace.push(TraceEvent::Led {
+                        t_ms,
+                        robot: i,
+                        color: sector(bearing)
+                            .map_or("off".into(), |s| format!("sector {s}").into()),
+                    });
+                }
+            }
+        }
+    }
+
+    fn reschedule(&mut self, i: usize) {
+        let t = secs(self.agents[i].poll_timeout());
+        if t != self.scheduled[i] {
+            self.scheduled[i] = t;
+            if !self.queued[i].contains(&t) {
+                self.queued[i].push(t);
+                self.queue.push(t, i as u32);
+            }
+        }
+    }
+
+    /// Evaluates the field at every agent's position (after the swarm moved).
+    fn place_means(&mut self) {
+        let (swarm, centre) = (self.swarm, self.centre);
+        self.means.clear();
+        for i in 0..swarm.len() {
+            let at = swarm.position(i, centre);
+            self.means.extend(self.fields.iter().map(|f| f.mean(at)));
+        }
+    }
+
+    /// A fresh reading for agent `i` at the current position.
+    fn draw(&mut self, i: usize) -> R {
+        let q = R::QUANTITIES;
+        R::sample(
+            &self.means[i * q..(i + 1) * q],
+            self.cfg.noise,
+            &mut self.noise_rng,
+        )
+    }
+
+    /// Agent `i`'s reading as it becomes active (fresh, or the period's under
+    /// [`Sensor::PerPeriod`]), handed to it; it is also returned.
+    fn sample(&mut self, i: usize) -> R {
+        let r = match self.held.get(i) {
+            Some(&r) => r,
+            None => self.draw(i),
+        };
+        self.agents[i].handle_reading(r);
+        r
+    }
+
+    /// Under [`Sensor::PerPeriod`], every agent's reading for the period about to start.
+    fn hold_readings(&mut self) {
+        if self.cfg.sensor == Sensor::PerPeriod {
+            self.held.clear();
+            for i in 0..self.agents.len() {
+                let r = self.draw(i);
+                self.held.push(r);
+            }
+        }
+    }
+
+    /// Runs every due second up to and including `until`.
+    fn advance_to(&mut self, until: u64) {
+        while let Some(t) = self.queue.next_due(until) {
+            self.second(t);
+        }
+    }
+
+    /// Serves everything due at second `t`, then delivers what was sent.
+    fn second(&mut self, t: u64) {
+        let now = Instant::from_secs(t);
+        let mut due = std::mem::take(&mut self.due);
+        self.queue.take(t, &mut due);
+        // Served by increasing index, whatever order they were queued in.
+        due.sort_unstable();
+        due.retain(|&i| {
+            let i = i as usize;
+            self.queued[i].retain(|&q| q != t);
+            let now_due = self.scheduled[i] == t;
+            if now_due {
+                self.scheduled[i] = u64::MAX;
+            }
+            now_due
+        });
+        for &i in &due {
+            let i = i as usize;
+            if self.agents[i].state() != WaveState::Active {
+                self.sample(i);
+            }
+            self.note_scores(i);
+            self.agents[i].handle_timeout(now, &mut self.proto_rng);
+            self.calls += 1;
+            while let Some(m) = self.agents[i].poll_transmit() {
+                if let Some(rec) = self.trace.as_mut() {
+                    rec.events.push(TraceEvent::Sent {
+                        t_ms: t * 1000,
+                        robot: i,
+                        // One unit: the viewer shows a message for its one-second hop.
+                        len: 1,
+                    });
+                }
+                self.tx.push((i as u32, m));
+            }
+            self.drain_events(i, t);
+            self.reschedule(i);
+        }
+        due.clear();
+        self.due = due;
+        let tx = std::mem::take(&mut self.tx);
+        for (s, m) in &tx {
+            for l in self.swarm.neighbours(*s as usize) {
+                let r = l.agent as usize;
+                if self.agents[r].state() != WaveState::Inactive {
+                    // An active or refractory agent ignores every message (the wave rule; most
+                    // deliveries are such: a wave comes back to the agents it came from). Not
+                    // calling it changes nothing but its `ignored`/`wrong_phase` counters,
+                    // which then count only messages heard while inactive.
+                    debug_assert!(!self.agents[r].clone().handle_message(
+                        now,
+                        l.bearing,
+                        m,
+                        &mut self.proto_rng.clone()
+                    ));
+                    continue;
+                }
+                let own = self.sample(r);
+                let accepted =
+                    self.agents[r].handle_message(now, l.bearing, m, &mut self.proto_rng);
+                self.calls += 1;
+                debug_assert!(self.agents[r].poll_transmit().is_none());
+                if !accepted {
+                    // Every agent due at `t` was served above, so a refused message changed
+                    // nothing but a counter: no event, the same timeout (most deliveries reach
+                    // an agent that is already active or refractory).
+                    debug_assert!(self.agents[r].poll_event().is_none());
+                    debug_assert_eq!(secs(self.agents[r].poll_timeout()), self.scheduled[r]);
+                    continue;
+                }
+                if let (Some(tap), SimMessage::Readings(rs)) = (self.tap.as_mut(), m) {
+                    let own = std::iter::once(own.first());
+                    tap.add(rs.iter().map(R::first).chain(own));
+                }
+                self.drain_events(r, t);
+                self.reschedule(r);
+            }
+        }
+        self.tx = tx;
+        self.tx.clear();
+    }
+
+    /// Runs one negotiation period, then moves the swarm along the decided direction.
+    ///
+    /// # Errors
+    /// [`SimError::TooManyPeriods`] once the run has counted `u32::MAX` periods (the period's
+    /// end cannot overflow: [`Sim::new`] checked the period's length).
+    pub fn run_period(&mut self) -> Result<Period, SimError> {
+        let index = self
+            .periods
+            .checked_add(1)
+            .ok_or(SimError::TooManyPeriods)?;
+        let end = self
+            .cfg
+            .checked_period_secs()
+            .and_then(|p| p.checked_mul(u64::from(index)))
+            .ok_or(SimError::TooManyPeriods)?;
+        self.hold_readings();
+        self.advance_to(end);
+        self.periods = index;
+        let diversity: f64 = self
+            .agents
+            .iter()
+            .fold(0.0, |d, a| d + f64::from(a.diversity()));
+        let resultant = Resultant::of(
+            self.agents
+                .iter()
+                .filter_map(|a| a.decision())
+                .map(f64::from),
+        );
+        let n = self.agents.len().max(1) as f64;
+        let from = self.centre;
+        let direction = resultant.direction();
+        let consensus = resultant.length();
+        if let Some(rec) = self.trace.as_mut() {
+            rec.events.push(TraceEvent::Moved {
+                t_ms: end * 1000,
+                centre: [from.x, from.y],
+                heading: direction,
+                step: if direction.is_some() {
+                    self.cfg.step
+                } else {
+                    0.0
+                },
+                consensus,
+            });
+        }
+        if let Some(d) = direction {
+            self.centre += self.cfg.step * Vector2::new(d.cos(), d.sin());
+            self.place_means();
+        }
+        Ok(Period {
+            index: self.periods,
+            end_s: end,
+            from,
+            to: self.centre,
+            direction,
+            consensus,
+            decided: resultant.n,
+            diversity: diversity / n,
+        })
+    }
+
+    /// Runs every due second up to and including second `t` and returns the calls made. The
+    /// swarm does not move: for measurements inside the first period only (a period ending
+    /// meanwhile is not counted by [`run_period`](Self::run_period)).
+    pub fn run_until(&mut self, t: u64) -> u64 {
+        let before = self.calls;
+        self.advance_to(t);
+        self.calls - before
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Shape;
+
+    fn cfg() -> RunConfig {
+        RunConfig {
+            params: Params::simulation_2d(),
+            step: 0.33,
+            noise: 1.0,
+            diversity: Measure::Variance,
+            opposite: Opposite::default(),
+            sensor: Sensor::default(),
+        }
+    }
+
+    #[test]
+    fn a_sensor_read_once_per_period_changes_the_readings_not_the_default_run() {
+        let mut rng = Pcg64Mcg::seed_from_u64(3);
+        let swarm = Swarm::place(30, Shape::Disk { diameter: 4.0 }, 1.0, &mut rng).unwrap();
+        let field = crate::scenario::Scenario::builtin("sharp").unwrap().field;
+        let run = |sensor| {
+            let cfg = RunConfig { sensor, ..cfg() };
+            let mut sim = Sim::new(&swarm, &field, cfg, Point2::new(-0.5, 0.0), 9).unwrap();
+            (0..2)
+                .map(|_| sim.run_period().unwrap())
+                .collect::<Vec<_>>()
+        };
+        let fresh = run(Sensor::PerActivation);
+        let held = run(Sensor::PerPeriod);
+        assert_eq!(fresh, run(Sensor::default()));
+        assert_ne!(fresh, held);
+        assert_eq!(held, run(Sensor::PerPeriod));
+    }
+
+    #[test]
+    fn a_uniform_field_gives_small_diversity_and_the_swarm_moves_one_step() {
+        let mut rng = Pcg64Mcg::seed_from_u64(5);
+        let swarm = Swarm::place(61, Shape::Disk { diameter: 6.0 }, 1.0, &mut rng).unwrap();
+        let field = Field::default();
+        let mut sim = Sim::new(&swarm, &field, cfg(), Point2::origin(), 9).unwrap();
+        let p = sim.run_period().unwrap();
+        assert_eq!(p.index, 1);
+        assert_eq!(p.end_s, 2000);
+        // Uniform noise of width 1 has variance 1/12.
+        assert!((0.03..0.12).contains(&p.diversity), "{}", p.diversity);
+        assert!(p.decided > 50);
+        assert!(((p.to - p.from).norm() - 0.33).abs() < 1e-9);
+    }
+
+    #[test]
+    fn a_period_too_long_to_count_is_refused_before_the_run() {
+        let swarm = Swarm::from_offsets(vec![Vector2::zeros(), Vector2::new(0.5, 0.0)], 1.0);
+        let field = Field::default();
+        // (1 + 1) × 500,000 s: the longest period there is.
+        let mut c = cfg();
+        c.params.wave.cycle = protocol::Duration::from_secs(MAX_PERIOD_SECS / 2);
+        assert_eq!(c.checked_period_secs(), Some(MAX_PERIOD_SECS));
+        assert!(Sim::new(&swarm, &field, c, Point2::origin(), 1).is_ok());
+        // One second more per cycle, then periods whose product overflows u64: the old
+        // `cycles * cycle` wrapped (or panicked) here.
+        for (cycle_s, gather, decide) in [
+            (MAX_PERIOD_SECS / 2 + 1, 1, 1),
+            (u64::MAX / 1000, 1, 1),
+            (u64::MAX / 1000, u16::MAX, u16::MAX),
+        ] {
+            let mut c = cfg();
+            c.params.wave.cycle = protocol::Duration::from_secs(cycle_s);
+            c.params.gather_cycles = gather;
+            c.params.decide_cycles = decide;
+            let e = Sim::new(&swarm, &field, c, Point2::origin(), 1)
+                .err()
+                .expect("refused");
+            assert!(matches!(e, SimError::PeriodTooLong { .. }), "{e}");
+            assert!(e.to_string().contains("limit of 1000000 s"), "{e}");
+        }
+        assert_eq!(
+            RunConfig {
+                params: Params {
+                    gather_cycles: u16::MAX,
+                    ..Params::simulation_2d()
+                },
+                ..cfg()
+            }
+            .period_secs(),
+            (u64::from(u16::MAX) + 1) * 1000
+        );
+        let mut c = cfg();
+        c.params.wave.cycle = protocol::Duration::from_secs(u64::MAX / 1000);
+        c.params.gather_cycles = u16::MAX;
+        assert_eq!(c.checked_period_secs(), None);
+        assert_eq!(c.period_secs(), u64::MAX);
+    }
+
+    #[test]
+    fn waves_flood_the_swarm_when_they_rarely_collide() {
+        let mut rng = Pcg64Mcg::seed_from_u64(6);
+        let swarm = Swarm::place(61, Shape::Disk { diameter: 6.0 }, 1.0, &mut rng).unwrap();
+        let field = Field::default();
+        let mut c = cfg();
+        c.params.wave.cycle = protocol::Duration::from_secs(20_000);
+        let mut sim = Sim::new(&swarm, &field, c, Point2::origin(), 1).unwrap();
+        sim.run_until(20_000);
+        let accepted: u32 = sim.agents().iter().map(|a| a.stats().accepted).sum();
+        // 61 waves; an agent is activated by every wave but its own (unless two overlap).
+        assert!(accepted > 61 * 55, "accepted {accepted}");
+        assert!(accepted <= 61 * 60, "accepted {accepted}");
+    }
+
+    #[test]
+    fn one_hop_per_second_with_the_receivers_bearing() {
+        // Three agents on a line 0.8 apart: 0 hears 1 from the east, 2 hears 1 from the west.
+        let swarm = Swarm::from_offsets(
+            vec![
+                Vector2::new(-0.8, 0.0),
+                Vector2::new(0.0, 0.0),
+                Vector2::new(0.8, 0.0),
+            ],
+            1.0,
+        );
+        let field = Field::default();
+        let mut sim = Sim::new(&swarm, &field, cfg(), Point2::origin(), 3).unwrap();
+        sim.run_until(1000);
+        // Each of the 3 waves reaches both other agents: 0 and 2 only through 1, one hop later.
+        let accepted: Vec<u32> = sim.agents().iter().map(|a| a.stats().accepted).collect();
+        assert_eq!(accepted, vec![2, 2, 2]);
+        // With readings all equal to 0 ± 0.5 no bearing is heavier in expectation, but every
+        // preference is one of the exact bearings of an agent's neighbours.
+        let pref: Vec<Option<f32>> = sim.agents().iter().map(|a| a.preferred()).collect();
+        assert!(pref[0].is_none_or(|p| p.abs() < 1e-6), "{pref:?}");
+        assert!(
+            pref[2].is_none_or(|p| (p - std::f32::consts::PI).abs() < 1e-6),
+            "{pref:?}"
+        );
+    }
+}

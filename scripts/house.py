@@ -103,7 +103,7 @@ def strip_code(text):
     return "".join(out)
 
 
-CFG_TEST = re.compile(r"#\[cfg\(test\)\]")
+CFG_TEST = re.compile(r"#\[cfg\((?:test|all\(test\b[^\]]*\))\)\]")
 
 
 def without_tests(code):
@@ -179,6 +179,156 @@ def import_edges(root):
     return edges
 
 
+PATH_IN_CODE = re.compile(r"(?<![\w:])(\w+(?:\s*::\s*\w+)+)")
+USE = re.compile(r"(?<![\w:])use\s+([^;]+);")
+
+
+def module_files(src):
+    """{module path (a tuple of names; the crate root is ()): file} of the crate at `src`.
+    Binaries under src/bin/ are crate roots of their own and left out."""
+    mods = {}
+    for path in sorted(src.rglob("*.rs")):
+        parts = path.relative_to(src).with_suffix("").parts
+        if parts[0] == "bin":
+            continue
+        if parts in (("lib",), ("main",)):
+            parts = ()
+        elif parts[-1] == "mod":
+            parts = parts[:-1]
+        mods.setdefault(parts, path)
+    return mods
+
+
+def use_paths(tree):
+    """Every full path a `use` tree names, as lists of segments (`self` in a group dropped)."""
+    tree = re.sub(r"\s+as\s+\w+", "", tree)
+    tree = re.sub(r"\s+", "", tree)
+
+    def expand(text):
+        out, depth, start, items = [], 0, 0, []
+        for i, c in enumerate(text):
+            if c == "{":
+                depth += 1
+            elif c == "}":
+                depth -= 1
+            elif c == "," and depth == 0:
+                items.append(text[start:i])
+                start = i + 1
+        items.append(text[start:])
+        for item in filter(None, items):
+            if "{" in item:
+                head = item[: item.index("{")].rstrip(":").split("::")
+                inner = item[item.index("{") + 1 : item.rindex("}")]
+                for sub in expand(inner):
+                    out.append([s for s in head if s] + [s for s in sub if s != "self"])
+            else:
+                out.append([s for s in item.split("::") if s and s != "*"])
+        return out
+
+    return expand(tree.lstrip(":"))
+
+
+def resolve(mods, here, segs):
+    """The deepest module file a path from module `here` names, or None (not this crate's)."""
+    if not segs:
+        return None
+    first = segs[0]
+    if first == "crate":
+        base, rest = (), segs[1:]
+    elif first == "self":
+        base, rest = here, segs[1:]
+    elif first == "super":
+        base, rest = here, segs
+        while rest and rest[0] == "super":
+            base, rest = base[:-1], rest[1:]
+    elif here + (first,) in mods:
+        base, rest = here, segs
+    else:
+        return None
+    for seg in rest:
+        if base + (seg,) not in mods:
+            break
+        base = base + (seg,)
+    return base
+
+
+def file_edges(root):
+    """{(from file, to file): first place}: module A names a module B of the same crate that is
+    neither A nor one of its ancestors (a child sees its parent's items; the parent declares
+    it), through `use` trees or paths in code (`crate::`, `self::`, `super::` chains, child
+    module names). Comments, strings and test-only items are left out."""
+    src = root / "src"
+    mods = module_files(src)
+    edges = {}
+    for here, path in mods.items():
+        code = without_tests(strip_code(path.read_text()))
+        found = []
+        for m in USE.finditer(code):
+            found += [(p, m.start()) for p in use_paths(m.group(1))]
+        code = USE.sub(lambda m: "\n" * m.group(0).count("\n"), code)
+        for m in PATH_IN_CODE.finditer(code):
+            found.append((re.sub(r"\s+", "", m.group(1)).split("::"), m.start()))
+        for segs, at in found:
+            to = resolve(mods, here, segs)
+            if to is None or to == here or here[: len(to)] == to:
+                continue
+            key = (str(path.relative_to(src)), str(mods[to].relative_to(src)))
+            edges.setdefault(key, f"{path}:{code.count(chr(10), 0, at) + 1}")
+    return edges
+
+
+def circles(edges):
+    """The strongly connected sets of more than one file (Tarjan), each with one cycle."""
+    nexts = {}
+    for a, b in edges:
+        nexts.setdefault(a, set()).add(b)
+        nexts.setdefault(b, set())
+    index, low, stack, on, sccs = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in sorted(nexts[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            scc = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                scc.append(w)
+                if w == v:
+                    break
+            if len(scc) > 1:
+                sccs.append(sorted(scc))
+
+    for v in sorted(nexts):
+        if v not in index:
+            visit(v)
+    found = []
+    for scc in sorted(sccs):
+        start, inside = scc[0], set(scc)
+        prev, queue = {start: None}, [start]
+        cycle = None
+        while queue and cycle is None:
+            v = queue.pop(0)
+            for w in sorted(nexts[v] & inside):
+                if w == start:
+                    cycle = [v]
+                    break
+                if w not in prev:
+                    prev[w] = v
+                    queue.append(w)
+        while cycle[-1] != start:
+            cycle.append(prev[cycle[-1]])
+        found.append((scc, list(reversed(cycle)) + [start]))
+    return found
+
+
 def cycles(edges):
     """Every elementary cycle of the graph, each once, starting at its smallest node."""
     nexts = {}
@@ -225,7 +375,17 @@ def main():
             for a, b in zip(cycle, cycle[1:]):
                 print(f"      {a} -> {b}  {edges[(a, b)]}")
     print(f"{found} cycles")
-    return 1 if long_files or long_fns or found else 0
+    print("import circles between the files of a crate (every crate with a src/):")
+    files = 0
+    for root in sorted(p.parent for p in pathlib.Path(".").glob("*/src") if (p.parent / "Cargo.toml").exists()):
+        edges = file_edges(root)
+        for scc, cycle in circles(edges):
+            files += 1
+            print(f"  {root.name}: {len(scc)} files: {', '.join(scc)}")
+            for a, b in zip(cycle, cycle[1:]):
+                print(f"      {a} -> {b}  {edges[(a, b)]}")
+    print(f"{files} circles")
+    return 1 if long_files or long_fns or found or files else 0
 
 
 if __name__ == "__main__":

@@ -78,6 +78,21 @@ pub fn expected(p: &[bool]) -> Option<Vec<LedColor>> {
     )
 }
 
+/// The verdict of a run of `cfg` in which a robot stopped on its own (a panic), which has no
+/// LEDs to judge: the pattern at its end (what a judged run reports as its lights) and the
+/// LEDs it should have ended with, if that pattern has a verdict. Such a run failed. The lab
+/// campaign and `cimax arena` both judge a crashed run by this.
+pub fn crash_verdict(cfg: &ArenaConfig) -> (Vec<bool>, Option<Vec<LedColor>>) {
+    let end = Instant::ZERO + cfg.duration;
+    let lights = cfg
+        .env
+        .pattern_at(end)
+        .map(<[bool]>::to_vec)
+        .unwrap_or_default();
+    let expected = expected_without(&lights, &absent(cfg));
+    (lights, expected)
+}
+
 /// The robots of `cfg` that never run: dead from the start and never restarted.
 pub fn absent(cfg: &ArenaConfig) -> Vec<usize> {
     let mut a: Vec<usize> = cfg

@@ -8,6 +8,7 @@
 //! result structs; the command line (`cimax arena`) is the binary's `cli/arena`.
 
 pub mod campaign;
+pub mod line;
 pub mod plane;
 pub mod stress;
 

@@ -1,4 +1,4 @@
-//! The tasks of a virtual-time run, without tokio: a run queue beside the [`Timeline`], time
+//! The tasks of a virtual-time run, without tokio: a run queue beside the [`Timeline`](super::timeline::Timeline), time
 //! moving on when the queue is empty.
 //!
 //! Under tokio a run was a `LocalSet` on a current-thread runtime with a paused clock, and the
@@ -37,8 +37,6 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::task::{Context, Poll, Wake, Waker};
 
 use slab::Slab;
-
-use super::timeline::Timeline;
 
 /// Tasks polled between two polls of the main future (tokio's `LocalSet` runs 61).
 pub const TASKS_PER_TICK: usize = 61;
@@ -213,8 +211,8 @@ impl Wake for TaskWaker {
     }
 }
 
-/// The run queue of a virtual-time run. It lives in its [`Timeline`], which every part of the
-/// world reaches through its clock; spawning goes here while [`Timeline::block_on`] runs.
+/// The run queue of a virtual-time run. It lives in its [`Timeline`](super::timeline::Timeline), which every part of the
+/// world reaches through its clock; spawning goes here while [`Timeline::block_on`](super::timeline::Timeline::block_on) runs.
 #[derive(Default)]
 pub struct Executor {
     running: Cell<bool>,
@@ -239,7 +237,7 @@ impl std::fmt::Debug for Executor {
 }
 
 impl Executor {
-    /// Whether [`Timeline::block_on`] is running: tasks spawned now are this executor's.
+    /// Whether [`Timeline::block_on`](super::timeline::Timeline::block_on) is running: tasks spawned now are this executor's.
     pub fn is_running(&self) -> bool {
         self.running.get()
     }
@@ -384,15 +382,16 @@ impl Executor {
     }
 }
 
-impl Timeline {
-    /// Runs `main` and every task spawned on this timeline's clock until `main` ends, time
-    /// moving on whenever no task can run: a virtual-time run on the calling thread. Tasks
-    /// left then are dropped.
+impl Executor {
+    /// Runs `main` and every task spawned on this executor until `main` ends; whenever no task
+    /// can run, `idle` moves the world on (robots in the loop catch up, the next deadline is
+    /// due) and says whether it could. Tasks left when `main` ends are dropped. The body of
+    /// [`Timeline::block_on`](super::timeline::Timeline::block_on)(super::timeline::Timeline::block_on), which owns the clock.
     ///
     /// # Panics
-    /// If `main` panics; or if nothing can run and nobody waits for a time (a run that would
+    /// If `main` panics; or if nothing can run and `idle` cannot move on (a run that would
     /// wait for ever).
-    pub fn block_on<F: Future>(self: &Rc<Self>, main: F) -> F::Output {
+    pub(super) fn block_on<F: Future>(&self, main: F, mut idle: impl FnMut() -> bool) -> F::Output {
         /// Ends the run however `main` ends, a panic included.
         struct Running<'a>(&'a Executor);
         impl Drop for Running<'_> {
@@ -401,56 +400,47 @@ impl Timeline {
                 self.0.clear();
             }
         }
-        let exec = self.executor();
         // Dropped after `_running`: wakes while the tasks are dropped are still this run's.
-        let _entered = exec.woken.enter();
-        exec.running.set(true);
-        let _running = Running(exec);
-        self.run_main(main)
+        let _entered = self.woken.enter();
+        self.running.set(true);
+        let _running = Running(self);
+        self.run_main(main, &mut idle)
     }
 
-    fn run_main<F: Future>(self: &Rc<Self>, main: F) -> F::Output {
-        let exec = self.executor();
+    fn run_main<F: Future>(&self, main: F, idle: &mut impl FnMut() -> bool) -> F::Output {
         let mut main = std::pin::pin!(main);
         let main_waker = Waker::from(Arc::new(TaskWaker {
             id: MAIN,
-            woken: exec.woken.clone(),
+            woken: self.woken.clone(),
         }));
-        exec.main_woken.set(true);
+        self.main_woken.set(true);
         loop {
-            if exec.main_woken.replace(false) {
+            if self.main_woken.replace(false) {
                 let mut cx = Context::from_waker(&main_waker);
                 if let Poll::Ready(out) = main.as_mut().poll(&mut cx) {
                     return out;
                 }
-                exec.collect_wakes();
+                self.collect_wakes();
                 let mut ran = 0;
                 while ran < TASKS_PER_TICK {
-                    let Some(slot) = exec.queue.borrow_mut().pop_front() else {
+                    let Some(slot) = self.queue.borrow_mut().pop_front() else {
                         break;
                     };
-                    exec.prefetch_next();
-                    exec.run(slot);
+                    self.prefetch_next();
+                    self.run(slot);
                     ran += 1;
                 }
                 if ran == TASKS_PER_TICK {
-                    exec.main_woken.set(true);
+                    self.main_woken.set(true);
                 }
                 continue;
             }
-            // Nothing to run: robots in the loop catch up first (they may wake a task), then
-            // the driver's deadline is due.
-            if self.settle_gate() {
-                exec.collect_wakes();
-                exec.main_woken.set(true);
-                continue;
-            }
             assert!(
-                self.fire(),
+                idle(),
                 "the run waits for ever: no task can run and none waits for a time"
             );
-            exec.collect_wakes();
-            exec.main_woken.set(true);
+            self.collect_wakes();
+            self.main_woken.set(true);
         }
     }
 }
@@ -517,7 +507,7 @@ impl<T> Future for Joined<T> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::board::timeline::{Sleep, drive_virtual};
+    use crate::board::timeline::{Sleep, Timeline, drive_virtual};
     use protocol::Instant;
 
     /// Tasks run in wake order, a task woken while it runs goes behind the others, and time

@@ -154,14 +154,14 @@ impl Timeline {
     }
 
     /// [`Gate::settle`] of the gate set, if any: `true` if it woke a task.
-    pub(super) fn settle_gate(&self) -> bool {
+    fn settle_gate(&self) -> bool {
         let gate = self.gate.borrow().clone();
         gate.is_some_and(|g| g.settle(self.now()))
     }
 
     /// No task can run: the driver's alarm goes off (a paused runtime's clock jumps to its
     /// timer). `false` if no alarm is set.
-    pub(super) fn fire(&self) -> bool {
+    fn fire(&self) -> bool {
         let at = self.armed.get();
         let driver = self.driver.borrow();
         match driver.as_ref() {
@@ -395,6 +395,21 @@ fn poll_drive(
             *d = Some(cx.waker().clone());
         }
         return Poll::Pending;
+    }
+}
+
+impl Timeline {
+    /// Runs `main` and every task spawned on this timeline's clock until `main` ends, time
+    /// moving on whenever no task can run: a virtual-time run on the calling thread. Tasks
+    /// left then are dropped. When nothing can run, robots in the loop catch up first (they
+    /// may wake a task), then the driver's deadline is due.
+    ///
+    /// # Panics
+    /// If `main` panics; or if nothing can run and nobody waits for a time (a run that would
+    /// wait for ever).
+    pub fn block_on<F: Future>(self: &Rc<Self>, main: F) -> F::Output {
+        self.executor()
+            .block_on(main, || self.settle_gate() || self.fire())
     }
 }
 

@@ -181,13 +181,7 @@ impl Report {
 
 /// The failed outcome of a run of `cfg` in which a robot stopped on its own.
 pub fn crashed(cfg: &ArenaConfig, failure: &RobotFailure) -> Outcome {
-    let end = Instant::ZERO + cfg.duration;
-    let lights = cfg
-        .env
-        .pattern_at(end)
-        .map(<[bool]>::to_vec)
-        .unwrap_or_default();
-    let expected = hal_emu::judge::expected_without(&lights, &hal_emu::judge::absent(cfg));
+    let (lights, expected) = hal_emu::judge::crash_verdict(cfg);
     Outcome {
         seed: cfg.seed,
         pattern: pattern_str(&lights),

@@ -6,10 +6,10 @@
 use std::path::Path;
 
 use nalgebra::Point2;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use super::Stage;
-use super::results::Results;
+use super::results::{Along, Results};
 use super::sensitivity::{SENS_RUNS, SENS_X, cell};
 use super::units::Unit;
 use report::csv_files::fixed;
@@ -206,20 +206,6 @@ fn success_section(
             .collect(),
         ..BeyondSection::default()
     }
-}
-
-/// Both measures along the gradient and at its success line against the slope.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct Along {
-    /// Per measure, `(x, mean, s.e.)` per point of [`PROFILE_XS`].
-    #[serde(with = "swarm_sim::json")]
-    prof: Vec<Vec<(f64, f64, f64)>>,
-    /// Per slope of [`SLOPES`], both measures at the success line.
-    #[serde(with = "swarm_sim::json")]
-    by_slope: Vec<[f64; 2]>,
-    /// The gradient's success line.
-    #[serde(with = "swarm_sim::json")]
-    line_x: f64,
 }
 
 /// Runs both measures ([`both`]) along the gradient and against the slope.

@@ -8,18 +8,17 @@ use nalgebra::Point2;
 use protocol::Duration;
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
-use serde::{Deserialize, Serialize};
 
-use super::results::{Outcome, UnitResult};
-use super::units::{Field, Scene, Side, Unit};
+use super::results::{CycleRun, Outcome, PlacementStats, RunFigure, UnitResult};
+use super::units::{Field, Scene, Side, Unit, placement};
 use super::{
     CLOUD_REFINED, COURSE_RUNS, COURSE_STAGE, CYCLE_RUNS, CYCLE_XS, CYCLES, OTHER_RUNS, Options,
-    PLACEMENTS, PLATEAU_MIN_AFTER, PROFILE_RUNS, PlacementStats, RUN_TRIES, beyond, builtin_placed,
-    by_distance, caption_cloud, refined, sensitivity, settle,
+    PLACEMENTS, PLATEAU_MIN_AFTER, PROFILE_RUNS, RUN_TRIES, beyond, builtin_placed, by_distance,
+    caption_cloud, refined, sensitivity, settle,
 };
 use swarm_sim::experiment::{
-    self, Arrow, BenchResult, Error, RadialPoint, RunOutput, SweepPoint, direction_map,
-    radial_profile, sweep, waves_heard,
+    self, Arrow, BenchResult, Error, RadialPoint, SweepPoint, direction_map, radial_profile, sweep,
+    waves_heard,
 };
 use swarm_sim::geometry::Swarm;
 use swarm_sim::progress::Progress;
@@ -108,14 +107,6 @@ impl Scenes {
     }
 }
 
-/// The placement of `side` when the page's is `main`.
-pub(super) fn placement(main: Placement, side: Side) -> Placement {
-    match side {
-        Side::Main => main,
-        Side::Other => main.other(),
-    }
-}
-
 /// Computes one unit of `swarm reproduce` with `opts` (its seed and placement; `docs` is not
 /// read). `log` receives the unit's log lines.
 ///
@@ -169,16 +160,6 @@ fn outcome(unit: Unit, st: &mut Stage<'_>, main: Placement, s: &Scenes) -> Resul
         Unit::Speed => O::Speed(speed(st, &s.sharp)?),
         Unit::Placements => O::Placements(placement_stats(st)?),
     })
-}
-
-/// A run figure's run: the first of up to [`RUN_TRIES`] that succeeded (or the first), and
-/// which try it was.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct RunFigure {
-    /// Tries before it (0: the first).
-    pub(super) tries: u64,
-    /// The run.
-    pub(super) out: RunOutput,
 }
 
 /// Figs. 4 and 7: the first of up to [`RUN_TRIES`] runs that succeeds.
@@ -295,18 +276,6 @@ fn course(
     let c = time_course(&placed, COURSE_RUNS, PLATEAU_MIN_AFTER, seed, &p)?;
     st.done(&p);
     Ok(c)
-}
-
-/// One cycle length of the cycle-length experiment.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct CycleRun {
-    /// The cycle length t_p^max, seconds.
-    pub(super) cycle_s: u64,
-    /// Waves heard per agent per cycle.
-    #[serde(with = "swarm_sim::json")]
-    pub(super) waves_heard: f64,
-    /// Success from each start of [`CYCLE_XS`].
-    pub(super) points: Vec<SweepPoint>,
 }
 
 /// The cycle length: success and waves heard per cycle length of [`CYCLES`].

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant as Clock;
 
 use nalgebra::Point2;
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::csv::CycleRow;
 use crate::marks;
@@ -244,20 +244,6 @@ fn paper_course(k: usize) -> PaperCourse {
         start: claim(start).values().first().map_or(f64::NAN, |v| v.0),
         plateaus: claim(plateau).values(),
     }
-}
-
-/// Neighbour counts of random placements of the sharp scenario's swarm.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-struct PlacementStats {
-    /// Mean degree with the redraw-until-connected rule ([`Swarm::place`]).
-    #[serde(with = "swarm_sim::json")]
-    redrawn_degree: f64,
-    /// Mean degree of plain uniform scattering.
-    #[serde(with = "swarm_sim::json")]
-    plain_degree: f64,
-    /// Fraction of plain scatterings that are disconnected.
-    #[serde(with = "swarm_sim::json")]
-    plain_disconnected: f64,
 }
 
 /// Placements measured for [`PlacementStats`].

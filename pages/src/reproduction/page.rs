@@ -2,6 +2,7 @@
 //! the templates render (`templates/reproduction.md.j2` and its partials), every number formatted
 //! here.
 
+use super::results::PlacementStats;
 use super::*;
 
 pub(super) struct Report<'a> {

@@ -7,17 +7,155 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::PlacementStats;
-use super::beyond::Along;
-use super::compute::{CycleRun, RunFigure};
-use super::sensitivity::{ExtentRun, SlopeRuns};
-use super::settle::{CourseDigest, Levels, RefractoryRuns, Times};
 use super::units::{UNITS, Unit};
 use crate::shapes::ShapesResult;
-use swarm_sim::experiment::{Arrow, BenchResult, Error, RadialPoint, SweepPoint};
-use swarm_sim::probe::{Plateaus, StartRun};
+use swarm_sim::experiment::{Arrow, BenchResult, Error, RadialPoint, RunOutput, SweepPoint};
+use swarm_sim::probe::{Msd, Plateaus, StartRun};
 use swarm_sim::timecourse::TimeCourse;
 use swarm_sim::waves::Wave;
+
+// The units' result types are kept here, so that the files that compute and write them
+// depend on this one and it on none of them.
+
+/// A run figure's run: the first of up to [`RUN_TRIES`] that succeeded (or the first), and
+/// which try it was.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct RunFigure {
+    /// Tries before it (0: the first).
+    pub(super) tries: u64,
+    /// The run.
+    pub(super) out: RunOutput,
+}
+
+/// One cycle length of the cycle-length experiment.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct CycleRun {
+    /// The cycle length t_p^max, seconds.
+    pub(super) cycle_s: u64,
+    /// Waves heard per agent per cycle.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) waves_heard: f64,
+    /// Success from each start of [`CYCLE_XS`].
+    pub(super) points: Vec<SweepPoint>,
+}
+
+/// Neighbour counts of random placements of the sharp scenario's swarm.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct PlacementStats {
+    /// Mean degree with the redraw-until-connected rule ([`Swarm::place`]).
+    #[serde(with = "swarm_sim::json")]
+    pub(super) redrawn_degree: f64,
+    /// Mean degree of plain uniform scattering.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) plain_degree: f64,
+    /// Fraction of plain scatterings that are disconnected.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) plain_disconnected: f64,
+}
+
+/// Both measures along the gradient and at its success line against the slope.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct Along {
+    /// Per measure, `(x, mean, s.e.)` per point of [`PROFILE_XS`].
+    #[serde(with = "swarm_sim::json")]
+    pub(super) prof: Vec<Vec<(f64, f64, f64)>>,
+    /// Per slope of [`SLOPES`], both measures at the success line.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) by_slope: Vec<[f64; 2]>,
+    /// The gradient's success line.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) line_x: f64,
+}
+
+/// The gradient against its slope: per slope of [`SLOPES`], success from [`SENS_X`] and the
+/// diversity at the success line.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct SlopeRuns {
+    /// Success per slope.
+    pub(super) success: Vec<SweepPoint>,
+    /// `(slope, mean, s.e.)` of the diversity at the success line, per slope.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) diversity: Vec<(f64, f64, f64)>,
+}
+
+/// One field and extent: the heading of the first move against the start.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct ExtentRun {
+    /// The swarm's agents.
+    pub(super) agents: usize,
+    /// `(x, mean cos, s.e.)` by increasing x.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) profile: Vec<(f64, f64, f64)>,
+}
+
+/// One refractory time on the swarm of the paper's Fig. 2.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct RefractoryRun {
+    /// t_ref, seconds.
+    pub(super) refractory_s: u64,
+    /// What the protocol does with it.
+    pub(super) answer: String,
+    /// Where the protocol runs it: whether every agent sent exactly once.
+    pub(super) once: Option<bool>,
+    /// The model's transmissions per second from the initiation to [`HORIZON`].
+    pub(super) sends: Vec<u32>,
+}
+
+/// Each refractory time of [`REFRACTORY`] on the swarm of the paper's Fig. 2.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct RefractoryRuns {
+    /// The swarm's agents.
+    pub(super) agents: usize,
+    /// The relay delay, seconds.
+    pub(super) relay_s: u64,
+    /// One per refractory time.
+    pub(super) runs: Vec<RefractoryRun>,
+}
+
+/// One field's levels under one sensor model: `(mean, s.e.)` each.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
+pub(super) struct Levels {
+    /// The first period's diversity.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) start: (f64, f64),
+    /// Periods until arrival, over the runs that arrived.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) arrival: (f64, f64),
+    /// The plateau (mean over agents of `V_k` after arrival).
+    #[serde(with = "swarm_sim::json")]
+    pub(super) plateau: (f64, f64),
+    /// Runs that arrived, of all.
+    pub(super) arrived: usize,
+    pub(super) runs: usize,
+}
+
+/// The runs of one field's averaged course, main placement, again (the same seeds), tapped:
+/// what the section reads off them.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct CourseDigest {
+    /// Their plateaus, three ways.
+    pub(super) plateaus: Plateaus,
+    /// Their levels, one sensor reading per activation.
+    pub(super) levels: Levels,
+    /// Where their periods went on the way to the line.
+    pub(super) way: Way,
+    /// The walk after arrival.
+    pub(super) msd: Vec<Msd>,
+}
+
+/// Where a field's averaged courses' runs spent their periods on the way to the line.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(super) struct Way {
+    /// `(bin's centre, mean periods there)` per step from the start.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) spent: Vec<(f64, f64)>,
+    /// Arrival periods of the runs that arrived.
+    #[serde(with = "swarm_sim::json")]
+    pub(super) arrivals: Vec<f64>,
+}
+
+/// One run's periods to the criterion and to the common line (`None`: not met).
+pub(super) type Times = (Option<u32>, Option<u32>);
 
 /// One unit's result: what it measured, and how long it took where it ran.
 #[derive(Clone, Debug, Serialize, Deserialize)]

@@ -2,7 +2,7 @@
 //! (cycle, period, diffusion, noise), the gradient's diversity against its slope, and the
 //! swarm's extent against the perception edges.
 
-use super::results::Results;
+use super::results::{ExtentRun, Results, SlopeRuns};
 use super::units::Unit;
 use super::*;
 
@@ -285,17 +285,6 @@ fn knob_figure(
 /// Slopes of the gradient's sensitivity to its slope, per R.
 const SLOPES: [f64; 6] = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0];
 
-/// The gradient against its slope: per slope of [`SLOPES`], success from [`SENS_X`] and the
-/// diversity at the success line.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct SlopeRuns {
-    /// Success per slope.
-    success: Vec<SweepPoint>,
-    /// `(slope, mean, s.e.)` of the diversity at the success line, per slope.
-    #[serde(with = "swarm_sim::json")]
-    diversity: Vec<(f64, f64, f64)>,
-}
-
 /// The gradient's success line.
 fn line_x(gradient: &Scenario) -> f64 {
     match &gradient.success {
@@ -368,16 +357,6 @@ fn slope_rows(
 
 /// Diameters of the swarm's extent, R: the page's and a smaller one.
 const DIAMETERS: [f64; 2] = [6.0, 5.0];
-
-/// One field and extent: the heading of the first move against the start.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct ExtentRun {
-    /// The swarm's agents.
-    agents: usize,
-    /// `(x, mean cos, s.e.)` by increasing x.
-    #[serde(with = "swarm_sim::json")]
-    profile: Vec<(f64, f64, f64)>,
-}
 
 /// The swarm's extent: the heading of the first move against the start, per field and
 /// diameter of [`DIAMETERS`] (sharp 6 R, sharp 5 R, gradient 6 R, gradient 5 R).

@@ -7,6 +7,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+use swarm_sim::scenario::Placement;
 
 /// One of the paper's two fields.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -265,6 +266,14 @@ impl<'de> Deserialize<'de> for Unit {
         String::deserialize(d)?
             .parse()
             .map_err(serde::de::Error::custom)
+    }
+}
+
+/// The placement of `side` when the page's is `main`.
+pub(super) fn placement(main: Placement, side: Side) -> Placement {
+    match side {
+        Side::Main => main,
+        Side::Other => main.other(),
     }
 }
 

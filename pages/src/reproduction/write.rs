@@ -5,8 +5,9 @@
 
 use std::path::Path;
 
-use super::compute::{CycleRun, Scenes, placement};
-use super::results::Results;
+use super::compute::Scenes;
+use super::results::{CycleRun, Results};
+use super::units::placement;
 use super::units::{Field, Scene, Side, Unit};
 use super::{
     COURSE_RUNS, CYCLE_RUNS, CYCLE_XS, Options, PROFILE_RUNS, Report, Summary, beyond,

@@ -68,6 +68,7 @@
 //! border, as the paper reports; an odd swarm or a plane swarm rarely ties.
 
 mod adaptive;
+mod any;
 mod fixed;
 mod rule;
 mod state;
@@ -77,8 +78,9 @@ mod tests;
 use rand_core::RngCore;
 
 pub use self::adaptive::Adaptive;
+pub use self::any::AnyRule;
 pub use self::fixed::Fixed;
-pub use self::rule::{AnyRule, Cause, RayPolicy, Rule};
+pub use self::rule::{Cause, RayPolicy, Rule};
 pub use self::state::Core;
 
 use self::state::Held;

@@ -14,8 +14,9 @@ use hal_emu::world::hil::{HilClock, Transport};
 use hal_emu::{ArenaConfig, ArenaError};
 
 use super::ArenaArgs;
-use super::line::{Experiment, build};
+use super::line::build;
 use crate::cli::out::{Exit, Fail, outln};
+use lab::line::Experiment;
 
 /// Options of `cimax arena conform`.
 #[derive(Args, Debug, Clone)]

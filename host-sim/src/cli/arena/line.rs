@@ -11,8 +11,8 @@ use hal_emu::judge::{
 use hal_emu::world::hil::HilRobot;
 use hal_emu::{ArenaConfig, ArenaError, MediumParams};
 use protocol::{Duration, Instant, Params};
-use rayon::prelude::*;
-use swarm_sim::progress::Progress;
+
+use lab::line::{Experiment, replay_lights};
 
 use super::ArenaArgs;
 use super::options::{
@@ -26,14 +26,6 @@ use super::replay::replay_options;
 use crate::cli::files::{self, Staged};
 use crate::cli::out::{Exit, outln};
 use clap::ArgMatches;
-
-/// One experiment: a list of runs sharing a label and an expected outcome.
-pub(super) struct Experiment {
-    /// The pattern, or e.g. `1000>0001` where it changes.
-    pub(super) label: String,
-    /// One configuration per seed.
-    pub(super) configs: Vec<ArenaConfig>,
-}
 
 /// The number of robots in the line (`--robots`, the pattern's length, or 4), 2 to 64.
 fn line_robots(args: &ArenaArgs, lights: Option<&[bool]>) -> Result<usize, String> {
@@ -175,23 +167,6 @@ fn experiment(
     Ok(Experiment { label, configs })
 }
 
-/// The options that replay a run of `cfg` alone: its first pattern (`--lights`) and, if the
-/// pattern changes, when and to what (`--switch-at`, `--then`).
-pub(super) fn replay_lights(cfg: &ArenaConfig) -> String {
-    let mut out = String::new();
-    for (i, (t, p)) in cfg.env.schedule.iter().enumerate() {
-        if i == 0 {
-            out += &format!("--lights {}", pattern_str(p));
-        } else {
-            let ms = t.saturating_since(Instant::ZERO).as_millis();
-            let at = format!("{}.{:03}", ms / 1000, ms % 1000);
-            let at = at.trim_end_matches('0').trim_end_matches('.');
-            out += &format!(" --switch-at {at} --then {}", pattern_str(p));
-        }
-    }
-    out
-}
-
 /// `cimax arena` on a line; the exit code is non-zero if any run with a verdict failed or an
 /// option was bad.
 pub(super) fn main(args: &ArenaArgs, matches: &ArgMatches) -> Exit {
@@ -263,65 +238,19 @@ pub(super) fn main(args: &ArenaArgs, matches: &ArgMatches) -> Exit {
     })
 }
 
-/// How `hal_emu` says that a robot in the loop's link did not open (its `RobotFailure`'s
-/// message).
-const LINK_NOT_OPEN: &str = "its link did not open";
-
 /// Judged runs and crashed runs, each with its experiment's index.
 pub(super) type Runs = (Vec<(usize, LabRun)>, Vec<(usize, Crashed)>);
 
-/// Runs every configuration of every experiment in parallel: the judged runs, the runs in
-/// which a robot crashed, and the wall time.
+/// [`lab::line::run_all`], each crashed run with what the table, JSON and failure lines print
+/// of it ([`Crashed`]).
 pub(super) fn run_all(experiments: &[Experiment]) -> Result<(Runs, f64), ArenaError> {
-    let jobs: Vec<(usize, &ArenaConfig)> = experiments
-        .iter()
-        .enumerate()
-        .flat_map(|(i, e)| e.configs.iter().map(move |c| (i, c)))
+    let (runs, wall_s) = lab::line::run_all(experiments)?;
+    let crashed = runs
+        .crashed
+        .into_iter()
+        .map(|(i, k, f)| (i, Crashed::new(&experiments[i].configs[k], f)))
         .collect();
-    let real_time = jobs.iter().any(|(_, c)| c.real_time());
-    let secs = |c: &ArenaConfig| c.duration.as_millis().div_ceil(1000);
-    let bar = if real_time {
-        // Robots in the loop: the bar moves with the seconds, even for one run.
-        let total = jobs.iter().map(|(_, c)| secs(c)).sum();
-        Progress::seconds(total, "arena (real time)")
-    } else if jobs.len() > 1 {
-        Progress::new(jobs.len() as u64, "arena", false)
-    } else {
-        Progress::hidden()
-    };
-    let wall = std::time::Instant::now();
-    // Each run is independent and seeded: the results do not depend on the thread count.
-    let one = |c: &ArenaConfig| {
-        let r = judge(c);
-        bar.inc();
-        r
-    };
-    // Runs with robots in the loop go in real time, one at a time (the robots are one board,
-    // or QEMU processes that need the cores); the others in parallel.
-    let results: Vec<Result<LabRun, ArenaError>> = if real_time {
-        jobs.iter()
-            .map(|(_, c)| bar.while_running(secs(c), || judge(c)))
-            .collect()
-    } else {
-        jobs.par_iter().map(|(_, c)| one(c)).collect()
-    };
-    bar.finish();
-    let wall_s = wall.elapsed().as_secs_f64();
-    let (mut runs, mut crashed): Runs = (Vec::new(), Vec::new());
-    // Runs in which a robot stopped on its own (a panic): failed, without LEDs to judge. A robot
-    // in the loop whose link never opened (nothing listening, no such serial port) is a set-up
-    // error, not a failed run.
-    for ((i, c), r) in jobs.iter().zip(results) {
-        match r {
-            Ok(r) => runs.push((*i, r)),
-            Err(ArenaError::Robot(f)) if !f.panicked && f.message.starts_with(LINK_NOT_OPEN) => {
-                return Err(ArenaError::Hil(format!("robot {}: {}", f.robot, f.message)));
-            }
-            Err(ArenaError::Robot(f)) => crashed.push((*i, Crashed::new(c, f))),
-            Err(e) => return Err(e),
-        }
-    }
-    Ok(((runs, crashed), wall_s))
+    Ok(((runs.judged, crashed), wall_s))
 }
 
 /// `--trace`, `--svg` and `--html`, checked before any work: files (their folders are

@@ -260,12 +260,13 @@ pub fn main(args: &ArenaArgs, matches: &clap::ArgMatches) -> ExitCode {
 
 #[cfg(test)]
 pub(super) mod tests {
-    use super::line::{build, replay_lights, run_all};
+    use super::line::{build, run_all};
     use super::plane::plane_spec;
     use super::print::expected_str;
     use super::*;
     use clap::Parser as _;
     use hal_emu::judge::leds_str;
+    use lab::line::replay_lights;
 
     /// `cimax arena` as the tool parses it (also the replay tests').
     #[derive(clap::Parser)]

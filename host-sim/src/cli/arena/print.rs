@@ -10,8 +10,8 @@ use protocol::{Instant, Params};
 use serde::Serialize;
 
 use super::ArenaArgs;
-use super::line::{Experiment, replay_lights};
 use crate::cli::out::{Fail, StdoutError, outln};
+use lab::line::{Experiment, replay_lights};
 
 /// One run in the `--json` report.
 #[derive(Serialize)]
@@ -262,13 +262,7 @@ pub(super) struct Crashed {
 
 impl Crashed {
     pub(super) fn new(cfg: &ArenaConfig, failure: RobotFailure) -> Self {
-        let end = Instant::ZERO + cfg.duration;
-        let lights = cfg
-            .env
-            .pattern_at(end)
-            .map(<[bool]>::to_vec)
-            .unwrap_or_default();
-        let expected = hal_emu::judge::expected_without(&lights, &hal_emu::judge::absent(cfg));
+        let (lights, expected) = hal_emu::judge::crash_verdict(cfg);
         Crashed {
             lights,
             expected,

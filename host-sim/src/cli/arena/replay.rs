@@ -1,7 +1,7 @@
 //! The `replay:` command of a failed run, derived from the command line that ran it: every
 //! option given, as typed (so that an option added to [`ArenaArgs`] is repeated without a line
 //! here), but those the replay sets itself ([`NOT_REPLAYED`]). The run's own pattern and seed
-//! come from its configuration ([`super::line::replay_lights`]).
+//! come from its configuration ([`lab::line::replay_lights`]).
 
 use clap::parser::ValueSource;
 use clap::{ArgMatches, Args as _};
@@ -70,11 +70,12 @@ fn quoted(v: &str) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::super::line::{build, replay_lights};
+    use super::super::line::build;
     use super::super::print::replay_command;
     use super::super::tests::{Cli, Cmd};
     use super::*;
     use clap::{CommandFactory as _, FromArgMatches as _};
+    use lab::line::replay_lights;
 
     /// The options and matches of `cimax arena ARGS...`.
     fn parse(a: &[String]) -> (ArenaArgs, ArgMatches) {

@@ -3,9 +3,10 @@
 //! way, the periods a drift at that heading would take per 0.25 R, and the periods the runs
 //! spent there.
 
+use super::super::results::Way;
 use std::path::Path;
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use super::{STAGE, Stage, pm, write_csv};
 use crate::claims::{Id, claim};
@@ -85,17 +86,6 @@ pub(super) struct ArrivalPart {
     line: String,
     paper_speed: String,
     step_r: String,
-}
-
-/// Where a field's averaged courses' runs spent their periods on the way to the line.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct Way {
-    /// `(bin's centre, mean periods there)` per step from the start.
-    #[serde(with = "swarm_sim::json")]
-    spent: Vec<(f64, f64)>,
-    /// Arrival periods of the runs that arrived.
-    #[serde(with = "swarm_sim::json")]
-    arrivals: Vec<f64>,
 }
 
 /// The starts from `scn`'s start to its line, every [`STEP`].

@@ -22,23 +22,19 @@ mod wander;
 
 use std::path::Path;
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use super::Stage;
 use super::caption_cloud::CaptionCloud;
-use super::compute::placement;
-use super::results::Results;
+use super::results::{CourseDigest, Levels, RefractoryRuns, Results, Times};
+use super::units::placement;
 use super::units::{Field, Side, Unit};
 use super::{COURSE_RUNS, COURSE_STAGE, PLATEAU_MIN_AFTER};
 use report::csv_files::fixed;
 use swarm_sim::experiment::{Error, RunOutput};
-use swarm_sim::probe::{Msd, Plateaus, StartRun, plateaus, tapped_runs};
+use swarm_sim::probe::{Plateaus, StartRun, plateaus, tapped_runs};
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::timecourse::TimeCourse;
-
-pub(super) use refractory::RefractoryRuns;
-pub(super) use sensor::Levels;
-pub(super) use steep::Times;
 
 /// First stage of this section's seeds (clear of the other stages of `reproduce`).
 const STAGE: u64 = 600;
@@ -76,20 +72,6 @@ pub(super) struct Settled {
     pub(super) steep: steep::Steepness,
     /// The caption's cloud toward its border.
     pub(super) caption: caption::TowardBorder,
-}
-
-/// The runs of one field's averaged course, main placement, again (the same seeds), tapped:
-/// what the section reads off them.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct CourseDigest {
-    /// Their plateaus, three ways.
-    plateaus: Plateaus,
-    /// Their levels, one sensor reading per activation.
-    levels: Levels,
-    /// Where their periods went on the way to the line.
-    way: arrival::Way,
-    /// The walk after arrival.
-    msd: Vec<Msd>,
 }
 
 /// The seed of the averaged course of field `f`, main placement.

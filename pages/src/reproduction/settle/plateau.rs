@@ -6,10 +6,10 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::super::compute::placement;
-use super::super::results::Results;
+use super::super::results::{CourseDigest, Results};
+use super::super::units::placement;
 use super::super::units::{Side, Unit};
-use super::{CourseDigest, STAGE, Stage, pm, write_csv};
+use super::{STAGE, Stage, pm, write_csv};
 use crate::claims::{Id, claim};
 use report::csv_files::fixed;
 use report::plot::{self, Line};

@@ -4,9 +4,10 @@
 //! the wave is run by [`swarm_sim::probe::flood`], the simulator's delivery rule as a model;
 //! where the protocol takes the time, the model's wave is checked to be the protocol's.
 
+use super::super::results::{RefractoryRun, RefractoryRuns};
 use std::path::Path;
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use super::{Stage, write_csv};
 use report::csv_files::fixed;
@@ -49,30 +50,6 @@ pub(super) struct RefractoryPart {
     rows: Vec<Vec<String>>,
     /// The smallest refractory time the protocol takes.
     smallest: Option<u64>,
-}
-
-/// One refractory time on the swarm of the paper's Fig. 2.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(in super::super) struct RefractoryRun {
-    /// t_ref, seconds.
-    refractory_s: u64,
-    /// What the protocol does with it.
-    answer: String,
-    /// Where the protocol runs it: whether every agent sent exactly once.
-    once: Option<bool>,
-    /// The model's transmissions per second from the initiation to [`HORIZON`].
-    sends: Vec<u32>,
-}
-
-/// Each refractory time of [`REFRACTORY`] on the swarm of the paper's Fig. 2.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub(in super::super) struct RefractoryRuns {
-    /// The swarm's agents.
-    agents: usize,
-    /// The relay delay, seconds.
-    relay_s: u64,
-    /// One per refractory time.
-    runs: Vec<RefractoryRun>,
 }
 
 /// Runs each refractory time on the swarm of the paper's Fig. 2.

@@ -4,9 +4,10 @@
 //! averaged courses again with the same seeds, and the comparison's level rows (starting
 //! diversity, arrival, plateau) are judged under both.
 
+use super::super::results::Levels;
 use std::path::Path;
 
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use super::{Stage, pm, write_csv};
 use swarm_sim::experiment::Error;
@@ -14,23 +15,6 @@ use swarm_sim::probe::{Tapped, plateaus, tapped_runs};
 use swarm_sim::scenario::Scenario;
 use swarm_sim::sim::Sensor;
 use swarm_sim::stats;
-
-/// One field's levels under one sensor model: `(mean, s.e.)` each.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize)]
-pub(in super::super) struct Levels {
-    /// The first period's diversity.
-    #[serde(with = "swarm_sim::json")]
-    pub(in super::super) start: (f64, f64),
-    /// Periods until arrival, over the runs that arrived.
-    #[serde(with = "swarm_sim::json")]
-    pub(in super::super) arrival: (f64, f64),
-    /// The plateau (mean over agents of `V_k` after arrival).
-    #[serde(with = "swarm_sim::json")]
-    pub(in super::super) plateau: (f64, f64),
-    /// Runs that arrived, of all.
-    pub(in super::super) arrived: usize,
-    pub(in super::super) runs: usize,
-}
 
 /// Both fields under the other sensor model, as the comparison reads them.
 pub(in super::super) struct SensorFacts {

@@ -5,8 +5,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::super::compute::placement;
 use super::super::results::Results;
+use super::super::units::placement;
 use super::super::units::{Field, Side, Unit};
 use super::{STAGE, Stage, write_csv};
 use crate::claims::{Id, claim};

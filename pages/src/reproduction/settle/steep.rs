@@ -10,7 +10,7 @@ use nalgebra::Point2;
 use rayon::prelude::*;
 use serde::Serialize;
 
-use super::super::results::Results;
+use super::super::results::{Results, Times};
 use super::super::units::Unit;
 use super::{STAGE, Stage, pm, write_csv};
 use report::csv_files::fixed;
@@ -27,9 +27,6 @@ pub(super) const SLOPES: [f64; 5] = [1.0, 2.5, 5.0, 10.0, 20.0];
 const RUNS: u32 = 50;
 /// The common line: within this of x = 0 (the sharp border's criterion).
 const NEAR: f64 = 0.33;
-
-/// One run's periods to the criterion and to the common line (`None`: not met).
-pub(in super::super) type Times = (Option<u32>, Option<u32>);
 
 /// Which of a run's [`Times`].
 type Pick = fn(&Times) -> Option<u32>;

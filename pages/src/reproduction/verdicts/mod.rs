@@ -307,7 +307,7 @@ fn sensor_both(
     r: &Report<'_>,
     c: &'static Claim,
     mut j: Judged,
-    pick: fn(&super::settle::sensor::Levels) -> (f64, f64),
+    pick: fn(&super::results::Levels) -> (f64, f64),
     digits: usize,
 ) -> Judged {
     let (m, se) = pick(&r.settled.sensor.per_period[field_of(c.id)]);

@@ -5,36 +5,23 @@
 //! 96-bit unique ID (RM0351 §48.2: wafer X and Y coordinates, wafer number, lot number) and
 //! 16 bytes from the RNG peripheral.
 
+use protocol::hash::{fnv1a_32, splitmix64_mix as mix};
+
 /// The chip's unique ID: 96 bits.
 pub type Uid = [u8; 12];
 
-/// FNV-1a (32-bit) of `bytes`: every byte moves every later bit, so UIDs that differ only in
-/// the wafer coordinates (neighbouring dies of one wafer, the likely case for one lab's
-/// boards) give unrelated hashes.
-fn fnv1a(bytes: &[u8]) -> u32 {
-    bytes.iter().fold(0x811c_9dc5, |h: u32, &b| {
-        (h ^ u32::from(b)).wrapping_mul(0x0100_0193)
-    })
-}
-
 /// The robot id of a chip without a build-time id: the 32-bit FNV-1a hash of all 96 bits of
-/// its unique ID, folded to 16 bits.
+/// its unique ID, folded to 16 bits. Every byte moves every later bit of the hash, so UIDs
+/// that differ only in the wafer coordinates (neighbouring dies of one wafer, the likely case
+/// for one lab's boards) give unrelated ids.
 ///
 /// Its tag on the wire is the id modulo 16, so two robots share a tag with probability 1/16
 /// whatever their dies; set `CIMAX_ROBOT_ID` at build time to guarantee distinct tags. (The
 /// first two bytes of the UID, used before, are the wafer X coordinate: boards cut from one
 /// wafer row all got the same id.)
 pub fn id_from_uid(uid: &Uid) -> u16 {
-    let h = fnv1a(uid);
+    let h = fnv1a_32(*uid);
     (h ^ (h >> 16)) as u16
-}
-
-/// SplitMix64's finaliser: a bijection of `u64` whose output bits each depend on every input
-/// bit.
-const fn mix(mut z: u64) -> u64 {
-    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-    z ^ (z >> 31)
 }
 
 /// The state and stream of the robot's PCG (`Pcg32::new(state, stream)`): 16 bytes of the

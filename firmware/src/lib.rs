@@ -54,5 +54,11 @@ pub mod wired;
 pub use embedded_io_async;
 pub use protocol;
 
+/// The light link's bit rate, bits per second: the Nucleo image's IrDA SIR USARTs, the
+/// emulated medium's default (`hal_emu::MediumParams`) and `cimax arena --bitrate`'s.
+pub const LIGHT_BITRATE: u32 = 9_600;
+/// Bits on air per byte of the light link: start, 8 data, stop (UART framing, IrDA SIR).
+pub const LIGHT_BITS_PER_BYTE: u32 = 10;
+
 pub use hal::{Clock, ErrorKind, LedColor, Leds, Quantity, Receivers, Sensor};
 pub use robot::{Config, Hardware, Observer, Robot, SetupError, Stats};

@@ -37,6 +37,7 @@ pub mod direction;
 pub mod diversity;
 pub mod frame;
 pub mod fused;
+pub mod hash;
 pub mod lab;
 pub mod line;
 pub mod message;

@@ -2,12 +2,12 @@
 //! coordinates (point index, run index), so runs are independent of each other and of the order
 //! (and the number of threads) in which they are executed.
 
-/// SplitMix64's finaliser: a bijective mix of 64 bits.
-pub fn mix(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
+use protocol::hash::{SPLITMIX64_GAMMA, splitmix64_mix};
+
+/// One step of SplitMix64 from state `z`: the gamma added, then the finaliser; a bijective
+/// mix of 64 bits.
+pub fn mix(z: u64) -> u64 {
+    splitmix64_mix(z.wrapping_add(SPLITMIX64_GAMMA))
 }
 
 /// The seed of the thing at coordinates `parts` under `base`.

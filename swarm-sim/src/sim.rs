@@ -158,6 +158,26 @@ impl From<ParamError> for SimError {
 }
 
 impl RunConfig {
+    /// The paper's move per negotiation period, in R.
+    pub const PAPER_STEP: f64 = 0.33;
+    /// The paper's noise width: ξ uniform in (−0.5, 0.5).
+    pub const PAPER_NOISE: f64 = 1.0;
+
+    /// The paper's run with protocol parameters `params`: a step of [`Self::PAPER_STEP`], noise
+    /// of width [`Self::PAPER_NOISE`], the variance, and the defaults for what the paper leaves
+    /// open (an exactly opposite opinion turns counter-clockwise; a fresh sample per
+    /// activation). What a scenario file gives for the keys it leaves out.
+    pub fn paper(params: Params) -> RunConfig {
+        RunConfig {
+            params,
+            step: Self::PAPER_STEP,
+            noise: Self::PAPER_NOISE,
+            diversity: Measure::Variance,
+            opposite: Opposite::default(),
+            sensor: Sensor::default(),
+        }
+    }
+
     /// Length of one negotiation period in seconds, `(gather_cycles + decide_cycles) × cycle`
     /// with the cycle rounded up to whole seconds; `u64::MAX` if that does not fit (a
     /// configuration [`check`](Self::check) accepts has at most [`MAX_PERIOD_SECS`]).

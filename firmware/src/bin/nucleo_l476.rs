@@ -69,8 +69,8 @@ use rand_pcg::Pcg32;
 #[cfg(debug_assertions)]
 use panic_probe as _;
 
-/// Bit rate of the light link.
-const LIGHT_BAUD: u32 = 9_600;
+/// Bit rate of the light link ([`firmware::LIGHT_BITRATE`]).
+const LIGHT_BAUD: u32 = firmware::LIGHT_BITRATE;
 /// DMA ring buffer per receiver: two full frames.
 const RX_RING: usize = 64;
 /// The independent watchdog's timeout. The main loop comes round at least every 2.5 s even

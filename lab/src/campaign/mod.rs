@@ -1,7 +1,7 @@
 //! The fault campaign (`cimax arena campaign`): the lab experiment under faults, over many
 //! seeds, against bars.
 //!
-//! Every [`SCENARIOS`] entry is run once per seed (200 by default) in the emulated arena
+//! Every [`SCENARIOS`] entry is run once per seed ([`SEEDS`] by default) in the emulated arena
 //! (`hal-emu`), each run judged exactly as `cimax arena` judges one
 //! ([`hal_emu::judge::judge`]: the top-cap LEDs at the end against the expected verdict). Seed
 //! `s` uses the paper's pattern `PAPER_PATTERNS[s mod 6]`, so every six consecutive seeds
@@ -423,6 +423,10 @@ pub struct SuiteResult {
 /// The share of the lab suite's runs that must succeed, per rule and readings: the paper's
 /// 5 of 5 for every pattern allows no failure in five runs; over 200 seeds, one in a hundred.
 pub const SUITE_BAR: f64 = 0.99;
+
+/// Seeds per scenario of the documented campaign (`docs/reliability.md`), from seed 1: the
+/// default of `cimax arena campaign --seeds`, and what its page's command line leaves out.
+pub const SEEDS: u64 = 200;
 
 /// The readings the campaign runs the lab suite with: the emulator's levels and the paper's
 /// binary readings (Fig. 5(d), g ∈ {0, 1}).

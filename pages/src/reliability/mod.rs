@@ -23,7 +23,7 @@ use swarm_sim::stats::quantile;
 /// The command that produced a report.
 fn command(plan: &Plan) -> String {
     let mut c = "cargo run --release -p host-sim -- arena campaign".to_string();
-    if plan.seeds != 200 {
+    if plan.seeds != lab::campaign::SEEDS {
         let _ = write!(c, " --seeds {}", plan.seeds);
     }
     if plan.seed != 1 {

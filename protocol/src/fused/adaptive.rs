@@ -44,14 +44,10 @@ struct Seen {
 
 /// The digest of the decision-relevant part of a ray from `sender`: robots and votes.
 fn ray_digest(ray: &Ray, sender: Tag) -> u32 {
-    let mut h: u32 = 0x811c_9dc5;
     let bytes = [sender.index(), ray.robots, u8::from(ray.closed)]
         .into_iter()
         .chain(ray.votes);
-    for b in bytes {
-        h = (h ^ u32::from(b)).wrapping_mul(0x0100_0193);
-    }
-    h.max(1)
+    crate::hash::fnv1a_32(bytes).max(1)
 }
 
 /// The adaptive rule's state (module docs).

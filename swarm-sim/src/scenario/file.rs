@@ -6,7 +6,6 @@ use std::ops::Range;
 use std::path::Path;
 
 use nalgebra::Point2;
-use protocol::direction::Opposite;
 use protocol::{Duration, Params};
 use serde::Deserialize;
 use toml::Spanned;
@@ -17,7 +16,7 @@ use super::{
 };
 use crate::geometry::Shape;
 use crate::measure::Measure;
-use crate::sim::{MAX_PERIOD_SECS, RunConfig, Sensor, SimError};
+use crate::sim::{MAX_PERIOD_SECS, RunConfig, SimError};
 use hal_emu::world::field::{Along, Field, Layer, Segment};
 
 /// Parses and validates a scenario; `source` names it in errors
@@ -40,11 +39,11 @@ pub(super) fn parse(text: &str, source: &str) -> Result<Scenario, ScenarioError>
     let noise = match &raw.noise {
         Some(v) if *v.get_ref() == 0.0 => 0.0,
         Some(v) => cx.positive(v, "noise")?,
-        None => 1.0,
+        None => RunConfig::PAPER_NOISE,
     };
     let step = match &raw.step {
         Some(v) => cx.positive(v, "step")?,
-        None => 0.33,
+        None => RunConfig::PAPER_STEP,
     };
     let periods = match &raw.periods {
         Some(v) if (1..=MAX_PERIODS).contains(v.get_ref()) => *v.get_ref(),
@@ -86,12 +85,10 @@ pub(super) fn parse(text: &str, source: &str) -> Result<Scenario, ScenarioError>
         agents,
         shape,
         run: RunConfig {
-            params,
             step,
             noise,
             diversity,
-            opposite: Opposite::default(),
-            sensor: Sensor::default(),
+            ..RunConfig::paper(params)
         },
         periods,
         start,
@@ -602,14 +599,7 @@ impl Ctx<'_> {
 /// Checks that a negotiation period of `params` is at most [`MAX_PERIOD_SECS`], naming the
 /// keys it comes from.
 fn period_fits(params: &Params) -> Result<(), String> {
-    let run = RunConfig {
-        params: *params,
-        step: 0.33,
-        noise: 1.0,
-        diversity: Measure::Variance,
-        opposite: Opposite::default(),
-        sensor: Sensor::default(),
-    };
+    let run = RunConfig::paper(*params);
     match run.check() {
         Err(SimError::PeriodTooLong {
             gather_cycles,

@@ -64,15 +64,20 @@ pub struct MediumParams {
     pub collisions: bool,
 }
 
+impl MediumParams {
+    /// The light's range in the lab, metres: robots 1 m apart hear only their neighbours.
+    pub const LAB_RANGE: f64 = 1.5;
+}
+
 impl Default for MediumParams {
     /// The link the Nucleo image ships: 9600 bit/s IrDA SIR, 10 bits per byte (start, 8 data,
     /// stop: a 32-byte frame takes 34 ms), 1.5 m range (robots 1 m apart hear only their
     /// neighbours), no loss, no byte errors, collisions on.
     fn default() -> Self {
         MediumParams {
-            bitrate: 9600,
-            bits_per_byte: 10,
-            range: 1.5,
+            bitrate: firmware::LIGHT_BITRATE,
+            bits_per_byte: firmware::LIGHT_BITS_PER_BYTE,
+            range: Self::LAB_RANGE,
             loss: 0.0,
             byte_error_rate: 0.0,
             collisions: true,

@@ -98,7 +98,7 @@ pub struct ArenaArgs {
     #[arg(long, default_value_t = 1.0, value_parser = crate::cli::values::positive(MAX_METRES, "a number of metres"))]
     pub spacing: f64,
     /// Range of the light, metres.
-    #[arg(long, default_value_t = 1.5, value_parser = crate::cli::values::positive(MAX_METRES, "a number of metres"))]
+    #[arg(long, default_value_t = hal_emu::MediumParams::LAB_RANGE, value_parser = crate::cli::values::positive(MAX_METRES, "a number of metres"))]
     pub range: f64,
     /// One light pattern instead of the paper's suite, one character per robot, 1 = lit.
     #[arg(long)]
@@ -138,7 +138,7 @@ pub struct ArenaArgs {
     #[arg(long)]
     pub no_collisions: bool,
     /// Bits per second on air (the board's 9600 Bd IrDA SIR link; 10 bits per byte).
-    #[arg(long, default_value_t = 9600, value_parser = crate::cli::values::whole::<u32>(1, u64::from(u32::MAX)))]
+    #[arg(long, default_value_t = firmware::LIGHT_BITRATE, value_parser = crate::cli::values::whole::<u32>(1, u64::from(u32::MAX)))]
     pub bitrate: u32,
     /// Mean cycle length, seconds (the paper's 55).
     #[arg(long, value_parser = crate::cli::values::positive(MAX_RUN_SECS as f64, "a number of seconds"))]

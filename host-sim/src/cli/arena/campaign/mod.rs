@@ -35,7 +35,7 @@ pub const COMMAND: &str = "arena campaign";
 #[command(allow_negative_numbers = true)]
 pub struct CampaignArgs {
     /// Seeds per scenario: run k of every scenario uses seed BASE + k.
-    #[arg(long, default_value_t = 200, value_parser = crate::cli::values::whole::<u64>(1, 100_000))]
+    #[arg(long, default_value_t = lab::campaign::SEEDS, value_parser = crate::cli::values::whole::<u64>(1, 100_000))]
     pub seeds: u64,
     /// Base seed.
     #[arg(long, default_value_t = 1, value_parser = crate::cli::values::whole::<u64>(0, u64::MAX))]
@@ -351,7 +351,7 @@ fn selected(args: &CampaignArgs) -> Vec<usize> {
 /// scenario, 200 seeds from seed 1, the scenarios' own loss, both rules); else nowhere.
 fn page_path(args: &CampaignArgs) -> Result<Option<PathBuf>, String> {
     let documented = args.scenario.is_empty()
-        && args.seeds == 200
+        && args.seeds == lab::campaign::SEEDS
         && args.seed == 1
         && args.loss.is_none()
         && args.decide.is_none();

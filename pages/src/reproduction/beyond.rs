@@ -11,6 +11,7 @@ use serde::Serialize;
 use super::Stage;
 use super::results::{Along, Results};
 use super::sensitivity::{SENS_RUNS, SENS_X, cell};
+use super::stages::{BEYOND_PROFILE, BEYOND_SLOPES, BEYOND_SUCCESS, BEYOND_TWO};
 use super::units::Unit;
 use report::csv_files::fixed;
 use report::plot::{self, Line};
@@ -19,11 +20,6 @@ use swarm_sim::measure::Measure;
 use swarm_sim::scenario::{Scenario, Success};
 use swarm_sim::sensitivity::{Knob, diversity_at};
 
-/// First stage of this section's seeds (clear of the other stages of `reproduce`, which stay
-/// below 200): success uses `STAGE + 10 · field + measure`, the diversity profile
-/// `STAGE + 50 + 10 · measure + point`, the slopes `STAGE + 80 + 2 · slope + measure`, two
-/// quantities `STAGE + 90 + measure`.
-const STAGE: u64 = 300;
 /// The entropy's bin widths tried for success; [`MAIN_BIN`] is the one of the profile.
 const BINS: [f32; 3] = [0.25, 0.5, 1.0];
 /// The bin width of the diversity profile: half the noise's width, so that the noise alone
@@ -155,7 +151,7 @@ pub(super) fn success(
         let mut per = Vec::new();
         for (m, &measure) in measures.iter().enumerate() {
             let s = with(scn, measure);
-            let seed = st.seed(STAGE + 10 * f as u64 + m as u64);
+            let seed = st.seed(BEYOND_SUCCESS.at2(f, m));
             per.push(sweep(&s, s.run, &[SENS_X], SENS_RUNS, seed, &p)?[0]);
         }
         results.push(per);
@@ -223,7 +219,7 @@ pub(super) fn along(st: &mut Stage<'_>, gradient: &Scenario) -> Result<Along, Er
         let s = with(gradient, measure);
         let mut pts = Vec::new();
         for (k, &x) in PROFILE_XS.iter().enumerate() {
-            let seed = st.seed(STAGE + 50 + 10 * m as u64 + k as u64);
+            let seed = st.seed(BEYOND_PROFILE.at2(m, k));
             let (mean, se) = diversity_at(&s, Point2::new(x, 0.0), SENS_RUNS, seed, &p)?;
             pts.push((x, mean, se));
         }
@@ -238,7 +234,7 @@ pub(super) fn along(st: &mut Stage<'_>, gradient: &Scenario) -> Result<Along, Er
         let s = Knob::Slope(slope).apply(gradient)?;
         let mut v = [0.0; 2];
         for (m, &measure) in measures.iter().enumerate() {
-            let seed = st.seed(STAGE + 80 + 2 * k as u64 + m as u64);
+            let seed = st.seed(BEYOND_SLOPES.at2(k, m));
             let at = Point2::new(line_x, 0.0);
             v[m] = diversity_at(&with(&s, measure), at, SENS_RUNS, seed, &p)?.0;
         }
@@ -363,7 +359,7 @@ pub(super) fn two(st: &mut Stage<'_>, sharp: &Scenario) -> Result<Vec<SweepPoint
     let mut pts = Vec::new();
     for (m, &measure) in measures.iter().enumerate() {
         let s = with(&two, measure);
-        let seed = st.seed(STAGE + 90 + m as u64);
+        let seed = st.seed(BEYOND_TWO.at(m));
         pts.push(sweep(&s, s.run, &[SENS_X], SENS_RUNS, seed, &p)?[0]);
     }
     st.done(&p);

@@ -8,6 +8,7 @@ use nalgebra::Point2;
 use serde::Serialize;
 
 use super::results::Results;
+use super::stages::{CAPTION_MAP, CAPTION_PROFILE};
 use super::units::Unit;
 use super::{
     CLOUD_REFINED, PROFILE_RUNS, Stage, builtin_placed, by_distance, outward_limit,
@@ -20,10 +21,6 @@ use report::csv_files::fixed;
 use swarm_sim::experiment::{Arrow, Error, RadialPoint, direction_map, radial_profile};
 use swarm_sim::scenario::Placement;
 
-/// Stage of the direction map's seed (clear of the other stages of `reproduce`).
-const MAP_STAGE: u64 = 90;
-/// Stage of the radial profile's seed.
-const PROFILE_STAGE: u64 = 91;
 /// Mean inward alignment that counts as heading in (and its negative as heading out), as for
 /// the text's cloud.
 const THRESHOLD: f64 = 0.5;
@@ -58,7 +55,7 @@ pub(super) fn map(st: &mut Stage<'_>, main: Placement) -> Result<Vec<Arrow>, Err
         &format!("{} field", scn.name),
         (grid.xs.len() * grid.ys.len()) as u64,
     );
-    let arrows = direction_map(&scn, grid, st.seed(MAP_STAGE), &p)?;
+    let arrows = direction_map(&scn, grid, st.seed(CAPTION_MAP.at(0)), &p)?;
     st.done(&p);
     Ok(arrows)
 }
@@ -80,7 +77,7 @@ pub(super) fn profile(st: &mut Stage<'_>, main: Placement) -> Result<Vec<RadialP
         Point2::origin(),
         &distances,
         PROFILE_RUNS,
-        st.seed(PROFILE_STAGE),
+        st.seed(CAPTION_PROFILE.at(0)),
         &p,
     )?;
     let profile = by_distance(profile);

@@ -10,11 +10,15 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 
 use super::results::{CycleRun, Outcome, PlacementStats, RunFigure, UnitResult};
+use super::stages::{
+    CLOUD_PROFILE, COURSES, CYCLE_SWEEPS, CYCLE_WAVES, MAPS, Offset, PLACEMENT_STATS, RUN_FIGURES,
+    SHAPES, SPEED, SWEEPS_LATTICE, SWEEPS_RANDOM, WAVE,
+};
 use super::units::{Field, Scene, Side, Unit, placement};
 use super::{
-    CLOUD_REFINED, COURSE_RUNS, COURSE_STAGE, CYCLE_RUNS, CYCLE_XS, CYCLES, OTHER_RUNS, Options,
-    PLACEMENTS, PLATEAU_MIN_AFTER, PROFILE_RUNS, RUN_TRIES, beyond, builtin_placed, by_distance,
-    caption_cloud, refined, sensitivity, settle,
+    CLOUD_REFINED, COURSE_RUNS, CYCLE_RUNS, CYCLE_XS, CYCLES, OTHER_RUNS, Options, PLACEMENTS,
+    PLATEAU_MIN_AFTER, PROFILE_RUNS, RUN_TRIES, beyond, builtin_placed, by_distance, caption_cloud,
+    refined, sensitivity, settle,
 };
 use swarm_sim::experiment::{
     self, Arrow, BenchResult, Error, RadialPoint, SweepPoint, direction_map, radial_profile, sweep,
@@ -39,9 +43,9 @@ pub(super) struct Stage<'a> {
 }
 
 impl Stage<'_> {
-    /// The seed of stage `stage`.
-    pub(super) fn seed(&self, stage: u64) -> u64 {
-        derive(self.base, &[stage])
+    /// The seed of stage offset `at` ([`super::stages`]).
+    pub(super) fn seed(&self, at: Offset) -> u64 {
+        derive(self.base, &[at.get()])
     }
 
     /// Logs `what` and starts its progress bar over `runs` runs.
@@ -167,7 +171,7 @@ fn run_figure(st: &mut Stage<'_>, f: Field, scn: &Scenario) -> Result<RunFigure,
     let p = st.start(&format!("{} run", scn.name), RUN_TRIES);
     let mut chosen = None;
     for tries in 0..RUN_TRIES {
-        let s = derive(st.seed(f.index() as u64), &[tries]);
+        let s = derive(st.seed(RUN_FIGURES.at(f.index())), &[tries]);
         let out = experiment::run(scn, scn.run, scn.start, scn.periods, s, false)?;
         let ok = out.success_at.is_some();
         if chosen.is_none() || ok {
@@ -196,9 +200,9 @@ fn sweep_of(
         .as_ref()
         .ok_or("built-in scenario without sweep")?;
     let placement = placement(main, side);
-    let stage = match placement {
-        Placement::Random => 10,
-        Placement::Lattice => 12,
+    let block = match placement {
+        Placement::Random => SWEEPS_RANDOM,
+        Placement::Lattice => SWEEPS_LATTICE,
     };
     let (placed, suffix, runs) = match side {
         Side::Main => (scn.clone(), String::new(), spec.runs),
@@ -212,7 +216,7 @@ fn sweep_of(
         &format!("{} sweep{suffix}", placed.name),
         spec.xs.len() as u64 * u64::from(runs),
     );
-    let seed = st.seed(stage + f.index() as u64);
+    let seed = st.seed(block.at(f.index()));
     let pts = sweep(&placed, placed.run, &spec.xs, runs, seed, &p)?;
     st.done(&p);
     Ok(pts)
@@ -225,7 +229,7 @@ fn map_of(st: &mut Stage<'_>, m: Scene, scn: &Scenario) -> Result<Vec<Arrow>, Er
         &format!("{} field", scn.name),
         (grid.xs.len() * grid.ys.len()) as u64,
     );
-    let arrows = direction_map(scn, grid, st.seed(20 + m.index() as u64), &p)?;
+    let arrows = direction_map(scn, grid, st.seed(MAPS.at(m.index())), &p)?;
     st.done(&p);
     Ok(arrows)
 }
@@ -246,7 +250,7 @@ fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint
         Point2::origin(),
         &distances,
         PROFILE_RUNS,
-        st.seed(30),
+        st.seed(CLOUD_PROFILE.at(0)),
         &p,
     )?;
     let profile = by_distance(profile);
@@ -272,7 +276,7 @@ fn course(
         &format!("{} course, {placement} placement", scn.name),
         u64::from(COURSE_RUNS),
     );
-    let seed = st.seed(COURSE_STAGE + 2 * f.index() as u64 + side.index() as u64);
+    let seed = st.seed(COURSES.at2(f.index(), side.index()));
     let c = time_course(&placed, COURSE_RUNS, PLATEAU_MIN_AFTER, seed, &p)?;
     st.done(&p);
     Ok(c)
@@ -288,9 +292,9 @@ fn cycle_effect(st: &mut Stage<'_>, sharp: &Scenario) -> Result<Vec<CycleRun>, E
     for (k, &c) in CYCLES.iter().enumerate() {
         let mut cfg = sharp.run;
         cfg.params.wave.cycle = Duration::from_secs(c);
-        let seed = st.seed(50 + k as u64);
+        let seed = st.seed(CYCLE_SWEEPS.at(k));
         let points = sweep(sharp, cfg, &CYCLE_XS, CYCLE_RUNS, seed, &p)?;
-        let heard = waves_heard(sharp, cfg, 10, st.seed(60 + k as u64))?;
+        let heard = waves_heard(sharp, cfg, 10, st.seed(CYCLE_WAVES.at(k)))?;
         rows.push(CycleRun {
             cycle_s: c,
             waves_heard: heard,
@@ -306,7 +310,7 @@ fn shapes(st: &mut Stage<'_>, sharp: &Scenario) -> Result<crate::shapes::ShapesR
     use crate::shapes::{KEEP_FORMATIONS, RUNS, compute};
     let runs_n = (4 + u64::from(KEEP_FORMATIONS)) * u64::from(RUNS);
     let p = st.start("shapes on a random field", runs_n);
-    let shapes = compute(sharp.run, st.seed(200), &p)?;
+    let shapes = compute(sharp.run, st.seed(SHAPES.at(0)), &p)?;
     st.done(&p);
     Ok(shapes)
 }
@@ -315,7 +319,7 @@ fn shapes(st: &mut Stage<'_>, sharp: &Scenario) -> Result<crate::shapes::ShapesR
 fn wave(st: &mut Stage<'_>) -> Result<swarm_sim::waves::Wave, Error> {
     use swarm_sim::waves::{WaveSpec, one_wave};
     let p = st.start("one wave (Fig. 2)", 1);
-    let w = one_wave(&WaveSpec::paper(), st.seed(95))?;
+    let w = one_wave(&WaveSpec::paper(), st.seed(WAVE.at(0)))?;
     st.done(&p);
     Ok(w)
 }
@@ -324,14 +328,15 @@ fn wave(st: &mut Stage<'_>) -> Result<swarm_sim::waves::Wave, Error> {
 fn speed(st: &Stage<'_>, sharp: &Scenario) -> Result<Vec<BenchResult>, Error> {
     BENCH_AGENTS
         .iter()
-        .map(|&n| experiment::bench(sharp, n, st.seed(70 + n as u64)))
+        .enumerate()
+        .map(|(k, &n)| experiment::bench(sharp, n, st.seed(SPEED.at(k))))
         .collect()
 }
 
 /// Neighbour counts of [`PLACEMENTS`] random placements of the sharp scenario's swarm.
 fn placement_stats(st: &Stage<'_>) -> Result<PlacementStats, Error> {
     let scn = builtin_placed("sharp", Placement::Random)?;
-    let seed = st.seed(80);
+    let seed = st.seed(PLACEMENT_STATS.at(0));
     let (mut redrawn, mut plain, mut disconnected) = (0.0, 0.0, 0u64);
     for k in 0..PLACEMENTS {
         let mut rng = Pcg64Mcg::seed_from_u64(derive(seed, &[k]));

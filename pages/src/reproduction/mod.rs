@@ -32,6 +32,7 @@ mod page;
 mod results;
 mod sensitivity;
 mod settle;
+mod stages;
 mod units;
 mod verdicts;
 mod write;
@@ -222,8 +223,6 @@ pub const COURSE_RUNS: u32 = 50;
 /// The averaged courses' plateau counts the runs that arrived at least this many periods
 /// before the end.
 pub(super) const PLATEAU_MIN_AFTER: u32 = 10;
-/// First seed stage of the averaged courses: `COURSE_STAGE + 2 · field + placement`.
-pub(super) const COURSE_STAGE: u64 = 40;
 /// Runs per point of the cycle-length experiment.
 const CYCLE_RUNS: u32 = 50;
 

@@ -3,6 +3,7 @@
 //! swarm's extent against the perception edges.
 
 use super::results::{ExtentRun, Results, SlopeRuns};
+use super::stages::{EXTENT, KNOBS, SLOPE_DIVERSITY, SLOPE_SUCCESS};
 use super::units::Unit;
 use super::*;
 
@@ -204,7 +205,7 @@ pub(super) fn knob(
     );
     let mut results = Vec::new();
     for (j, (_, scn)) in cases.iter().enumerate() {
-        let seed = st.seed(500 + 10 * k as u64 + j as u64);
+        let seed = st.seed(KNOBS.at2(k, j));
         results.push(success_against(scn, &knobs, SENS_X, SENS_RUNS, seed, &p)?);
     }
     st.done(&p);
@@ -304,12 +305,19 @@ pub(super) fn slope(st: &mut Stage<'_>, gradient: &Scenario) -> Result<SlopeRuns
         "sensitivity: slope",
         2 * SLOPES.len() as u64 * u64::from(SENS_RUNS),
     );
-    let success = success_against(gradient, &knobs, SENS_X, SENS_RUNS, st.seed(550), &p)?;
+    let success = success_against(
+        gradient,
+        &knobs,
+        SENS_X,
+        SENS_RUNS,
+        st.seed(SLOPE_SUCCESS.at(0)),
+        &p,
+    )?;
     let at = Point2::new(line_x(gradient), 0.0);
     let mut diversity = Vec::new();
     for (k, knob) in knobs.iter().enumerate() {
         let s = knob.apply(gradient)?;
-        let (m, se) = diversity_at(&s, at, SENS_RUNS, st.seed(560 + k as u64), &p)?;
+        let (m, se) = diversity_at(&s, at, SENS_RUNS, st.seed(SLOPE_DIVERSITY.at(k)), &p)?;
         diversity.push((SLOPES[k], m, se));
     }
     st.done(&p);
@@ -380,7 +388,7 @@ pub(super) fn extent(
     for (k, scn) in [sharp, gradient].into_iter().enumerate() {
         for (j, d) in DIAMETERS.into_iter().enumerate() {
             let s = Knob::Extent(d).apply(scn)?;
-            let seed = st.seed(570 + 2 * k as u64 + j as u64);
+            let seed = st.seed(EXTENT.at2(k, j));
             let mut profile = heading_against_x(&s, &xs, EXTENT_RUNS, seed, &p)?;
             profile.sort_by(|a, b| a.0.total_cmp(&b.0));
             runs.push(ExtentRun {

@@ -8,7 +8,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::{STAGE, Stage, pm, write_csv};
+use super::super::stages::HEADING;
+use super::{Stage, pm, write_csv};
 use crate::claims::{Id, claim};
 use report::csv_files::fixed;
 use report::plot::{self, Line};
@@ -125,7 +126,7 @@ pub(super) fn heading(
         &format!("{}: heading along the way", scn.name),
         xs.len() as u64 * u64::from(RUNS),
     );
-    let heading = heading_against_x(scn, &xs, RUNS, st.seed(STAGE + 20 + k as u64), &p)?;
+    let heading = heading_against_x(scn, &xs, RUNS, st.seed(HEADING.at(k)), &p)?;
     st.done(&p);
     Ok(heading)
 }

@@ -27,17 +27,15 @@ use serde::Serialize;
 use super::Stage;
 use super::caption_cloud::CaptionCloud;
 use super::results::{CourseDigest, Levels, RefractoryRuns, Results, Times};
+use super::stages::COURSES;
 use super::units::placement;
 use super::units::{Field, Side, Unit};
-use super::{COURSE_RUNS, COURSE_STAGE, PLATEAU_MIN_AFTER};
+use super::{COURSE_RUNS, PLATEAU_MIN_AFTER};
 use report::csv_files::fixed;
 use swarm_sim::experiment::{Error, RunOutput};
 use swarm_sim::probe::{Plateaus, StartRun, plateaus, tapped_runs};
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::timecourse::TimeCourse;
-
-/// First stage of this section's seeds (clear of the other stages of `reproduce`).
-const STAGE: u64 = 600;
 
 /// The section as its template (`reproduction/settle.md.j2`) sees it.
 #[derive(Serialize)]
@@ -76,7 +74,7 @@ pub(super) struct Settled {
 
 /// The seed of the averaged course of field `f`, main placement.
 fn course_seed(st: &Stage<'_>, f: Field) -> u64 {
-    st.seed(COURSE_STAGE + 2 * f.index() as u64)
+    st.seed(COURSES.at2(f.index(), Side::Main.index()))
 }
 
 /// The runs of field `f`'s averaged course (main placement; `scn` is so placed) again, tapped.

@@ -7,9 +7,10 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::super::results::{CourseDigest, Results};
+use super::super::stages::PLATEAU;
 use super::super::units::placement;
 use super::super::units::{Side, Unit};
-use super::{STAGE, Stage, pm, write_csv};
+use super::{Stage, pm, write_csv};
 use crate::claims::{Id, claim};
 use report::csv_files::fixed;
 use report::plot::{self, Line};
@@ -94,7 +95,7 @@ pub(super) fn one(
     }
     let placed = super::super::builtin_placed(&sharp.name, placement)?;
     let scn = Knob::Cycle(cycle_s).apply(&placed)?;
-    let seed = st.seed(STAGE + 10 * side.index() as u64 + k as u64);
+    let seed = st.seed(PLATEAU.at2(side.index(), k));
     let pr = st.start(
         &format!("sharp plateau, {placement}, cycle {cycle_s} s"),
         u64::from(RUNS),

@@ -5,6 +5,7 @@
 //! where the protocol takes the time, the model's wave is checked to be the protocol's.
 
 use super::super::results::{RefractoryRun, RefractoryRuns};
+use super::super::stages::WAVE;
 use std::path::Path;
 
 use serde::Serialize;
@@ -22,8 +23,6 @@ const REFRACTORY: [u64; 6] = [0, 1, 2, 3, 5, 10];
 const HORIZON: u64 = 120;
 /// Seconds drawn in the figure.
 const SHOWN: u64 = 40;
-/// The waves section's seed stage (the same swarm and initiator as Fig. 2).
-const WAVE_STAGE: u64 = 95;
 
 /// The refractory time off and on, as the comparison reads it.
 pub(in super::super) struct Flooding {
@@ -58,7 +57,7 @@ pub(super) struct RefractoryPart {
 /// If a wave cannot be run, or the model differs from the protocol where both run.
 pub(super) fn runs(st: &mut Stage<'_>) -> Result<RefractoryRuns, Error> {
     let p = st.start("refractory time, off and on", REFRACTORY.len() as u64);
-    let seed = st.seed(WAVE_STAGE);
+    let seed = st.seed(WAVE.at(0));
     let paper = one_wave(&WaveSpec::paper(), seed)?;
     let relay_s = WaveSpec::paper()
         .config()

@@ -6,9 +6,10 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::super::results::Results;
+use super::super::stages::START;
 use super::super::units::placement;
 use super::super::units::{Field, Side, Unit};
-use super::{STAGE, Stage, write_csv};
+use super::{Stage, write_csv};
 use crate::claims::{Id, claim};
 use report::csv_files::fixed;
 use report::plot::{self, Line};
@@ -86,7 +87,7 @@ pub(super) fn runs(
         &format!("{}: starting diversity, {placement}", scn.name),
         XS.len() as u64 * u64::from(RUNS),
     );
-    let seed = st.seed(STAGE + 30 + 2 * k as u64 + j as u64);
+    let seed = st.seed(START.at2(k, j));
     let runs = start_diversity(&placed, &XS, RUNS, seed, &p)?;
     st.done(&p);
     Ok(runs)

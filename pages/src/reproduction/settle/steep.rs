@@ -11,8 +11,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use super::super::results::{Results, Times};
+use super::super::stages::STEEP;
 use super::super::units::Unit;
-use super::{STAGE, Stage, pm, write_csv};
+use super::{Stage, pm, write_csv};
 use report::csv_files::fixed;
 use report::plot::{self, Line};
 use swarm_sim::experiment::Error;
@@ -116,7 +117,7 @@ pub(super) fn case(
         &format!("steepness: {}", label(sharp, slope)),
         u64::from(RUNS),
     );
-    let seed = st.seed(STAGE + 40 + k as u64);
+    let seed = st.seed(STEEP.at(k));
     let runs = (0..RUNS)
         .into_par_iter()
         .map(|r| {

@@ -442,13 +442,13 @@ fn a_part_in_the_loop_is_set_beside_the_pages_own_runs_of_its_seeds() {
         "{section}"
     );
 
-    // The same part in two shards, both given: the same section but for how it was made.
+    // The same part in two shards, both given after one --hil-part and out of order (as a
+    // shell glob may give them): the same section but for how it was made, the parts named
+    // in shard order, and the page's command gives them as one glob.
     let two = root.join("two");
     let parts = [loop_part(&two, "1/2"), loop_part(&two, "2/2")];
-    let mut args = vec!["--seeds", "3", "--out", "reliability.md"];
-    for p in &parts {
-        args.extend(["--hil-part", p.to_str().unwrap()]);
-    }
+    let mut args = vec!["--seeds", "3", "--out", "reliability.md", "--hil-part"];
+    args.extend(parts.iter().rev().map(|p| p.to_str().unwrap()));
     let out = cimax_in(&root.join("page-two"), &with(&scenario, &args));
     assert!(out.status.success(), "{}", text(&out.stderr));
     let page2 = std::fs::read_to_string(root.join("page-two").join("reliability.md")).unwrap();
@@ -460,6 +460,17 @@ fn a_part_in_the_loop_is_set_beside_the_pages_own_runs_of_its_seeds() {
     assert!(
         section2.contains("--runs-only --shard I/2 --out DIR, I = 1 to 2"),
         "{section2}"
+    );
+    let two_slashed = two.to_str().unwrap().replace('\\', "/");
+    assert!(
+        section2.contains(&format!(
+            "committed parts `{two_slashed}/part-I-of-2.jsonl, I = 1 to 2`"
+        )),
+        "{section2}"
+    );
+    assert!(
+        page2.contains(&format!("--hil-part {two_slashed}/part-*-of-2.jsonl` in")),
+        "{page2}"
     );
     let table = |s: &str| s[s.find("| scenario").unwrap()..].to_string();
     assert_eq!(table(section), table(section2));

@@ -15,8 +15,11 @@ use swarm_sim::stats::quantile;
 /// The campaign in the loop beside the host build's.
 #[derive(Debug, Serialize)]
 pub struct LoopSection {
-    /// The part the runs in the loop come from, as given.
+    /// The part the runs in the loop come from, as given (or the parts: `DIR/part-I-of-N.jsonl,
+    /// I = 1 to N`).
     pub part: String,
+    /// How many parts.
+    pub parts: usize,
     /// The command that made the part.
     pub made_by: String,
     /// What was in the loop, as `--hil` says it (`qemu:1`).
@@ -81,7 +84,7 @@ fn same_rules(in_loop: &[Report], host: &[Report]) -> Result<(), String> {
     Ok(())
 }
 
-/// The section: `in_loop` (one report per rule, from the part `part` made by `made_by` in
+/// The section: `in_loop` (one report per rule, from the `parts` parts named `part`, made by `made_by` in
 /// `wall_s` seconds) beside `host` (the page's reports, the same rules and scenarios over at
 /// least the same seeds).
 ///
@@ -92,6 +95,7 @@ pub fn loop_section(
     in_loop: &[Report],
     host: &[Report],
     part: &str,
+    parts: usize,
     made_by: String,
     wall_s: f64,
 ) -> Result<LoopSection, String> {
@@ -151,6 +155,7 @@ pub fn loop_section(
         .collect();
     Ok(LoopSection {
         part: part.to_string(),
+        parts,
         made_by,
         spec,
         qemu,

@@ -78,12 +78,13 @@ pub struct CampaignArgs {
     /// The image --hil qemu:N boots (default: the one `cargo hil-image` builds).
     #[arg(long, value_name = "ELF", requires = "hil")]
     pub hil_image: Option<PathBuf>,
-    /// The parts (repeat it for each, every shard of one job) of this campaign made with --hil
+    /// The parts (several after one --hil-part, or repeat it; every shard of one job, in any
+    /// order: a shell glob will do) of this campaign made with --hil
     /// over some of its seeds: the page gains a section setting those runs in the loop beside
     /// its own host-build runs of the same seeds (docs/reliability.md, "The Cortex-M build in
-    /// the loop", from the committed docs/data/campaign-qemu-1/part-1-of-1.jsonl). Read and
+    /// the loop", from the committed docs/data/campaign-qemu-200/part-I-of-10.jsonl). Read and
     /// checked before any run.
-    #[arg(long, value_name = "PART", conflicts_with_all = ["shard", "hil"])]
+    #[arg(long, value_name = "PART", num_args = 1.., conflicts_with_all = ["shard", "hil"])]
     pub hil_part: Vec<PathBuf>,
     /// With --shard: the campaign's runs only, without the page's lab suite and loss sweep (a
     /// part for --hil-part, a fifth of the size; `cimax merge` refuses it: it has no page).
@@ -93,7 +94,7 @@ pub struct CampaignArgs {
 
 /// The runs in the loop of `--hil-part`, as the page sets them beside its own.
 struct LoopPart {
-    /// The parts, as given.
+    /// The parts, in shard order.
     paths: Vec<PathBuf>,
     /// One report per rule.
     reports: Vec<Report>,
@@ -106,6 +107,51 @@ struct LoopPart {
 /// `p` with forward slashes (the page's paths read the same on every system).
 fn slashed(p: &Path) -> String {
     p.to_string_lossy().replace('\\', "/")
+}
+
+/// The folder of the parts `paths` (in shard order) when they are the N > 1 parts of one
+/// folder under their own names, `DIR/part-I-of-N.jsonl`.
+fn parts_folder(paths: &[PathBuf]) -> Option<&Path> {
+    let n = paths.len();
+    let dir = paths.first().and_then(|p| p.parent());
+    let own_names = n > 1
+        && paths.iter().enumerate().all(|(i, p)| {
+            p.parent() == dir
+                && p.file_name()
+                    == Some(std::ffi::OsStr::new(&format!(
+                        "part-{}-of-{n}.jsonl",
+                        i + 1
+                    )))
+        });
+    dir.filter(|_| own_names)
+}
+
+/// The parts `paths` (in shard order) as the page names them: `DIR/part-I-of-N.jsonl, I = 1
+/// to N` for the parts of one folder ([`parts_folder`]), else [`shown`].
+fn parts_named(paths: &[PathBuf]) -> String {
+    let n = paths.len();
+    match parts_folder(paths) {
+        Some(d) => format!(
+            "{}, I = 1 to {n}",
+            slashed(&d.join(format!("part-I-of-{n}.jsonl")))
+        ),
+        None => shown(paths),
+    }
+}
+
+/// The `--hil-part` options that give `paths` again: one glob for the parts of one folder
+/// ([`parts_folder`]), else one option per part.
+fn hil_part_options(paths: &[PathBuf]) -> String {
+    match parts_folder(paths) {
+        Some(d) => format!(
+            " --hil-part {}",
+            slashed(&d.join(format!("part-*-of-{}.jsonl", paths.len())))
+        ),
+        None => paths
+            .iter()
+            .map(|p| format!(" --hil-part {}", slashed(p)))
+            .collect(),
+    }
 }
 
 /// `paths`, [`slashed`], comma-separated.
@@ -187,7 +233,7 @@ fn read_loop_part(paths: &[PathBuf], job: &CampaignJob) -> Result<LoopPart, Stri
         n => made_by.push_str(&format!(" --shard I/{n} --out DIR, I = 1 to {n}")),
     }
     Ok(LoopPart {
-        paths: paths.to_vec(),
+        paths: m.parts.clone(),
         reports: results.reports,
         made_by,
         wall_s: m.wall_s,
@@ -490,22 +536,19 @@ fn write_page(
         in_the_loop: None,
     };
     if let Some(l) = in_loop {
-        let part = shown(&l.paths);
+        let part = parts_named(&l.paths);
         page.in_the_loop = Some(
             pages::reliability::in_the_loop::loop_section(
                 &l.reports,
                 reports,
                 &part,
+                l.paths.len(),
                 l.made_by.clone(),
                 l.wall_s,
             )
             .map_err(|e| format!("--hil-part {part}: {e}"))?,
         );
-        for p in &l.paths {
-            page.campaign
-                .command
-                .push_str(&format!(" --hil-part {}", slashed(p)));
-        }
+        page.campaign.command.push_str(&hil_part_options(&l.paths));
     }
     let wrote = if let [fixed, adaptive] = reports.as_slice() {
         staged.write_with(&rules_figure, |p| rules_chart(fixed, adaptive, p))?;

@@ -20,7 +20,7 @@ pub type Uid = [u8; 12];
 /// first two bytes of the UID, used before, are the wafer X coordinate: boards cut from one
 /// wafer row all got the same id.)
 pub fn id_from_uid(uid: &Uid) -> u16 {
-    let h = fnv1a_32(*uid);
+    let h = fnv1a_32(uid.iter().copied());
     (h ^ (h >> 16)) as u16
 }
 

@@ -23,7 +23,7 @@ import sys
 
 FILE_MAX, FN_MAX = 800, 80
 # hal-emu and the host tools, one crate per layer (issue 37).
-DEFAULT_CRATES = ["hal-emu", "swarm-sim", "report", "viewer", "lab", "pages", "host-sim"]
+DEFAULT_CRATES = ["hal-emu", "swarm-sim", "reproduce", "report", "viewer", "lab", "pages", "host-sim"]
 STRIP = re.compile(r'//.*|"(?:\\.|[^"\\])*"|\'(?:\\.|[^\'\\])\'')
 FN = re.compile(r'^\s*(pub(\([^)]*\))?\s+)?(const\s+)?(async\s+)?(unsafe\s+)?fn\s+(\w+)')
 

@@ -1,6 +1,6 @@
 //! The waves section of `docs/reproduction.md` (paper Fig. 2): one wave of
-//! [`WaveSpec::paper`] ([`one_wave`]), its figure and CSV file (drawn by `pages::figures`) and
-//! the section's numbers ([`WavesSection`]).
+//! `WaveSpec::paper` (run by `reproduce`), its figure and CSV file (drawn by
+//! `pages::figures`) and the section's numbers ([`WavesSection`]).
 
 use std::path::Path;
 
@@ -9,7 +9,7 @@ use serde::Serialize;
 use crate::figures::{waves_figure, write_waves_csv};
 use report::csv_files::fixed;
 use swarm_sim::experiment::Error;
-use swarm_sim::waves::{PATH_SECTORS, SNAPSHOTS, Wave, WaveSpec, hops_from, one_wave};
+use swarm_sim::waves::{PATH_SECTORS, SNAPSHOTS, Wave, hops_from};
 
 /// One row of the snapshot table: t, inactive, active, refractory.
 type CountRow = [String; 4];
@@ -116,21 +116,22 @@ fn join_and(xs: &[String]) -> String {
     }
 }
 
-/// Fig. 2 for `docs/reproduction.md`: one wave of [`WaveSpec::paper`] from `seed`, its figure
-/// (`figs/waves.svg`) and CSV file (`figs/waves.csv`), and the page's section.
+/// Fig. 2 for `docs/reproduction.md` from one wave `w` (of [`WaveSpec::paper`], run by
+/// `reproduce`): its figure (`figs/waves.svg`) and CSV file (`figs/waves.csv`), and the
+/// page's section.
 ///
 /// # Errors
-/// If the wave cannot be run ([`one_wave`]) or a file cannot be written.
-pub fn reproduce(figs: &Path, seed: u64) -> Result<WavesSection, Error> {
-    let w = one_wave(&WaveSpec::paper(), seed)?;
-    write_waves_csv(&figs.join("waves.csv"), &w, &SNAPSHOTS)?;
-    waves_figure(&figs.join("waves.svg"), &w, &SNAPSHOTS)?;
-    Ok(section(&w))
+/// If a file cannot be written.
+pub fn write(figs: &Path, w: &Wave) -> Result<WavesSection, Error> {
+    write_waves_csv(&figs.join("waves.csv"), w, &SNAPSHOTS)?;
+    waves_figure(&figs.join("waves.svg"), w, &SNAPSHOTS)?;
+    Ok(section(w))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use swarm_sim::waves::{WaveSpec, one_wave};
 
     #[test]
     fn every_agent_accepts_once_and_relays_at_its_hops() {
@@ -142,7 +143,7 @@ mod tests {
     fn the_figure_the_csv_and_the_section_are_written() {
         let dir = std::env::temp_dir().join(format!("cimax-waves-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let s = reproduce(&dir, 1).unwrap();
+        let s = write(&dir, &one_wave(&WaveSpec::paper(), 1).unwrap()).unwrap();
         let svg = std::fs::read_to_string(dir.join("waves.svg")).unwrap();
         for caption in ["(a) t = 0 s", "(e) t = 16 s", "(f) paths of"] {
             assert!(svg.contains(caption), "{caption}");

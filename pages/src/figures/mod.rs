@@ -25,7 +25,7 @@ pub use lab_timeline::{Drawn, draw_timeline};
 pub use radial::radial_figure;
 pub use reliability::{rules_chart, success_chart};
 pub use run::run_figure;
-pub use shapes::{shapes_figure, write_shapes_csv};
+pub use shapes::{shapes_figure, write_shapes, write_shapes_csv};
 pub use sweep::{SweepMark, sweep_figure};
 pub use timecourse::{PaperMark, time_course_figure};
 pub use waves::{waves_figure, write_waves_csv};

@@ -9,6 +9,8 @@ use plotters::prelude::*;
 
 use report::csv_files::fixed;
 use report::plot::PlotError;
+use reproduce::shapes::{CSV, FIGURE, RUNS, ShapesResult};
+use swarm_sim::experiment::Error;
 use swarm_sim::shapes::ShapeHistograms;
 
 const FONT: &str = "sans-serif";
@@ -267,4 +269,41 @@ pub fn write_shapes_csv(path: &Path, shapes: &[ShapeHistograms]) -> std::io::Res
         }
     }
     out.flush()
+}
+
+/// Writes `figs/shapes-directions.svg` and `.csv` from the shapes' runs `r`.
+///
+/// # Errors
+/// If a file cannot be written.
+pub fn write_shapes(figs: &Path, r: &ShapesResult) -> Result<(), Error> {
+    write_shapes_csv(&figs.join(CSV), &r.hists)?;
+    shapes_figure(&figs.join(FIGURE), &r.hists, RUNS, &r.diffusion)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use reproduce::shapes::{BINS, compute};
+    use swarm_sim::progress::Progress;
+    use swarm_sim::scenario::Scenario;
+
+    #[test]
+    fn the_shapes_files_and_section_are_written_from_the_runs() {
+        let cfg = Scenario::builtin("sharp").unwrap().run;
+        let r = compute(cfg, 3, &Progress::hidden()).unwrap();
+        let dir = std::env::temp_dir().join(format!("cimax-shapes-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        write_shapes(&dir, &r).unwrap();
+        let csv = std::fs::read_to_string(dir.join(CSV)).unwrap();
+        assert_eq!(csv.lines().count(), 1 + 4 * 4 * BINS);
+        assert!(dir.join(FIGURE).exists());
+        let md = crate::page::render(
+            "reproduction/shapes.md.j2",
+            serde_json::json!({ "shapes": r.section }),
+        )
+        .unwrap();
+        assert!(md.contains("| line | 61 | 45 |"), "{md}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
 }

@@ -1,35 +1,22 @@
 //! "Beyond the paper": the binned entropy ([`protocol::diversity::Entropy`]) as the diversity
-//! measure instead of the variance, the alternative the paper's discussion names. Success from
-//! [`SENS_X`] on both fields with each measure, and the agents' mean diversity along the
+//! measure instead of the variance, the alternative the paper's discussion names (run by
+//! [`reproduce::beyond`]). Success from [`SENS_X`] on both fields with each measure, and the agents' mean diversity along the
 //! gradient with each (where the entropy's plateau lies against its ceiling).
 
 use std::path::Path;
 
-use nalgebra::Point2;
 use serde::Serialize;
 
-use super::Stage;
-use super::results::{Along, Results};
-use super::sensitivity::{SENS_RUNS, SENS_X, cell};
-use super::stages::{BEYOND_PROFILE, BEYOND_SLOPES, BEYOND_SUCCESS, BEYOND_TWO};
-use super::units::Unit;
+use super::sensitivity::cell;
 use report::csv_files::fixed;
 use report::plot::{self, Line};
-use swarm_sim::experiment::{Error, SweepPoint, sweep};
+use reproduce::beyond::{MAIN_BIN, PROFILE_XS, SLOPES, both, measures};
+use reproduce::results::{Along, Results};
+use reproduce::sensitivity::{SENS_RUNS, SENS_X};
+use reproduce::units::Unit;
+use swarm_sim::experiment::{Error, SweepPoint};
 use swarm_sim::measure::Measure;
-use swarm_sim::scenario::{Scenario, Success};
-use swarm_sim::sensitivity::{Knob, diversity_at};
-
-/// The entropy's bin widths tried for success; [`MAIN_BIN`] is the one of the profile.
-const BINS: [f32; 3] = [0.25, 0.5, 1.0];
-/// The bin width of the diversity profile: half the noise's width, so that the noise alone
-/// spreads a uniform field's readings over two or three bins.
-const MAIN_BIN: f32 = 0.5;
-/// Swarm centres (x, on y = 0) of the diversity profile along the gradient.
-const PROFILE_XS: [f64; 8] = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.33, 3.5, 5.0];
-/// Slopes of the gradient at which both measures are taken at the success line (the
-/// scenario's 2.5 per R between them).
-const SLOPES: [f64; 3] = [1.0, 2.5, 4.0];
+use swarm_sim::scenario::Scenario;
 
 /// The section as its template (`reproduction/beyond.md.j2`) sees it.
 #[derive(Default, Serialize)]
@@ -85,31 +72,6 @@ pub(super) struct BeyondSection {
     two_same: Vec<bool>,
 }
 
-/// `scn` with the agents using `m`.
-fn with(scn: &Scenario, m: Measure) -> Scenario {
-    let mut s = scn.clone();
-    s.run.diversity = m;
-    s
-}
-
-/// The measures compared: the variance, then the entropy at each of [`BINS`]; and the index
-/// of the entropy at [`MAIN_BIN`].
-fn measures() -> Result<(Vec<Measure>, usize), Error> {
-    let mut measures = vec![Measure::Variance];
-    for b in BINS {
-        measures.push(Measure::entropy(b).ok_or("bad bin width")?);
-    }
-    let main_m = 1 + BINS.iter().position(|&b| b == MAIN_BIN).unwrap_or(0);
-    Ok((measures, main_m))
-}
-
-/// The two measures of the profile and of two quantities: the variance and the entropy at
-/// [`MAIN_BIN`].
-fn both() -> Result<[Measure; 2], Error> {
-    let (measures, main_m) = measures()?;
-    Ok([Measure::Variance, measures[main_m]])
-}
-
 /// The section from the units [`Unit::BeyondSuccess`], [`Unit::BeyondAlong`] and
 /// [`Unit::BeyondTwo`]; writes `beyond-diversity.svg`.
 ///
@@ -124,40 +86,13 @@ pub(super) fn write(
     let both = both()?;
     let results = all.beyond_success(Unit::BeyondSuccess)?;
     let along = all.beyond_along(Unit::BeyondAlong)?;
-    along.figure(figs, fields[1], both)?;
+    along_figure(along, figs, fields[1], both)?;
     let mut section = success_section(fields, &measures, results, main_m);
     let (two_rows, two_same) = two_section(both, all.beyond_two(Unit::BeyondTwo)?, results, main_m);
     section.two_rows = two_rows;
     section.two_same = two_same;
-    along.fill(&mut section);
+    along_fill(along, &mut section);
     Ok(section)
-}
-
-/// Success from [`SENS_X`] per field and measure: `results[field][measure]`.
-///
-/// # Errors
-/// If a run fails.
-pub(super) fn success(
-    st: &mut Stage<'_>,
-    fields: [&Scenario; 2],
-) -> Result<Vec<Vec<SweepPoint>>, Error> {
-    let (measures, _) = measures()?;
-    let p = st.start(
-        "beyond the paper: entropy, success",
-        (fields.len() * measures.len()) as u64 * u64::from(SENS_RUNS),
-    );
-    let mut results: Vec<Vec<SweepPoint>> = Vec::new();
-    for (f, scn) in fields.iter().enumerate() {
-        let mut per = Vec::new();
-        for (m, &measure) in measures.iter().enumerate() {
-            let s = with(scn, measure);
-            let seed = st.seed(BEYOND_SUCCESS.at2(f, m));
-            per.push(sweep(&s, s.run, &[SENS_X], SENS_RUNS, seed, &p)?[0]);
-        }
-        results.push(per);
-    }
-    st.done(&p);
-    Ok(results)
 }
 
 /// The section's success part (the rest filled in by the other steps).
@@ -204,166 +139,88 @@ fn success_section(
     }
 }
 
-/// Runs both measures ([`both`]) along the gradient and against the slope.
-///
-/// # Errors
-/// If a run fails.
-pub(super) fn along(st: &mut Stage<'_>, gradient: &Scenario) -> Result<Along, Error> {
-    let measures = both()?;
-    let p = st.start(
-        "beyond the paper: entropy, diversity along the gradient",
-        (measures.len() * (PROFILE_XS.len() + SLOPES.len())) as u64 * u64::from(SENS_RUNS),
-    );
-    let mut prof: Vec<Vec<(f64, f64, f64)>> = Vec::new();
-    for (m, &measure) in measures.iter().enumerate() {
-        let s = with(gradient, measure);
-        let mut pts = Vec::new();
-        for (k, &x) in PROFILE_XS.iter().enumerate() {
-            let seed = st.seed(BEYOND_PROFILE.at2(m, k));
-            let (mean, se) = diversity_at(&s, Point2::new(x, 0.0), SENS_RUNS, seed, &p)?;
-            pts.push((x, mean, se));
-        }
-        prof.push(pts);
-    }
-    let line_x = match &gradient.success {
-        Some(Success::BeyondX { x }) => *x,
-        _ => 2.33,
-    };
-    let mut by_slope: Vec<[f64; 2]> = Vec::new();
-    for (k, &slope) in SLOPES.iter().enumerate() {
-        let s = Knob::Slope(slope).apply(gradient)?;
-        let mut v = [0.0; 2];
-        for (m, &measure) in measures.iter().enumerate() {
-            let seed = st.seed(BEYOND_SLOPES.at2(k, m));
-            let at = Point2::new(line_x, 0.0);
-            v[m] = diversity_at(&with(&s, measure), at, SENS_RUNS, seed, &p)?.0;
-        }
-        by_slope.push(v);
-    }
-    st.done(&p);
-    Ok(Along {
-        prof,
-        by_slope,
-        line_x,
-    })
-}
-
 /// log2 of a message's most readings with the scorer's own (33): the entropy's ceiling.
 fn ceiling() -> f64 {
     33f64.log2()
 }
 
-impl Along {
-    /// The mean of measure `m` at profile point `x`.
-    fn at(&self, m: usize, x: f64) -> f64 {
-        self.prof[m]
+/// `beyond-diversity.svg`.
+fn along_figure(
+    this: &Along,
+    figs: &Path,
+    gradient: &Scenario,
+    measures: [Measure; 2],
+) -> Result<(), Error> {
+    let y_max = this
+        .prof
+        .iter()
+        .flatten()
+        .map(|q| q.1 + q.2)
+        .fold(ceiling(), f64::max);
+    plot::xy_figure(
+        &figs.join("beyond-diversity.svg"),
+        &format!(
+            "{}: the agents' mean diversity against the swarm's x, {SENS_RUNS} runs per point",
+            gradient.name
+        ),
+        "x of the swarm's centre / R",
+        "mean V_k (variance) or bits (entropy)",
+        &measures
             .iter()
-            .find(|q| (q.0 - x).abs() < 1e-9)
-            .map_or(f64::NAN, |q| q.1)
-    }
-
-    /// `beyond-diversity.svg`.
-    fn figure(
-        &self,
-        figs: &Path,
-        gradient: &Scenario,
-        measures: [Measure; 2],
-    ) -> Result<(), Error> {
-        let y_max = self
-            .prof
-            .iter()
-            .flatten()
-            .map(|q| q.1 + q.2)
-            .fold(ceiling(), f64::max);
-        plot::xy_figure(
-            &figs.join("beyond-diversity.svg"),
-            &format!(
-                "{}: the agents' mean diversity against the swarm's x, {SENS_RUNS} runs per point",
-                gradient.name
-            ),
-            "x of the swarm's centre / R",
-            "mean V_k (variance) or bits (entropy)",
-            &measures
-                .iter()
-                .zip(&self.prof)
-                .map(|(m, pts)| Line {
-                    label: m.to_string(),
-                    points: pts.clone(),
-                })
-                .collect::<Vec<_>>(),
-            (0.0, 1.05 * y_max),
-            &[(self.line_x, " success line")],
-            false,
-        )?;
-        Ok(())
-    }
-
-    /// Fills the section's profile and slope parts.
-    fn fill(&self, s: &mut BeyondSection) {
-        let (lo, hi) = (self.by_slope[0], self.by_slope[SLOPES.len() - 1]);
-        let slope_ratio = SLOPES[SLOPES.len() - 1] / SLOPES[0];
-        let far_x = PROFILE_XS[PROFILE_XS.len() - 1];
-        let (v_line, v_far) = (self.at(0, self.line_x), self.at(0, far_x));
-        let (e_line, e_far) = (self.at(1, self.line_x), self.at(1, far_x));
-        let prof = &self.prof;
-        s.profile_rows = PROFILE_XS
-            .iter()
-            .enumerate()
-            .map(|(k, x)| {
-                [
-                    x.to_string(),
-                    format!("{} ± {}", fixed(prof[0][k].1, 2), fixed(prof[0][k].2, 2)),
-                    format!("{} ± {}", fixed(prof[1][k].1, 2), fixed(prof[1][k].2, 2)),
-                ]
+            .zip(&this.prof)
+            .map(|(m, pts)| Line {
+                label: m.to_string(),
+                points: pts.clone(),
             })
-            .collect();
-        s.line_x = self.line_x.to_string();
-        s.entropy_line = fixed(e_line, 2);
-        s.entropy_far = fixed(e_far, 2);
-        s.variance_line = fixed(v_line, 1);
-        s.variance_far = fixed(v_far, 1);
-        s.ceiling = fixed(ceiling(), 2);
-        s.entropy_flat = (e_far / e_line - 1.0).abs() <= 0.1;
-        s.variance_grows = v_far > 1.1 * v_line;
-        s.entropy_ratio = fixed(e_far / e_line, 2);
-        s.variance_ratio = fixed(v_far / v_line, 2);
-        s.variance_flat = (v_far / v_line - 1.0).abs() <= 0.1;
-        s.slope_rows = SLOPES
-            .iter()
-            .zip(&self.by_slope)
-            .map(|(k, v)| [k.to_string(), fixed(v[0], 2), fixed(v[1], 2)])
-            .collect();
-        s.slope_variance_ratio = fixed(hi[0] / lo[0], 1);
-        s.slope_entropy_bits = fixed(hi[1] - lo[1], 2);
-        s.slope_ratio = fixed(slope_ratio, 1);
-        s.slope_log2 = fixed(slope_ratio.log2(), 2);
-        s.entropy_logarithmic =
-            hi[1] - lo[1] <= slope_ratio.log2() + 0.25 && hi[0] / lo[0] > slope_ratio;
-    }
+            .collect::<Vec<_>>(),
+        (0.0, 1.05 * y_max),
+        &[(this.line_x, " success line")],
+        false,
+    )?;
+    Ok(())
 }
 
-/// Two quantities, light uniform (no information) and oxygen the sharp border: success from
-/// [`SENS_X`] per measure of [`both`].
-///
-/// # Errors
-/// If a run fails.
-pub(super) fn two(st: &mut Stage<'_>, sharp: &Scenario) -> Result<Vec<SweepPoint>, Error> {
-    let measures = both()?;
-    let mut two = sharp.clone();
-    two.field = hal_emu::world::field::Field::default();
-    two.field2 = Some(sharp.field.clone());
-    let p = st.start(
-        "beyond the paper: two quantities",
-        measures.len() as u64 * u64::from(SENS_RUNS),
-    );
-    let mut pts = Vec::new();
-    for (m, &measure) in measures.iter().enumerate() {
-        let s = with(&two, measure);
-        let seed = st.seed(BEYOND_TWO.at(m));
-        pts.push(sweep(&s, s.run, &[SENS_X], SENS_RUNS, seed, &p)?[0]);
-    }
-    st.done(&p);
-    Ok(pts)
+/// Fills the section's profile and slope parts.
+fn along_fill(this: &Along, s: &mut BeyondSection) {
+    let (lo, hi) = (this.by_slope[0], this.by_slope[SLOPES.len() - 1]);
+    let slope_ratio = SLOPES[SLOPES.len() - 1] / SLOPES[0];
+    let far_x = PROFILE_XS[PROFILE_XS.len() - 1];
+    let (v_line, v_far) = (this.at(0, this.line_x), this.at(0, far_x));
+    let (e_line, e_far) = (this.at(1, this.line_x), this.at(1, far_x));
+    let prof = &this.prof;
+    s.profile_rows = PROFILE_XS
+        .iter()
+        .enumerate()
+        .map(|(k, x)| {
+            [
+                x.to_string(),
+                format!("{} ± {}", fixed(prof[0][k].1, 2), fixed(prof[0][k].2, 2)),
+                format!("{} ± {}", fixed(prof[1][k].1, 2), fixed(prof[1][k].2, 2)),
+            ]
+        })
+        .collect();
+    s.line_x = this.line_x.to_string();
+    s.entropy_line = fixed(e_line, 2);
+    s.entropy_far = fixed(e_far, 2);
+    s.variance_line = fixed(v_line, 1);
+    s.variance_far = fixed(v_far, 1);
+    s.ceiling = fixed(ceiling(), 2);
+    s.entropy_flat = (e_far / e_line - 1.0).abs() <= 0.1;
+    s.variance_grows = v_far > 1.1 * v_line;
+    s.entropy_ratio = fixed(e_far / e_line, 2);
+    s.variance_ratio = fixed(v_far / v_line, 2);
+    s.variance_flat = (v_far / v_line - 1.0).abs() <= 0.1;
+    s.slope_rows = SLOPES
+        .iter()
+        .zip(&this.by_slope)
+        .map(|(k, v)| [k.to_string(), fixed(v[0], 2), fixed(v[1], 2)])
+        .collect();
+    s.slope_variance_ratio = fixed(hi[0] / lo[0], 1);
+    s.slope_entropy_bits = fixed(hi[1] - lo[1], 2);
+    s.slope_ratio = fixed(slope_ratio, 1);
+    s.slope_log2 = fixed(slope_ratio.log2(), 2);
+    s.entropy_logarithmic =
+        hi[1] - lo[1] <= slope_ratio.log2() + 0.25 && hi[0] / lo[0] > slope_ratio;
 }
 
 /// Two quantities' rows, and per measure whether it is within 0.15 of the sharp field alone

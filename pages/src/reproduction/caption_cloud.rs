@@ -4,35 +4,22 @@
 
 use std::path::Path;
 
-use nalgebra::Point2;
 use serde::Serialize;
 
-use super::results::Results;
-use super::stages::{CAPTION_MAP, CAPTION_PROFILE};
-use super::units::Unit;
-use super::{
-    CLOUD_REFINED, PROFILE_RUNS, Stage, builtin_placed, by_distance, outward_limit,
-    perception_limit, refined,
-};
+use super::{outward_limit, perception_limit};
 use crate::csv::{write_field_csv, write_radial_csv};
 use crate::figures;
 use crate::marks;
 use report::csv_files::fixed;
-use swarm_sim::experiment::{Arrow, Error, RadialPoint, direction_map, radial_profile};
+use reproduce::results::Results;
+use reproduce::units::Unit;
+use reproduce::{PROFILE_RUNS, builtin_placed};
+use swarm_sim::experiment::{Arrow, Error, RadialPoint};
 use swarm_sim::scenario::Placement;
 
 /// Mean inward alignment that counts as heading in (and its negative as heading out), as for
 /// the text's cloud.
 const THRESHOLD: f64 = 0.5;
-
-/// The distances of the radial profile, as for the text's cloud: 0 to 12 R in steps of 0.5,
-/// refined to 0.25 around the claimed edges.
-fn distances() -> Vec<f64> {
-    refined(
-        (0..=24).map(|k| 0.5 * f64::from(k)).collect(),
-        &CLOUD_REFINED,
-    )
-}
 
 /// The caption's cloud's results.
 pub(super) struct CaptionCloud {
@@ -42,47 +29,6 @@ pub(super) struct CaptionCloud {
     pub(super) profile: Vec<RadialPoint>,
     /// The placement its swarm had.
     pub(super) placement: Placement,
-}
-
-/// The caption's cloud's direction map with the `main` placement.
-///
-/// # Errors
-/// If a run fails.
-pub(super) fn map(st: &mut Stage<'_>, main: Placement) -> Result<Vec<Arrow>, Error> {
-    let scn = builtin_placed("cloud-caption", main)?;
-    let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
-    let p = st.start(
-        &format!("{} field", scn.name),
-        (grid.xs.len() * grid.ys.len()) as u64,
-    );
-    let arrows = direction_map(&scn, grid, st.seed(CAPTION_MAP.at(0)), &p)?;
-    st.done(&p);
-    Ok(arrows)
-}
-
-/// The caption's cloud's radial profile with the `main` placement, by increasing distance.
-///
-/// # Errors
-/// If a run fails.
-pub(super) fn profile(st: &mut Stage<'_>, main: Placement) -> Result<Vec<RadialPoint>, Error> {
-    let scn = builtin_placed("cloud-caption", main)?;
-    let distances = distances();
-    let p = st.start(
-        "cloud-caption radial profile",
-        distances.len() as u64 * u64::from(PROFILE_RUNS),
-    );
-    let profile = radial_profile(
-        &scn,
-        scn.run,
-        Point2::origin(),
-        &distances,
-        PROFILE_RUNS,
-        st.seed(CAPTION_PROFILE.at(0)),
-        &p,
-    )?;
-    let profile = by_distance(profile);
-    st.done(&p);
-    Ok(profile)
 }
 
 /// Writes `cloud-caption-field.{csv,svg}` and `cloud-caption-profile.{csv,svg}` from the
@@ -202,6 +148,7 @@ pub(super) fn section(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::Point2;
 
     fn point(distance: f64, inward: f64) -> RadialPoint {
         RadialPoint {

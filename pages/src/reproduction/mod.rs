@@ -2,15 +2,13 @@
 //! files, and `docs/reproduction.md` (rendered from `templates/reproduction.md.j2`) with the
 //! paper's numbers beside ours.
 //!
-//! In two phases, so that the work can be shared out and merged: [`compute`] runs one [`Unit`]
-//! (a stage: its runs, with seeds derived from the base seed and the unit alone) and returns
-//! its [`UnitResult`], writing nothing; [`write`](fn@write) writes every file from the [`Results`] of all
-//! units, running nothing. [`reproduce`] does both, unit by unit in the order of [`units`]. A
-//! [`UnitResult`] goes through JSON (`serde_json`) and back bit for bit, so results computed
-//! elsewhere write the very same files.
+//! The second of two phases: the `reproduce` crate runs every unit of the page
+//! ([`reproduce::compute()`], writing nothing), and [`write`](fn@write) writes every file from
+//! the [`Results`] of all units, running nothing. A unit's result goes through JSON
+//! (`serde_json`) and back bit for bit, so results computed elsewhere (shards) write the very
+//! same files.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant as Clock;
 
 use nalgebra::Point2;
 use serde::Serialize;
@@ -19,34 +17,30 @@ use crate::csv::CycleRow;
 use crate::marks;
 use report::csv_files::{fixed, opt};
 use report::plot::{self, Line};
+use reproduce::{
+    COURSE_RUNS, CYCLE_RUNS, CYCLE_XS, PROFILE_RUNS, RUN_TRIES, Results, builtin_placed, results,
+    units,
+};
 use swarm_sim::experiment::{self, Arrow, Error, RadialPoint, RunOutput, SweepPoint};
 use swarm_sim::geometry::{Swarm, lattice};
 use swarm_sim::scenario::{DEFAULT_PLACEMENT, LATTICE_SPACING, Placement, Scenario};
-use swarm_sim::sensitivity::{Knob, diversity_at, heading_against_x, success_against};
+use swarm_sim::sensitivity::Knob;
 use swarm_sim::timecourse::TimeCourse;
 
 mod beyond;
 mod caption_cloud;
-mod compute;
 mod page;
-mod results;
 mod sensitivity;
 mod settle;
-mod stages;
-mod units;
 mod verdicts;
 mod write;
 
-use compute::Stage;
 use page::{Report, markdown};
 use sensitivity::SensitivitySection;
 
-pub use compute::compute;
-pub use results::{Results, UnitResult};
-pub use units::{Field, Scene, Side, UNITS, Unit, units};
 pub use write::write;
 
-/// What `swarm reproduce` needs.
+/// Where `swarm reproduce` writes, and what its runs were ([`reproduce::Options`]).
 #[derive(Clone, Debug)]
 pub struct Options {
     /// Base seed; every stage derives its own.
@@ -60,21 +54,15 @@ pub struct Options {
     pub placement: Placement,
 }
 
-/// Runs tried for each run figure (the first successful one is shown).
-pub const RUN_TRIES: u64 = 20;
-
-/// Cycle lengths of the cycle-length experiment, seconds.
-pub const CYCLES: [u64; 7] = [100, 200, 300, 500, 1000, 2000, 5000];
-/// Initial positions of the cycle-length experiment.
-pub const CYCLE_XS: [f64; 2] = [-2.0, -1.0];
-
-fn builtin(name: &str) -> Result<Scenario, Error> {
-    Scenario::builtin(name).ok_or_else(|| format!("built-in scenario {name} is missing").into())
-}
-
-/// A built-in scenario with its agents placed by `placement`.
-fn builtin_placed(name: &str, placement: Placement) -> Result<Scenario, Error> {
-    Ok(builtin(name)?.placed(placement)?)
+impl Options {
+    /// What the runs depend on: the seed, the placement, and whether to draw progress bars.
+    pub fn runs(&self) -> reproduce::Options {
+        reproduce::Options {
+            seed: self.seed,
+            quiet: self.quiet,
+            placement: self.placement,
+        }
+    }
 }
 
 fn mean_time_at(points: &[SweepPoint], x: f64) -> Option<f64> {
@@ -152,29 +140,6 @@ fn outward_limit(profile: &[RadialPoint]) -> Option<(f64, f64)> {
     swarm_sim::stats::crossing(&inward_points(profile), 0.0, true)
 }
 
-/// `grid` with the points `refined` added where they are new, by increasing value: a grid
-/// refined where the paper claims an edge. The grid's own points keep their indices first, so
-/// their seeds do not change.
-fn refined(grid: Vec<f64>, refined: &[f64]) -> Vec<f64> {
-    let mut all = grid;
-    for &r in refined {
-        if all.iter().all(|g| (g - r).abs() > 1e-9) {
-            all.push(r);
-        }
-    }
-    all
-}
-
-/// `profile` by increasing distance.
-fn by_distance(mut profile: Vec<RadialPoint>) -> Vec<RadialPoint> {
-    profile.sort_by(|a, b| a.distance.total_cmp(&b.distance));
-    profile
-}
-
-/// Where the cloud profiles are refined to 0.25 R: around the claimed edges d = 4 (heading
-/// out inside) and d = 7, 7.5 (random beyond).
-const CLOUD_REFINED: [f64; 9] = [3.25, 3.75, 4.25, 4.75, 6.25, 6.75, 7.25, 7.75, 8.25];
-
 /// Results of `swarm reproduce` that the command prints.
 #[derive(Clone, Debug)]
 pub struct Summary {
@@ -194,38 +159,6 @@ pub struct Summary {
     pub gradient_other: Vec<SweepPoint>,
 }
 
-/// Runs every experiment ([`compute`], unit by unit in the order of [`units`]), then writes
-/// the figures and CSV files into `docs/figures/` and regenerates `docs/reproduction.md`
-/// ([`write`](fn@write)). `log` receives one line per stage.
-///
-/// # Errors
-/// If a run fails or a file cannot be written.
-pub fn reproduce(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, Error> {
-    let t0 = Clock::now();
-    let mut results = Results::default();
-    for &unit in units() {
-        results.insert(compute(unit, opts, log)?)?;
-    }
-    let summary = write(&results, opts)?;
-    Ok(Summary {
-        wall_s: t0.elapsed().as_secs_f64(),
-        ..summary
-    })
-}
-
-/// Runs per distance of the cloud's radial profile.
-const PROFILE_RUNS: u32 = 40;
-/// Runs per point of the other placement's sweeps (the robustness check; the main placement
-/// runs the scenario's 50, as the paper did).
-pub const OTHER_RUNS: u32 = 20;
-/// Runs per scenario and placement of the averaged courses (Figs. 4b, 7b) and the plateaus.
-pub const COURSE_RUNS: u32 = 50;
-/// The averaged courses' plateau counts the runs that arrived at least this many periods
-/// before the end.
-pub(super) const PLATEAU_MIN_AFTER: u32 = 10;
-/// Runs per point of the cycle-length experiment.
-const CYCLE_RUNS: u32 = 50;
-
 /// The paper's Figs. 4b and 7b: the diversity at the start and the plateau(s).
 struct PaperCourse {
     start: f64,
@@ -244,9 +177,6 @@ fn paper_course(k: usize) -> PaperCourse {
         plateaus: claim(plateau).values(),
     }
 }
-
-/// Placements measured for [`PlacementStats`].
-const PLACEMENTS: u64 = 200;
 
 #[cfg(test)]
 mod tests;

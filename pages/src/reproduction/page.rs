@@ -2,8 +2,9 @@
 //! the templates render (`templates/reproduction.md.j2` and its partials), every number formatted
 //! here.
 
-use super::results::PlacementStats;
 use super::*;
+use reproduce::PLACEMENTS;
+use reproduce::results::PlacementStats;
 
 pub(super) struct Report<'a> {
     pub(super) placement: PlacementStats,
@@ -31,7 +32,7 @@ pub(super) struct Report<'a> {
     pub(super) courses: &'a [[TimeCourse; 2]],
     pub(super) sensitivity: &'a SensitivitySection,
     /// The discussion's line and cross on a random field.
-    pub(super) shapes: &'a crate::shapes::ShapesSection,
+    pub(super) shapes: &'a reproduce::shapes::ShapesSection,
     /// Entropy instead of variance (beyond the paper).
     pub(super) beyond: &'a beyond::BeyondSection,
     /// The experiments that settle the open rows.
@@ -56,7 +57,7 @@ struct Page<'a> {
     cycle: CycleSection,
     course: CourseSection,
     sensitivity: &'a SensitivitySection,
-    shapes: &'a crate::shapes::ShapesSection,
+    shapes: &'a reproduce::shapes::ShapesSection,
     beyond: &'a beyond::BeyondSection,
     settle: &'a settle::SettleSection,
     speed: SpeedSection,

@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use super::*;
+use reproduce::{Field, Side, UNITS, Unit, UnitResult, compute, units};
 use swarm_sim::waves::SNAPSHOTS;
 
 fn options(docs: PathBuf) -> Options {
@@ -64,7 +65,7 @@ fn results_of_cheap_units_read_back_the_same() {
         Unit::Placements,
         Unit::Plateau(Side::Main, 2),
     ] {
-        let r = compute(unit, &opts, &mut |_| {}).unwrap();
+        let r = compute(unit, &opts.runs(), &mut |_| {}).unwrap();
         let back = through_json(&r);
         // Debug prints every float as the shortest decimal that reads back to it.
         assert_eq!(format!("{back:?}"), format!("{r:?}"), "{unit}");
@@ -73,7 +74,7 @@ fn results_of_cheap_units_read_back_the_same() {
 
 #[test]
 fn the_wave_written_from_json_is_the_same() {
-    let r = compute(Unit::Waves, &options(temp("unused")), &mut |_| {}).unwrap();
+    let r = compute(Unit::Waves, &options(temp("unused")).runs(), &mut |_| {}).unwrap();
     let back = through_json(&r);
     let (a, b) = (temp("wave-a"), temp("wave-b"));
     for (dir, r) in [(&a, &r), (&b, &back)] {
@@ -92,7 +93,7 @@ fn the_wave_written_from_json_is_the_same() {
 #[test]
 fn results_are_refused_twice_or_for_another_unit() {
     let opts = options(temp("unused"));
-    let r = compute(Unit::Placements, &opts, &mut |_| {}).unwrap();
+    let r = compute(Unit::Placements, &opts.runs(), &mut |_| {}).unwrap();
     let mut results = Results::default();
     results.insert(r.clone()).unwrap();
     assert!(results.insert(r.clone()).is_err());
@@ -107,7 +108,7 @@ fn results_are_refused_twice_or_for_another_unit() {
 /// The whole page twice: written from the results as computed, and from the same results
 /// through JSON lines, read back in the reverse order. Every file is the same, byte for byte
 /// (the timing lines too: the wall times are results). Takes the whole page's time; run with
-/// `cargo test --release -p host-sim -- --ignored the_whole_page`.
+/// `cargo test --release -p pages -- --ignored the_whole_page`.
 #[test]
 #[ignore = "runs every experiment of the page (minutes in release)"]
 fn the_whole_page_written_from_json_lines_is_the_same() {
@@ -116,7 +117,7 @@ fn the_whole_page_written_from_json_lines_is_the_same() {
     let mut results = Results::default();
     for &unit in units() {
         results
-            .insert(compute(unit, &opts, &mut |_| {}).unwrap())
+            .insert(compute(unit, &opts.runs(), &mut |_| {}).unwrap())
             .unwrap();
     }
     write(&results, &opts).unwrap();

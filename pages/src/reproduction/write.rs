@@ -5,7 +5,6 @@
 
 use std::path::Path;
 
-use super::compute::Scenes;
 use super::results::{CycleRun, Results};
 use super::units::placement;
 use super::units::{Field, Scene, Side, Unit};
@@ -20,6 +19,7 @@ use crate::csv::{
 use crate::figures::{self, time_course_figure};
 use crate::marks;
 use report::plot::{self, Line};
+use reproduce::stage::Scenes;
 use swarm_sim::experiment::{Arrow, Error, RadialPoint, RunOutput, SweepPoint};
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::timecourse::TimeCourse;
@@ -55,7 +55,7 @@ pub fn write(results: &Results, opts: &Options) -> Result<Summary, Error> {
     let cycle_rows = cycle_files(&figs, results.cycle(Unit::Cycle)?, &s.sharp)?;
     let sensitivity = sensitivity::write(&figs, main, &s.sharp, &s.gradient, results)?;
     let shapes = results.shapes(Unit::Shapes)?;
-    crate::shapes::write(&figs, shapes)?;
+    crate::figures::write_shapes(&figs, shapes)?;
     let beyond = beyond::write(&figs, s.fields(), results)?;
     let waves = wave_files(&figs, results)?;
     let wall_s = results.wall_s();
@@ -304,10 +304,5 @@ fn cycle_figure(path: &Path, sharp: &Scenario, cycle_rows: &[CycleRow]) -> Resul
 
 /// Fig. 2: the wave's CSV file and figure; the page's section.
 fn wave_files(figs: &Path, results: &Results) -> Result<crate::waves::WavesSection, Error> {
-    use crate::figures::{waves_figure, write_waves_csv};
-    use swarm_sim::waves::SNAPSHOTS;
-    let w = results.waves(Unit::Waves)?;
-    write_waves_csv(&figs.join("waves.csv"), w, &SNAPSHOTS)?;
-    waves_figure(&figs.join("waves.svg"), w, &SNAPSHOTS)?;
-    Ok(crate::waves::section(w))
+    crate::waves::write(figs, results.waves(Unit::Waves)?)
 }

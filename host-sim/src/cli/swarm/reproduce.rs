@@ -3,8 +3,9 @@
 //! merge of its shards.
 //!
 //! The job ([`ReproduceJob`]: the seed and the placement) has one unit per entry of
-//! [`reproduction::units`], unit `k` the `k`-th. Unsharded, the command computes them all and
-//! writes with [`reproduction::write`]; `--shard I/N` computes its share, one unit after
+//! [`reproduce::units`], unit `k` the `k`-th. Unsharded, the command computes them all
+//! ([`reproduce::compute`], the crate that runs) and writes with [`reproduction::write`] (the
+//! crate that writes); `--shard I/N` computes its share, one unit after
 //! another (each is a stage that runs its own runs in parallel and times itself), into a part;
 //! `cimax merge` rebuilds the [`Results`] from the parts and writes them with the same
 //! [`reproduction::write`], so the files are the same bytes (the page's timing lines too: the
@@ -15,7 +16,8 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use host_sim::shard::{self, Job, ShardSpec, merge::Merged};
-use pages::reproduction::{self, Options, Results, Summary, UnitResult, units};
+use pages::reproduction::{self, Options, Summary};
+use reproduce::{Results, UnitResult, units};
 use serde::{Deserialize, Serialize};
 use swarm_sim::experiment;
 use swarm_sim::scenario::{DEFAULT_PLACEMENT, Placement};
@@ -81,7 +83,7 @@ pub fn reproduce(o: &ReproduceOptions) -> Res {
             quiet: o.quiet,
             placement,
         };
-        reproduction::reproduce(&opts, &mut |line| {
+        reproduce_all(&opts, &mut |line| {
             if unwritten.is_none() {
                 unwritten = outln!("{line}").err();
             }
@@ -96,6 +98,25 @@ pub fn reproduce(o: &ReproduceOptions) -> Res {
     })?;
     outln!("wall time {:.1} s", s.wall_s)?;
     Ok(())
+}
+
+/// Every unit of the page ([`reproduce::compute`], unit by unit in the order of
+/// [`units`]), then every file of it ([`reproduction::write`]) into `opts.docs`. `log`
+/// receives one line per stage.
+///
+/// # Errors
+/// If a run fails or a file cannot be written.
+fn reproduce_all(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, experiment::Error> {
+    let t0 = std::time::Instant::now();
+    let mut results = Results::default();
+    for &unit in units() {
+        results.insert(reproduce::compute(unit, &opts.runs(), log)?)?;
+    }
+    let summary = reproduction::write(&results, opts)?;
+    Ok(Summary {
+        wall_s: t0.elapsed().as_secs_f64(),
+        ..summary
+    })
 }
 
 /// Shard `shard` of the page's units into `dir/part-I-of-N.jsonl`, one unit after another
@@ -120,7 +141,7 @@ fn run_shard(seed: u64, placement: Placement, shard: ShardSpec, dir: &Path, quie
             .ok()
             .and_then(|k| all.get(k))
             .ok_or_else(|| format!("no unit {k}"))?;
-        reproduction::compute(*u, &opts, &mut |_| {}).map_err(|e| format!("{u}: {e}"))
+        reproduce::compute(*u, &opts.runs(), &mut |_| {}).map_err(|e| format!("{u}: {e}"))
     };
     let path = shard::run_shard_in_order(job, all.len() as u64, shard, dir, quiet, unit)?;
     outln!("wrote {}", path.display())?;

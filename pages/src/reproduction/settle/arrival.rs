@@ -3,26 +3,20 @@
 //! way, the periods a drift at that heading would take per 0.25 R, and the periods the runs
 //! spent there.
 
-use super::super::results::Way;
 use std::path::Path;
 
 use serde::Serialize;
 
-use super::super::stages::HEADING;
-use super::{Stage, pm, write_csv};
+use super::{pm, write_csv};
 use crate::claims::{Id, claim};
 use report::csv_files::fixed;
 use report::plot::{self, Line};
-use swarm_sim::experiment::{Error, RunOutput};
-use swarm_sim::probe::periods_per_bin;
-use swarm_sim::scenario::{Scenario, Success};
-use swarm_sim::sensitivity::heading_against_x;
+use reproduce::results::Way;
+use reproduce::settle::arrival::{RUNS, STEP, success_x};
+use swarm_sim::experiment::Error;
+use swarm_sim::scenario::Scenario;
 use swarm_sim::stats;
 
-/// Step of the heading profile and of the bins, R.
-const STEP: f64 = 0.25;
-/// One-period runs per point of the heading profile.
-const RUNS: u32 = 30;
 /// Below this mean heading a drift is too slow to predict a time from.
 const MIN_HEADING: f64 = 0.05;
 
@@ -87,48 +81,6 @@ pub(super) struct ArrivalPart {
     line: String,
     paper_speed: String,
     step_r: String,
-}
-
-/// The starts from `scn`'s start to its line, every [`STEP`].
-fn way_xs(scn: &Scenario) -> Vec<f64> {
-    let end = scn
-        .success
-        .as_ref()
-        .map_or(0.0, |s| success_x(s, scn.start.x));
-    steps(scn.start.x, end)
-}
-
-/// Where the runs `outs` of `scn` spent their periods, per step of [`way_xs`], and when they
-/// arrived.
-pub(super) fn way(scn: &Scenario, outs: &[RunOutput]) -> Way {
-    let n = way_xs(scn).len();
-    let lo = scn.start.x - 0.5 * STEP;
-    Way {
-        spent: periods_per_bin(outs, lo, lo + STEP * n as f64, STEP),
-        arrivals: outs
-            .iter()
-            .filter_map(|o| o.success_at.map(f64::from))
-            .collect(),
-    }
-}
-
-/// The first move's heading from every step of the way of field `k` (`scn`).
-///
-/// # Errors
-/// If a run fails.
-pub(super) fn heading(
-    st: &mut Stage<'_>,
-    k: usize,
-    scn: &Scenario,
-) -> Result<Vec<(f64, f64, f64)>, Error> {
-    let xs = way_xs(scn);
-    let p = st.start(
-        &format!("{}: heading along the way", scn.name),
-        xs.len() as u64 * u64::from(RUNS),
-    );
-    let heading = heading_against_x(scn, &xs, RUNS, st.seed(HEADING.at(k)), &p)?;
-    st.done(&p);
-    Ok(heading)
 }
 
 /// The part from both fields' headings and the ways of their courses' runs; writes
@@ -217,21 +169,6 @@ fn facts(scn: &Scenario, g: &Profile) -> ArrivalFacts {
             .min_by(|a, b| (a.0 - mid).abs().total_cmp(&(b.0 - mid).abs()))
             .map_or(f64::NAN, |h| h.1),
     }
-}
-
-/// The x at which a swarm coming from `from` (left of the line) meets the criterion.
-fn success_x(s: &Success, from: f64) -> f64 {
-    match *s {
-        Success::NearX { x, within } if from < x => x - within,
-        Success::NearX { x, within } => x + within,
-        Success::BeyondX { x } => x,
-    }
-}
-
-/// `from`, `from + STEP`, … up to below `to`.
-fn steps(from: f64, to: f64) -> Vec<f64> {
-    let n = ((to - from) / STEP).ceil().max(1.0) as usize;
-    (0..n).map(|k| from + STEP * k as f64).collect()
 }
 
 /// Periods a drift at mean heading `cos` takes for one step (none if too slow).

@@ -4,17 +4,14 @@
 //! averaged courses again with the same seeds, and the comparison's level rows (starting
 //! diversity, arrival, plateau) are judged under both.
 
-use super::super::results::Levels;
 use std::path::Path;
 
 use serde::Serialize;
 
-use super::{Stage, pm, write_csv};
+use super::{pm, write_csv};
+use reproduce::results::Levels;
 use swarm_sim::experiment::Error;
-use swarm_sim::probe::{Tapped, plateaus, tapped_runs};
 use swarm_sim::scenario::Scenario;
-use swarm_sim::sim::Sensor;
-use swarm_sim::stats;
 
 /// Both fields under the other sensor model, as the comparison reads them.
 pub(in super::super) struct SensorFacts {
@@ -28,52 +25,6 @@ pub(super) struct SensorPart {
     runs: u32,
     /// Per field and quantity: field, quantity, per activation, per period.
     rows: Vec<[String; 4]>,
-}
-
-/// The levels of a set of runs.
-pub(super) fn levels(runs: &[Tapped]) -> Levels {
-    let start: Vec<f64> = runs
-        .iter()
-        .filter_map(|t| t.out.periods.first().map(|p| p.diversity))
-        .collect();
-    let arrival: Vec<f64> = runs
-        .iter()
-        .filter_map(|t| t.out.success_at.map(f64::from))
-        .collect();
-    let p = plateaus(runs, super::super::PLATEAU_MIN_AFTER).agents;
-    let spread = |v: &[f64]| {
-        (
-            stats::mean(v).unwrap_or(f64::NAN),
-            stats::standard_error(v).unwrap_or(f64::NAN),
-        )
-    };
-    Levels {
-        start: spread(&start),
-        arrival: spread(&arrival),
-        plateau: (p.mean, p.se),
-        arrived: arrival.len(),
-        runs: runs.len(),
-    }
-}
-
-/// Runs `scn`'s averaged course again with one sample per period (its seed `seed`, the
-/// course's); their levels.
-///
-/// # Errors
-/// If a run fails.
-pub(super) fn per_period(st: &mut Stage<'_>, scn: &Scenario, seed: u64) -> Result<Levels, Error> {
-    let runs = super::super::COURSE_RUNS;
-    let p = st.start(
-        &format!("{}: the courses, one reading per period", scn.name),
-        u64::from(runs),
-    );
-    let cfg = swarm_sim::sim::RunConfig {
-        sensor: Sensor::PerPeriod,
-        ..scn.run
-    };
-    let held = tapped_runs(scn, cfg, scn.start.x, scn.periods, runs, seed, &p)?;
-    st.done(&p);
-    Ok(levels(&held))
 }
 
 /// The part from both fields' levels per activation (`fresh`, the courses' runs) and per

@@ -5,23 +5,17 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use super::super::results::Results;
-use super::super::stages::START;
-use super::super::units::placement;
-use super::super::units::{Field, Side, Unit};
-use super::{Stage, write_csv};
+use super::write_csv;
 use crate::claims::{Id, claim};
 use report::csv_files::fixed;
 use report::plot::{self, Line};
+use reproduce::results::Results;
+use reproduce::settle::start::{RUNS, XS};
+use reproduce::units::{Field, Side, Unit, placement};
 use swarm_sim::experiment::Error;
-use swarm_sim::probe::{StartRun, start_diversity};
+use swarm_sim::probe::StartRun;
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::stats;
-
-/// Starts around the page's x = −2.5, so that the agents across vary.
-const XS: [f64; 7] = [-3.25, -3.0, -2.75, -2.5, -2.25, -2.0, -1.75];
-/// One-period runs per start, field and placement.
-const RUNS: u32 = 20;
 
 /// One column: a field and a placement, and its runs.
 struct Column {
@@ -68,29 +62,6 @@ pub(super) struct StartPart {
     /// Gradient (main placement): the most agents across of any run, and their mean.
     gradient_most: usize,
     gradient_most_mean: String,
-}
-
-/// Runs one period from each start of [`XS`] for field `k` (`scn`) with `placement`, the
-/// main one (`j` 0) or the other (1).
-///
-/// # Errors
-/// If a run fails.
-pub(super) fn runs(
-    st: &mut Stage<'_>,
-    placement: Placement,
-    k: usize,
-    j: usize,
-    scn: &Scenario,
-) -> Result<Vec<StartRun>, Error> {
-    let placed = super::super::builtin_placed(&scn.name, placement)?;
-    let p = st.start(
-        &format!("{}: starting diversity, {placement}", scn.name),
-        XS.len() as u64 * u64::from(RUNS),
-    );
-    let seed = st.seed(START.at2(k, j));
-    let runs = start_diversity(&placed, &XS, RUNS, seed, &p)?;
-    st.done(&p);
-    Ok(runs)
 }
 
 /// The part from the units [`Unit::Start`], both fields and placements; writes

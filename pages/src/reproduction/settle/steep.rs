@@ -7,27 +7,17 @@
 use std::path::Path;
 
 use nalgebra::Point2;
-use rayon::prelude::*;
 use serde::Serialize;
 
-use super::super::results::{Results, Times};
-use super::super::stages::STEEP;
-use super::super::units::Unit;
-use super::{Stage, pm, write_csv};
+use super::{pm, write_csv};
 use report::csv_files::fixed;
 use report::plot::{self, Line};
+use reproduce::results::{Results, Times};
+use reproduce::settle::steep::{NEAR, RUNS, SLOPES, label, slope_of};
+use reproduce::units::Unit;
 use swarm_sim::experiment::Error;
 use swarm_sim::scenario::Scenario;
-use swarm_sim::seeds::derive;
-use swarm_sim::sensitivity::Knob;
 use swarm_sim::stats;
-
-/// Slopes of the ramp, per R (the page's 2.5 among them).
-pub(super) const SLOPES: [f64; 5] = [1.0, 2.5, 5.0, 10.0, 20.0];
-/// Runs per slope.
-const RUNS: u32 = 50;
-/// The common line: within this of x = 0 (the sharp border's criterion).
-const NEAR: f64 = 0.33;
 
 /// Which of a run's [`Times`].
 type Pick = fn(&Times) -> Option<u32>;
@@ -76,61 +66,6 @@ pub(super) struct SteepPart {
     success: [String; 2],
     to_line: [String; 2],
     to_criterion: [String; 2],
-}
-
-/// The slope of case `k`: none for the sharp border (0), then [`SLOPES`].
-fn slope_of(k: usize) -> Result<Option<f64>, Error> {
-    match k {
-        0 => Ok(None),
-        _ => Ok(Some(
-            *SLOPES
-                .get(k - 1)
-                .ok_or_else(|| format!("no steepness case {k}"))?,
-        )),
-    }
-}
-
-/// The label of the case with `slope` (none: the sharp border).
-fn label(sharp: &Scenario, slope: Option<f64>) -> String {
-    match slope {
-        None => format!("{} border", sharp.name),
-        Some(s) => format!("ramp of slope {s}"),
-    }
-}
-
-/// Runs case `k` (0 the sharp border, then each slope of [`SLOPES`]) from the page's start.
-///
-/// # Errors
-/// If `k` is no case or a run fails.
-pub(super) fn case(
-    st: &mut Stage<'_>,
-    k: usize,
-    scns: [&Scenario; 2],
-) -> Result<Vec<Times>, Error> {
-    let [sharp, gradient] = scns;
-    let slope = slope_of(k)?;
-    let scn = match slope {
-        None => sharp.clone(),
-        Some(s) => Knob::Slope(s).apply(gradient)?,
-    };
-    let p = st.start(
-        &format!("steepness: {}", label(sharp, slope)),
-        u64::from(RUNS),
-    );
-    let seed = st.seed(STEEP.at(k));
-    let runs = (0..RUNS)
-        .into_par_iter()
-        .map(|r| {
-            let start = Point2::new(gradient.start.x, 0.0);
-            let s = derive(seed, &[u64::from(r)]);
-            let out = swarm_sim::experiment::run(&scn, scn.run, start, scn.periods, s, true)?;
-            p.inc();
-            let near = out.periods.iter().find(|q| q.to.x > -NEAR).map(|q| q.index);
-            Ok((out.success_at, near))
-        })
-        .collect::<Result<Vec<_>, Error>>()?;
-    st.done(&p);
-    Ok(runs)
 }
 
 /// The part from the units [`Unit::Steep`]; writes `settle-steep.{csv,svg}`.

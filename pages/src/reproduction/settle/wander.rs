@@ -10,12 +10,11 @@ use serde::Serialize;
 use super::{pm, write_csv};
 use report::csv_files::fixed;
 use report::plot::{self, Line};
-use swarm_sim::experiment::{Error, RunOutput};
-use swarm_sim::probe::{Msd, msd_after_arrival};
+use reproduce::settle::wander::MAX_LAG;
+use swarm_sim::experiment::Error;
+use swarm_sim::probe::Msd;
 use swarm_sim::stats;
 
-/// The longest lag, periods.
-const MAX_LAG: u32 = 20;
 /// Lags shown in the table.
 const SHOWN: [u32; 5] = [1, 2, 5, 10, 20];
 
@@ -55,12 +54,6 @@ pub(super) struct WanderPart {
     /// The ratio y / x of the mean squared displacements at the longest lag, per field.
     sharp_ratio: String,
     gradient_ratio: String,
-}
-
-/// The walk after arrival of the runs `outs`: the mean squared displacements up to
-/// [`MAX_LAG`].
-pub(super) fn msd(outs: &[RunOutput]) -> Vec<Msd> {
-    msd_after_arrival(outs, MAX_LAG)
 }
 
 /// The part from the walks after arrival of both fields' courses' runs ([`msd`]); writes

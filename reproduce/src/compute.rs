@@ -9,13 +9,14 @@ use protocol::Duration;
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 
-use super::results::{CycleRun, Outcome, PlacementStats, RunFigure, UnitResult};
-use super::stages::{
-    CLOUD_PROFILE, COURSES, CYCLE_SWEEPS, CYCLE_WAVES, MAPS, Offset, PLACEMENT_STATS, RUN_FIGURES,
-    SHAPES, SPEED, SWEEPS_LATTICE, SWEEPS_RANDOM, WAVE,
+use crate::results::{CycleRun, Outcome, PlacementStats, RunFigure, UnitResult};
+use crate::stage::{Scenes, Stage};
+use crate::stages::{
+    CLOUD_PROFILE, COURSES, CYCLE_SWEEPS, CYCLE_WAVES, MAPS, PLACEMENT_STATS, RUN_FIGURES, SHAPES,
+    SPEED, SWEEPS_LATTICE, SWEEPS_RANDOM, WAVE,
 };
-use super::units::{Field, Scene, Side, Unit, placement};
-use super::{
+use crate::units::{Field, Scene, Side, Unit, placement};
+use crate::{
     CLOUD_REFINED, COURSE_RUNS, CYCLE_RUNS, CYCLE_XS, CYCLES, OTHER_RUNS, Options, PLACEMENTS,
     PLATEAU_MIN_AFTER, PROFILE_RUNS, RUN_TRIES, beyond, builtin_placed, by_distance, caption_cloud,
     refined, sensitivity, settle,
@@ -25,91 +26,12 @@ use swarm_sim::experiment::{
     waves_heard,
 };
 use swarm_sim::geometry::Swarm;
-use swarm_sim::progress::Progress;
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::seeds::derive;
 use swarm_sim::timecourse::{TimeCourse, time_course};
 
 /// Swarm sizes of the speed figures.
 const BENCH_AGENTS: [usize; 3] = [61, 1000, 10_000];
-
-/// A stage's log lines, progress bar and seeds.
-pub(super) struct Stage<'a> {
-    log: &'a mut dyn FnMut(&str),
-    quiet: bool,
-    t: Clock,
-    /// The base seed.
-    base: u64,
-}
-
-impl Stage<'_> {
-    /// The seed of stage offset `at` ([`super::stages`]).
-    pub(super) fn seed(&self, at: Offset) -> u64 {
-        derive(self.base, &[at.get()])
-    }
-
-    /// Logs `what` and starts its progress bar over `runs` runs.
-    pub(super) fn start(&mut self, what: &str, runs: u64) -> Progress {
-        self.t = Clock::now();
-        (self.log)(&format!("{what} ({runs} runs)..."));
-        Progress::new(runs, what, self.quiet)
-    }
-
-    /// Ends the progress bar and logs the stage's time.
-    pub(super) fn done(&mut self, p: &Progress) {
-        p.finish();
-        (self.log)(&format!(
-            "  done in {:.1} s",
-            self.t.elapsed().as_secs_f64()
-        ));
-    }
-}
-
-/// The scenarios of the page, placed by the main placement.
-pub(super) struct Scenes {
-    /// `sharp`.
-    pub(super) sharp: Scenario,
-    /// `gradient`.
-    pub(super) gradient: Scenario,
-    /// `cloud`.
-    pub(super) cloud: Scenario,
-}
-
-impl Scenes {
-    /// The built-in scenarios with their agents placed by `main`.
-    ///
-    /// # Errors
-    /// If a built-in scenario is missing or cannot be placed.
-    pub(super) fn new(main: Placement) -> Result<Scenes, Error> {
-        Ok(Scenes {
-            sharp: builtin_placed("sharp", main)?,
-            gradient: builtin_placed("gradient", main)?,
-            cloud: builtin_placed("cloud", main)?,
-        })
-    }
-
-    /// The field's scenario.
-    pub(super) fn field(&self, f: Field) -> &Scenario {
-        match f {
-            Field::Sharp => &self.sharp,
-            Field::Gradient => &self.gradient,
-        }
-    }
-
-    /// Both fields' scenarios.
-    pub(super) fn fields(&self) -> [&Scenario; 2] {
-        [&self.sharp, &self.gradient]
-    }
-
-    /// The scenario of a direction map.
-    fn scene(&self, m: Scene) -> &Scenario {
-        match m {
-            Scene::Sharp => &self.sharp,
-            Scene::Gradient => &self.gradient,
-            Scene::Cloud => &self.cloud,
-        }
-    }
-}
 
 /// Computes one unit of `swarm reproduce` with `opts` (its seed and placement; `docs` is not
 /// read). `log` receives the unit's log lines.
@@ -118,12 +40,7 @@ impl Scenes {
 /// If a run fails, or the unit's index is out of its list.
 pub fn compute(unit: Unit, opts: &Options, log: &mut dyn FnMut(&str)) -> Result<UnitResult, Error> {
     let t0 = Clock::now();
-    let mut st = Stage {
-        log,
-        quiet: opts.quiet,
-        t: Clock::now(),
-        base: opts.seed,
-    };
+    let mut st = Stage::new(log, opts.quiet, opts.seed);
     let scns = Scenes::new(opts.placement)?;
     let outcome = outcome(unit, &mut st, opts.placement, &scns)?;
     Ok(UnitResult::new(

@@ -1,5 +1,5 @@
 //! The units of work of `swarm reproduce`: one per stage (one progress bar, one seed or a
-//! fixed set of seeds), each computed on its own ([`super::compute`]) from the options alone,
+//! fixed set of seeds), each computed on its own ([`crate::compute()`]) from the options alone,
 //! in the fixed order of [`UNITS`]. A unit's name ([`Unit::name`]) is how part files and logs
 //! name it.
 
@@ -32,7 +32,7 @@ impl Field {
     }
 }
 
-/// Which placement a unit runs with: the page's ([`super::Options::placement`]) or the other.
+/// Which placement a unit runs with: the page's ([`crate::Options::placement`]) or the other.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Side {
     /// The page's placement.
@@ -82,7 +82,7 @@ impl Scene {
 /// then slopes 1, 2.5, 5, 10, 20; knobs cycle, period, diffusion, noise.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Unit {
-    /// Figs. 4 and 7: the first successful of up to [`super::RUN_TRIES`] runs.
+    /// Figs. 4 and 7: the first successful of up to [`crate::RUN_TRIES`] runs.
     Run(Field),
     /// Figs. 5 and 8: a sweep of starts.
     Sweep(Field, Side),
@@ -270,7 +270,7 @@ impl<'de> Deserialize<'de> for Unit {
 }
 
 /// The placement of `side` when the page's is `main`.
-pub(super) fn placement(main: Placement, side: Side) -> Placement {
+pub fn placement(main: Placement, side: Side) -> Placement {
     match side {
         Side::Main => main,
         Side::Other => main.other(),

@@ -7,8 +7,8 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::units::{UNITS, Unit};
 use crate::shapes::ShapesResult;
+use crate::units::{UNITS, Unit};
 use swarm_sim::experiment::{Arrow, BenchResult, Error, RadialPoint, RunOutput, SweepPoint};
 use swarm_sim::probe::{Msd, Plateaus, StartRun};
 use swarm_sim::timecourse::TimeCourse;
@@ -20,142 +20,153 @@ use swarm_sim::waves::Wave;
 /// A run figure's run: the first of up to [`RUN_TRIES`] that succeeded (or the first), and
 /// which try it was.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct RunFigure {
+pub struct RunFigure {
     /// Tries before it (0: the first).
-    pub(super) tries: u64,
+    pub tries: u64,
     /// The run.
-    pub(super) out: RunOutput,
+    pub out: RunOutput,
 }
 
 /// One cycle length of the cycle-length experiment.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct CycleRun {
+pub struct CycleRun {
     /// The cycle length t_p^max, seconds.
-    pub(super) cycle_s: u64,
+    pub cycle_s: u64,
     /// Waves heard per agent per cycle.
     #[serde(with = "swarm_sim::json")]
-    pub(super) waves_heard: f64,
+    pub waves_heard: f64,
     /// Success from each start of [`CYCLE_XS`].
-    pub(super) points: Vec<SweepPoint>,
+    pub points: Vec<SweepPoint>,
 }
 
 /// Neighbour counts of random placements of the sharp scenario's swarm.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct PlacementStats {
+pub struct PlacementStats {
     /// Mean degree with the redraw-until-connected rule ([`Swarm::place`]).
     #[serde(with = "swarm_sim::json")]
-    pub(super) redrawn_degree: f64,
+    pub redrawn_degree: f64,
     /// Mean degree of plain uniform scattering.
     #[serde(with = "swarm_sim::json")]
-    pub(super) plain_degree: f64,
+    pub plain_degree: f64,
     /// Fraction of plain scatterings that are disconnected.
     #[serde(with = "swarm_sim::json")]
-    pub(super) plain_disconnected: f64,
+    pub plain_disconnected: f64,
 }
 
 /// Both measures along the gradient and at its success line against the slope.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct Along {
+pub struct Along {
     /// Per measure, `(x, mean, s.e.)` per point of [`PROFILE_XS`].
     #[serde(with = "swarm_sim::json")]
-    pub(super) prof: Vec<Vec<(f64, f64, f64)>>,
+    pub prof: Vec<Vec<(f64, f64, f64)>>,
     /// Per slope of [`SLOPES`], both measures at the success line.
     #[serde(with = "swarm_sim::json")]
-    pub(super) by_slope: Vec<[f64; 2]>,
+    pub by_slope: Vec<[f64; 2]>,
     /// The gradient's success line.
     #[serde(with = "swarm_sim::json")]
-    pub(super) line_x: f64,
+    pub line_x: f64,
 }
 
 /// The gradient against its slope: per slope of [`SLOPES`], success from [`SENS_X`] and the
 /// diversity at the success line.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct SlopeRuns {
+pub struct SlopeRuns {
     /// Success per slope.
-    pub(super) success: Vec<SweepPoint>,
+    pub success: Vec<SweepPoint>,
     /// `(slope, mean, s.e.)` of the diversity at the success line, per slope.
     #[serde(with = "swarm_sim::json")]
-    pub(super) diversity: Vec<(f64, f64, f64)>,
+    pub diversity: Vec<(f64, f64, f64)>,
+}
+
+impl Along {
+    /// The mean of measure `m` at profile point `x` (NaN if none is there).
+    pub fn at(&self, m: usize, x: f64) -> f64 {
+        self.prof[m]
+            .iter()
+            .find(|q| (q.0 - x).abs() < 1e-9)
+            .map_or(f64::NAN, |q| q.1)
+    }
 }
 
 /// One field and extent: the heading of the first move against the start.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct ExtentRun {
+pub struct ExtentRun {
     /// The swarm's agents.
-    pub(super) agents: usize,
+    pub agents: usize,
     /// `(x, mean cos, s.e.)` by increasing x.
     #[serde(with = "swarm_sim::json")]
-    pub(super) profile: Vec<(f64, f64, f64)>,
+    pub profile: Vec<(f64, f64, f64)>,
 }
 
 /// One refractory time on the swarm of the paper's Fig. 2.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct RefractoryRun {
+pub struct RefractoryRun {
     /// t_ref, seconds.
-    pub(super) refractory_s: u64,
+    pub refractory_s: u64,
     /// What the protocol does with it.
-    pub(super) answer: String,
+    pub answer: String,
     /// Where the protocol runs it: whether every agent sent exactly once.
-    pub(super) once: Option<bool>,
+    pub once: Option<bool>,
     /// The model's transmissions per second from the initiation to [`HORIZON`].
-    pub(super) sends: Vec<u32>,
+    pub sends: Vec<u32>,
 }
 
 /// Each refractory time of [`REFRACTORY`] on the swarm of the paper's Fig. 2.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct RefractoryRuns {
+pub struct RefractoryRuns {
     /// The swarm's agents.
-    pub(super) agents: usize,
+    pub agents: usize,
     /// The relay delay, seconds.
-    pub(super) relay_s: u64,
+    pub relay_s: u64,
     /// One per refractory time.
-    pub(super) runs: Vec<RefractoryRun>,
+    pub runs: Vec<RefractoryRun>,
 }
 
 /// One field's levels under one sensor model: `(mean, s.e.)` each.
 #[derive(Clone, Copy, Debug, Serialize, Deserialize)]
-pub(super) struct Levels {
+pub struct Levels {
     /// The first period's diversity.
     #[serde(with = "swarm_sim::json")]
-    pub(super) start: (f64, f64),
+    pub start: (f64, f64),
     /// Periods until arrival, over the runs that arrived.
     #[serde(with = "swarm_sim::json")]
-    pub(super) arrival: (f64, f64),
+    pub arrival: (f64, f64),
     /// The plateau (mean over agents of `V_k` after arrival).
     #[serde(with = "swarm_sim::json")]
-    pub(super) plateau: (f64, f64),
-    /// Runs that arrived, of all.
-    pub(super) arrived: usize,
-    pub(super) runs: usize,
+    pub plateau: (f64, f64),
+    /// Runs that arrived.
+    pub arrived: usize,
+    /// Runs in all.
+    pub runs: usize,
 }
 
 /// The runs of one field's averaged course, main placement, again (the same seeds), tapped:
 /// what the section reads off them.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct CourseDigest {
+pub struct CourseDigest {
     /// Their plateaus, three ways.
-    pub(super) plateaus: Plateaus,
+    pub plateaus: Plateaus,
     /// Their levels, one sensor reading per activation.
-    pub(super) levels: Levels,
+    pub levels: Levels,
     /// Where their periods went on the way to the line.
-    pub(super) way: Way,
+    pub way: Way,
     /// The walk after arrival.
-    pub(super) msd: Vec<Msd>,
+    pub msd: Vec<Msd>,
 }
 
 /// Where a field's averaged courses' runs spent their periods on the way to the line.
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(super) struct Way {
+pub struct Way {
     /// `(bin's centre, mean periods there)` per step from the start.
     #[serde(with = "swarm_sim::json")]
-    pub(super) spent: Vec<(f64, f64)>,
+    pub spent: Vec<(f64, f64)>,
     /// Arrival periods of the runs that arrived.
     #[serde(with = "swarm_sim::json")]
-    pub(super) arrivals: Vec<f64>,
+    pub arrivals: Vec<f64>,
 }
 
 /// One run's periods to the criterion and to the common line (`None`: not met).
-pub(super) type Times = (Option<u32>, Option<u32>);
+pub type Times = (Option<u32>, Option<u32>);
 
 /// One unit's result: what it measured, and how long it took where it ran.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -173,7 +184,7 @@ pub struct UnitResult {
 
 impl UnitResult {
     /// The result of `unit`, measured in `wall_s` seconds on `threads` threads.
-    pub(super) fn new(unit: Unit, wall_s: f64, threads: usize, outcome: Outcome) -> UnitResult {
+    pub fn new(unit: Unit, wall_s: f64, threads: usize, outcome: Outcome) -> UnitResult {
         UnitResult {
             unit,
             wall_s,
@@ -186,7 +197,7 @@ impl UnitResult {
 /// What a unit measured, by kind of unit.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub(super) enum Outcome {
+pub enum Outcome {
     /// [`Unit::Run`].
     Run(RunFigure),
     /// [`Unit::Sweep`].
@@ -268,7 +279,7 @@ impl Outcome {
     }
 }
 
-/// The units' results the page is written from ([`super::write`]): empty at first, filled
+/// The units' results the page is written from (`pages::reproduction::write`): empty at first, filled
 /// unit by unit ([`Results::insert`]), complete when no unit is [`Results::missing`].
 #[derive(Clone, Debug, Default)]
 pub struct Results {
@@ -280,7 +291,7 @@ pub struct Results {
 macro_rules! getter {
     ($name:ident, $variant:ident, $ty:ty) => {
         #[doc = concat!("The result of `unit`, a [`Outcome::", stringify!($variant), "`].")]
-        pub(super) fn $name(&self, unit: Unit) -> Result<&$ty, Error> {
+        pub fn $name(&self, unit: Unit) -> Result<&$ty, Error> {
             match &self.get(unit)?.outcome {
                 Outcome::$variant(v) => Ok(v),
                 _ => Err(format!("{unit}: its result is no {}", stringify!($variant)).into()),

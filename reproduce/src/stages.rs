@@ -1,5 +1,5 @@
 //! The seed stages of `swarm reproduce`, named in one place. Every run of the page draws from
-//! `derive(--seed, [offset])` ([`Stage::seed`](super::compute::Stage::seed)); each experiment
+//! `derive(--seed, [offset])` ([`Stage::seed`](crate::stage::Stage::seed)); each experiment
 //! owns a [`Block`] of offsets, and the blocks are listed in `BLOCKS`, where a test checks
 //! that no two overlap. A new experiment takes a free block here, so it can never reuse
 //! another's seeds by accident. Two experiments share seeds on purpose, and say so: the tapped
@@ -12,9 +12,9 @@
 /// A block of stage offsets: `first + i × stride + j` for `j < stride` and `i × stride + j <
 /// len` (one dimension: `stride == len`).
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Block {
+pub struct Block {
     /// What draws from it.
-    pub(super) name: &'static str,
+    pub name: &'static str,
     first: u64,
     len: u64,
     stride: u64,
@@ -22,11 +22,11 @@ pub(super) struct Block {
 
 /// A stage offset, from a [`Block`]: the only thing a stage's seed is made of.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) struct Offset(u64);
+pub struct Offset(u64);
 
 impl Offset {
     /// The number `derive` takes.
-    pub(super) fn get(self) -> u64 {
+    pub fn get(self) -> u64 {
         self.0
     }
 }
@@ -55,7 +55,7 @@ impl Block {
     /// # Panics
     /// If `k` is not below its length: the block is too small for the experiment, a bug
     /// that this catches before a run draws another block's seeds.
-    pub(super) fn at(self, k: usize) -> Offset {
+    pub fn at(self, k: usize) -> Offset {
         self.at2(0, k)
     }
 
@@ -63,7 +63,7 @@ impl Block {
     ///
     /// # Panics
     /// If `j` is not below the stride or the offset beyond the block (as [`Block::at`]).
-    pub(super) fn at2(self, i: usize, j: usize) -> Offset {
+    pub fn at2(self, i: usize, j: usize) -> Offset {
         let k = (i as u64) * self.stride + j as u64;
         assert!(
             (j as u64) < self.stride && k < self.len,
@@ -81,58 +81,58 @@ impl Block {
 }
 
 /// Figs. 4 and 7's runs, per field.
-pub(super) const RUN_FIGURES: Block = Block::new("run figures", 0, 2);
+pub const RUN_FIGURES: Block = Block::new("run figures", 0, 2);
 /// The sweeps with the random placement, per field.
-pub(super) const SWEEPS_RANDOM: Block = Block::new("sweeps, random placement", 10, 2);
+pub const SWEEPS_RANDOM: Block = Block::new("sweeps, random placement", 10, 2);
 /// The sweeps with the lattice, per field.
-pub(super) const SWEEPS_LATTICE: Block = Block::new("sweeps, lattice", 12, 2);
+pub const SWEEPS_LATTICE: Block = Block::new("sweeps, lattice", 12, 2);
 /// The direction maps, per scene.
-pub(super) const MAPS: Block = Block::new("direction maps", 20, 3);
+pub const MAPS: Block = Block::new("direction maps", 20, 3);
 /// The cloud's radial profile.
-pub(super) const CLOUD_PROFILE: Block = Block::new("cloud profile", 30, 1);
+pub const CLOUD_PROFILE: Block = Block::new("cloud profile", 30, 1);
 /// The averaged courses, per field (stride 2) and placement; the tapped courses rerun the
 /// main placement's.
-pub(super) const COURSES: Block = Block::grid("averaged courses", 40, 4, 2);
+pub const COURSES: Block = Block::grid("averaged courses", 40, 4, 2);
 /// The cycle-length sweeps, per cycle.
-pub(super) const CYCLE_SWEEPS: Block = Block::new("cycle-length sweeps", 50, 7);
+pub const CYCLE_SWEEPS: Block = Block::new("cycle-length sweeps", 50, 7);
 /// The waves heard per cycle length.
-pub(super) const CYCLE_WAVES: Block = Block::new("cycle-length waves heard", 60, 7);
+pub const CYCLE_WAVES: Block = Block::new("cycle-length waves heard", 60, 7);
 /// The speed runs, per size.
-pub(super) const SPEED: Block = Block::new("speed", 70, 3);
+pub const SPEED: Block = Block::new("speed", 70, 3);
 /// The placements' neighbour counts.
-pub(super) const PLACEMENT_STATS: Block = Block::new("placements", 80, 1);
+pub const PLACEMENT_STATS: Block = Block::new("placements", 80, 1);
 /// The caption's cloud: its map.
-pub(super) const CAPTION_MAP: Block = Block::new("caption's cloud map", 90, 1);
+pub const CAPTION_MAP: Block = Block::new("caption's cloud map", 90, 1);
 /// The caption's cloud: its profile.
-pub(super) const CAPTION_PROFILE: Block = Block::new("caption's cloud profile", 91, 1);
+pub const CAPTION_PROFILE: Block = Block::new("caption's cloud profile", 91, 1);
 /// Fig. 2's wave; the refractory experiment reruns it.
-pub(super) const WAVE: Block = Block::new("one wave", 95, 1);
+pub const WAVE: Block = Block::new("one wave", 95, 1);
 /// The shapes.
-pub(super) const SHAPES: Block = Block::new("shapes", 200, 1);
+pub const SHAPES: Block = Block::new("shapes", 200, 1);
 /// Beyond the paper: success per field (stride 10) and measure.
-pub(super) const BEYOND_SUCCESS: Block = Block::grid("beyond: success", 300, 20, 10);
+pub const BEYOND_SUCCESS: Block = Block::grid("beyond: success", 300, 20, 10);
 /// Beyond the paper: the profile per measure (stride 10) and x.
-pub(super) const BEYOND_PROFILE: Block = Block::grid("beyond: profile", 350, 20, 10);
+pub const BEYOND_PROFILE: Block = Block::grid("beyond: profile", 350, 20, 10);
 /// Beyond the paper: per slope (stride 2) and measure, at the success line.
-pub(super) const BEYOND_SLOPES: Block = Block::grid("beyond: slopes", 380, 6, 2);
+pub const BEYOND_SLOPES: Block = Block::grid("beyond: slopes", 380, 6, 2);
 /// Beyond the paper: two quantities, per measure.
-pub(super) const BEYOND_TWO: Block = Block::new("beyond: two quantities", 390, 2);
+pub const BEYOND_TWO: Block = Block::new("beyond: two quantities", 390, 2);
 /// The sensitivity tables, per knob (stride 10) and case.
-pub(super) const KNOBS: Block = Block::grid("sensitivity knobs", 500, 40, 10);
+pub const KNOBS: Block = Block::grid("sensitivity knobs", 500, 40, 10);
 /// The gradient's slope: success.
-pub(super) const SLOPE_SUCCESS: Block = Block::new("slope: success", 550, 1);
+pub const SLOPE_SUCCESS: Block = Block::new("slope: success", 550, 1);
 /// The gradient's slope: the diversity at the line, per slope.
-pub(super) const SLOPE_DIVERSITY: Block = Block::new("slope: diversity", 560, 6);
+pub const SLOPE_DIVERSITY: Block = Block::new("slope: diversity", 560, 6);
 /// The extent, per field (stride 2) and diameter.
-pub(super) const EXTENT: Block = Block::grid("extent", 570, 4, 2);
+pub const EXTENT: Block = Block::grid("extent", 570, 4, 2);
 /// The sharp plateau, per placement (stride 10) and cycle.
-pub(super) const PLATEAU: Block = Block::grid("settle: plateau", 600, 20, 10);
+pub const PLATEAU: Block = Block::grid("settle: plateau", 600, 20, 10);
 /// The heading along the way, per field.
-pub(super) const HEADING: Block = Block::new("settle: heading", 620, 10);
+pub const HEADING: Block = Block::new("settle: heading", 620, 10);
 /// The starting diversity, per field (stride 2) and placement.
-pub(super) const START: Block = Block::grid("settle: start", 630, 4, 2);
+pub const START: Block = Block::grid("settle: start", 630, 4, 2);
 /// Steeper, faster: per slope.
-pub(super) const STEEP: Block = Block::new("settle: steep", 640, 10);
+pub const STEEP: Block = Block::new("settle: steep", 640, 10);
 
 /// Every block, in order: what the test checks for overlaps.
 #[cfg(test)]

@@ -1,0 +1,70 @@
+//! Steeper ramps, faster arrival: the time to the criterion and to a common line per slope.
+
+use nalgebra::Point2;
+use rayon::prelude::*;
+
+use crate::results::Times;
+use crate::stage::Stage;
+use crate::stages::STEEP;
+use swarm_sim::experiment::Error;
+use swarm_sim::scenario::Scenario;
+use swarm_sim::seeds::derive;
+use swarm_sim::sensitivity::Knob;
+
+/// Slopes of the ramp, per R (the page's 2.5 among them).
+pub const SLOPES: [f64; 5] = [1.0, 2.5, 5.0, 10.0, 20.0];
+/// Runs per slope.
+pub const RUNS: u32 = 50;
+/// The common line: within this of x = 0 (the sharp border's criterion).
+pub const NEAR: f64 = 0.33;
+
+/// The slope of case `k`: none for the sharp border (0), then [`SLOPES`].
+pub fn slope_of(k: usize) -> Result<Option<f64>, Error> {
+    match k {
+        0 => Ok(None),
+        _ => Ok(Some(
+            *SLOPES
+                .get(k - 1)
+                .ok_or_else(|| format!("no steepness case {k}"))?,
+        )),
+    }
+}
+
+/// The label of the case with `slope` (none: the sharp border).
+pub fn label(sharp: &Scenario, slope: Option<f64>) -> String {
+    match slope {
+        None => format!("{} border", sharp.name),
+        Some(s) => format!("ramp of slope {s}"),
+    }
+}
+
+/// Runs case `k` (0 the sharp border, then each slope of [`SLOPES`]) from the page's start.
+///
+/// # Errors
+/// If `k` is no case or a run fails.
+pub fn case(st: &mut Stage<'_>, k: usize, scns: [&Scenario; 2]) -> Result<Vec<Times>, Error> {
+    let [sharp, gradient] = scns;
+    let slope = slope_of(k)?;
+    let scn = match slope {
+        None => sharp.clone(),
+        Some(s) => Knob::Slope(s).apply(gradient)?,
+    };
+    let p = st.start(
+        &format!("steepness: {}", label(sharp, slope)),
+        u64::from(RUNS),
+    );
+    let seed = st.seed(STEEP.at(k));
+    let runs = (0..RUNS)
+        .into_par_iter()
+        .map(|r| {
+            let start = Point2::new(gradient.start.x, 0.0);
+            let s = derive(seed, &[u64::from(r)]);
+            let out = swarm_sim::experiment::run(&scn, scn.run, start, scn.periods, s, true)?;
+            p.inc();
+            let near = out.periods.iter().find(|q| q.to.x > -NEAR).map(|q| q.index);
+            Ok((out.success_at, near))
+        })
+        .collect::<Result<Vec<_>, Error>>()?;
+    st.done(&p);
+    Ok(runs)
+}

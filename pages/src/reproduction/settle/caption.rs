@@ -66,7 +66,10 @@ fn span<'a>(points: impl Iterator<Item = &'a (f64, f64, f64)>) -> Option<[String
 ///
 /// # Errors
 /// If the scenario is missing or a file cannot be written.
-pub(super) fn run(figs: &Path, cloud: &CaptionCloud) -> Result<(CaptionPart, TowardBorder), Error> {
+pub(super) fn write(
+    figs: &Path,
+    cloud: &CaptionCloud,
+) -> Result<(CaptionPart, TowardBorder), Error> {
     let scn = super::super::builtin_placed("cloud-caption", cloud.placement)?;
     let (edge, _) = marks::cloud_reach(&scn).ok_or("the caption's cloud has no edge")?;
     let reach = claim(Id::CaptionToward)

@@ -1,4 +1,5 @@
-//! "Settling the open rows": the experiments behind the rows the comparison cannot settle by
+//! "Settling the open rows" (run by [`reproduce::settle`]): the tables, figures and CSV files of
+//! the experiments behind the rows the comparison cannot settle by
 //! itself (issue 22, item 4), each a table and a figure with its CSV file:
 //!
 //! - the sharp plateau against the cycle, the placement and the way diversity is taken
@@ -111,7 +112,7 @@ pub(super) fn write(
     let (start, start_facts) = start::write(figs, main, scns, results)?;
     let (wander_part, walks) = wander::write(figs, [&digests[0].msd, &digests[1].msd])?;
     let (steep_part, steepness) = steep::write(figs, scns, results)?;
-    let (caption_part, toward) = caption::run(figs, caption_cloud)?;
+    let (caption_part, toward) = caption::write(figs, caption_cloud)?;
     let (refractory, flooding) = refractory::write(figs, results.refractory(Unit::Refractory)?)?;
     Ok(Settled {
         section: SettleSection {

@@ -116,7 +116,7 @@ fn join_and(xs: &[String]) -> String {
     }
 }
 
-/// Fig. 2 for `docs/reproduction.md` from one wave `w` (of [`WaveSpec::paper`], run by
+/// Fig. 2 for `docs/reproduction.md` from one wave `w` (of [`WaveSpec::paper`](swarm_sim::waves::WaveSpec::paper), run by
 /// `reproduce`): its figure (`figs/waves.svg`) and CSV file (`figs/waves.csv`), and the
 /// page's section.
 ///

@@ -3,7 +3,7 @@
 //! The layer between the simulator (`swarm-sim`) and the pages (`pages`): every experiment
 //! of the reproduction, from its set-up to its result type, and nothing that writes a file.
 //!
-//! - [`units`]: the units of work, one per stage, in the fixed order of [`UNITS`];
+//! - [`units`](mod@units): the units of work, one per stage, in the fixed order of [`UNITS`];
 //! - [`stages`]: the seed stages, one named block of offsets per experiment;
 //! - [`compute`](fn@compute): one unit's runs, from the [`Options`] alone, with its log lines
 //!   and progress bar;

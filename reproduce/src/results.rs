@@ -17,7 +17,7 @@ use swarm_sim::waves::Wave;
 // The units' result types are kept here, so that the files that compute and write them
 // depend on this one and it on none of them.
 
-/// A run figure's run: the first of up to [`RUN_TRIES`] that succeeded (or the first), and
+/// A run figure's run: the first of up to [`RUN_TRIES`](crate::RUN_TRIES) that succeeded (or the first), and
 /// which try it was.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RunFigure {
@@ -35,14 +35,14 @@ pub struct CycleRun {
     /// Waves heard per agent per cycle.
     #[serde(with = "swarm_sim::json")]
     pub waves_heard: f64,
-    /// Success from each start of [`CYCLE_XS`].
+    /// Success from each start of [`CYCLE_XS`](crate::CYCLE_XS).
     pub points: Vec<SweepPoint>,
 }
 
 /// Neighbour counts of random placements of the sharp scenario's swarm.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PlacementStats {
-    /// Mean degree with the redraw-until-connected rule ([`Swarm::place`]).
+    /// Mean degree with the redraw-until-connected rule ([`Swarm::place`](swarm_sim::geometry::Swarm::place)).
     #[serde(with = "swarm_sim::json")]
     pub redrawn_degree: f64,
     /// Mean degree of plain uniform scattering.
@@ -56,10 +56,10 @@ pub struct PlacementStats {
 /// Both measures along the gradient and at its success line against the slope.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Along {
-    /// Per measure, `(x, mean, s.e.)` per point of [`PROFILE_XS`].
+    /// Per measure, `(x, mean, s.e.)` per point of [`PROFILE_XS`](crate::beyond::PROFILE_XS).
     #[serde(with = "swarm_sim::json")]
     pub prof: Vec<Vec<(f64, f64, f64)>>,
-    /// Per slope of [`SLOPES`], both measures at the success line.
+    /// Per slope of [`SLOPES`](crate::beyond::SLOPES), both measures at the success line.
     #[serde(with = "swarm_sim::json")]
     pub by_slope: Vec<[f64; 2]>,
     /// The gradient's success line.
@@ -67,7 +67,7 @@ pub struct Along {
     pub line_x: f64,
 }
 
-/// The gradient against its slope: per slope of [`SLOPES`], success from [`SENS_X`] and the
+/// The gradient against its slope: per slope of [`SLOPES`](crate::sensitivity::SLOPES), success from [`SENS_X`](crate::sensitivity::SENS_X) and the
 /// diversity at the success line.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct SlopeRuns {
@@ -107,11 +107,11 @@ pub struct RefractoryRun {
     pub answer: String,
     /// Where the protocol runs it: whether every agent sent exactly once.
     pub once: Option<bool>,
-    /// The model's transmissions per second from the initiation to [`HORIZON`].
+    /// The model's transmissions per second from the initiation to [`HORIZON`](crate::settle::refractory::HORIZON).
     pub sends: Vec<u32>,
 }
 
-/// Each refractory time of [`REFRACTORY`] on the swarm of the paper's Fig. 2.
+/// Each refractory time of [`REFRACTORY`](crate::settle::refractory::REFRACTORY) on the swarm of the paper's Fig. 2.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RefractoryRuns {
     /// The swarm's agents.

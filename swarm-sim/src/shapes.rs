@@ -9,8 +9,8 @@
 //! ([`Formation`]). Each run records the swarm's decided direction (the circular mean,
 //! [`Period::direction`](crate::sim::Period)) and every agent's decided bearing
 //! ([`Agent::decision`](crate::sim::Agent)); [`Tally`] counts how many fall within a
-//! tolerance of the line's two or the cross's four axes. The page's section, figure and CSV
-//! file made of these runs are `pages::shapes`.
+//! tolerance of the line's two or the cross's four axes. The page's runs and section are
+//! `reproduce::shapes`; its figure and CSV file `pages::figures`.
 
 use std::f64::consts::{PI, TAU};
 

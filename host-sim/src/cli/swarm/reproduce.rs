@@ -3,8 +3,8 @@
 //! merge of its shards.
 //!
 //! The job ([`ReproduceJob`]: the seed and the placement) has one unit per entry of
-//! [`reproduce::units`], unit `k` the `k`-th. Unsharded, the command computes them all
-//! ([`reproduce::compute`], the crate that runs) and writes with [`reproduction::write`] (the
+//! [`reproduce::units()`], unit `k` the `k`-th. Unsharded, the command computes them all
+//! ([`reproduce::compute()`], the crate that runs) and writes with [`reproduction::write`] (the
 //! crate that writes); `--shard I/N` computes its share, one unit after
 //! another (each is a stage that runs its own runs in parallel and times itself), into a part;
 //! `cimax merge` rebuilds the [`Results`] from the parts and writes them with the same
@@ -100,8 +100,8 @@ pub fn reproduce(o: &ReproduceOptions) -> Res {
     Ok(())
 }
 
-/// Every unit of the page ([`reproduce::compute`], unit by unit in the order of
-/// [`units`]), then every file of it ([`reproduction::write`]) into `opts.docs`. `log`
+/// Every unit of the page ([`reproduce::compute()`], unit by unit in the order of
+/// [`units()`]), then every file of it ([`reproduction::write`]) into `opts.docs`. `log`
 /// receives one line per stage.
 ///
 /// # Errors

@@ -8,7 +8,7 @@ use protocol::{Duration, Instant};
 
 use crate::world::arena::{ArenaConfig, ArenaError, RunReport, run};
 
-/// The six patterns of the paper's Fig. 9, lit = 1, robots left to right
+/// The six patterns of the paper's Fig. 13, lit = 1, robots left to right
 /// ([`protocol::lab::PAPER_LIGHTS`]; their decisions are [`protocol::lab::PAPER`], which
 /// [`expected`] agrees with).
 pub const PAPER_PATTERNS: [&str; 6] = protocol::lab::PAPER_LIGHTS;

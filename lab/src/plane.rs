@@ -7,7 +7,7 @@
 //! moves rigidly by the scenario's step (0.33 R) along the circular mean of the sectors its
 //! LEDs show ([`hal_emu::world::arena::swarm_heading`]). A run succeeds by the scenario's criterion
 //! (sharp: the centre of mass within 0.33 R of the border; gradient: at x >= 2.33) within the
-//! given number of moves, as in the paper's Figs. 5 and 8.
+//! given number of moves, as in the paper's Figs. 6 and 9.
 
 use hal_emu::world::arena::{Motion, Move};
 use hal_emu::{ArenaConfig, Environment, MediumParams, Point2};

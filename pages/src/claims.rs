@@ -4,6 +4,8 @@
 //! of `docs/reproduction.md`, the verdicts and the paper's marks on the figures all read
 //! [`CLAIMS`].
 
+use crate::paper::{Fig, Sec};
+
 /// Which claim a row is about.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Id {
@@ -131,11 +133,11 @@ pub enum Ends {
 /// A figure of the reproduction a claim is drawn on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Figure {
-    /// The success sweep of a built-in scenario (Figs. 5, 8).
+    /// The success sweep of a built-in scenario (Figs. 6, 9).
     Sweep(&'static str),
-    /// The direction map of a built-in scenario (Figs. 6, 9, 10).
+    /// The direction map of a built-in scenario (Figs. 7, 10, 11).
     Map(&'static str),
-    /// The averaged time course (Figs. 4b, 7b).
+    /// The averaged time course (Figs. 5b, 8b).
     Course(&'static str),
     /// A cloud's radial heading profile.
     Profile(&'static str),
@@ -150,6 +152,14 @@ pub struct Claim {
     pub id: Id,
     /// Where in the paper: section, figure, caption or text.
     pub source: &'static str,
+    /// The sections the claim is made in: every `§` of `source` is one of these, and each
+    /// quote is in one of them (tests against the LaTeX source, [`crate::paper`]).
+    pub secs: &'static [Sec],
+    /// The figures it is about: every figure number of the claim's text is one of these.
+    pub figs: &'static [Fig],
+    /// The paper's own words the claim rests on (LaTeX as [`crate::paper::plain`] reads it): each
+    /// is found in the claim's sections, and every number of the paper's value is in one.
+    pub quotes: &'static [&'static str],
     /// What is measured (the table's first column).
     pub quantity: &'static str,
     /// The paper's value as the table shows it.
@@ -170,8 +180,13 @@ pub struct Claim {
 pub const CLAIMS: &[Claim] = &[
     Claim {
         id: Id::SharpNear,
-        source: "§3.1, Fig. 5",
-        quantity: "Sharp border (Fig. 5): success for \\|x_init\\| < 2.5 R",
+        source: "§3.1, Fig. 6",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpSweep],
+        quotes: &[
+            "For initial distances smaller than |x_{init}| < 2.5\\,R the success rates are 1",
+        ],
+        quantity: "Sharp border (Fig. 6): success for \\|x_init\\| < 2.5 R",
         paper: "1.0",
         value: Value::At(1.0),
         over: Some((-2.5, 2.5)),
@@ -181,7 +196,12 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::SharpFar,
-        source: "§3.1, Fig. 5",
+        source: "§3.1, Fig. 6",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpSweep],
+        quotes: &[
+            "For distances further away the swarm randomly moves around and by chance perceives the respective other domain",
+        ],
         quantity: "Sharp border: success beyond 2.5 R",
         paper: "falls (random walk until the swarm perceives the border)",
         value: Value::Words,
@@ -192,7 +212,10 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::SharpTime,
-        source: "§3.1, Fig. 5",
+        source: "§3.1, Fig. 6",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpSweep],
+        quotes: &["the corresponding success time decreases linearly"],
         quantity: "Sharp border: mean success time from −2.5 … −0.5",
         paper: "decreases linearly toward the border",
         value: Value::Words,
@@ -203,8 +226,11 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::SharpStart,
-        source: "§3.1, Fig. 4b",
-        quantity: "Sharp border (Fig. 4b): average diversity at t = 0, from x = −2.5",
+        source: "§3.1, Fig. 5b",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpRun],
+        quotes: &["Initially the diversity is small (t=0, \\overline{V_k}=0.2)"],
+        quantity: "Sharp border (Fig. 5b): average diversity at t = 0, from x = −2.5",
         paper: "≈ 0.2",
         value: Value::At(0.2),
         over: None,
@@ -214,8 +240,11 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::GradientStart,
-        source: "§3.2, Fig. 7b",
-        quantity: "Gradient (Fig. 7b): average diversity at t = 0, from x = −2.5",
+        source: "§3.2, Fig. 8b",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientRun],
+        quotes: &["It increases from \\overline{V_k}\\approx0.3"],
+        quantity: "Gradient (Fig. 8b): average diversity at t = 0, from x = −2.5",
         paper: "≈ 0.3",
         value: Value::At(0.3),
         over: None,
@@ -225,8 +254,11 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::SharpArrival,
-        source: "§3.1, Fig. 4",
-        quantity: "Sharp border (Fig. 4): periods from x = −2.5 until the swarm arrives",
+        source: "§3.1, Fig. 5",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpRun],
+        quotes: &["increases until t=8 where it reaches a plateau"],
+        quantity: "Sharp border (Fig. 5): periods from x = −2.5 until the swarm arrives",
         paper: "≈ 8 (one run)",
         value: Value::At(8.0),
         over: None,
@@ -236,8 +268,11 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::GradientArrival,
-        source: "§3.2, Fig. 7",
-        quantity: "Gradient (Fig. 7): periods from x = −2.5 until the swarm arrives",
+        source: "§3.2, Fig. 8",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientRun],
+        quotes: &["until at t=15 (when it starts moving randomly) it reaches a plateau"],
+        quantity: "Gradient (Fig. 8): periods from x = −2.5 until the swarm arrives",
         paper: "≈ 15 (one run)",
         value: Value::At(15.0),
         over: None,
@@ -247,36 +282,48 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::SharpPlateau,
-        source: "§3.1, Fig. 4b",
-        quantity: "Sharp border (Fig. 4b): diversity plateau at the border",
+        source: "§3.1, Fig. 5b",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpRun],
+        quotes: &["it reaches a plateau around \\overline{V_k}=4.5"],
+        quantity: "Sharp border (Fig. 5b): diversity plateau at the border",
         paper: "≈ 4.5",
         value: Value::At(4.5),
         over: None,
         ends: Ends::Open,
         kind: Kind::Level { rel: 0.1 },
-        drawn: &[(Figure::Course("sharp"), "paper: plateau ≈ 4.5 (Fig. 4b)")],
+        drawn: &[(Figure::Course("sharp"), "paper: plateau ≈ 4.5 (Fig. 5b)")],
     },
     Claim {
         id: Id::GradientPlateau,
-        source: "§3.2, Fig. 7b and its caption",
-        quantity: "Gradient (Fig. 7b): diversity plateau",
+        source: "§3.2, Fig. 8b and its caption",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientRun],
+        quotes: &[
+            "it saturates and fluctuates around \\overline{V_k}=8",
+            "it reaches a plateau where it fluctuates around \\overline{V_k}=20",
+        ],
+        quantity: "Gradient (Fig. 8b): diversity plateau",
         paper: "≈ 8 (caption), ≈ 20 (text)",
-        value: Value::Either(&[(8.0, "caption of Fig. 7"), (20.0, "text")]),
+        value: Value::Either(&[(8.0, "caption of Fig. 8"), (20.0, "text")]),
         over: None,
         ends: Ends::Open,
         kind: Kind::Tuned,
         drawn: &[
             (
                 Figure::Course("gradient"),
-                "paper: plateau ≈ 8 (caption of Fig. 7)",
+                "paper: plateau ≈ 8 (caption of Fig. 8)",
             ),
             (Figure::Course("gradient"), "paper: plateau ≈ 20 (text)"),
         ],
     },
     Claim {
         id: Id::SharpMapNear,
-        source: "§3.1, Fig. 6",
-        quantity: "Sharp map (Fig. 6): arrows toward the border, 0 < \\|x\\| ≤ 2.5",
+        source: "§3.1, Fig. 7",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpMap],
+        quotes: &["For distances from the border |d|<2.5, the swarm moves towards the border"],
+        quantity: "Sharp map (Fig. 7): arrows toward the border, 0 < \\|x\\| ≤ 2.5",
         paper: "all",
         value: Value::Words,
         over: Some((-2.5, 2.5)),
@@ -289,7 +336,10 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::SharpMapFar,
-        source: "§3.1, Fig. 6",
+        source: "§3.1, Fig. 7",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpMap],
+        quotes: &["For distances from the border |d|>2.5 the preferred direction is random"],
         quantity: "Sharp map: arrows toward the border, \\|x\\| > 2.5",
         paper: "random",
         value: Value::Words,
@@ -300,8 +350,14 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::GradientMid,
-        source: "§3.2 and §4, Fig. 8",
-        quantity: "Gradient (Fig. 8): success for −2 ≤ x_init < 2.33",
+        source: "§3.2 and §5, Fig. 9",
+        secs: &[Sec::Gradient, Sec::Discussion],
+        figs: &[Fig::GradientSweep],
+        quotes: &[
+            "For -2\\lesssim x_{init} < 2.33 the swarm succeeds in the majority of conducted simulations",
+            "the success rates vary between 85\\% to 100\\%",
+        ],
+        quantity: "Gradient (Fig. 9): success for −2 ≤ x_init < 2.33",
         paper: "85–100 %",
         value: Value::Range(0.85, 1.0),
         over: Some((-2.0, 2.33)),
@@ -314,7 +370,10 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::GradientFar,
-        source: "§3.2, Fig. 8",
+        source: "§3.2, Fig. 9",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientSweep],
+        quotes: &["at x_{init}=-4 they reach 25\\%"],
         quantity: "Gradient: success at x_init = −4",
         paper: "≈ 25 %",
         value: Value::At(0.25),
@@ -325,8 +384,13 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::GradientMapNear,
-        source: "§3.2, Fig. 9",
-        quantity: "Gradient map (Fig. 9): arrows toward +x, −2.2 ≤ x ≤ 2.2",
+        source: "§3.2, Fig. 10",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientMap],
+        quotes: &[
+            "For -2\\gtrsim x\\gtrsim 2 the swarm is attracted to the gradient domain and moves towards the right",
+        ],
+        quantity: "Gradient map (Fig. 10): arrows toward +x, −2.2 ≤ x ≤ 2.2",
         paper: "all",
         value: Value::Words,
         over: Some((-2.2, 2.2)),
@@ -339,7 +403,12 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::GradientMapFar,
-        source: "§3.2, Fig. 9",
+        source: "§3.2, Fig. 10",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientMap],
+        quotes: &[
+            "For x<-2.2 the swarm moves randomly as it does not perceive the linear gradient",
+        ],
         quantity: "Gradient map: arrows toward +x, x > 2.2",
         paper: "random",
         value: Value::Words,
@@ -350,7 +419,10 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::SharpEdge,
-        source: "§3.1, Fig. 6",
+        source: "§3.1, Fig. 7",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpMap],
+        quotes: &["For |x|\\gtrsim2.5 the swarm moves randomly"],
         quantity: "Sharp border: farthest start from which the first move heads for the border",
         paper: "≈ 2.5 R",
         value: Value::At(2.5),
@@ -361,7 +433,10 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::GradientEdge,
-        source: "§3.2, Fig. 9",
+        source: "§3.2, Fig. 10",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientMap],
+        quotes: &["For x<-2.2 the swarm moves randomly"],
         quantity: "Gradient: farthest start from which the first move heads for the border",
         paper: "≈ 2.2 R",
         value: Value::At(2.2),
@@ -372,8 +447,14 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::CloudLimit,
-        source: "§3.3, text and caption of Fig. 10",
-        quantity: "Cloud (Fig. 10, the text's): distance beyond which the swarm no longer heads for it",
+        source: "§3.3, text and caption of Fig. 11",
+        secs: &[Sec::Cloud],
+        figs: &[Fig::Cloud],
+        quotes: &[
+            "For radial distances from the center of the cloud of d\\gtrsim7 the swarm moves randomly",
+            "larger than d\\gtrsim 7.5 the swarm is too far from it to perceive it",
+        ],
+        quantity: "Cloud (Fig. 11, the text's): distance beyond which the swarm no longer heads for it",
         paper: "≈ 7 (text), ≈ 7.5 (caption)",
         value: Value::Either(&[(7.0, "text"), (7.5, "caption")]),
         over: None,
@@ -398,6 +479,9 @@ pub const CLAIMS: &[Claim] = &[
     Claim {
         id: Id::CloudOutward,
         source: "§3.3, text",
+        secs: &[Sec::Cloud],
+        figs: &[Fig::Cloud],
+        quotes: &["whereas for d\\lesssim 4 it moves radially away from it towards its border"],
         quantity: "Cloud (the text's): inside, the swarm heads out toward its border",
         paper: "for d ≲ 4",
         value: Value::At(4.0),
@@ -417,7 +501,10 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::CaptionLimit,
-        source: "§3.3, caption of Fig. 10",
+        source: "§3.3, caption of Fig. 11",
+        secs: &[Sec::Cloud],
+        figs: &[Fig::Cloud],
+        quotes: &["larger than d\\gtrsim 7.5 the swarm is too far from it to perceive it"],
         quantity: "Cloud (the caption's, radius 5): distance beyond which the swarm no longer heads for it",
         paper: "≈ 7.5 (caption)",
         value: Value::At(7.5),
@@ -438,6 +525,9 @@ pub const CLAIMS: &[Claim] = &[
     Claim {
         id: Id::ShapesLine,
         source: "§5 (discussion)",
+        secs: &[Sec::Discussion],
+        figs: &[],
+        quotes: &["the preferred direction can only be along the linear distribution of the swarm"],
         quantity: "Random field: a line's swarm moves along its axis",
         paper: "only along the line",
         value: Value::Words,
@@ -449,6 +539,11 @@ pub const CLAIMS: &[Claim] = &[
     Claim {
         id: Id::ShapesCross,
         source: "§5 (discussion)",
+        secs: &[Sec::Discussion],
+        figs: &[],
+        quotes: &[
+            "will theoretically move like the king on a chess board, solely up-down-left-right",
+        ],
         quantity: "Random field: a cross's swarm moves along its four arms",
         paper: "\"like the king on a chess board, solely up-down-left-right\"",
         value: Value::Words,
@@ -459,7 +554,10 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::SharpWalk,
-        source: "§3.1, text of Fig. 4",
+        source: "§3.1, text of Fig. 5",
+        secs: &[Sec::Sharp],
+        figs: &[Fig::SharpRun],
+        quotes: &["effectively performing a one-dimensional random walk"],
         quantity: "Sharp border: after arriving, the swarm walks along the border",
         paper: "\"a one-dimensional random walk\"",
         value: Value::Words,
@@ -470,7 +568,10 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::GradientWalk,
-        source: "§3.2, text of Fig. 9",
+        source: "§3.2, text of Fig. 10",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientMap],
+        quotes: &["the swarm diffuses in both dimensions given that x\\geq2.3"],
         quantity: "Gradient: on the ramp the swarm diffuses in both dimensions",
         paper: "\"diffuses in both dimensions\"",
         value: Value::Words,
@@ -481,7 +582,12 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::Steeper,
-        source: "§5 (discussion), from Figs. 5 and 8",
+        source: "§5 (discussion), from Figs. 6 and 9",
+        secs: &[Sec::Discussion],
+        figs: &[Fig::SharpSweep, Fig::GradientSweep],
+        quotes: &[
+            "the artificial swarms using this algorithm perform better the steeper a gradient in measured quantity is",
+        ],
         quantity: "The steeper the gradient, the better the swarm performs",
         paper: "shorter times on the sharp border than on the gradient",
         value: Value::Words,
@@ -492,7 +598,12 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::CaptionToward,
-        source: "§3.3, caption of Fig. 10",
+        source: "§3.3, caption of Fig. 11",
+        secs: &[Sec::Cloud],
+        figs: &[Fig::Cloud],
+        quotes: &[
+            "For d\\lesssim7.5 the swarm consistently moves towards the border between the two domains",
+        ],
         quantity: "Cloud (the caption's, radius 5): the swarm moves toward the border",
         paper: "for d ≲ 7.5",
         value: Value::At(7.5),
@@ -503,7 +614,10 @@ pub const CLAIMS: &[Claim] = &[
     },
     Claim {
         id: Id::Refractory,
-        source: "§2, text of Fig. 1",
+        source: "§2.1, text beside Fig. 2",
+        secs: &[Sec::Waves],
+        figs: &[Fig::Waves],
+        quotes: &["The refractory state assures that a signal will neither 'flood' a swarm"],
         quantity: "The refractory state keeps a wave from flooding the swarm",
         paper: "signals neither flood the swarm nor come back",
         value: Value::Words,
@@ -567,6 +681,126 @@ impl Claim {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::paper;
+
+    /// The numbers written in `text` (digits with an optional decimal part), in order.
+    fn numbers(text: &str) -> Vec<f64> {
+        let mut out = Vec::new();
+        let mut cur = String::new();
+        for c in text.chars().chain([' ']) {
+            if c.is_ascii_digit() || (c == '.' && !cur.is_empty() && !cur.contains('.')) {
+                cur.push(c);
+            } else if !cur.is_empty() {
+                out.extend(cur.trim_end_matches('.').parse::<f64>().ok());
+                cur.clear();
+            }
+        }
+        out
+    }
+
+    /// The figure numbers `text` cites ("Fig. 5b", "Figs. 6 and 9", "Figs. 8–10").
+    fn cited_figures(text: &str) -> Vec<u8> {
+        let mut out = Vec::new();
+        for (k, _) in text.match_indices("Fig") {
+            let rest = text[k..]
+                .trim_start_matches("Figs")
+                .trim_start_matches("Fig");
+            let Some(rest) = rest.strip_prefix('.') else {
+                continue;
+            };
+            // The list after it: numbers with panel letters, joined by ",", "and", "–".
+            let list: String = rest
+                .chars()
+                .take_while(|c| c.is_ascii_alphanumeric() || " ,–".contains(*c))
+                .collect();
+            let list = list.split(" (").next().unwrap_or("");
+            for w in list.split([' ', ',', '–']) {
+                let digits: String = w.chars().take_while(char::is_ascii_digit).collect();
+                if let Ok(n) = digits.parse() {
+                    out.push(n);
+                } else if !w.is_empty() && w != "and" {
+                    break;
+                }
+            }
+        }
+        out
+    }
+
+    /// The section numbers `text` cites ("§3.2").
+    fn cited_sections(text: &str) -> Vec<String> {
+        text.match_indices('§')
+            .map(|(k, _)| {
+                text[k + '§'.len_utf8()..]
+                    .chars()
+                    .take_while(|c| c.is_ascii_digit() || *c == '.')
+                    .collect::<String>()
+                    .trim_end_matches('.')
+                    .to_owned()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn every_quote_is_the_paper_s_text_in_the_claim_s_section() {
+        for c in CLAIMS {
+            assert!(!c.secs.is_empty() && !c.quotes.is_empty(), "{:?}", c.id);
+            for q in c.quotes {
+                let found = c.secs.iter().any(|&s| {
+                    paper::section_text(paper::LATEX, s)
+                        .is_some_and(|t| paper::plain(t).contains(q))
+                });
+                assert!(found, "{:?}: {q:?} is not in {:?}", c.id, c.secs);
+            }
+        }
+    }
+
+    #[test]
+    fn every_number_of_the_paper_s_value_is_in_its_words() {
+        for c in CLAIMS {
+            let said: Vec<f64> = c.quotes.iter().flat_map(|q| numbers(q)).collect();
+            let values: Vec<f64> = match c.value {
+                Value::At(v) => vec![v],
+                Value::Range(lo, hi) => vec![lo, hi],
+                Value::Either(vs) => vs.iter().map(|v| v.0).collect(),
+                Value::Words => vec![],
+            };
+            for v in values {
+                // A rate is written as a percentage.
+                let ok = said
+                    .iter()
+                    .any(|&n| (n - v).abs() < 1e-9 || (n - 100.0 * v).abs() < 1e-9);
+                assert!(ok, "{:?}: {v} is not in {:?}", c.id, c.quotes);
+            }
+        }
+    }
+
+    #[test]
+    fn every_figure_and_section_a_claim_cites_is_the_paper_s() {
+        for c in CLAIMS {
+            let mut texts = vec![c.source, c.quantity, c.paper];
+            texts.extend(c.drawn.iter().map(|d| d.1));
+            if let Value::Either(vs) = c.value {
+                texts.extend(vs.iter().map(|v| v.1));
+            }
+            let figs: Vec<u8> = c.figs.iter().map(|f| f.number()).collect();
+            let secs: Vec<&str> = c.secs.iter().map(|s| s.number()).collect();
+            for t in texts {
+                for n in cited_figures(t) {
+                    assert!(
+                        figs.contains(&n),
+                        "{:?}: Fig. {n} in {t:?}, not of {:?}",
+                        c.id,
+                        c.figs
+                    );
+                }
+                for n in cited_sections(t) {
+                    assert!(secs.contains(&n.as_str()), "{:?}: §{n} in {t:?}", c.id);
+                }
+            }
+        }
+        assert_eq!(cited_figures("Figs. 6 and 9, Fig. 5b (one run)"), [6, 9, 5]);
+        assert_eq!(cited_sections("§3.2 and §5, Fig. 9"), ["3.2", "5"]);
+    }
 
     #[test]
     fn ranges_keep_the_ends_the_paper_states() {

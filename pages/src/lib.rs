@@ -13,6 +13,7 @@ pub mod csv;
 pub mod figures;
 pub mod marks;
 pub mod page;
+pub mod paper;
 pub mod reliability;
 pub mod reproduction;
 pub mod verdict;

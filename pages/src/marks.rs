@@ -21,7 +21,7 @@ fn drawn_on(figure: Figure) -> impl Iterator<Item = (&'static Claim, &'static st
 
 /// The paper's marks on the success sweep of the built-in scenario `name` (none for others):
 /// a rate over a range of starts is a level (one value) or a band (a range); a rate at one
-/// start is a point. Sharp border: Fig. 5 and §3.1; gradient: Fig. 8, §3.2 and §4.
+/// start is a point. Sharp border: Fig. 6 and §3.1; gradient: Fig. 9, §3.2 and §4.
 pub fn sweep_for(name: &str) -> Vec<SweepMark> {
     let Some(figure) = builtin_name(name).map(Figure::Sweep) else {
         return Vec::new();
@@ -52,12 +52,12 @@ fn builtin_name(name: &str) -> Option<&'static str> {
 
 /// The marks and colours of the direction map of the built-in scenario `name`:
 ///
-/// - sharp (Fig. 6): |x| = 2.5, within which the arrows point at the border, random beyond;
-/// - gradient (Fig. 9 and its text): the dashed line at the onset x = 0 (the paper's figure),
+/// - sharp (Fig. 7): |x| = 2.5, within which the arrows point at the border, random beyond;
+/// - gradient (Fig. 10 and its text): the dashed line at the onset x = 0 (the paper's figure),
 ///   and x = −2.2 and x = 2.2, the swarm centres between which it heads for +x ("for x < −2.2
 ///   the swarm moves randomly as it does not perceive the linear gradient", "towards the right
 ///   up to x = 2.2 where it moves randomly"; the caption rounds both to 2);
-/// - cloud (Fig. 10, the text's cloud): d = 4, inside which the swarm heads out, and d = 7
+/// - cloud (Fig. 11, the text's cloud): d = 4, inside which the swarm heads out, and d = 7
 ///   (text) and 7.5 (caption), beyond which it moves at random; high X pale yellow as in the
 ///   paper's text (yellow outside, X ≈ 5; red inside, X ≈ 0);
 /// - cloud-caption: the cloud's edge r = 5 (the caption's set-up) and d = 7.5, with the same
@@ -117,7 +117,7 @@ pub fn map_for(scn: &Scenario) -> MapMarks {
     }
 }
 
-/// The paper's marks on the averaged time course of `name` (Figs. 4b, 7b): the starting
+/// The paper's marks on the averaged time course of `name` (Figs. 5b, 8b): the starting
 /// diversity as a point at t = 0, each plateau as a line.
 pub fn course(name: &str) -> Vec<PaperMark> {
     let Some(name) = builtin_name(name) else {

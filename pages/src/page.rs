@@ -11,6 +11,8 @@
 use std::sync::OnceLock;
 
 use minijinja::{AutoEscape, Environment, UndefinedBehavior};
+
+use crate::paper;
 use serde::Serialize;
 
 /// Every template by name (its path under `templates/`).
@@ -125,6 +127,26 @@ fn environment() -> &'static Environment<'static> {
         // A field the page does not have (renamed, misspelt, or never set) is an error, not a
         // blank in the page.
         env.set_undefined_behavior(UndefinedBehavior::Strict);
+        // The paper's figure and section numbers, checked against its LaTeX source
+        // (`crate::paper`): `{{ fig.sharp_sweep }}` is "Fig. 7", `{{ fign.sharp_sweep }}` "6",
+        // `{{ sec.discussion }}` "§5". The templates type none in (a test below checks).
+        env.add_global(
+            "fig",
+            minijinja::Value::from_serialize(paper::figure_names()),
+        );
+        env.add_global(
+            "fign",
+            minijinja::Value::from_serialize(
+                paper::Fig::ALL
+                    .iter()
+                    .map(|f| (f.key(), f.number().to_string()))
+                    .collect::<std::collections::BTreeMap<_, _>>(),
+            ),
+        );
+        env.add_global(
+            "sec",
+            minijinja::Value::from_serialize(paper::section_names()),
+        );
         for (name, source) in TEMPLATES {
             // The templates are part of the binary; one that does not parse is a bug that the
             // tests below catch.
@@ -172,6 +194,40 @@ mod tests {
             .render(minijinja::context! { xs => ["1", "2"] })
             .unwrap();
         assert_eq!(out, "a\n- 1\n- 2\nb\n");
+    }
+
+    #[test]
+    fn no_template_types_in_a_figure_or_section_number_of_the_paper() {
+        for (name, source) in TEMPLATES {
+            for (k, _) in source.match_indices("Fig") {
+                let after = source[k..]
+                    .trim_start_matches("Figs")
+                    .trim_start_matches("Fig");
+                let after = after.trim_start_matches('.').trim_start();
+                assert!(
+                    !after.starts_with(|c: char| c.is_ascii_digit()),
+                    "{name}: a figure number typed in: {}",
+                    &source[k..(k + 12).min(source.len())]
+                );
+            }
+            for (k, _) in source.match_indices('§') {
+                assert!(
+                    source[..k].ends_with("protocol.md "),
+                    "{name}: a section number typed in (only docs/protocol.md's may be)"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_paper_s_numbers_come_from_the_latex_source() {
+        let out = environment()
+            .render_str(
+                "{{ fig.sharp_run }}b, Figs. {{ fign.gradient_run }}–{{ fign.gradient_map }}, {{ sec.discussion }}",
+                (),
+            )
+            .unwrap();
+        assert_eq!(out, "Fig. 6b, Figs. 9–11, §5");
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! The paper's lab experiment as data: the six light patterns of its Fig. 9 over four robots in
+//! The paper's lab experiment as data: the six light patterns of its Fig. 13 over four robots in
 //! a line, and the decisions the paper reports for each.
 //!
 //! One definition for every harness that runs them: the direct-wired line's tests
@@ -28,7 +28,7 @@ pub struct LabPattern {
 const L: Sector = Sector::LEFT;
 const R: Sector = Sector::RIGHT;
 
-/// The six patterns of the paper's Fig. 9 with their decisions, in the paper's order.
+/// The six patterns of the paper's Fig. 13 with their decisions, in the paper's order.
 pub const PAPER: [LabPattern; 6] = [
     LabPattern::new("1000", [L, L, L, L]),
     LabPattern::new("0111", [L, L, L, L]),

@@ -83,7 +83,7 @@ fn outcome(unit: Unit, st: &mut Stage<'_>, main: Placement, s: &Scenes) -> Resul
     })
 }
 
-/// Figs. 4 and 7: the first of up to [`RUN_TRIES`] runs that succeeds.
+/// Figs. 5 and 8: the first of up to [`RUN_TRIES`] runs that succeeds.
 fn run_figure(st: &mut Stage<'_>, f: Field, scn: &Scenario) -> Result<RunFigure, Error> {
     let p = st.start(&format!("{} run", scn.name), RUN_TRIES);
     let mut chosen = None;
@@ -102,7 +102,7 @@ fn run_figure(st: &mut Stage<'_>, f: Field, scn: &Scenario) -> Result<RunFigure,
     Ok(chosen.ok_or("no run")?)
 }
 
-/// Figs. 5 and 8: the sweep of field `f` with placement `side`. `scn` is placed by `main`.
+/// Figs. 6 and 9: the sweep of field `f` with placement `side`. `scn` is placed by `main`.
 /// Each placement keeps the seeds it had as the main or the second one (random 10, 11;
 /// lattice 12, 13); the other placement runs at most [`OTHER_RUNS`] per point.
 fn sweep_of(
@@ -139,7 +139,7 @@ fn sweep_of(
     Ok(pts)
 }
 
-/// Figs. 6, 9, 10: a direction map.
+/// Figs. 7, 10, 11: a direction map.
 fn map_of(st: &mut Stage<'_>, m: Scene, scn: &Scenario) -> Result<Vec<Arrow>, Error> {
     let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
     let p = st.start(
@@ -175,7 +175,7 @@ fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint
     Ok(profile)
 }
 
-/// Figs. 4b and 7b averaged: [`COURSE_RUNS`] full runs from the start of field `f` with
+/// Figs. 5b and 8b averaged: [`COURSE_RUNS`] full runs from the start of field `f` with
 /// placement `side`. The main placement's runs give the diversity plateaus.
 fn course(
     st: &mut Stage<'_>,

@@ -59,7 +59,7 @@ pub const PROFILE_RUNS: u32 = 40;
 /// Runs per point of the other placement's sweeps (the robustness check; the main placement
 /// runs the scenario's 50, as the paper did).
 pub const OTHER_RUNS: u32 = 20;
-/// Runs per scenario and placement of the averaged courses (Figs. 4b, 7b) and the plateaus.
+/// Runs per scenario and placement of the averaged courses (Figs. 5b, 8b) and the plateaus.
 pub const COURSE_RUNS: u32 = 50;
 /// The averaged courses' plateau counts the runs that arrived at least this many periods
 /// before the end.

@@ -80,7 +80,7 @@ impl Block {
     }
 }
 
-/// Figs. 4 and 7's runs, per field.
+/// Figs. 5 and 8's runs, per field.
 pub const RUN_FIGURES: Block = Block::new("run figures", 0, 2);
 /// The sweeps with the random placement, per field.
 pub const SWEEPS_RANDOM: Block = Block::new("sweeps, random placement", 10, 2);

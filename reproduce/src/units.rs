@@ -82,11 +82,11 @@ impl Scene {
 /// then slopes 1, 2.5, 5, 10, 20; knobs cycle, period, diffusion, noise.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Unit {
-    /// Figs. 4 and 7: the first successful of up to [`crate::RUN_TRIES`] runs.
+    /// Figs. 5 and 8: the first successful of up to [`crate::RUN_TRIES`] runs.
     Run(Field),
-    /// Figs. 5 and 8: a sweep of starts.
+    /// Figs. 6 and 9: a sweep of starts.
     Sweep(Field, Side),
-    /// Figs. 6, 9, 10: a direction map.
+    /// Figs. 7, 10, 11: a direction map.
     Map(Scene),
     /// The text's cloud's radial profile.
     CloudProfile,
@@ -94,7 +94,7 @@ pub enum Unit {
     CaptionMap,
     /// The caption's cloud's radial profile.
     CaptionProfile,
-    /// Figs. 4b and 7b averaged.
+    /// Figs. 5b and 8b averaged.
     Course(Field, Side),
     /// The averaged courses' runs (main placement) again, tapped.
     Tapped(Field),

@@ -1,4 +1,4 @@
-//! The paper's Figs. 4b and 7b averaged: the observer's average diversity and the agents'
+//! The paper's Figs. 5b and 8b averaged: the observer's average diversity and the agents'
 //! consensus against time over many full runs from the scenario's start, and the diversity
 //! plateau once the swarm has arrived.
 //!

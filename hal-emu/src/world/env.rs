@@ -31,7 +31,7 @@ pub struct Environment {
     /// it is (`schedule`, `lit` and `dark` are then not used).
     pub field: Option<PlaneField>,
     /// What the ambient-light sensor reports: noisy levels (the default), the paper's binary
-    /// readings (Fig. 5(d): g = 1 lit, 0 dark), a coarser sensor, or a scaled and offset one.
+    /// readings (Fig. 12(d): g = 1 lit, 0 dark), a coarser sensor, or a scaled and offset one.
     pub readings: Readings,
 }
 
@@ -46,7 +46,7 @@ pub enum Readings {
     /// environment's noise.
     #[default]
     Levels,
-    /// The paper's binary readings (Fig. 5(d), g ∈ {0, 1}): `Level(1)` for a lit robot and
+    /// The paper's binary readings (Fig. 12(d), g ∈ {0, 1}): `Level(1)` for a lit robot and
     /// `Level(0)` for a dark one, without noise (no draw from the robot's RNG). Over a
     /// [`PlaneField`], 1 where the field's noiseless level is at least halfway between
     /// [`Environment::dark`] and [`Environment::lit`] ([`Environment::binary_threshold`]).

@@ -66,7 +66,7 @@ pub struct Common {
 
 #[derive(Subcommand, Debug)]
 pub enum SwarmCommand {
-    /// One run: trajectory of the centre of mass and average diversity over time (Figs. 4, 7).
+    /// One run: trajectory of the centre of mass and average diversity over time (Figs. 5, 8).
     #[command(allow_negative_numbers = true)]
     Run {
         #[command(flatten)]
@@ -85,7 +85,7 @@ pub enum SwarmCommand {
         #[arg(long, value_name = "FILE")]
         html: Option<PathBuf>,
     },
-    /// Success rate and mean success time against the initial position (Figs. 5, 8).
+    /// Success rate and mean success time against the initial position (Figs. 6, 9).
     #[command(allow_negative_numbers = true)]
     Sweep {
         #[command(flatten)]
@@ -109,7 +109,7 @@ pub enum SwarmCommand {
         #[arg(long, value_name = "I/N", conflicts_with_all = ["csv", "plot"])]
         shard: Option<host_sim::shard::ShardSpec>,
     },
-    /// The preferred direction of a swarm centred at each point of a grid (Figs. 6, 9, 10).
+    /// The preferred direction of a swarm centred at each point of a grid (Figs. 7, 10, 11).
     #[command(allow_negative_numbers = true)]
     Field {
         #[command(flatten)]

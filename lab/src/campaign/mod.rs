@@ -429,7 +429,7 @@ pub const SUITE_BAR: f64 = 0.99;
 pub const SEEDS: u64 = 200;
 
 /// The readings the campaign runs the lab suite with: the emulator's levels and the paper's
-/// binary readings (Fig. 5(d), g ∈ {0, 1}).
+/// binary readings (Fig. 12(d), g ∈ {0, 1}).
 pub const SUITE_READINGS: [Readings; 2] = [Readings::Levels, Readings::Binary];
 
 /// The lab suite under `decide` ([`hal_emu::judge::paper_suite`]): the paper's six patterns and

@@ -1,4 +1,4 @@
-//! Figs. 6, 9 and 10: the preferred direction of a swarm centred at each grid point, over the
+//! Figs. 7, 10 and 11: the preferred direction of a swarm centred at each grid point, over the
 //! field, with marks.
 
 use std::f64::consts::PI;
@@ -53,7 +53,7 @@ pub struct MapMarks {
     pub high_is_yellow: bool,
 }
 
-/// Figs. 6, 9 and 10: the preferred direction of a swarm centred at each grid point, over the
+/// Figs. 7, 10 and 11: the preferred direction of a swarm centred at each grid point, over the
 /// field, with `marks` and their colouring. Arrow length grows with the agreement among the
 /// agents (mean resultant length). A legend strip under the title says what an arrow's length,
 /// a dot and the colours mean, and names each mark.

@@ -1,4 +1,4 @@
-//! Figs. 4 and 7: one run's trajectory over the field and the diversity against time.
+//! Figs. 5 and 8: one run's trajectory over the field and the diversity against time.
 
 use std::path::Path;
 
@@ -37,7 +37,7 @@ fn diversity_panel(
     Ok(())
 }
 
-/// Figs. 4 and 7: the trajectory of the centre of mass over the field, with the swarm at its
+/// Figs. 5 and 8: the trajectory of the centre of mass over the field, with the swarm at its
 /// start, and the observer's average diversity against time.
 ///
 /// # Errors

@@ -1,4 +1,4 @@
-//! Figs. 5 and 8: success rate and mean success time against the initial position, with the
+//! Figs. 6 and 9: success rate and mean success time against the initial position, with the
 //! paper's values as marks.
 
 use std::path::Path;
@@ -117,7 +117,7 @@ fn sweep_axis(series: &[(&str, &[SweepPoint])]) -> ((f64, f64), f64) {
     ((lo - step, hi + step), step)
 }
 
-/// Figs. 5 and 8: success rate and mean success time against the initial position, one bar
+/// Figs. 6 and 9: success rate and mean success time against the initial position, one bar
 /// per series (label, points) at each initial position, and the paper's values as marks. The
 /// legend (series, then each distinct mark label once) is a strip between the title and the
 /// plots, where it covers no bar.

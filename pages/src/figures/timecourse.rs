@@ -1,4 +1,4 @@
-//! The averaged Figs. 4b and 7b: diversity and consensus against time, both placements, with
+//! The averaged Figs. 5b and 8b: diversity and consensus against time, both placements, with
 //! the paper's starting values and plateaus marked.
 
 use std::path::Path;

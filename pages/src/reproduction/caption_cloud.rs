@@ -1,4 +1,4 @@
-//! The cloud of Fig. 10's caption (`cloud-caption`: radius 5, X rising linearly from 0 at the
+//! The cloud of Fig. 11's caption (`cloud-caption`: radius 5, X rising linearly from 0 at the
 //! centre to 5 at the edge, noise in [0, 1)) beside the text's (`cloud`): its direction map
 //! and radial profile, their figures and CSV files, and the numbers the page compares.
 

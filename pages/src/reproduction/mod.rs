@@ -159,7 +159,7 @@ pub struct Summary {
     pub gradient_other: Vec<SweepPoint>,
 }
 
-/// The paper's Figs. 4b and 7b: the diversity at the start and the plateau(s).
+/// The paper's Figs. 5b and 8b: the diversity at the start and the plateau(s).
 struct PaperCourse {
     start: f64,
     plateaus: Vec<(f64, &'static str)>,

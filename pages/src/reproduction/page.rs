@@ -24,7 +24,7 @@ pub(super) struct Report<'a> {
     pub(super) maps: &'a [Vec<Arrow>],
     pub(super) profile: &'a [RadialPoint],
     pub(super) profile_runs: u32,
-    /// The cloud of Fig. 10's caption.
+    /// The cloud of Fig. 11's caption.
     pub(super) caption_cloud: &'a caption_cloud::CaptionCloud,
     pub(super) plateaus: &'a [(f64, f64, usize)],
     pub(super) plateau_runs: u32,

@@ -100,7 +100,7 @@ pub fn write(results: &Results, opts: &Options) -> Result<Summary, Error> {
     })
 }
 
-/// Figs. 4 and 7: each run's CSV file and figure; the runs with their tries.
+/// Figs. 5 and 8: each run's CSV file and figure; the runs with their tries.
 fn run_files(figs: &Path, results: &Results, s: &Scenes) -> Result<Vec<(u64, RunOutput)>, Error> {
     let mut runs = Vec::new();
     for f in Field::BOTH {
@@ -117,7 +117,7 @@ fn run_files(figs: &Path, results: &Results, s: &Scenes) -> Result<Vec<(u64, Run
     Ok(runs)
 }
 
-/// Figs. 5 and 8: the sweeps' CSV files (`SCENARIO-sweep.csv` with the main placement,
+/// Figs. 6 and 9: the sweeps' CSV files (`SCENARIO-sweep.csv` with the main placement,
 /// `SCENARIO-sweep-OTHER.csv` with the other) and figures; the sweeps per placement (main,
 /// other), per field.
 fn sweep_files(
@@ -182,7 +182,7 @@ fn sweep_figures(
     Ok(())
 }
 
-/// Figs. 6, 9, 10: the direction maps' CSV files and figures; the maps.
+/// Figs. 7, 10, 11: the direction maps' CSV files and figures; the maps.
 fn map_files(figs: &Path, results: &Results, s: &Scenes) -> Result<Vec<Vec<Arrow>>, Error> {
     let mut maps = Vec::new();
     for (m, scn) in [
@@ -224,7 +224,7 @@ fn profile_files<'a>(
     Ok(profile)
 }
 
-/// Figs. 4b and 7b averaged: per field, the courses' CSV file and figure; the courses
+/// Figs. 5b and 8b averaged: per field, the courses' CSV file and figure; the courses
 /// (`[main, other]` per field).
 fn course_files(
     figs: &Path,

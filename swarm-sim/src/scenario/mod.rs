@@ -1,7 +1,7 @@
 //! Scenarios: the field, the swarm, the protocol parameters and what counts as success.
 //!
 //! The built-in scenarios `sharp`, `gradient`, `cloud` (the paper text's cloud) and
-//! `cloud-caption` (the cloud of Fig. 10's caption) are TOML files compiled into the binary (`swarm-sim/scenarios/*.toml`); any other file in the same format can be passed to
+//! `cloud-caption` (the cloud of Fig. 11's caption) are TOML files compiled into the binary (`swarm-sim/scenarios/*.toml`); any other file in the same format can be passed to
 //! `--scenario`. Every key but `[[field]]` is optional:
 //!
 //! ```toml

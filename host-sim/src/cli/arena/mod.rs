@@ -46,7 +46,7 @@ pub enum ArenaCommand {
     /// docs/reliability.md and exits 1 if a bar is missed.
     Campaign(CampaignArgs),
     /// Robots on a plane over a field: success rate and moves to success against the initial
-    /// position, beside the 2D simulator's and the paper's (Figs. 5 and 8).
+    /// position, beside the 2D simulator's and the paper's (Figs. 6 and 9).
     Sweep(SweepArgs),
     /// Speed of the robot program over the emulated medium: robot-seconds per wall second for
     /// 4, 64 and 1000 robots on a plane, one negotiation period, one core.

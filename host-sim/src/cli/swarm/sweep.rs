@@ -1,5 +1,5 @@
 //! `cimax swarm sweep`: success rate and mean success time against the initial position
-//! (Figs. 5, 8), and its shards.
+//! (Figs. 6, 9), and its shards.
 //!
 //! The job ([`SwarmSweepJob`]) has one unit per run: unit `p * runs + r` is run `r` from
 //! `xs[p]` ([`experiment::sweep_run`]). The unsharded sweep computes them all and writes with

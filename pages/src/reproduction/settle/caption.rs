@@ -1,4 +1,4 @@
-//! The caption of Fig. 10: "for d ≲ 7.5 the swarm consistently moves towards the border
+//! The caption of Fig. 11: "for d ≲ 7.5 the swarm consistently moves towards the border
 //! between the two domains". The border of the caption's cloud is its edge (radius 5), so
 //! heading for the border means heading out inside it and in outside it: the radial profile's
 //! inward alignment, its sign turned inside the edge.

@@ -245,7 +245,7 @@ fn figure(figs: &Path, rows: &[Row], main: Placement) -> Result<(), Error> {
             (p.pooled.mean, p.pooled.se)
         }),
         Line {
-            label: format!("paper: plateau ≈ {paper} (Fig. 4b)"),
+            label: format!("paper: plateau ≈ {paper} (Fig. 5b)"),
             points: CYCLES.iter().map(|&c| (c as f64, paper, 0.0)).collect(),
         },
     ];

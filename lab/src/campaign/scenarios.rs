@@ -127,7 +127,7 @@ pub fn config(
     seed: u64,
     loss: Option<f64>,
 ) -> Result<(ArenaConfig, Option<Instant>), String> {
-    let pattern = parse_pattern(pattern_for(seed))?;
+    let pattern = parse_pattern(pattern_for(seed)).map_err(|e| e.to_string())?;
     let n = pattern.len();
     let params = Params::robots();
     let mut cfg = ArenaConfig::line(pattern.clone(), 1.0, params.lab_run(), seed);

@@ -237,7 +237,7 @@ impl SweepJob {
             loss: self.loss,
             ..MediumParams::default()
         };
-        medium.validate()?;
+        medium.validate().map_err(|e| e.to_string())?;
         check_runs(&[(self.xs.len() as u64, "positions"), (self.runs, "runs")])
             .map_err(|e| format!("--runs {}: {e}", self.runs))?;
         check_runs(&[

@@ -18,7 +18,7 @@ use host_sim::shard::{self, Job, ShardSpec, merge::Merged};
 use pages::reproduction::{self, Options, Results, Summary, UnitResult, units};
 use serde::{Deserialize, Serialize};
 use swarm_sim::experiment;
-use swarm_sim::scenario::{DEFAULT_PLACEMENT, Placement};
+use swarm_sim::scenario::{DEFAULT_PLACEMENT, Placement, PlacementError};
 
 use super::Res;
 
@@ -140,7 +140,7 @@ pub fn merge(m: &Merged, out: &Path) -> Exit {
     let placement: Placement = job
         .placement
         .parse()
-        .map_err(|e: String| m.bad_config(format!("placement: {e}")).to_string())?;
+        .map_err(|e: PlacementError| m.bad_config(format!("placement: {e}")).to_string())?;
     let all = units();
     if results.len() != all.len() {
         let e = format!(

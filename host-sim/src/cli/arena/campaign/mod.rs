@@ -588,7 +588,8 @@ fn write_page(
 /// opens it).
 fn write_trace(scenario: &Scenario, plan: &Plan, path: &Path) -> Result<(), String> {
     let (seed, decide) = (plan.seed, plan.decide);
-    let (mut cfg, _) = run_config(scenario, seed, plan.loss, decide, plan.hil.as_ref())?;
+    let (mut cfg, _) = run_config(scenario, seed, plan.loss, decide, plan.hil.as_ref())
+        .map_err(|e| e.to_string())?;
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
     let mut header = viewer::header_of(&cfg, &run.report.trace);

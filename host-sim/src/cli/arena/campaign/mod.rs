@@ -578,7 +578,7 @@ fn write_page(
     } else {
         format!("wrote {} and {}", out.display(), figure.display())
     };
-    staged.write(out, page.render()?)?;
+    staged.write(out, page.render().map_err(|e| e.to_string())?)?;
     staged.commit()?;
     Ok((missed, wrote))
 }

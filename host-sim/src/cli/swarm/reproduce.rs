@@ -122,7 +122,8 @@ fn run_shard(seed: u64, placement: Placement, shard: ShardSpec, dir: &Path, quie
             .ok_or_else(|| format!("no unit {k}"))?;
         reproduction::compute(*u, &opts, &mut |_| {}).map_err(|e| format!("{u}: {e}"))
     };
-    let path = shard::run_shard_in_order(job, all.len() as u64, shard, dir, quiet, unit)?;
+    let path = shard::run_shard_in_order(job, all.len() as u64, shard, dir, quiet, unit)
+        .map_err(|e| e.to_string())?;
     outln!("wrote {}", path.display())?;
     Ok(())
 }

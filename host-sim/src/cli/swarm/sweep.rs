@@ -76,7 +76,8 @@ pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
     };
     if let Some(shard) = o.shard {
         let config = Job::new(COMMAND, &job)?;
-        let path = shard::run_shard(config, total, shard, &c.out_dir, c.quiet, unit)?;
+        let path = shard::run_shard(config, total, shard, &c.out_dir, c.quiet, unit)
+            .map_err(|e| e.to_string())?;
         outln!("wrote {}", path.display())?;
         return Ok(());
     }

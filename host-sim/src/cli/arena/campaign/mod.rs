@@ -288,7 +288,8 @@ fn run(args: &CampaignArgs) -> Exit {
     let unit = |k| job.unit(&plans, k);
     if let (Some(shard), Some(dir)) = (args.shard, &args.out) {
         let config = Job::new(COMMAND, &job).map_err(|e| e.to_string())?;
-        let path = shard::run_shard(config, total, shard, dir, false, unit)?;
+        let path =
+            shard::run_shard(config, total, shard, dir, false, unit).map_err(|e| e.to_string())?;
         outln!("wrote {}", path.display())?;
         return Ok(ExitCode::SUCCESS);
     }

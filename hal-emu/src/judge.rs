@@ -19,19 +19,32 @@ pub type Pattern = Vec<bool>;
 /// Parses a pattern of `0`s and `1`s.
 ///
 /// # Errors
-/// A message naming the first character that is neither.
-pub fn parse_pattern(s: &str) -> Result<Pattern, String> {
+/// The first character that is neither.
+pub fn parse_pattern(s: &str) -> Result<Pattern, PatternError> {
     s.chars()
         .enumerate()
         .map(|(i, c)| match c {
             '1' => Ok(true),
             '0' => Ok(false),
-            _ => Err(format!(
-                "pattern {s:?}: character {} is {c:?}, expected 0 or 1",
-                i + 1
-            )),
+            _ => Err(PatternError {
+                pattern: s.to_string(),
+                at: i + 1,
+                found: c,
+            }),
         })
         .collect()
+}
+
+/// Why [`parse_pattern`] refused a pattern: a character that is neither `0` nor `1`.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("pattern {pattern:?}: character {at} is {found:?}, expected 0 or 1")]
+pub struct PatternError {
+    /// The pattern.
+    pub pattern: String,
+    /// The character's place, from 1.
+    pub at: usize,
+    /// The character.
+    pub found: char,
 }
 
 /// A pattern as `0`/`1` text.
@@ -447,6 +460,11 @@ mod tests {
     #[test]
     fn patterns_parse_and_mirror() {
         assert_eq!(pattern_str(&mirrored(&p("1100"))), "0011");
-        assert!(parse_pattern("10x1").unwrap_err().contains("character 3"));
+        assert!(
+            parse_pattern("10x1")
+                .unwrap_err()
+                .to_string()
+                .contains("character 3")
+        );
     }
 }

@@ -87,11 +87,12 @@ fn view(trace: &std::path::Path, output: &std::path::Path) -> cli::out::Exit {
                  older cimax); `cimax view` reads traces that start with it, as `cimax arena \
                  --trace` and `cimax arena campaign --trace` write them now"
             ),
-            _ => e,
+            _ => e.to_string(),
         }
     })?;
     if to_stdout {
-        let page = viewer::page(&viewer::Replay::from_trace(header, &events))?;
+        let page = viewer::page(&viewer::Replay::from_trace(header, &events))
+            .map_err(|e| e.to_string())?;
         cli::out::text(&page)?;
     } else {
         let mut staged = cli::files::Staged::new();

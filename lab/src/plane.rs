@@ -102,10 +102,11 @@ impl PlaneSpec {
 /// starting with `#` are skipped. The positions are recentred on their centre of mass.
 ///
 /// # Errors
-/// A message naming the line and what is wrong with it (not two finite numbers, a coordinate
-/// beyond [`MAX_EXTENT`], two robots in one place, a robot farther than 1 R, the light's
-/// range, from every other), or that there are fewer than two robots or more than 1000.
-pub fn read_positions(text: &str, source: &str) -> Result<Vec<Vector2<f64>>, String> {
+/// A [`PositionsError`] naming the line and what is wrong with it (not two finite numbers, a
+/// coordinate beyond [`MAX_EXTENT`], two robots in one place, a robot farther than 1 R, the
+/// light's range, from every other), or that there are fewer than two robots or more than 1000.
+pub fn read_positions(text: &str, source: &str) -> Result<Vec<Vector2<f64>>, PositionsError> {
+    let file = || source.to_string();
     // Each robot with its line, for the errors.
     let mut out: Vec<(usize, Vector2<f64>)> = Vec::new();
     for (i, line) in text.lines().enumerate() {
@@ -118,35 +119,41 @@ pub fn read_positions(text: &str, source: &str) -> Result<Vec<Vector2<f64>>, Str
             .filter(|f| !f.is_empty())
             .collect();
         let [x, y] = fields.as_slice() else {
-            return Err(format!(
-                "{source}:{}: expected two numbers `x y` (in R), got {line:?}",
-                i + 1
-            ));
+            return Err(PositionsError::NotTwo {
+                file: file(),
+                line: i + 1,
+                text: line.to_string(),
+            });
         };
         let num = |f: &str| match f.parse::<f64>() {
             Ok(v) if v.is_finite() && v.abs() <= MAX_EXTENT => Ok(v),
-            Ok(v) if v.is_finite() => Err(format!(
-                "{source}:{}: {f} is too far: at most {MAX_EXTENT} R from the origin",
-                i + 1
-            )),
-            _ => Err(format!("{source}:{}: {f:?} is not a finite number", i + 1)),
+            Ok(v) if v.is_finite() => Err(PositionsError::TooFar {
+                file: file(),
+                line: i + 1,
+                field: f.to_string(),
+            }),
+            _ => Err(PositionsError::NotFinite {
+                file: file(),
+                line: i + 1,
+                field: f.to_string(),
+            }),
         };
         let p = Vector2::new(num(x)?, num(y)?);
         if let Some((j, _)) = out.iter().find(|(_, q)| *q == p) {
-            return Err(format!(
-                "{source}:{}: two robots in one place: ({}, {}) is also on line {j}",
-                i + 1,
-                p.x,
-                p.y
-            ));
+            return Err(PositionsError::SamePlace {
+                file: file(),
+                line: i + 1,
+                at: p,
+                other: *j,
+            });
         }
         out.push((i + 1, p));
     }
     if !(2..=1000).contains(&out.len()) {
-        return Err(format!(
-            "{source}: {} robots; 2 to 1000 are needed",
-            out.len()
-        ));
+        return Err(PositionsError::Count {
+            file: file(),
+            robots: out.len(),
+        });
     }
     for (line, p) in &out {
         let nearest = out
@@ -155,15 +162,88 @@ pub fn read_positions(text: &str, source: &str) -> Result<Vec<Vector2<f64>>, Str
             .map(|(_, q)| (q - p).norm())
             .fold(f64::INFINITY, f64::min);
         if nearest > 1.0 {
-            return Err(format!(
-                "{source}:{line}: the robot at ({}, {}) is out of everyone's range: the nearest \
-                 is {nearest:.2} R away, the light carries 1 R",
-                p.x, p.y
-            ));
+            return Err(PositionsError::OutOfRange {
+                file: file(),
+                line: *line,
+                at: *p,
+                nearest,
+            });
         }
     }
     let centre = out.iter().fold(Vector2::zeros(), |s, (_, p)| s + p) / out.len() as f64;
     Ok(out.into_iter().map(|(_, p)| p - centre).collect())
+}
+
+/// Why [`read_positions`] refused a positions file; each names the file (and the line).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PositionsError {
+    /// A line that is not two fields.
+    #[error("{file}:{line}: expected two numbers `x y` (in R), got {text:?}")]
+    NotTwo {
+        /// The file, as named.
+        file: String,
+        /// The line, from 1.
+        line: usize,
+        /// The line's text, trimmed.
+        text: String,
+    },
+    /// A coordinate beyond [`MAX_EXTENT`].
+    #[error("{file}:{line}: {field} is too far: at most {MAX_EXTENT} R from the origin")]
+    TooFar {
+        /// The file, as named.
+        file: String,
+        /// The line, from 1.
+        line: usize,
+        /// The coordinate as written.
+        field: String,
+    },
+    /// A coordinate that is no finite number.
+    #[error("{file}:{line}: {field:?} is not a finite number")]
+    NotFinite {
+        /// The file, as named.
+        file: String,
+        /// The line, from 1.
+        line: usize,
+        /// The coordinate as written.
+        field: String,
+    },
+    /// Two robots in one place.
+    #[error("{file}:{line}: two robots in one place: ({}, {}) is also on line {other}", at.x, at.y)]
+    SamePlace {
+        /// The file, as named.
+        file: String,
+        /// The line, from 1.
+        line: usize,
+        /// The place.
+        at: Vector2<f64>,
+        /// The other robot's line.
+        other: usize,
+    },
+    /// Fewer than 2 robots or more than 1000.
+    #[error("{file}: {robots} robots; 2 to 1000 are needed")]
+    Count {
+        /// The file, as named.
+        file: String,
+        /// Its robots.
+        robots: usize,
+    },
+    /// A robot farther than 1 R (the light's range) from every other.
+    #[error(
+        "{file}:{line}: the robot at ({}, {}) is out of everyone's range: the nearest is \
+         {nearest:.2} R away, the light carries 1 R",
+        at.x,
+        at.y
+    )]
+    OutOfRange {
+        /// The file, as named.
+        file: String,
+        /// The line, from 1.
+        line: usize,
+        /// The robot's place.
+        at: Vector2<f64>,
+        /// The distance to the nearest robot, R.
+        nearest: f64,
+    },
 }
 
 /// What one run did.
@@ -511,20 +591,32 @@ mod tests {
         let p = read_positions("# a triangle\n0 0\n\n0.75,0\n0.375 0.65\n", "t.txt").unwrap();
         assert_eq!(p.len(), 3);
         assert!((p.iter().fold(Vector2::zeros(), |s, q| s + q)).norm() < 1e-12);
-        let e = read_positions("0 0\n1 x\n", "t.txt").unwrap_err();
+        let e = read_positions("0 0\n1 x\n", "t.txt")
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("t.txt:2:") && e.contains("\"x\""), "{e}");
-        let e = read_positions("0 0\n1 2 3\n", "t.txt").unwrap_err();
+        let e = read_positions("0 0\n1 2 3\n", "t.txt")
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("t.txt:2:"), "{e}");
-        let e = read_positions("0 inf\n1 2\n", "t.txt").unwrap_err();
+        let e = read_positions("0 inf\n1 2\n", "t.txt")
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("t.txt:1:"), "{e}");
-        let e = read_positions("0 0\n1e300 0\n", "t.txt").unwrap_err();
+        let e = read_positions("0 0\n1e300 0\n", "t.txt")
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("t.txt:2: 1e300 is too far"), "{e}");
-        let e = read_positions("0 0\n0.5 0\n# again\n0 0\n", "t.txt").unwrap_err();
+        let e = read_positions("0 0\n0.5 0\n# again\n0 0\n", "t.txt")
+            .unwrap_err()
+            .to_string();
         assert_eq!(
             e,
             "t.txt:4: two robots in one place: (0, 0) is also on line 1"
         );
-        let e = read_positions("0 0\n0.5 0\n50 0\n", "t.txt").unwrap_err();
+        let e = read_positions("0 0\n0.5 0\n50 0\n", "t.txt")
+            .unwrap_err()
+            .to_string();
         assert!(
             e.starts_with("t.txt:3: the robot at (50, 0) is out of everyone's range"),
             "{e}"
@@ -532,6 +624,7 @@ mod tests {
         assert!(
             read_positions("0 0\n", "t.txt")
                 .unwrap_err()
+                .to_string()
                 .contains("1 robots")
         );
     }

@@ -9,7 +9,7 @@
 use protocol::Params;
 use rayon::prelude::*;
 
-use crate::campaign::{self, Decide, Outcome, SCENARIOS};
+use crate::campaign::{self, CampaignError, Decide, Outcome, SCENARIOS};
 use swarm_sim::stats::quantile;
 
 /// Frame losses of the sweep.
@@ -55,32 +55,44 @@ impl LossPoint {
 /// by [`loss_points`].
 ///
 /// # Errors
-/// A message if a run cannot start.
-pub fn loss_sweep(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<LossPoint>, String> {
+/// Why a run cannot start.
+pub fn loss_sweep(decide: Decide, seed: u64, seeds: u64) -> Result<Vec<LossPoint>, StressError> {
     let runs = (0..LOSSES.len())
         .map(|l| {
             (0..seeds)
                 .into_par_iter()
                 .map(|k| loss_run(decide, l, seed.wrapping_add(k)))
-                .collect::<Result<Vec<_>, String>>()
+                .collect::<Result<Vec<_>, StressError>>()
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, StressError>>()?;
     Ok(loss_points(runs.concat(), seeds))
 }
 
 /// One run of the loss sweep: the campaign's loss scenario at loss `LOSSES[loss]`, seed `seed`.
 ///
 /// # Errors
-/// A message if the run cannot start or there is no such loss.
-pub fn loss_run(decide: Decide, loss: usize, seed: u64) -> Result<Outcome, String> {
+/// Why the run cannot start, or there is no such loss.
+pub fn loss_run(decide: Decide, loss: usize, seed: u64) -> Result<Outcome, StressError> {
     let scenario = SCENARIOS
         .iter()
         .find(|s| matches!(s.fault, campaign::Fault::Loss(_)))
-        .ok_or("the campaign has no loss scenario")?;
-    let p = LOSSES
-        .get(loss)
-        .ok_or_else(|| format!("the loss sweep has no loss number {loss}"))?;
-    campaign::run_one(scenario, seed, Some(*p), decide)
+        .ok_or(StressError::NoLossScenario)?;
+    let p = LOSSES.get(loss).ok_or(StressError::NoLoss(loss))?;
+    Ok(campaign::run_one(scenario, seed, Some(*p), decide)?)
+}
+
+/// Why a run of the loss sweep could not run.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum StressError {
+    /// The campaign has no loss scenario to sweep.
+    #[error("the campaign has no loss scenario")]
+    NoLossScenario,
+    /// A loss number past [`LOSSES`].
+    #[error("the loss sweep has no loss number {0}")]
+    NoLoss(usize),
+    /// The run could not start.
+    #[error(transparent)]
+    Campaign(#[from] CampaignError),
 }
 
 /// The loss sweep's points from its runs ([`loss_run`]), loss by loss, `seeds` each, in order.

@@ -160,12 +160,26 @@ fn environment() -> &'static Environment<'static> {
 /// Renders the template `name` with `context`.
 ///
 /// # Errors
-/// The template engine's message if `name` is unknown or the context does not fit it.
-pub fn render(name: &str, context: impl Serialize) -> Result<String, String> {
+/// A [`RenderError`] with the template engine's error if `name` is unknown or the context
+/// does not fit it.
+pub fn render(name: &str, context: impl Serialize) -> Result<String, RenderError> {
     environment()
         .get_template(name)
         .and_then(|t| t.render(context))
-        .map_err(|e| format!("template {name}: {e:#}"))
+        .map_err(|source| RenderError {
+            template: name.to_string(),
+            source,
+        })
+}
+
+/// Why a template could not be rendered ([`render`]).
+#[derive(Debug, thiserror::Error)]
+#[error("template {template}: {source:#}")]
+pub struct RenderError {
+    /// The template's name.
+    pub template: String,
+    /// The template engine's error.
+    pub source: minijinja::Error,
 }
 
 #[cfg(test)]
@@ -232,7 +246,9 @@ mod tests {
 
     #[test]
     fn a_field_the_context_lacks_is_an_error_not_a_blank() {
-        let err = render("reproduction.md.j2", minijinja::context! { seed => 1 }).unwrap_err();
+        let err = render("reproduction.md.j2", minijinja::context! { seed => 1 })
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("undefined"), "{err}");
     }
 }

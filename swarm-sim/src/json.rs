@@ -33,7 +33,26 @@ pub trait Lossless: Sized {
     ///
     /// # Errors
     /// If `r` is no value of this type.
-    fn from_repr(r: Self::Repr) -> Result<Self, String>;
+    fn from_repr(r: Self::Repr) -> Result<Self, ReprError>;
+}
+
+/// Why [`Lossless::from_repr`] refused what was read: it is no value of the type.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ReprError {
+    /// An `f64` that no `f32` is.
+    #[error("{0} is no f32")]
+    NoF32(f64),
+    /// An array of another length.
+    #[error("{got} values where {expected} were expected")]
+    Length {
+        /// The values read.
+        got: usize,
+        /// The array's length.
+        expected: usize,
+    },
+    /// A number that is no [`WaveState`].
+    #[error("{0} is no wave state")]
+    WaveState(u8),
 }
 
 /// Writes `v` (the `serialize` of `#[serde(with = "crate::json")]`).
@@ -109,7 +128,7 @@ impl Lossless for f64 {
     fn to_repr(&self) -> Float {
         Float(*self)
     }
-    fn from_repr(r: Float) -> Result<f64, String> {
+    fn from_repr(r: Float) -> Result<f64, ReprError> {
         Ok(r.0)
     }
 }
@@ -119,12 +138,12 @@ impl Lossless for f32 {
     fn to_repr(&self) -> Float {
         Float(f64::from(*self))
     }
-    fn from_repr(r: Float) -> Result<f32, String> {
+    fn from_repr(r: Float) -> Result<f32, ReprError> {
         let v = r.0 as f32;
         if f64::from(v).to_bits() == r.0.to_bits() || r.0.is_nan() {
             Ok(v)
         } else {
-            Err(format!("{} is no f32", r.0))
+            Err(ReprError::NoF32(r.0))
         }
     }
 }
@@ -134,7 +153,7 @@ impl<T: Lossless> Lossless for Option<T> {
     fn to_repr(&self) -> Self::Repr {
         self.as_ref().map(T::to_repr)
     }
-    fn from_repr(r: Self::Repr) -> Result<Self, String> {
+    fn from_repr(r: Self::Repr) -> Result<Self, ReprError> {
         r.map(T::from_repr).transpose()
     }
 }
@@ -144,7 +163,7 @@ impl<T: Lossless> Lossless for Vec<T> {
     fn to_repr(&self) -> Self::Repr {
         self.iter().map(T::to_repr).collect()
     }
-    fn from_repr(r: Self::Repr) -> Result<Self, String> {
+    fn from_repr(r: Self::Repr) -> Result<Self, ReprError> {
         r.into_iter().map(T::from_repr).collect()
     }
 }
@@ -154,7 +173,7 @@ impl<A: Lossless, B: Lossless> Lossless for (A, B) {
     fn to_repr(&self) -> Self::Repr {
         (self.0.to_repr(), self.1.to_repr())
     }
-    fn from_repr(r: Self::Repr) -> Result<Self, String> {
+    fn from_repr(r: Self::Repr) -> Result<Self, ReprError> {
         Ok((A::from_repr(r.0)?, B::from_repr(r.1)?))
     }
 }
@@ -164,7 +183,7 @@ impl<A: Lossless, B: Lossless, C: Lossless> Lossless for (A, B, C) {
     fn to_repr(&self) -> Self::Repr {
         (self.0.to_repr(), self.1.to_repr(), self.2.to_repr())
     }
-    fn from_repr(r: Self::Repr) -> Result<Self, String> {
+    fn from_repr(r: Self::Repr) -> Result<Self, ReprError> {
         Ok((A::from_repr(r.0)?, B::from_repr(r.1)?, C::from_repr(r.2)?))
     }
 }
@@ -174,11 +193,13 @@ impl<T: Lossless, const N: usize> Lossless for [T; N] {
     fn to_repr(&self) -> Self::Repr {
         self.iter().map(T::to_repr).collect()
     }
-    fn from_repr(r: Self::Repr) -> Result<Self, String> {
+    fn from_repr(r: Self::Repr) -> Result<Self, ReprError> {
         let n = r.len();
         let v: Vec<T> = r.into_iter().map(T::from_repr).collect::<Result<_, _>>()?;
-        v.try_into()
-            .map_err(|_| format!("{n} values where {N} were expected"))
+        v.try_into().map_err(|_| ReprError::Length {
+            got: n,
+            expected: N,
+        })
     }
 }
 
@@ -187,7 +208,7 @@ impl Lossless for Point2<f64> {
     fn to_repr(&self) -> Self::Repr {
         (Float(self.x), Float(self.y))
     }
-    fn from_repr(r: Self::Repr) -> Result<Self, String> {
+    fn from_repr(r: Self::Repr) -> Result<Self, ReprError> {
         Ok(Point2::new(r.0.0, r.1.0))
     }
 }
@@ -197,7 +218,7 @@ impl Lossless for Vector2<f64> {
     fn to_repr(&self) -> Self::Repr {
         (Float(self.x), Float(self.y))
     }
-    fn from_repr(r: Self::Repr) -> Result<Self, String> {
+    fn from_repr(r: Self::Repr) -> Result<Self, ReprError> {
         Ok(Vector2::new(r.0.0, r.1.0))
     }
 }
@@ -211,12 +232,12 @@ impl Lossless for WaveState {
             WaveState::Refractory => 2,
         }
     }
-    fn from_repr(r: u8) -> Result<Self, String> {
+    fn from_repr(r: u8) -> Result<Self, ReprError> {
         match r {
             0 => Ok(WaveState::Inactive),
             1 => Ok(WaveState::Active),
             2 => Ok(WaveState::Refractory),
-            _ => Err(format!("{r} is no wave state")),
+            _ => Err(ReprError::WaveState(r)),
         }
     }
 }

@@ -14,7 +14,7 @@ mod header;
 mod replay;
 pub mod swarm;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 pub use header::{
     Goal, Header, Heatmap, Kind, PatternAt, Verdict, goal_of, header_of, heatmap, move_verdict,
@@ -22,6 +22,62 @@ pub use header::{
 pub use replay::{REPLAY_VERSION, Replay};
 
 use hal_emu::TraceEvent;
+
+/// Why a page or trace could not be made, written or read.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The replay could not be serialised.
+    #[error("replay: {0}")]
+    Replay(#[source] serde_json::Error),
+    /// A trace line could not be serialised.
+    #[error(transparent)]
+    Json(serde_json::Error),
+    /// A file could not be written.
+    #[error("{}: {source}", path.display())]
+    Write {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The trace has no lines.
+    #[error("{file}: empty file")]
+    Empty {
+        /// The trace, as named.
+        file: String,
+    },
+    /// The trace's first line is no header.
+    #[error(
+        "{file}:1: not a trace header ({error}); write the trace with `cimax arena --trace` \
+         of this version"
+    )]
+    NoHeader {
+        /// The trace, as named.
+        file: String,
+        /// Why the line is no header.
+        #[source]
+        error: serde_json::Error,
+    },
+    /// The trace is of another replay version.
+    #[error("{file}:1: trace version {version}, this viewer reads {REPLAY_VERSION}")]
+    Version {
+        /// The trace, as named.
+        file: String,
+        /// Its version.
+        version: u32,
+    },
+    /// A line of the trace is no event.
+    #[error("{file}:{line}: {error}")]
+    Event {
+        /// The trace, as named.
+        file: String,
+        /// The line, from 1.
+        line: usize,
+        /// Why it is no event.
+        #[source]
+        error: serde_json::Error,
+    },
+}
 
 /// The page's script, style and skeleton (inlined into every page).
 const SCRIPT: &str = include_str!("assets/viewer.js");
@@ -32,8 +88,8 @@ const SKELETON: &str = include_str!("assets/viewer.html");
 ///
 /// # Errors
 /// If the replay cannot be serialised (a non-finite number where JSON has none).
-pub fn page(replay: &Replay) -> Result<String, String> {
-    let json = serde_json::to_string(replay).map_err(|e| format!("replay: {e}"))?;
+pub fn page(replay: &Replay) -> Result<String, Error> {
+    let json = serde_json::to_string(replay).map_err(Error::Replay)?;
     // Inside <script>, "</script" or "<!--" would end or confuse the element: every "<" is
     // written as the JSON escape "\u003c" (it only occurs inside strings).
     let json = json.replace('<', "\\u003c");
@@ -48,11 +104,14 @@ pub fn page(replay: &Replay) -> Result<String, String> {
 /// Writes the page of `header` and `trace` to `path`.
 ///
 /// # Errors
-/// A message naming the file if it cannot be written.
-pub fn write_page(path: &Path, header: Header, trace: &[TraceEvent]) -> Result<(), String> {
+/// [`Error::Write`] naming the file if it cannot be written.
+pub fn write_page(path: &Path, header: Header, trace: &[TraceEvent]) -> Result<(), Error> {
     let replay = Replay::from_trace(header, trace);
     let html = page(&replay)?;
-    std::fs::write(path, html).map_err(|e| format!("{}: {e}", path.display()))
+    std::fs::write(path, html).map_err(|source| Error::Write {
+        path: path.to_path_buf(),
+        source,
+    })
 }
 
 /// Escapes text for HTML.
@@ -72,15 +131,18 @@ struct HeaderLine {
 /// Writes a trace as JSON lines: the header first, then one event per line.
 ///
 /// # Errors
-/// A message naming the file if it cannot be written.
-pub fn write_trace(path: &Path, header: Header, trace: &[TraceEvent]) -> Result<(), String> {
+/// [`Error::Write`] naming the file if it cannot be written.
+pub fn write_trace(path: &Path, header: Header, trace: &[TraceEvent]) -> Result<(), Error> {
     use std::io::Write as _;
-    let err = |e: std::io::Error| format!("{}: {e}", path.display());
+    let err = |source| Error::Write {
+        path: path.to_path_buf(),
+        source,
+    };
     let mut out = std::io::BufWriter::new(std::fs::File::create(path).map_err(err)?);
-    let line = serde_json::to_string(&HeaderLine { header }).map_err(|e| e.to_string())?;
+    let line = serde_json::to_string(&HeaderLine { header }).map_err(Error::Json)?;
     writeln!(out, "{line}").map_err(err)?;
     for e in trace {
-        let line = serde_json::to_string(e).map_err(|e| e.to_string())?;
+        let line = serde_json::to_string(e).map_err(Error::Json)?;
         writeln!(out, "{line}").map_err(err)?;
     }
     out.flush().map_err(err)
@@ -89,33 +151,37 @@ pub fn write_trace(path: &Path, header: Header, trace: &[TraceEvent]) -> Result<
 /// Reads a `--trace` file back: its header and events.
 ///
 /// # Errors
-/// A message naming the line and what is wrong with it: no header (a trace from before the
+/// An [`Error`] naming the line and what is wrong with it: no header (a trace from before the
 /// viewer), another replay version, an event that does not parse.
-pub fn read_trace(text: &str, source: &str) -> Result<(Header, Vec<TraceEvent>), String> {
+pub fn read_trace(text: &str, source: &str) -> Result<(Header, Vec<TraceEvent>), Error> {
     let mut lines = text
         .lines()
         .enumerate()
         .filter(|(_, l)| !l.trim().is_empty());
     let Some((_, first)) = lines.next() else {
-        return Err(format!("{source}: empty file"));
+        return Err(Error::Empty {
+            file: source.to_string(),
+        });
     };
     let header = serde_json::from_str::<HeaderLine>(first)
-        .map_err(|e| {
-            format!(
-                "{source}:1: not a trace header ({e}); write the trace with `cimax arena --trace` \
-                 of this version"
-            )
+        .map_err(|error| Error::NoHeader {
+            file: source.to_string(),
+            error,
         })?
         .header;
     if header.version != REPLAY_VERSION {
-        return Err(format!(
-            "{source}:1: trace version {}, this viewer reads {REPLAY_VERSION}",
-            header.version
-        ));
+        return Err(Error::Version {
+            file: source.to_string(),
+            version: header.version,
+        });
     }
     let events = lines
         .map(|(i, l)| {
-            serde_json::from_str::<TraceEvent>(l).map_err(|e| format!("{source}:{}: {e}", i + 1))
+            serde_json::from_str::<TraceEvent>(l).map_err(|error| Error::Event {
+                file: source.to_string(),
+                line: i + 1,
+                error,
+            })
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok((header, events))
@@ -127,13 +193,14 @@ mod tests {
 
     #[test]
     fn a_trace_without_a_header_or_with_a_bad_line_is_named() {
-        let e = read_trace("", "t.jsonl").unwrap_err();
+        let e = read_trace("", "t.jsonl").unwrap_err().to_string();
         assert!(e.contains("empty"), "{e}");
         let e = read_trace(
             "{\"event\":\"sent\",\"t_ms\":0,\"robot\":0,\"len\":32}\n",
             "t.jsonl",
         )
-        .unwrap_err();
+        .unwrap_err()
+        .to_string();
         assert!(e.starts_with("t.jsonl:1: not a trace header"), "{e}");
     }
 

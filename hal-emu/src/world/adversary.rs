@@ -119,38 +119,65 @@ impl Adversary {
     /// Checks the parameters.
     ///
     /// # Errors
-    /// A message naming the bad parameter.
-    pub fn validate(&self) -> Result<(), String> {
+    /// The first bad parameter.
+    pub fn validate(&self) -> Result<(), AdversaryError> {
         if !(self.position.x.is_finite() && self.position.y.is_finite()) {
-            return Err(format!(
-                "adversary position ({}, {}) is not finite",
-                self.position.x, self.position.y
-            ));
+            return Err(AdversaryError::Position(self.position));
         }
         match self.kind {
             AdversaryKind::Rogue(r) => {
                 if r.min_bytes == 0 || r.min_bytes > r.max_bytes {
-                    return Err(format!(
-                        "rogue burst length {}..={} bytes: needs 1 <= min <= max",
-                        r.min_bytes, r.max_bytes
-                    ));
+                    return Err(AdversaryError::Burst {
+                        min: r.min_bytes,
+                        max: r.max_bytes,
+                    });
                 }
                 if r.mean_gap == Duration::ZERO {
-                    return Err("the rogue's mean gap between bursts must be positive".into());
+                    return Err(AdversaryError::Gap);
                 }
             }
             AdversaryKind::Replayer(r) => {
                 if r.min_delay > r.max_delay {
-                    return Err(format!(
-                        "replay delay {} ms to {} ms: the minimum exceeds the maximum",
-                        r.min_delay.as_millis(),
-                        r.max_delay.as_millis()
-                    ));
+                    return Err(AdversaryError::Delay {
+                        min: r.min_delay,
+                        max: r.max_delay,
+                    });
                 }
             }
         }
         Ok(())
     }
+}
+
+/// Why [`Adversary::validate`] refused an adversary's parameters.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum AdversaryError {
+    /// Its position is not finite.
+    #[error("adversary position ({}, {}) is not finite", .0.x, .0.y)]
+    Position(Point2<f64>),
+    /// A rogue's burst lengths are not `1 <= min <= max`.
+    #[error("rogue burst length {min}..={max} bytes: needs 1 <= min <= max")]
+    Burst {
+        /// The shortest burst, bytes.
+        min: usize,
+        /// The longest burst, bytes.
+        max: usize,
+    },
+    /// A rogue's mean gap between bursts is zero.
+    #[error("the rogue's mean gap between bursts must be positive")]
+    Gap,
+    /// A replayer's shortest delay exceeds its longest.
+    #[error(
+        "replay delay {} ms to {} ms: the minimum exceeds the maximum",
+        min.as_millis(),
+        max.as_millis()
+    )]
+    Delay {
+        /// The shortest delay.
+        min: Duration,
+        /// The longest delay.
+        max: Duration,
+    },
 }
 
 /// Puts `adversary` into `medium` and spawns its task beside the run's ([`EmuClock::spawn`]);

@@ -162,6 +162,7 @@ pub enum SwarmCommand {
 
 fn parse_placement(s: &str) -> Result<Placement, String> {
     s.parse()
+        .map_err(|e: swarm_sim::scenario::PlacementError| e.to_string())
 }
 
 pub type Res = Result<(), Box<dyn std::error::Error + Send + Sync>>;

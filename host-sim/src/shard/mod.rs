@@ -72,7 +72,7 @@ pub fn run_shard<U, E, F>(
     dir: &Path,
     quiet: bool,
     f: F,
-) -> Result<PathBuf, String>
+) -> Result<PathBuf, ShardError<E>>
 where
     U: Serialize + Send,
     E: Send + Display,
@@ -82,8 +82,8 @@ where
     let units: Vec<u64> = shard.units(total).collect();
     announce(&job, total, shard, dir, units.len(), "runs");
     let progress = Progress::logged(units.len() as u64, &format!("shard {shard}"), quiet);
-    let results = compute(&units, &progress, f).map_err(|e| e.to_string())?;
-    write_shard(job, total, shard, dir, units, results, wall)
+    let results = compute(&units, &progress, f).map_err(ShardError::Unit)?;
+    Ok(write_shard(job, total, shard, dir, units, results, wall)?)
 }
 
 /// Runs shard `shard` of `job` as [`run_shard`] does, but its units one after another in unit
@@ -100,7 +100,7 @@ pub fn run_shard_in_order<U, E, F>(
     dir: &Path,
     quiet: bool,
     mut f: F,
-) -> Result<PathBuf, String>
+) -> Result<PathBuf, ShardError<E>>
 where
     U: Serialize,
     E: Display,
@@ -113,11 +113,11 @@ where
     let progress = Progress::logged_counting(units.len() as u64, &label, "units", quiet);
     let mut results = Vec::with_capacity(units.len());
     for &k in &units {
-        results.push(f(k).map_err(|e| e.to_string())?);
+        results.push(f(k).map_err(ShardError::Unit)?);
         progress.inc();
     }
     progress.finish();
-    write_shard(job, total, shard, dir, units, results, wall)
+    Ok(write_shard(job, total, shard, dir, units, results, wall)?)
 }
 
 /// Says on stderr which share of the job the shard runs, and where its part goes.
@@ -139,7 +139,7 @@ fn write_shard<U: Serialize>(
     units: Vec<u64>,
     results: Vec<U>,
     wall: std::time::Instant,
-) -> Result<PathBuf, String> {
+) -> Result<PathBuf, PartError> {
     let header = part::Header {
         format: part::FORMAT.into(),
         version: part::VERSION,
@@ -156,5 +156,16 @@ fn write_shard<U: Serialize>(
         wall.elapsed().as_secs_f64(),
         rayon::current_num_threads(),
     )
-    .map_err(|e| e.to_string())
+}
+
+/// Why a shard did not write its part: one of its units failed (that unit's error), or the
+/// part could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ShardError<E> {
+    /// A unit's error.
+    #[error("{0}")]
+    Unit(E),
+    /// The part could not be written.
+    #[error(transparent)]
+    Part(#[from] PartError),
 }

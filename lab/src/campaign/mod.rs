@@ -16,6 +16,7 @@
 //! and `pages::figures` draws the success rates against the bars as SVG. The scenarios and how
 //! each injects its fault are `scenarios.rs`; this file runs them.
 
+mod error;
 mod scenarios;
 mod stats_serde;
 
@@ -33,6 +34,7 @@ use serde::{Deserialize, Serialize};
 use swarm_sim::progress::Progress;
 
 pub use super::InTheLoop;
+pub use error::CampaignError;
 
 pub use scenarios::{
     ADVERSARY_AT, Fault, REBOOT_DOWN, SCENARIOS, Scenario, config, hil_places, pattern_for,
@@ -203,11 +205,11 @@ pub fn crashed(cfg: &ArenaConfig, failure: &RobotFailure) -> Outcome {
 /// Judges a run of `scenario` (with `cimax arena`'s [`judge`]) and, for a reboot, also checks
 /// that consensus held just before it and was back within two nominal negotiation periods. A
 /// run in which a robot panicked is a failed outcome ([`Outcome::crashed`]).
-fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<Outcome, String> {
+fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<Outcome, CampaignError> {
     let run = match judge(cfg) {
         Ok(run) => run,
         Err(ArenaError::Robot(f)) => return Ok(crashed(cfg, &f)),
-        Err(e) => return Err(e.to_string()),
+        Err(e) => return Err(e.into()),
     };
     let expected = run.expected.clone();
     let mut success = run.success;
@@ -265,27 +267,27 @@ fn outcome(cfg: &ArenaConfig, reboot: Option<Instant>) -> Result<Outcome, String
 /// Runs one seed of one scenario.
 ///
 /// # Errors
-/// A message if the run cannot start.
+/// Why the run cannot start.
 pub fn run_one(
     scenario: &Scenario,
     seed: u64,
     loss: Option<f64>,
     decide: Decide,
-) -> Result<Outcome, String> {
+) -> Result<Outcome, CampaignError> {
     run_in_loop(scenario, seed, loss, decide, None)
 }
 
 /// [`run_one`] with `hil` robots in the loop.
 ///
 /// # Errors
-/// A message if the run cannot start.
+/// Why the run cannot start.
 pub fn run_in_loop(
     scenario: &Scenario,
     seed: u64,
     loss: Option<f64>,
     decide: Decide,
     hil: Option<&InTheLoop>,
-) -> Result<Outcome, String> {
+) -> Result<Outcome, CampaignError> {
     let (cfg, reboot) = run_config(scenario, seed, loss, decide, hil)?;
     outcome(&cfg, reboot)
 }
@@ -294,14 +296,14 @@ pub fn run_in_loop(
 /// reboot time if it has one ([`config`]).
 ///
 /// # Errors
-/// A message if the run cannot be set up.
+/// Why the run cannot be set up.
 pub fn run_config(
     scenario: &Scenario,
     seed: u64,
     loss: Option<f64>,
     decide: Decide,
     hil: Option<&InTheLoop>,
-) -> Result<(ArenaConfig, Option<Instant>), String> {
+) -> Result<(ArenaConfig, Option<Instant>), CampaignError> {
     let (mut cfg, reboot) = config(scenario, seed, loss)?;
     cfg.robot.params.decide = decide.into();
     if let Some(h) = hil {
@@ -314,8 +316,8 @@ pub fn run_config(
 /// are [`jobs`], each [`run_one`], put together by [`report`].
 ///
 /// # Errors
-/// A message if an option is unusable or a run cannot start.
-pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
+/// An option is unusable ([`check`]) or a run cannot start.
+pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, CampaignError> {
     check(plan)?;
     let wall = std::time::Instant::now();
     let jobs = jobs(plan);
@@ -332,7 +334,7 @@ pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
             progress.inc();
             o
         })
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_, CampaignError>>()?;
     progress.finish();
     Ok(report(
         plan,
@@ -346,18 +348,18 @@ pub fn run(plan: &Plan, progress: &Progress) -> Result<Report, String> {
 /// exist.
 ///
 /// # Errors
-/// A message naming the option.
-pub fn check(plan: &Plan) -> Result<(), String> {
+/// The first unusable option.
+pub fn check(plan: &Plan) -> Result<(), CampaignError> {
     if plan.seeds == 0 {
-        return Err("a campaign needs at least one seed".into());
+        return Err(CampaignError::NoSeeds);
     }
     if let Some(p) = plan.loss
         && !(0.0..=1.0).contains(&p)
     {
-        return Err(format!("--loss must be a probability in [0, 1], not {p}"));
+        return Err(CampaignError::Loss(p));
     }
     if let Some(&i) = plan.scenarios.iter().find(|&&i| i >= SCENARIOS.len()) {
-        return Err(format!("there is no scenario number {i}"));
+        return Err(CampaignError::NoScenario(i));
     }
     Ok(())
 }
@@ -439,22 +441,22 @@ pub const SUITE_READINGS: [Readings; 2] = [Readings::Levels, Readings::Binary];
 /// [`suite_run`], put together by [`suite_results`].
 ///
 /// # Errors
-/// A message if a run cannot start.
+/// Why a run cannot start.
 pub fn lab_suite(
     decide: Decide,
     readings: Readings,
     seed: u64,
     seeds: u64,
-) -> Result<Vec<SuiteResult>, String> {
+) -> Result<Vec<SuiteResult>, CampaignError> {
     let experiments = hal_emu::judge::paper_suite().len();
     let runs = (0..experiments)
         .map(|e| {
             (0..seeds)
                 .into_par_iter()
                 .map(|k| suite_run(decide, readings, e, seed.wrapping_add(k)))
-                .collect::<Result<Vec<_>, String>>()
+                .collect::<Result<Vec<_>, CampaignError>>()
         })
-        .collect::<Result<Vec<_>, String>>()?;
+        .collect::<Result<Vec<_>, CampaignError>>()?;
     Ok(suite_results(runs.concat(), seeds))
 }
 
@@ -462,25 +464,25 @@ pub fn lab_suite(
 /// seed `seed`; whether it succeeded, and its time to consensus.
 ///
 /// # Errors
-/// A message if the run cannot start or there is no such experiment.
+/// Why the run cannot start, or there is no such experiment.
 pub fn suite_run(
     decide: Decide,
     readings: Readings,
     experiment: usize,
     seed: u64,
-) -> Result<(bool, Option<f64>), String> {
+) -> Result<(bool, Option<f64>), CampaignError> {
     let mut params = Params::robots();
     params.decide = decide.into();
     let suite = hal_emu::judge::paper_suite();
     let e = suite
         .get(experiment)
-        .ok_or_else(|| format!("the lab suite has no experiment {experiment}"))?;
+        .ok_or(CampaignError::NoExperiment(experiment))?;
     let mut cfg = e.config(1.0, params.lab_run(), seed);
     cfg.robot.params = params;
     cfg.env.readings = readings;
     judge(&cfg)
         .map(|r| (r.success, r.consensus_s))
-        .map_err(|e| e.to_string())
+        .map_err(CampaignError::from)
 }
 
 /// The lab suite's results from its runs ([`suite_run`]), experiment by experiment, `seeds`

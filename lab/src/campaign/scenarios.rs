@@ -7,6 +7,8 @@ use protocol::{Duration, Instant, Params};
 
 use swarm_sim::seeds;
 
+use super::error::CampaignError;
+
 /// The fault a scenario injects.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Fault {
@@ -121,12 +123,13 @@ pub fn pattern_for(seed: u64) -> &'static str {
 /// The run of `scenario` for `seed`, and the reboot time if it has one.
 ///
 /// # Errors
-/// A message if the pattern does not parse (cannot happen for the paper's patterns).
+/// [`CampaignError::Pattern`] if the pattern does not parse (cannot happen for the paper's
+/// patterns).
 pub fn config(
     scenario: &Scenario,
     seed: u64,
     loss: Option<f64>,
-) -> Result<(ArenaConfig, Option<Instant>), String> {
+) -> Result<(ArenaConfig, Option<Instant>), CampaignError> {
     let pattern = parse_pattern(pattern_for(seed))?;
     let n = pattern.len();
     let params = Params::robots();
@@ -189,12 +192,10 @@ pub fn config(
 ///
 /// # Errors
 /// More robots in the loop than the run has.
-pub fn hil_places(cfg: &ArenaConfig, count: usize) -> Result<Vec<usize>, String> {
+pub fn hil_places(cfg: &ArenaConfig, count: usize) -> Result<Vec<usize>, CampaignError> {
     let n = cfg.positions.len();
     if count > n {
-        return Err(format!(
-            "{count} robots in the loop, but the campaign's runs have {n} robots"
-        ));
+        return Err(CampaignError::TooManyInTheLoop { count, robots: n });
     }
     let killed = |r: &usize| cfg.kills.iter().any(|&(_, k)| k == *r);
     let dead = |r: &usize| cfg.dead_at_start.contains(r);
@@ -241,6 +242,11 @@ mod tests {
         let places = hil_places(&cfg, 4).unwrap();
         assert_eq!(places[3], cfg.dead_at_start[0]);
         assert!(!hil_places(&cfg, 3).unwrap().contains(&cfg.dead_at_start[0]));
-        assert!(hil_places(&cfg, 5).unwrap_err().contains("have 4 robots"));
+        assert!(
+            hil_places(&cfg, 5)
+                .unwrap_err()
+                .to_string()
+                .contains("have 4 robots")
+        );
     }
 }

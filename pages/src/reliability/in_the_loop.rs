@@ -72,16 +72,47 @@ fn summary<'a>(runs: impl IntoIterator<Item = &'a Outcome> + Clone) -> (String, 
 }
 
 /// Checks that `in_loop` and `host` hold the same decision rules, in the same order.
-fn same_rules(in_loop: &[Report], host: &[Report]) -> Result<(), String> {
+fn same_rules(in_loop: &[Report], host: &[Report]) -> Result<(), LoopError> {
     if in_loop.len() != host.len()
         || in_loop
             .iter()
             .zip(host)
             .any(|(l, h)| l.plan.decide != h.plan.decide)
     {
-        return Err("its decision rules are not the page's".into());
+        return Err(LoopError::Rules);
     }
     Ok(())
+}
+
+/// Why the campaign in the loop cannot stand beside the page's ([`loop_section`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum LoopError {
+    /// Other decision rules, or in another order.
+    #[error("its decision rules are not the page's")]
+    Rules,
+    /// No report at all.
+    #[error("it holds no rule")]
+    NoRule,
+    /// A campaign without robots in the loop.
+    #[error("it is a campaign without robots in the loop (made without --hil)")]
+    NoHil,
+    /// Another number of scenarios.
+    #[error("its scenarios are not the page's")]
+    Scenarios,
+    /// Another scenario in one place.
+    #[error("its scenario {ours} is the page's {page}")]
+    Scenario {
+        /// The scenario in the loop.
+        ours: &'static str,
+        /// The page's scenario in its place.
+        page: &'static str,
+    },
+    /// Seeds in the loop that the page's campaign does not run.
+    #[error("{scenario} has seeds the page does not run")]
+    Seeds {
+        /// The scenario.
+        scenario: &'static str,
+    },
 }
 
 /// The section: `in_loop` (one report per rule, from the `parts` parts named `part`, made by `made_by` in
@@ -98,36 +129,31 @@ pub fn loop_section(
     parts: usize,
     made_by: String,
     wall_s: f64,
-) -> Result<LoopSection, String> {
+) -> Result<LoopSection, LoopError> {
     same_rules(in_loop, host)?;
     let Some(first) = in_loop.first() else {
-        return Err("it holds no rule".into());
+        return Err(LoopError::NoRule);
     };
-    let hil = first
-        .plan
-        .hil
-        .as_ref()
-        .ok_or("it is a campaign without robots in the loop (made without --hil)")?;
+    let hil = first.plan.hil.as_ref().ok_or(LoopError::NoHil)?;
     let (spec, qemu) = (hil.spec(), hil.image.is_some());
     let mut rows: Vec<LoopRow> = Vec::new();
     let (mut runs, mut right, mut differ) = (0, 0, 0);
     for (l, h) in in_loop.iter().zip(host) {
         if l.results.len() != h.results.len() {
-            return Err("its scenarios are not the page's".into());
+            return Err(LoopError::Scenarios);
         }
         for (k, (lr, hr)) in l.results.iter().zip(&h.results).enumerate() {
             if lr.scenario.name != hr.scenario.name {
-                return Err(format!(
-                    "its scenario {} is the page's {}",
-                    lr.scenario.name, hr.scenario.name
-                ));
+                return Err(LoopError::Scenario {
+                    ours: lr.scenario.name,
+                    page: hr.scenario.name,
+                });
             }
             let host_runs = same_seeds(&hr.runs, &lr.runs);
             if host_runs.len() != lr.runs.len() {
-                return Err(format!(
-                    "{} has seeds the page does not run",
-                    lr.scenario.name
-                ));
+                return Err(LoopError::Seeds {
+                    scenario: lr.scenario.name,
+                });
             }
             runs += lr.runs.len();
             right += lr.runs.iter().filter(|o| o.success).count();

@@ -436,8 +436,8 @@ impl Page {
     /// Renders the page.
     ///
     /// # Errors
-    /// The template engine's message (a bug: the templates are built in).
-    pub fn render(&self) -> Result<String, String> {
+    /// The template engine's error (a bug: the templates are built in).
+    pub fn render(&self) -> Result<String, crate::page::RenderError> {
         crate::page::render("reliability.md.j2", self)
     }
 }

@@ -598,20 +598,42 @@ impl Ctx<'_> {
 
 /// Checks that a negotiation period of `params` is at most [`MAX_PERIOD_SECS`], naming the
 /// keys it comes from.
-fn period_fits(params: &Params) -> Result<(), String> {
+fn period_fits(params: &Params) -> Result<(), PeriodError> {
     let run = RunConfig::paper(*params);
     match run.check() {
         Err(SimError::PeriodTooLong {
             gather_cycles,
             decide_cycles,
             cycle_s,
-        }) => Err(format!(
-            "cycle = {cycle_s} makes a negotiation period of (gather_cycles + decide_cycles) × \
-             cycle = ({gather_cycles} + {decide_cycles}) × {cycle_s} s = {} s; at most \
-             {MAX_PERIOD_SECS} s",
-            (u128::from(gather_cycles) + u128::from(decide_cycles)) * u128::from(cycle_s)
-        )),
-        Err(e) => Err(e.to_string()),
+        }) => Err(PeriodError::TooLong {
+            gather_cycles,
+            decide_cycles,
+            cycle_s,
+        }),
+        Err(e) => Err(PeriodError::Sim(e)),
         Ok(()) => Ok(()),
     }
+}
+
+/// Why [`period_fits`] refused a scenario's parameters.
+#[derive(Debug, thiserror::Error)]
+enum PeriodError {
+    /// A negotiation period longer than [`MAX_PERIOD_SECS`], told by the keys it comes from.
+    #[error(
+        "cycle = {cycle_s} makes a negotiation period of (gather_cycles + decide_cycles) × \
+         cycle = ({gather_cycles} + {decide_cycles}) × {cycle_s} s = {} s; at most \
+         {MAX_PERIOD_SECS} s",
+        (u128::from(*gather_cycles) + u128::from(*decide_cycles)) * u128::from(*cycle_s)
+    )]
+    TooLong {
+        /// Gathering cycles per period.
+        gather_cycles: u16,
+        /// Deciding cycles per period.
+        decide_cycles: u16,
+        /// The cycle, whole seconds.
+        cycle_s: u64,
+    },
+    /// Another reason the run cannot be.
+    #[error(transparent)]
+    Sim(SimError),
 }

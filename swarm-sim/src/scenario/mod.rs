@@ -134,14 +134,31 @@ impl fmt::Display for Placement {
 }
 
 impl std::str::FromStr for Placement {
-    type Err = String;
+    type Err = PlacementError;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         Placement::ALL
             .into_iter()
             .find(|p| p.name() == s)
-            .ok_or_else(|| format!("unknown placement {s:?}: random or lattice"))
+            .ok_or_else(|| PlacementError::Unknown(s.to_string()))
     }
+}
+
+/// Why a placement could not be read ([`Placement`]'s `FromStr`) or used
+/// ([`Scenario::placed`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum PlacementError {
+    /// No placement has this name.
+    #[error("unknown placement {0:?}: random or lattice")]
+    Unknown(String),
+    /// Random placement of a scenario whose shape is a lattice.
+    #[error(
+        "scenario {scenario} sets shape = \"lattice\"; random placement needs a disk or rectangle"
+    )]
+    RandomOnLattice {
+        /// The scenario's name.
+        scenario: String,
+    },
 }
 
 /// The most agents a swarm may have (`agents`, `cimax swarm bench --agents`).
@@ -168,21 +185,42 @@ pub const MAX_RUNS: u64 = 1_000_000;
 /// multiplied to how many.
 ///
 /// # Errors
-/// A message such as `21 positions × 100000 runs = 2100000 runs; at most 1000000`.
-pub fn check_runs(what: &[(u64, &str)]) -> Result<u64, String> {
+/// [`TooManyRuns`], whose message is such as
+/// `21 positions × 100000 runs = 2100000 runs; at most 1000000`.
+pub fn check_runs(what: &[(u64, &str)]) -> Result<u64, TooManyRuns> {
     let total = what
         .iter()
         .try_fold(1u64, |acc, &(n, _)| acc.checked_mul(n));
     match total {
         Some(t) if t <= MAX_RUNS => Ok(t),
-        _ => {
-            let parts: Vec<String> = what.iter().map(|(n, w)| format!("{n} {w}")).collect();
-            let product: u128 = what.iter().map(|&(n, _)| u128::from(n)).product();
-            Err(format!(
-                "{} = {product} runs; at most {MAX_RUNS}",
-                parts.join(" × ")
-            ))
-        }
+        _ => Err(TooManyRuns {
+            counts: what.iter().map(|&(n, w)| (n, w.to_string())).collect(),
+        }),
+    }
+}
+
+/// The runs of one command are more than [`MAX_RUNS`] ([`check_runs`]).
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{} = {} runs; at most {MAX_RUNS}", self.product_text(), self.product())]
+pub struct TooManyRuns {
+    /// The counts that multiply to the runs, each with what it counts (`positions`, `runs`).
+    pub counts: Vec<(u64, String)>,
+}
+
+impl TooManyRuns {
+    /// The number of runs asked for.
+    pub fn product(&self) -> u128 {
+        self.counts.iter().map(|&(n, _)| u128::from(n)).product()
+    }
+
+    /// `21 positions × 100000 runs`.
+    fn product_text(&self) -> String {
+        let parts: Vec<String> = self
+            .counts
+            .iter()
+            .map(|(n, w)| format!("{n} {w}"))
+            .collect();
+        parts.join(" × ")
     }
 }
 
@@ -318,7 +356,7 @@ impl Scenario {
     /// # Errors
     /// [`Placement::Random`] for a scenario with `shape = "lattice"`: it has no area to draw
     /// from.
-    pub fn placed(&self, placement: Placement) -> Result<Scenario, String> {
+    pub fn placed(&self, placement: Placement) -> Result<Scenario, PlacementError> {
         let mut s = self.clone();
         match (placement, self.shape) {
             (Placement::Lattice, Shape::Lattice { .. }) => {}
@@ -328,10 +366,9 @@ impl Scenario {
                 };
             }
             (Placement::Random, Shape::Lattice { .. }) => {
-                return Err(format!(
-                    "scenario {} sets shape = \"lattice\"; random placement needs a disk or rectangle",
-                    self.name
-                ));
+                return Err(PlacementError::RandomOnLattice {
+                    scenario: self.name.clone(),
+                });
             }
             (Placement::Random, _) => {}
         }

@@ -2,6 +2,10 @@
 
 use firmware::SetupError;
 
+use crate::world::adversary::AdversaryError;
+use crate::world::hil::HilError;
+use crate::world::medium::{MediumError, NoSuchNode};
+
 use crate::board::clock::TaskEnd;
 
 /// Why a run could not start.
@@ -10,11 +14,11 @@ pub enum ArenaError {
     /// The robot program refused its configuration.
     Setup(SetupError),
     /// The medium's parameters make no sense.
-    Medium(String),
+    Medium(MediumError),
     /// A kill, restart or per-robot configuration names a robot that does not exist.
     NoSuchRobot(usize),
     /// An adversary's parameters make no sense.
-    Adversary(String),
+    Adversary(AdversaryError),
     /// The tokio runtime could not be built.
     Runtime(String),
     /// A robot in the loop cannot be: its place does not exist or is taken twice, or the run
@@ -95,3 +99,32 @@ impl std::fmt::Display for ArenaError {
 }
 
 impl std::error::Error for ArenaError {}
+
+/// Why a robot's life ended before its stop: it could not boot, or (a robot in the loop) its
+/// link failed. The arena makes it a [`RobotFailure`].
+#[derive(Debug, thiserror::Error)]
+pub(super) enum LifeError {
+    /// The robot program has no build for this many receivers.
+    #[error("{0} sectors: the robot program has 2 to 8 receivers")]
+    Sectors(u8),
+    /// The medium has no place for the robot.
+    #[error(transparent)]
+    Attach(#[from] NoSuchNode),
+    /// The medium gave another number of receivers than the robot has.
+    #[error("the medium gave {got} receivers for {want} sectors")]
+    Receivers {
+        /// The receivers given.
+        got: usize,
+        /// The robot's sectors.
+        want: usize,
+    },
+    /// The robot program refused its configuration.
+    #[error("robot configuration: {0}")]
+    Setup(#[source] SetupError),
+    /// The robot in the loop failed.
+    #[error(transparent)]
+    Hil(#[from] HilError),
+    /// The bridge of a robot in the loop went on after its stop.
+    #[error("the bridge outlived its stop")]
+    BridgeOutlived,
+}

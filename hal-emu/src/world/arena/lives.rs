@@ -16,6 +16,7 @@ use protocol::{Event, FusedNode, Instant, Sector, Variance, WaveState};
 use rand_pcg::Pcg32;
 
 use super::camera::LedLog;
+use super::error::LifeError;
 use crate::board::clock::EmuClock;
 use crate::board::leds::EmuLeds;
 use crate::board::sensor::EmuSensor;
@@ -167,7 +168,7 @@ pub(super) async fn life(
     robot: usize,
     life: u32,
     stop: Rc<Stop>,
-) -> Result<Counters, String> {
+) -> Result<Counters, LifeError> {
     if let Some(h) = shared.hil.iter().find(|h| h.robot == robot) {
         let transport = h.transport.clone();
         let out = in_the_loop(shared.clone(), robot, life, transport, stop).await;
@@ -184,9 +185,7 @@ pub(super) async fn life(
         6 => life_of::<6>(shared, robot, life, stop).await,
         7 => life_of::<7>(shared, robot, life, stop).await,
         8 => life_of::<8>(shared, robot, life, stop).await,
-        s => Err(format!(
-            "{s} sectors: the robot program has 2 to 8 receivers"
-        )),
+        s => Err(LifeError::Sectors(s)),
     }
 }
 
@@ -196,14 +195,14 @@ async fn life_of<const N: usize>(
     robot: usize,
     life: u32,
     stop: Rc<Stop>,
-) -> Result<Counters, String> {
-    let (tx, rx) = Medium::attach(&shared.medium, robot).map_err(|e| e.to_string())?;
+) -> Result<Counters, LifeError> {
+    let (tx, rx) = Medium::attach(&shared.medium, robot)?;
     // Receivers come indexed by sector (with two: right, left).
     if rx.sectors() != N {
-        return Err(format!(
-            "the medium gave {} receivers for {N} sectors",
-            rx.sectors()
-        ));
+        return Err(LifeError::Receivers {
+            got: rx.sectors(),
+            want: N,
+        });
     }
     let clock = shared.clock.clone();
     let sensor = EmuSensor::new(
@@ -229,7 +228,7 @@ async fn life_of<const N: usize>(
         clock.now(),
         rng(shared.seed, RNG_PROTOCOL, robot, life),
     )
-    .map_err(|e| format!("robot configuration: {e}"))?;
+    .map_err(LifeError::Setup)?;
     let mut tracer = Tracer {
         shared: shared.clone(),
         robot,
@@ -260,8 +259,8 @@ async fn in_the_loop(
     life: u32,
     transport: Transport,
     stop: Rc<Stop>,
-) -> Result<Counters, String> {
-    let (tx, rx) = Medium::attach(&shared.medium, robot).map_err(|e| e.to_string())?;
+) -> Result<Counters, LifeError> {
+    let (tx, rx) = Medium::attach(&shared.medium, robot)?;
     let clock = shared.clock.clone();
     let config = Config {
         id: id_of(&shared, robot),
@@ -300,7 +299,7 @@ async fn in_the_loop(
     };
     let report = match select(run, relay).await {
         Either::First(r) => r?,
-        Either::Second(()) => return Err("the bridge outlived its stop".into()),
+        Either::Second(()) => return Err(LifeError::BridgeOutlived),
     };
     shared.hil_reports.borrow_mut().push(report);
     Ok(Default::default())

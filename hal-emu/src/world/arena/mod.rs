@@ -33,7 +33,7 @@ use crate::board::clock::EmuClock;
 use crate::board::timeline::{self, Timeline};
 use crate::world::adversary;
 use crate::world::env::SwarmEnv;
-use crate::world::hil::{Boot, Follower, Lockstep, Transport};
+use crate::world::hil::{Boot, Follower, HilError, Lockstep, Transport};
 use crate::world::medium::Medium;
 
 mod camera;
@@ -340,7 +340,7 @@ fn boot_followers(cfg: &ArenaConfig, patience: StdDuration) -> Result<Lockstep, 
     let hello = StdDuration::from_millis(cfg.hil_timeouts.hello.as_millis());
     let sectors = cfg.robot.params.sectors;
     /// A follower's place, transport, how it boots again, and its boot (none if dead now).
-    type Booted = (usize, String, Boot, Option<Result<Follower, String>>);
+    type Booted = (usize, String, Boot, Option<Result<Follower, HilError>>);
     let booted: Vec<Booted> = std::thread::scope(|scope| {
         let boots: Vec<_> = cfg
             .hil
@@ -351,7 +351,9 @@ fn boot_followers(cfg: &ArenaConfig, patience: StdDuration) -> Result<Lockstep, 
                 let boot = move || match &h.transport {
                     Transport::Qemu(image) => Follower::boot(image, sectors, hello),
                     Transport::Tcp(addr) => Follower::connect(addr, sectors, hello),
-                    t => Err(format!("{t} cannot follow the arena's clock")),
+                    t => Err(HilError::CannotFollow {
+                        transport: t.to_string(),
+                    }),
                 };
                 (h.robot, &h.transport, (!dead).then(|| scope.spawn(boot)))
             })
@@ -359,10 +361,7 @@ fn boot_followers(cfg: &ArenaConfig, patience: StdDuration) -> Result<Lockstep, 
         boots
             .into_iter()
             .map(|(robot, t, b)| {
-                let out = b.map(|b| {
-                    b.join()
-                        .unwrap_or_else(|_| Err("its boot thread panicked".into()))
-                });
+                let out = b.map(|b| b.join().unwrap_or_else(|_| Err(HilError::BootPanicked)));
                 let again = match t {
                     Transport::Qemu(image) => Boot::Qemu {
                         image: image.clone(),

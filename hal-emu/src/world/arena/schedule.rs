@@ -8,7 +8,7 @@ use firmware::{Clock, LedColor};
 use protocol::Instant;
 
 use super::config::ArenaConfig;
-use super::error::RobotFailure;
+use super::error::{LifeError, RobotFailure};
 use super::lives::{Counters, Shared, Stop, life};
 use crate::board::clock::EmuTask;
 use crate::world::medium::TraceEvent;
@@ -48,7 +48,7 @@ pub(super) struct Robots {
     shared: Rc<Shared>,
     lives: Vec<u32>,
     stops: Vec<Option<Rc<Stop>>>,
-    handles: Vec<Option<EmuTask<Result<Counters, String>>>>,
+    handles: Vec<Option<EmuTask<Result<Counters, LifeError>>>>,
     /// Each robot's counters, of its last life that ended.
     pub(super) stats: Vec<Counters>,
     /// The first robot that stopped on its own (a panic, or no boot), if any: the run goes
@@ -94,11 +94,11 @@ impl Robots {
                 self.stats[robot] = s;
                 return;
             }
-            Ok(Err(message)) => RobotFailure {
+            Ok(Err(e)) => RobotFailure {
                 robot,
                 seed,
                 panicked: false,
-                message,
+                message: e.to_string(),
             },
             Err(e) => RobotFailure::from_join(robot, seed, e),
         };

@@ -4,9 +4,7 @@
 
 use embedded_io_async::Write;
 use firmware::hil::robot::led_decision;
-use firmware::hil::{
-    CHUNK_MAX, LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkError, LinkMsg, Setup,
-};
+use firmware::hil::{CHUNK_MAX, LINK_FRAME_MAX, LinkDecoder, LinkError, LinkMsg, Setup};
 use firmware::{Clock, Config, LedColor, Leds, Quantity, Sensor};
 use protocol::{Duration, Instant};
 use serde::Serialize;
@@ -14,6 +12,7 @@ use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 use tokio::task::JoinHandle;
 
 use super::ends::LinkEnds;
+use super::error::HilError;
 use super::link::open;
 use super::transport::Transport;
 use crate::board::clock::EmuClock;
@@ -97,8 +96,8 @@ pub struct HilReport {
     pub stale: u64,
 }
 
-/// Why a bridge failed: the message names the transport; the arena adds the robot.
-type Failure = String;
+/// Why a bridge failed: the error names the transport; the arena adds the robot.
+type Failure = HilError;
 
 /// Sends one message on the link.
 fn send(
@@ -107,11 +106,13 @@ fn send(
     report: &mut HilReport,
 ) -> Result<(), Failure> {
     let mut buf = [0u8; LINK_FRAME_MAX];
-    let f = firmware::hil::encode(msg, &mut buf).map_err(|e| format!("encoding {msg:?}: {e:?}"))?;
+    let f = firmware::hil::encode(msg, &mut buf).map_err(|error| HilError::Encode {
+        msg: Box::new(msg.clone()),
+        error,
+    })?;
     // The writer stops when the robot's end closes: the same failure as reading the end of
     // its stream, whichever of the two the bridge sees first.
-    to.send(f.to_vec())
-        .map_err(|_| "its link ended (disconnected) while the host was sending".to_string())?;
+    to.send(f.to_vec()).map_err(|_| HilError::SendEnded)?;
     report.frames_sent += 1;
     report.bytes_sent += f.len() as u64;
     Ok(())
@@ -138,11 +139,11 @@ impl Bridge {
         };
         let t0 = self.clock.now();
         let ends = open(&self.transport, self.clock.clone(), self.config).await;
-        let mut ends = ends.map_err(|e| format!("its link did not open: {e}"))?;
+        let mut ends = ends.map_err(|e| HilError::NotOpened(Box::new(e)))?;
         let out = self
             .serve(&mut ends, &mut report, t0, stop)
             .await
-            .map_err(|e| e + &ends.last_words());
+            .map_err(|e| e.with_output(ends.output()));
         ends.close().await;
         out.map(|()| report)
     }
@@ -165,11 +166,9 @@ impl Bridge {
         // already may still be sending the last run's light and LEDs).
         if self.config.key.is_some() {
             // Link version 3 carries the key only to a robot on the arena's clock.
-            return Err(format!(
-                "cannot take the run's swarm key over {} on its own clock: link version 3 \
-                 gives it only to robots on the arena's clock",
-                self.transport
-            ));
+            return Err(HilError::NoKey {
+                over: self.transport.to_string(),
+            });
         }
         self.readings(&to, report).await?;
         send(&to, &LinkMsg::Setup(self.setup), report)?;
@@ -193,7 +192,9 @@ impl Bridge {
             match input {
                 Input::Stop => return self.check_at_end(now.saturating_since(t0), report),
                 Input::Bytes(None) => {
-                    return Err(format!("its {} link ended (disconnected)", self.transport));
+                    return Err(HilError::Disconnected {
+                        over: self.transport.to_string(),
+                    });
                 }
                 Input::Bytes(Some(bytes)) => {
                     self.on_bytes(bytes, now, &mut decoder, &mut live, &air, report)
@@ -227,10 +228,11 @@ impl Bridge {
         report.hello_id = id;
         report.hello_ms = self.clock.now().saturating_since(t0).as_millis();
         if sectors != self.config.params.sectors {
-            return Err(format!(
-                "has {sectors} receivers (said hello over {}); the arena's robots have {}",
-                self.transport, self.config.params.sectors
-            ));
+            return Err(HilError::Sectors {
+                has: sectors,
+                over: self.transport.to_string(),
+                want: self.config.params.sectors,
+            });
         }
         Ok(pending)
     }
@@ -281,11 +283,10 @@ impl Bridge {
         }
         let silent = now.saturating_since(live.last_heard);
         if silent > self.timeouts.silence {
-            return Err(format!(
-                "stopped its heartbeat over {}: nothing for {} ms",
-                self.transport,
-                silent.as_millis()
-            ));
+            return Err(HilError::HeartbeatStopped {
+                over: self.transport.to_string(),
+                silent,
+            });
         }
         Ok(())
     }
@@ -303,29 +304,27 @@ impl Bridge {
             let got = tokio::select! {
                 b = from.recv() => b,
                 () = self.clock.sleep_until(deadline) => {
-                    return Err(format!(
-                        "never said hello over {} within {} s",
-                        self.transport,
-                        self.timeouts.hello.as_millis() / 1000
-                    ));
+                    return Err(HilError::NoHello {
+                        over: self.transport.to_string(),
+                        within: std::time::Duration::from_millis(self.timeouts.hello.as_millis()),
+                    });
                 }
             };
             let Some(bytes) = got else {
-                return Err(format!(
-                    "its {} link ended before it said hello",
-                    self.transport
-                ));
+                return Err(HilError::EndedBeforeHello {
+                    over: self.transport.to_string(),
+                });
             };
             for (i, &b) in bytes.iter().enumerate() {
                 match decoder.push(b) {
                     Some(Ok(LinkMsg::Hello { id, sectors, .. })) => {
                         return Ok((id, sectors, bytes[i + 1..].to_vec()));
                     }
-                    Some(Err(LinkError::UnknownVersion(v))) => {
-                        return Err(format!(
-                            "speaks link version {v} over {}; this host speaks {LINK_VERSION}",
-                            self.transport
-                        ));
+                    Some(Err(LinkError::UnknownVersion(version))) => {
+                        return Err(HilError::Version {
+                            version,
+                            over: self.transport.to_string(),
+                        });
                     }
                     _ => {}
                 }
@@ -371,11 +370,11 @@ impl Bridge {
                 let _ = self.leds.show(color).await;
             }
             LinkMsg::Refused(code) => {
-                let why = refusal(code);
-                return Err(format!(
-                    "refused the run's setup over {}: {why} (code {code})",
-                    self.transport
-                ));
+                return Err(HilError::Refused {
+                    over: self.transport.to_string(),
+                    why: refusal(code),
+                    code,
+                });
             }
             LinkMsg::Heartbeat(seq) => {
                 live.beating = true;
@@ -393,10 +392,9 @@ impl Bridge {
             // Hellos still in flight when it got the setup are fine; a Hello after it started
             // answering heartbeats means it rebooted.
             LinkMsg::Hello { .. } if live.beating => {
-                return Err(format!(
-                    "said hello again over {}: it rebooted during the run",
-                    self.transport
-                ));
+                return Err(HilError::Rebooted {
+                    over: self.transport.to_string(),
+                });
             }
             _ => {}
         }
@@ -409,11 +407,10 @@ impl Bridge {
     fn check_at_end(&self, ran: Duration, report: &HilReport) -> Result<(), Failure> {
         let cycles = self.config.params.longest_cycle().saturating_mul(3);
         if report.tx == 0 && ran > cycles {
-            return Err(format!(
-                "sent no light over {} in {} s: its robot program is not running",
-                self.transport,
-                ran.as_millis() / 1000
-            ));
+            return Err(HilError::Dark {
+                over: self.transport.to_string(),
+                ran,
+            });
         }
         Ok(())
     }

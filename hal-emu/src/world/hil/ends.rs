@@ -80,13 +80,12 @@ impl LinkEnds {
 
     /// `; its output ends: ...` with the last lines its process printed, or nothing.
     pub fn last_words(&self) -> String {
-        let l = self.log.borrow();
-        if l.is_empty() {
-            String::new()
-        } else {
-            let lines: Vec<&str> = l.iter().map(String::as_str).collect();
-            format!("; its output ends: {}", lines.join(" | "))
-        }
+        super::error::last_words(&self.output())
+    }
+
+    /// The last lines its process printed, oldest first.
+    pub(crate) fn output(&self) -> Vec<String> {
+        self.log.borrow().iter().cloned().collect()
     }
 
     /// Ends the link: stops the tasks and threads, kills the child process and waits for it.

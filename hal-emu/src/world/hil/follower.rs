@@ -17,6 +17,7 @@ use std::time::{Duration as WallDuration, Instant as WallInstant};
 
 use firmware::hil::{LINK_FRAME_MAX, LINK_VERSION, LinkDecoder, LinkError, LinkMsg};
 
+use super::error::HilError;
 use super::qemu::qemu_args;
 
 /// What the reader thread hands over.
@@ -59,26 +60,21 @@ impl Follower {
     ///
     /// # Errors
     /// Why not, with QEMU's last words; the process is killed then.
-    pub fn boot(image: &Path, sectors: u8, hello: WallDuration) -> Result<Self, String> {
+    pub fn boot(image: &Path, sectors: u8, hello: WallDuration) -> Result<Self, HilError> {
         if !image.is_file() {
-            return Err(format!(
-                "no HIL image at {} (build it with `cargo hil-image`, docs/hil.md)",
-                image.display()
-            ));
+            return Err(HilError::NoImage {
+                image: image.to_path_buf(),
+            });
         }
-        let listener =
-            TcpListener::bind("127.0.0.1:0").map_err(|e| format!("qemu: no local socket: {e}"))?;
-        let port = listener
-            .local_addr()
-            .map_err(|e| format!("qemu: no local socket: {e}"))?
-            .port();
+        let listener = TcpListener::bind("127.0.0.1:0").map_err(HilError::NoSocket)?;
+        let port = listener.local_addr().map_err(HilError::NoSocket)?.port();
         let mut child = Command::new("qemu-system-arm")
             .args(qemu_args(image, port))
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
-            .map_err(|e| format!("qemu-system-arm: {e} (is QEMU installed?)"))?;
+            .map_err(HilError::Spawn)?;
         let log = Arc::new(Mutex::new(VecDeque::new()));
         let outs: [Option<Box<dyn Read + Send>>; 2] = [
             child.stdout.take().map(|o| Box::new(o) as _),
@@ -95,7 +91,7 @@ impl Follower {
                 Err(e) => {
                     let _ = child.kill();
                     let _ = child.wait();
-                    return Err(format!("{e}{}", last_words(&log)));
+                    return Err(e.with_output(output(&log)));
                 }
             },
             child: Some(child),
@@ -109,7 +105,7 @@ impl Follower {
         let t0 = WallInstant::now();
         f.start_reader()?;
         f.greet(sectors, hello)
-            .map_err(|e| format!("{e}{}", f.last_words()))?;
+            .map_err(|e| e.with_output(f.output()))?;
         f.hello = t0.elapsed();
         Ok(f)
     }
@@ -120,7 +116,7 @@ impl Follower {
     /// # Errors
     /// Why not (no connection, no hello, another version or sectors, a robot that cannot
     /// follow the host's clock).
-    pub fn connect(addr: &str, sectors: u8, hello: WallDuration) -> Result<Self, String> {
+    pub fn connect(addr: &str, sectors: u8, hello: WallDuration) -> Result<Self, HilError> {
         let mut f = Self::dial(addr)?;
         let t0 = WallInstant::now();
         f.greet(sectors, hello)?;
@@ -134,21 +130,26 @@ impl Follower {
     ///
     /// # Errors
     /// Why it could not tell (no connection, no hello within `hello`, another version).
-    pub fn follows_host_clock(addr: &str, hello: WallDuration) -> Result<bool, String> {
-        let mut f = Self::dial(addr).map_err(|e| format!("its link did not open ({e})"))?;
+    pub fn follows_host_clock(addr: &str, hello: WallDuration) -> Result<bool, HilError> {
+        let mut f = Self::dial(addr).map_err(|e| HilError::Unreachable(Box::new(e)))?;
         f.hello(hello).map(|(_, _, host_clock)| host_clock)
     }
 
     /// Connects to `addr` (within 10 s) and starts reading.
-    fn dial(addr: &str) -> Result<Self, String> {
+    fn dial(addr: &str) -> Result<Self, HilError> {
         use std::net::ToSocketAddrs;
-        let to = addr
-            .to_socket_addrs()
-            .map_err(|e| format!("tcp:{addr}: {e}"))?
-            .next()
-            .ok_or_else(|| format!("tcp:{addr}: no address"))?;
-        let stream = TcpStream::connect_timeout(&to, WallDuration::from_secs(10))
-            .map_err(|e| format!("tcp:{addr}: {e}"))?;
+        let tcp = |source| HilError::Tcp {
+            addr: addr.to_string(),
+            source,
+        };
+        let to =
+            addr.to_socket_addrs()
+                .map_err(tcp)?
+                .next()
+                .ok_or_else(|| HilError::NoAddress {
+                    addr: addr.to_string(),
+                })?;
+        let stream = TcpStream::connect_timeout(&to, WallDuration::from_secs(10)).map_err(tcp)?;
         let mut f = Follower {
             name: format!("tcp:{addr}"),
             stream,
@@ -165,12 +166,9 @@ impl Follower {
     }
 
     /// Starts the thread that decodes what the robot sends into [`Follower::from`].
-    fn start_reader(&mut self) -> Result<(), String> {
+    fn start_reader(&mut self) -> Result<(), HilError> {
         let _ = self.stream.set_nodelay(true);
-        let stream = self
-            .stream
-            .try_clone()
-            .map_err(|e| format!("qemu: socket: {e}"))?;
+        let stream = self.stream.try_clone().map_err(HilError::Socket)?;
         let (tx, rx) = channel();
         self.from = rx;
         let errors = self.errors.clone();
@@ -179,20 +177,17 @@ impl Follower {
     }
 
     /// Sends a 0x00 and asks who it is; waits for its `Hello` and checks it.
-    fn greet(&mut self, sectors: u8, within: WallDuration) -> Result<(), String> {
+    fn greet(&mut self, sectors: u8, within: WallDuration) -> Result<(), HilError> {
         let (id, k, host_clock) = self.hello(within)?;
         if k != sectors {
-            return Err(format!(
-                "has {k} receivers (said hello over {}); the arena's robots have {sectors}",
-                self.name
-            ));
+            return Err(HilError::Sectors {
+                has: k,
+                over: self.name.clone(),
+                want: sectors,
+            });
         }
         if !host_clock {
-            return Err(
-                "its image cannot follow the host's clock (its Hello says so): rebuild it with \
-                 `cargo hil-image`, or run it with --hil-clock wall"
-                    .into(),
-            );
+            return Err(HilError::NoHostClock);
         }
         self.hello_id = id;
         Ok(())
@@ -200,7 +195,7 @@ impl Follower {
 
     /// Sends a 0x00 and asks who it is: its `Hello`'s id, sectors and whether it can follow
     /// the host's clock, within `within`.
-    fn hello(&mut self, within: WallDuration) -> Result<(u16, u8, bool), String> {
+    fn hello(&mut self, within: WallDuration) -> Result<(u16, u8, bool), HilError> {
         let mut bytes = vec![0u8];
         bytes.extend_from_slice(&frame(&LinkMsg::Hello {
             version: LINK_VERSION,
@@ -220,21 +215,22 @@ impl Follower {
                     ..
                 })) => return Ok((id, sectors, host_clock)),
                 Ok(FromRobot::Version(v)) => {
-                    return Err(format!(
-                        "speaks link version {v} over {}; this host speaks {LINK_VERSION}",
-                        self.name
-                    ));
+                    return Err(HilError::Version {
+                        version: v,
+                        over: self.name.clone(),
+                    });
                 }
                 Ok(FromRobot::Msg(_)) => {}
                 Ok(FromRobot::Ended) | Err(RecvTimeoutError::Disconnected) => {
-                    return Err(format!("its {} link ended before it said hello", self.name));
+                    return Err(HilError::EndedBeforeHello {
+                        over: self.name.clone(),
+                    });
                 }
                 Err(RecvTimeoutError::Timeout) => {
-                    return Err(format!(
-                        "never said hello over {} within {} s",
-                        self.name,
-                        within.as_secs()
-                    ));
+                    return Err(HilError::NoHello {
+                        over: self.name.clone(),
+                        within,
+                    });
                 }
             }
         }
@@ -244,10 +240,13 @@ impl Follower {
     ///
     /// # Errors
     /// The link ended.
-    pub(crate) fn write(&mut self, bytes: &[u8]) -> Result<(), String> {
+    pub(crate) fn write(&mut self, bytes: &[u8]) -> Result<(), HilError> {
         self.stream
             .write_all(bytes)
-            .map_err(|e| format!("its {} link ended (writing: {e})", self.name))?;
+            .map_err(|source| HilError::Write {
+                over: self.name.clone(),
+                source,
+            })?;
         self.sent += bytes.len() as u64;
         Ok(())
     }
@@ -257,9 +256,9 @@ impl Follower {
         self.errors.load(Ordering::Relaxed)
     }
 
-    /// `; its output ends: ...` with the last lines QEMU printed, or nothing.
-    pub(crate) fn last_words(&self) -> String {
-        last_words(&self.log)
+    /// The last lines QEMU printed (none for a robot on a socket).
+    pub(crate) fn output(&self) -> Vec<String> {
+        output(&self.log)
     }
 }
 
@@ -281,27 +280,22 @@ pub(crate) fn frame(msg: &LinkMsg) -> Vec<u8> {
 }
 
 /// Accepts one connection within `within`.
-fn accept(listener: &TcpListener, within: WallDuration) -> Result<TcpStream, String> {
-    listener
-        .set_nonblocking(true)
-        .map_err(|e| format!("qemu: {e}"))?;
+fn accept(listener: &TcpListener, within: WallDuration) -> Result<TcpStream, HilError> {
+    listener.set_nonblocking(true).map_err(HilError::Qemu)?;
     let deadline = WallInstant::now() + within;
     loop {
         match listener.accept() {
             Ok((s, _)) => {
-                s.set_nonblocking(false).map_err(|e| format!("qemu: {e}"))?;
+                s.set_nonblocking(false).map_err(HilError::Qemu)?;
                 return Ok(s);
             }
             Err(e) if e.kind() == std::io::ErrorKind::WouldBlock => {
                 if WallInstant::now() >= deadline {
-                    return Err(format!(
-                        "qemu did not connect its UART within {} s",
-                        within.as_secs()
-                    ));
+                    return Err(HilError::UartTimeout { after: within });
                 }
                 std::thread::sleep(WallDuration::from_millis(2));
             }
-            Err(e) => return Err(format!("qemu: {e}")),
+            Err(e) => return Err(HilError::Qemu(e)),
         }
     }
 }
@@ -347,12 +341,8 @@ fn keep_log(out: Box<dyn Read + Send>, log: &Mutex<VecDeque<String>>) {
     }
 }
 
-fn last_words(log: &Mutex<VecDeque<String>>) -> String {
+/// The lines kept in `log`, oldest first.
+fn output(log: &Mutex<VecDeque<String>>) -> Vec<String> {
     let l = log.lock().unwrap_or_else(PoisonError::into_inner);
-    if l.is_empty() {
-        String::new()
-    } else {
-        let lines: Vec<&str> = l.iter().map(String::as_str).collect();
-        format!("; its output ends: {}", lines.join(" | "))
-    }
+    l.iter().cloned().collect()
 }

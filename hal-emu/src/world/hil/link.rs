@@ -6,6 +6,7 @@ use firmware::Config;
 use tokio::sync::mpsc::unbounded_channel;
 
 use super::ends::LinkEnds;
+use super::error::HilError;
 use super::in_process::in_process;
 use super::qemu;
 use super::serial::serial;
@@ -21,7 +22,7 @@ pub async fn open(
     transport: &Transport,
     clock: EmuClock,
     base: Config,
-) -> Result<LinkEnds, String> {
+) -> Result<LinkEnds, HilError> {
     let (to_host, from_robot) = unbounded_channel::<Vec<u8>>();
     let (to_robot, from_host) = unbounded_channel::<Vec<u8>>();
     let mut ends = LinkEnds::new(from_robot, to_robot);
@@ -48,12 +49,16 @@ pub async fn open(
 }
 
 /// Connects to a robot on a TCP socket (`HOST:PORT`), within 10 s.
-async fn connect(addr: &str) -> Result<tokio::net::TcpStream, String> {
-    tokio::time::timeout(
-        std::time::Duration::from_secs(10),
-        tokio::net::TcpStream::connect(addr),
-    )
-    .await
-    .map_err(|_| format!("tcp:{addr}: no connection within 10 s"))?
-    .map_err(|e| format!("tcp:{addr}: {e}"))
+async fn connect(addr: &str) -> Result<tokio::net::TcpStream, HilError> {
+    let after = std::time::Duration::from_secs(10);
+    tokio::time::timeout(after, tokio::net::TcpStream::connect(addr))
+        .await
+        .map_err(|_| HilError::ConnectTimeout {
+            addr: addr.to_string(),
+            after,
+        })?
+        .map_err(|source| HilError::Tcp {
+            addr: addr.to_string(),
+            source,
+        })
 }

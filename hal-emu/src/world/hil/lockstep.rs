@@ -21,12 +21,13 @@ use std::sync::mpsc::RecvTimeoutError;
 use std::time::{Duration as WallDuration, Instant as WallInstant};
 
 use firmware::hil::robot::{HELD, led_decision};
-use firmware::hil::{CHUNK_MAX, LINK_VERSION, LinkDecoder, LinkMsg};
+use firmware::hil::{CHUNK_MAX, LinkDecoder, LinkMsg};
 use firmware::{Clock, Config, LedColor, Leds, Quantity, Sensor};
 use protocol::{Duration, Instant};
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 
 use super::bridge::{Bridge, HilReport, hear, put_on_air, refusal};
+use super::error::HilError;
 use super::follower::{Follower, FromRobot, frame};
 use super::twin::{self, Twin};
 use crate::board::clock::EmuClock;
@@ -40,8 +41,8 @@ pub const FLOOD: usize = 4096;
 pub(crate) enum Batch {
     /// Everything the follower said for one `Sync`, its `Idle` last.
     Msgs(Vec<LinkMsg>),
-    /// The follower failed (the message names it; its QEMU is gone).
-    Failed(String),
+    /// The follower failed (the error names it; its QEMU is gone).
+    Failed(HilError),
 }
 
 /// How a follower boots when a life of it begins with nothing on its link: restarted in the
@@ -202,10 +203,10 @@ impl Lockstep {
     ///
     /// # Errors
     /// It is none of these followers, or it cannot boot (the message says why).
-    fn attach(&self, robot: usize) -> Result<UnboundedReceiver<Batch>, String> {
+    fn attach(&self, robot: usize) -> Result<UnboundedReceiver<Batch>, HilError> {
         let mut slots = self.slots.borrow_mut();
         let Some(s) = slots.iter_mut().find(|s| s.robot == robot) else {
-            return Err("is no robot on the arena's clock".into());
+            return Err(HilError::NotInLockstep);
         };
         if s.follower.is_none() && s.twin.is_none() {
             match &s.boot {
@@ -217,7 +218,7 @@ impl Lockstep {
                 Boot::Twin(clock, base) => {
                     s.twin = Some(TwinState::new(twin::start(clock, *base)));
                 }
-                Boot::Socket => return Err("is on a socket: the arena cannot boot it".into()),
+                Boot::Socket => return Err(HilError::CannotBoot),
             }
         }
         let (tx, rx) = unbounded_channel();
@@ -295,7 +296,7 @@ impl Lockstep {
     }
 
     /// Sends slot `s` what it has queued (at most [`HELD`] − 1 messages) and `Sync(now)`.
-    fn sync(s: &mut Slot, now: Instant) -> Result<(), String> {
+    fn sync(s: &mut Slot, now: Instant) -> Result<(), HilError> {
         let mut bytes = Vec::new();
         let mut frames = 0;
         while frames < HELD - 1 {
@@ -303,8 +304,7 @@ impl Lockstep {
             bytes.extend_from_slice(&frame(&m));
             frames += 1;
         }
-        let ms = u32::try_from(now.as_millis())
-            .map_err(|_| "the run outlasts the link's clock (u32 milliseconds)".to_string())?;
+        let ms = u32::try_from(now.as_millis()).map_err(|_| HilError::ClockOverflow)?;
         bytes.extend_from_slice(&frame(&LinkMsg::Sync(ms)));
         if let Some(t) = s.twin.as_mut() {
             t.bytes_sent += bytes.len() as u64;
@@ -313,11 +313,11 @@ impl Lockstep {
             t.twin
                 .to_robot
                 .send(bytes)
-                .map_err(|_| "its loopback link ended (the robot stopped)".to_string())?;
+                .map_err(|_| HilError::LoopbackEnded)?;
         } else if let Some(f) = s.follower.as_mut() {
             f.write(&bytes)?;
         } else {
-            return Err("its QEMU is gone".into());
+            return Err(HilError::QemuGone);
         }
         s.frames_sent += frames as u64 + 1;
         s.owes = Some(now);
@@ -327,31 +327,33 @@ impl Lockstep {
     }
 
     /// Waits for slot `s`'s `Idle` for `now`: everything it said before it, the `Idle` last.
-    fn collect(s: &mut Slot, now: Instant, patience: WallDuration) -> Result<Vec<LinkMsg>, String> {
+    fn collect(
+        s: &mut Slot,
+        now: Instant,
+        patience: WallDuration,
+    ) -> Result<Vec<LinkMsg>, HilError> {
         let over = s.over();
         let deadline = WallInstant::now() + patience;
         let mut batch = Vec::new();
         loop {
             let Some(f) = s.follower.as_ref() else {
-                return Err("its QEMU is gone".into());
+                return Err(HilError::QemuGone);
             };
             let left = deadline.saturating_duration_since(WallInstant::now());
             let msg = match f.from.recv_timeout(left) {
                 Ok(FromRobot::Msg(m)) => m,
-                Ok(FromRobot::Version(v)) => {
-                    return Err(format!(
-                        "speaks link version {v} over {over}; this host speaks {LINK_VERSION}"
-                    ));
+                Ok(FromRobot::Version(version)) => {
+                    return Err(HilError::Version { version, over });
                 }
                 Ok(FromRobot::Ended) | Err(RecvTimeoutError::Disconnected) => {
-                    return Err(format!("its {over} link ended (disconnected)"));
+                    return Err(HilError::Disconnected { over });
                 }
                 Err(RecvTimeoutError::Timeout) => {
-                    return Err(format!(
-                        "stopped answering over {over}: no Idle within {} ms of Sync({} ms)",
-                        patience.as_millis(),
-                        now.as_millis()
-                    ));
+                    return Err(HilError::Silent {
+                        over,
+                        patience,
+                        now,
+                    });
                 }
             };
             if Self::take(s, msg, now, &over, &mut batch)? {
@@ -368,18 +370,19 @@ impl Lockstep {
         now: Instant,
         over: &str,
         batch: &mut Vec<LinkMsg>,
-    ) -> Result<bool, String> {
+    ) -> Result<bool, HilError> {
         match msg {
             LinkMsg::Idle { now: t, .. } if u64::from(t) != now.as_millis() => {
-                return Err(format!(
-                    "said it was idle at {t} ms over {over}; the arena is at {} ms",
-                    now.as_millis()
-                ));
+                return Err(HilError::IdleAt {
+                    said: t,
+                    over: over.to_string(),
+                    now,
+                });
             }
             LinkMsg::Hello { .. } if s.answered => {
-                return Err(format!(
-                    "said hello again over {over}: it rebooted during the run"
-                ));
+                return Err(HilError::Rebooted {
+                    over: over.to_string(),
+                });
             }
             // Hellos from before its setup (it says hello on its own clock until then, so
             // their number depends on wall time: they are not counted).
@@ -395,10 +398,11 @@ impl Lockstep {
             return Ok(true);
         }
         if batch.len() > FLOOD {
-            return Err(format!(
-                "floods the link over {over}: more than {FLOOD} messages for Sync({} ms)",
-                now.as_millis()
-            ));
+            return Err(HilError::Flood {
+                over: over.to_string(),
+                most: FLOOD,
+                now,
+            });
         }
         Ok(false)
     }
@@ -407,7 +411,7 @@ impl Lockstep {
     /// decoded; `Some(batch)` once its `Idle` came. The settle that sends the `Sync` leaves it
     /// to run; the next finds it idle (nothing can run) and calls its idle hook; its `Idle` is
     /// there by the one after.
-    fn collect_twin(s: &mut Slot, now: Instant) -> Result<Option<Vec<LinkMsg>>, String> {
+    fn collect_twin(s: &mut Slot, now: Instant) -> Result<Option<Vec<LinkMsg>>, HilError> {
         if let Some(t) = s.twin.as_mut()
             && std::mem::take(&mut t.fresh)
         {
@@ -428,13 +432,10 @@ impl Lockstep {
         }
         s.said = batch;
         let Some(t) = s.twin.as_mut() else {
-            return Err("its loopback robot is gone".into());
+            return Err(HilError::LoopbackGone);
         };
         if t.asked {
-            return Err(format!(
-                "did not say Idle for Sync({} ms) over loopback once nothing could run",
-                now.as_millis()
-            ));
+            return Err(HilError::NoIdle { now });
         }
         t.asked = true;
         (t.twin.idle)();
@@ -442,9 +443,9 @@ impl Lockstep {
     }
 
     /// Slot `s` failed: its bridge is told, its QEMU killed.
-    fn fail(s: &mut Slot, why: String) {
+    fn fail(s: &mut Slot, why: HilError) {
         let why = match &s.follower {
-            Some(f) => format!("{why}{}", f.last_words()),
+            Some(f) => why.with_output(f.output()),
             None => why,
         };
         if let Some(b) = s.to_bridge.take() {
@@ -516,7 +517,7 @@ pub(crate) async fn serve(
     mut bridge: Bridge,
     lockstep: Rc<Lockstep>,
     mut stop: tokio::sync::oneshot::Receiver<()>,
-) -> Result<HilReport, String> {
+) -> Result<HilReport, HilError> {
     let robot = bridge.robot;
     let mut report = HilReport {
         robot,
@@ -553,7 +554,7 @@ pub(crate) async fn serve(
                 lockstep.detach(robot);
                 return check_at_end(&bridge, now.saturating_since(t0), &report);
             }
-            Some(Input::Batch(None)) => return Err("its lockstep ended".into()),
+            Some(Input::Batch(None)) => return Err(HilError::LockstepEnded),
             Some(Input::Batch(Some(Batch::Failed(why)))) => return Err(why),
             Some(Input::Batch(Some(Batch::Msgs(msgs)))) => {
                 for m in msgs {
@@ -605,7 +606,7 @@ async fn on_message(
     msg: LinkMsg,
     air: &UnboundedSender<Vec<u8>>,
     report: &mut HilReport,
-) -> Result<Option<Instant>, String> {
+) -> Result<Option<Instant>, HilError> {
     match msg {
         LinkMsg::Tx(chunk) => {
             report.tx += 1;
@@ -617,11 +618,11 @@ async fn on_message(
             let _ = bridge.leds.show(color).await;
         }
         LinkMsg::Refused(code) => {
-            let why = refusal(code);
-            return Err(format!(
-                "refused the run's setup over {}: {why} (code {code})",
-                bridge.transport
-            ));
+            return Err(HilError::Refused {
+                over: bridge.transport.to_string(),
+                why: refusal(code),
+                code,
+            });
         }
         LinkMsg::Idle { next, .. } => {
             return Ok(Some(if next == u32::MAX {
@@ -667,14 +668,13 @@ fn start_light(bridge: &mut Bridge) -> Light {
 
 /// At the end of a run that lasted `ran`: a robot program that runs initiates a wave every
 /// cycle, so one that sent no light in three cycles' time is not running.
-fn check_at_end(bridge: &Bridge, ran: Duration, report: &HilReport) -> Result<HilReport, String> {
+fn check_at_end(bridge: &Bridge, ran: Duration, report: &HilReport) -> Result<HilReport, HilError> {
     let cycles = bridge.config.params.longest_cycle().saturating_mul(3);
     if report.tx == 0 && ran > cycles {
-        return Err(format!(
-            "sent no light over {} in {} s: its robot program is not running",
-            bridge.transport,
-            ran.as_millis() / 1000
-        ));
+        return Err(HilError::Dark {
+            over: bridge.transport.to_string(),
+            ran,
+        });
     }
     Ok(report.clone())
 }

@@ -23,6 +23,8 @@
 //!
 //! - `transport.rs`: how to reach a robot in the loop ([`Transport`], [`HilRobot`]);
 //! - `spec.rs`: the robots in the loop as `cimax arena --hil` names them ([`HilSpec`]);
+//! - `error.rs`: why a robot in the loop failed ([`HilError`]) or could not be named
+//!   ([`SpecError`]);
 //! - `ends.rs`: a link's two ends on the host, as channels of bytes ([`LinkEnds`]);
 //! - `qemu.rs`, `serial.rs`, `in_process.rs`: the transports other than a plain socket;
 //! - `link.rs`: opening a link over its transport ([`open`]);
@@ -31,6 +33,7 @@
 
 mod bridge;
 mod ends;
+mod error;
 mod follower;
 mod in_process;
 mod link;
@@ -44,6 +47,7 @@ mod twin;
 pub(crate) use bridge::{Bridge, setup_of, setup_seed};
 pub use bridge::{HilReport, HilTimeouts};
 pub use ends::LinkEnds;
+pub use error::{HilError, SpecError};
 pub use follower::Follower;
 pub use link::open;
 pub(crate) use lockstep::Boot;

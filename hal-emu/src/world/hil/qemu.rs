@@ -6,6 +6,7 @@ use std::path::Path;
 use std::process::Stdio;
 
 use super::ends::{LinkEnds, keep_log};
+use super::error::HilError;
 
 /// Boots QEMU on `image` for `ends` (the process and the tasks keeping its output go into
 /// `ends`, so that they are ended with it) and waits for it to connect its UART.
@@ -15,22 +16,18 @@ use super::ends::{LinkEnds, keep_log};
 pub(super) async fn start(
     ends: &mut LinkEnds,
     image: &Path,
-) -> Result<tokio::net::TcpStream, String> {
+) -> Result<tokio::net::TcpStream, HilError> {
     if !image.is_file() {
-        return Err(format!(
-            "no HIL image at {} (build it with `cargo hil-image`, docs/hil.md)",
-            image.display()
-        ));
+        return Err(HilError::NoImage {
+            image: image.to_path_buf(),
+        });
     }
     // QEMU connects UART0 to a socket of ours; its stdout and stderr (the image's
     // semihosting log, QEMU's complaints) are kept for the failure message.
     let listener = tokio::net::TcpListener::bind("127.0.0.1:0")
         .await
-        .map_err(|e| format!("qemu: no local socket: {e}"))?;
-    let port = listener
-        .local_addr()
-        .map_err(|e| format!("qemu: no local socket: {e}"))?
-        .port();
+        .map_err(HilError::NoSocket)?;
+    let port = listener.local_addr().map_err(HilError::NoSocket)?.port();
     let mut child = tokio::process::Command::new("qemu-system-arm")
         .args(qemu_args(image, port))
         .stdin(Stdio::null())
@@ -38,7 +35,7 @@ pub(super) async fn start(
         .stderr(Stdio::piped())
         .kill_on_drop(true)
         .spawn()
-        .map_err(|e| format!("qemu-system-arm: {e} (is QEMU installed?)"))?;
+        .map_err(HilError::Spawn)?;
     let outs: [Option<Box<dyn tokio::io::AsyncRead + Unpin>>; 2] = [
         child.stdout.take().map(|o| Box::new(o) as _),
         child.stderr.take().map(|o| Box::new(o) as _),
@@ -48,14 +45,11 @@ pub(super) async fn start(
             .push(tokio::task::spawn_local(keep_log(out, ends.log.clone())));
     }
     ends.child = Some(child);
-    let accepted = tokio::time::timeout(std::time::Duration::from_secs(10), listener.accept());
-    match accepted.await {
+    let after = std::time::Duration::from_secs(10);
+    match tokio::time::timeout(after, listener.accept()).await {
         Ok(Ok((s, _))) => Ok(s),
-        Ok(Err(e)) => Err(format!("qemu: {e}")),
-        Err(_) => Err(format!(
-            "qemu did not connect its UART within 10 s{}",
-            ends.last_words()
-        )),
+        Ok(Err(e)) => Err(HilError::Qemu(e)),
+        Err(_) => Err(HilError::UartTimeout { after }.with_output(ends.output())),
     }
 }
 

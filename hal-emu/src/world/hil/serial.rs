@@ -5,6 +5,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender};
 
+use super::error::HilError;
+
 /// A serial port, read and written by two threads (the port is blocking I/O).
 pub(super) fn serial(
     path: &std::path::Path,
@@ -12,15 +14,17 @@ pub(super) fn serial(
     to_host: UnboundedSender<Vec<u8>>,
     mut from_host: UnboundedReceiver<Vec<u8>>,
     stop: Arc<AtomicBool>,
-) -> Result<Vec<std::thread::JoinHandle<()>>, String> {
+) -> Result<Vec<std::thread::JoinHandle<()>>, HilError> {
     let name = path.to_string_lossy().into_owned();
+    let failed = |source| HilError::Serial {
+        port: name.clone(),
+        source,
+    };
     let mut port = serialport::new(&name, baud)
         .timeout(std::time::Duration::from_millis(50))
         .open()
-        .map_err(|e| format!("serial:{name}: {e}"))?;
-    let mut writer = port
-        .try_clone()
-        .map_err(|e| format!("serial:{name}: {e}"))?;
+        .map_err(failed)?;
+    let mut writer = port.try_clone().map_err(failed)?;
     let stop_r = stop.clone();
     let reader = std::thread::spawn(move || {
         let mut buf = [0u8; 256];

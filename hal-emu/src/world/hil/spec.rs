@@ -4,6 +4,7 @@
 use std::path::PathBuf;
 use std::str::FromStr;
 
+use super::error::SpecError;
 use super::transport::Transport;
 
 /// The robots in the loop of a run, as `cimax arena --hil` names them.
@@ -43,13 +44,16 @@ impl HilSpec {
 }
 
 impl FromStr for HilSpec {
-    type Err = String;
+    type Err = SpecError;
 
-    fn from_str(s: &str) -> Result<Self, String> {
-        let count = |n: &str, what: &str| -> Result<usize, String> {
+    fn from_str(s: &str) -> Result<Self, SpecError> {
+        let count = |n: &str, what: &'static str| -> Result<usize, SpecError> {
             match n.parse::<usize>() {
                 Ok(k @ 1..=64) => Ok(k),
-                _ => Err(format!("{what}:N needs N from 1 to 64, not {n:?}")),
+                _ => Err(SpecError::Count {
+                    what,
+                    n: n.to_string(),
+                }),
             }
         };
         if let Some(n) = s.strip_prefix("qemu:") {
@@ -61,17 +65,17 @@ impl FromStr for HilSpec {
         if let Some(rest) = s.strip_prefix("serial:") {
             let (path, baud) = match rest.rsplit_once('@') {
                 Some((p, b)) => {
-                    let baud = b
-                        .parse::<u32>()
-                        .ok()
-                        .filter(|&b| b > 0)
-                        .ok_or_else(|| format!("serial:PATH@BAUD: {b:?} is no baud rate"))?;
+                    let baud = b.parse::<u32>().ok().filter(|&b| b > 0).ok_or_else(|| {
+                        SpecError::Baud {
+                            baud: b.to_string(),
+                        }
+                    })?;
                     (p, baud)
                 }
                 None => (rest, DEFAULT_BAUD),
             };
             if path.is_empty() {
-                return Err("serial:PATH needs a path, e.g. serial:/dev/ttyACM0".into());
+                return Err(SpecError::NoPath);
             }
             return Ok(HilSpec::Serial(PathBuf::from(path), baud));
         }
@@ -80,13 +84,15 @@ impl FromStr for HilSpec {
                 .rsplit_once(':')
                 .is_some_and(|(h, p)| !h.is_empty() && p.parse::<u16>().is_ok());
             if !ok {
-                return Err(format!("tcp:HOST:PORT: {addr:?} is no host and port"));
+                return Err(SpecError::Address {
+                    addr: addr.to_string(),
+                });
             }
             return Ok(HilSpec::Tcp(addr.to_string()));
         }
-        Err(format!(
-            "{s:?}: a robot in the loop is qemu:N, serial:PATH[@BAUD], tcp:HOST:PORT or loopback:N"
-        ))
+        Err(SpecError::Unknown {
+            spec: s.to_string(),
+        })
     }
 }
 
@@ -118,7 +124,7 @@ mod tests {
             ("tcp:4000", "no host and port"),
             ("udp:1", "qemu:N, serial:PATH"),
         ] {
-            let e = bad.parse::<HilSpec>().unwrap_err();
+            let e = bad.parse::<HilSpec>().unwrap_err().to_string();
             assert!(e.contains(why), "{bad}: {e}");
         }
     }

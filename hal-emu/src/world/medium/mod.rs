@@ -43,8 +43,10 @@ use tokio::sync::mpsc::{UnboundedReceiver, UnboundedSender, unbounded_channel};
 use crate::board::clock::EmuClock;
 use crate::board::light::{self, Air, EmuReceivers, EmuTransmitter, Light};
 
+mod error;
 pub mod trace;
 
+pub use error::MediumError;
 pub use trace::{DropReason, TraceEvent};
 
 /// How the light behaves.
@@ -96,25 +98,20 @@ impl MediumParams {
     /// Checks the parameters.
     ///
     /// # Errors
-    /// A message naming the bad parameter.
-    pub fn validate(&self) -> Result<(), String> {
+    /// The first bad parameter.
+    pub fn validate(&self) -> Result<(), MediumError> {
         if self.bitrate == 0 || self.bits_per_byte == 0 {
-            return Err("the bitrate and bits per byte must be positive".into());
+            return Err(MediumError::Rate);
         }
         if !(self.range.is_finite() && self.range > 0.0) {
-            return Err(format!(
-                "the range must be a positive number of metres, not {}",
-                self.range
-            ));
+            return Err(MediumError::Range(self.range));
         }
         for (name, p) in [
             ("loss", self.loss),
             ("byte error rate", self.byte_error_rate),
         ] {
             if !(0.0..=1.0).contains(&p) {
-                return Err(format!(
-                    "the {name} must be a probability in [0, 1], not {p}"
-                ));
+                return Err(MediumError::Probability { name, value: p });
             }
         }
         Ok(())

@@ -46,9 +46,11 @@ pub(super) fn build(args: &ArenaArgs) -> Result<Vec<Experiment>, String> {
     let params = robot_params(args)?;
     let medium = medium(args)?;
     let run = run_length(args, &params)?;
-    let lights = args.lights.as_deref().map(parse_pattern).transpose()?;
+    let lights = args.lights.as_deref().map(parse_pattern).transpose();
+    let lights = lights.map_err(|e| e.to_string())?;
     let robots = line_robots(args, lights.as_deref())?;
-    let then = args.then.as_deref().map(parse_pattern).transpose()?;
+    let then = args.then.as_deref().map(parse_pattern).transpose();
+    let then = then.map_err(|e| e.to_string())?;
     let setup = LineSetup {
         args,
         params,

@@ -254,7 +254,7 @@ pub(super) fn medium(args: &ArenaArgs) -> Result<MediumParams, String> {
         collisions: !args.no_collisions,
         ..MediumParams::default()
     };
-    medium.validate()?;
+    medium.validate().map_err(|e| e.to_string())?;
     Ok(medium)
 }
 

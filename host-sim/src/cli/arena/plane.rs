@@ -135,7 +135,7 @@ pub(super) fn plane_spec(args: &ArenaArgs) -> Result<PlaneSpec, String> {
         (Some(path), Layout::File) => {
             let text =
                 std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-            plane::read_positions(&text, &path.display().to_string())?
+            plane::read_positions(&text, &path.display().to_string()).map_err(|e| e.to_string())?
         }
         (None, Layout::File) => return Err("--shape file needs --positions FILE".into()),
         (Some(_), _) => return Err("--positions needs --shape file".into()),

@@ -154,7 +154,8 @@ fn sweep(a: &SweepArgs) -> Result<(), Fail> {
     let unit = |k| job.unit(&ready, k);
     if let Some(shard) = a.shard {
         let config = Job::new(COMMAND, &job).map_err(|e| e.to_string())?;
-        let path = shard::run_shard(config, total, shard, &a.out, false, unit)?;
+        let path = shard::run_shard(config, total, shard, &a.out, false, unit)
+            .map_err(|e| e.to_string())?;
         outln!("wrote {}", path.display())?;
         return Ok(());
     }
@@ -237,7 +238,7 @@ impl SweepJob {
             loss: self.loss,
             ..MediumParams::default()
         };
-        medium.validate()?;
+        medium.validate().map_err(|e| e.to_string())?;
         check_runs(&[(self.xs.len() as u64, "positions"), (self.runs, "runs")])
             .map_err(|e| format!("--runs {}: {e}", self.runs))?;
         check_runs(&[

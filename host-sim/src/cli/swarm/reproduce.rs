@@ -20,7 +20,7 @@ use pages::reproduction::{self, Options, Summary};
 use reproduce::{Results, UnitResult, units};
 use serde::{Deserialize, Serialize};
 use swarm_sim::experiment;
-use swarm_sim::scenario::{DEFAULT_PLACEMENT, Placement};
+use swarm_sim::scenario::{DEFAULT_PLACEMENT, Placement, PlacementError};
 
 use super::Res;
 
@@ -143,7 +143,8 @@ fn run_shard(seed: u64, placement: Placement, shard: ShardSpec, dir: &Path, quie
             .ok_or_else(|| format!("no unit {k}"))?;
         reproduce::compute(*u, &opts.runs(), &mut |_| {}).map_err(|e| format!("{u}: {e}"))
     };
-    let path = shard::run_shard_in_order(job, all.len() as u64, shard, dir, quiet, unit)?;
+    let path = shard::run_shard_in_order(job, all.len() as u64, shard, dir, quiet, unit)
+        .map_err(|e| e.to_string())?;
     outln!("wrote {}", path.display())?;
     Ok(())
 }
@@ -161,7 +162,7 @@ pub fn merge(m: &Merged, out: &Path) -> Exit {
     let placement: Placement = job
         .placement
         .parse()
-        .map_err(|e: String| m.bad_config(format!("placement: {e}")).to_string())?;
+        .map_err(|e: PlacementError| m.bad_config(format!("placement: {e}")).to_string())?;
     let all = units();
     if results.len() != all.len() {
         let e = format!(

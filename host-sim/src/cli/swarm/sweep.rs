@@ -16,7 +16,7 @@ use pages::figures;
 use serde::{Deserialize, Serialize};
 use swarm_sim::experiment;
 use swarm_sim::progress::Progress;
-use swarm_sim::scenario::{Placement, Scenario, check_runs};
+use swarm_sim::scenario::{Placement, PlacementError, Scenario, check_runs};
 
 use super::{Common, Res, placed, wrote};
 use crate::cli::job::ScenarioSource;
@@ -76,7 +76,8 @@ pub fn sweep(c: &Common, o: &SweepOptions) -> Res {
     };
     if let Some(shard) = o.shard {
         let config = Job::new(COMMAND, &job)?;
-        let path = shard::run_shard(config, total, shard, &c.out_dir, c.quiet, unit)?;
+        let path = shard::run_shard(config, total, shard, &c.out_dir, c.quiet, unit)
+            .map_err(|e| e.to_string())?;
         outln!("wrote {}", path.display())?;
         return Ok(());
     }
@@ -133,7 +134,10 @@ impl SwarmSweepJob {
 
     /// The scenario, placed and with its cycle, checked for a success criterion.
     fn scenario(&self) -> Result<Scenario, String> {
-        let placement: Placement = self.placement.parse()?;
+        let placement: Placement = self
+            .placement
+            .parse()
+            .map_err(|e: PlacementError| e.to_string())?;
         let scn =
             placed(self.scenario.load()?, placement, self.cycle).map_err(|e| e.to_string())?;
         if scn.success.is_none() {

@@ -119,7 +119,9 @@ impl CampaignJob {
                     decide,
                     hil: self.hil.clone(),
                 };
-                campaign::check(&plan).map(|()| plan)
+                campaign::check(&plan)
+                    .map(|()| plan)
+                    .map_err(|e| e.to_string())
             })
             .collect()
     }
@@ -151,7 +153,8 @@ impl CampaignJob {
                 plan.decide,
                 hil,
             )
-            .map(|o| Unit::Run(Box::new(o)));
+            .map(|o| Unit::Run(Box::new(o)))
+            .map_err(|e| e.to_string());
         }
         if k < runs + suite {
             let k = k - runs;
@@ -159,18 +162,20 @@ impl CampaignJob {
             let per_rule = experiments * seeds;
             let readings = SUITE_READINGS[(k / (2 * per_rule)) as usize];
             let (e, s) = ((k / seeds) % experiments, seed(k, seeds));
-            return campaign::suite_run(rule((k / per_rule) % 2), readings, e as usize, s).map(
-                |(success, consensus_s)| Unit::Suite {
+            return campaign::suite_run(rule((k / per_rule) % 2), readings, e as usize, s)
+                .map(|(success, consensus_s)| Unit::Suite {
                     success,
                     consensus_s,
-                },
-            );
+                })
+                .map_err(|e| e.to_string());
         }
         let k = k - runs - suite;
         let n = self.sweep_seeds().max(1);
         let per_rule = stress::LOSSES.len() as u64 * n;
         let loss = ((k / n) % stress::LOSSES.len() as u64) as usize;
-        stress::loss_run(rule(k / per_rule), loss, seed(k, n)).map(|o| Unit::Run(Box::new(o)))
+        stress::loss_run(rule(k / per_rule), loss, seed(k, n))
+            .map(|o| Unit::Run(Box::new(o)))
+            .map_err(|e| e.to_string())
     }
 
     /// The results from every unit's, in unit order; `timing` is the reports'.

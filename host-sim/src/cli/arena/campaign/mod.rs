@@ -288,7 +288,8 @@ fn run(args: &CampaignArgs) -> Exit {
     let unit = |k| job.unit(&plans, k);
     if let (Some(shard), Some(dir)) = (args.shard, &args.out) {
         let config = Job::new(COMMAND, &job).map_err(|e| e.to_string())?;
-        let path = shard::run_shard(config, total, shard, dir, false, unit)?;
+        let path =
+            shard::run_shard(config, total, shard, dir, false, unit).map_err(|e| e.to_string())?;
         outln!("wrote {}", path.display())?;
         return Ok(ExitCode::SUCCESS);
     }
@@ -578,7 +579,7 @@ fn write_page(
     } else {
         format!("wrote {} and {}", out.display(), figure.display())
     };
-    staged.write(out, page.render()?)?;
+    staged.write(out, page.render().map_err(|e| e.to_string())?)?;
     staged.commit()?;
     Ok((missed, wrote))
 }
@@ -588,7 +589,8 @@ fn write_page(
 /// opens it).
 fn write_trace(scenario: &Scenario, plan: &Plan, path: &Path) -> Result<(), String> {
     let (seed, decide) = (plan.seed, plan.decide);
-    let (mut cfg, _) = run_config(scenario, seed, plan.loss, decide, plan.hil.as_ref())?;
+    let (mut cfg, _) = run_config(scenario, seed, plan.loss, decide, plan.hil.as_ref())
+        .map_err(|e| e.to_string())?;
     cfg.trace = true;
     let run = judge(&cfg).map_err(|e| e.to_string())?;
     let mut header = viewer::header_of(&cfg, &run.report.trace);

@@ -241,7 +241,7 @@ mod tests {
                 (),
             )
             .unwrap();
-        assert_eq!(out, "Fig. 6b, Figs. 9–11, §5");
+        assert_eq!(out, "Fig. 5b, Figs. 8–10, §5");
     }
 
     #[test]

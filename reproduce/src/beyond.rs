@@ -4,11 +4,12 @@
 
 use nalgebra::Point2;
 
+use crate::Error;
 use crate::results::Along;
 use crate::sensitivity::{SENS_RUNS, SENS_X};
 use crate::stage::Stage;
 use crate::stages::{BEYOND_PROFILE, BEYOND_SLOPES, BEYOND_SUCCESS, BEYOND_TWO};
-use swarm_sim::experiment::{Error, SweepPoint, sweep};
+use swarm_sim::experiment::{SweepPoint, sweep};
 use swarm_sim::measure::Measure;
 use swarm_sim::scenario::{Scenario, Success};
 use swarm_sim::sensitivity::{Knob, diversity_at};
@@ -36,7 +37,7 @@ pub fn with(scn: &Scenario, m: Measure) -> Scenario {
 pub fn measures() -> Result<(Vec<Measure>, usize), Error> {
     let mut measures = vec![Measure::Variance];
     for b in BINS {
-        measures.push(Measure::entropy(b).ok_or("bad bin width")?);
+        measures.push(Measure::entropy(b).ok_or(Error::BadBin)?);
     }
     let main_m = 1 + BINS.iter().position(|&b| b == MAIN_BIN).unwrap_or(0);
     Ok((measures, main_m))

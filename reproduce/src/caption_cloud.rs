@@ -4,10 +4,11 @@
 
 use nalgebra::Point2;
 
+use crate::Error;
 use crate::stage::Stage;
 use crate::stages::{CAPTION_MAP, CAPTION_PROFILE};
 use crate::{CLOUD_REFINED, PROFILE_RUNS, builtin_placed, by_distance, refined};
-use swarm_sim::experiment::{Arrow, Error, RadialPoint, direction_map, radial_profile};
+use swarm_sim::experiment::{Arrow, RadialPoint, direction_map, radial_profile};
 use swarm_sim::scenario::Placement;
 
 /// The distances of the radial profile, as for the text's cloud: 0 to 12 R in steps of 0.5,
@@ -25,7 +26,7 @@ pub fn distances() -> Vec<f64> {
 /// If a run fails.
 pub fn map(st: &mut Stage<'_>, main: Placement) -> Result<Vec<Arrow>, Error> {
     let scn = builtin_placed("cloud-caption", main)?;
-    let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
+    let grid = scn.grid.as_ref().ok_or(Error::ScenarioWithout("grid"))?;
     let p = st.start(
         &format!("{} field", scn.name),
         (grid.xs.len() * grid.ys.len()) as u64,

@@ -9,6 +9,7 @@ use protocol::Duration;
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 
+use crate::Error;
 use crate::results::{CycleRun, Outcome, PlacementStats, RunFigure, UnitResult};
 use crate::stage::{Scenes, Stage};
 use crate::stages::{
@@ -22,7 +23,7 @@ use crate::{
     refined, sensitivity, settle,
 };
 use swarm_sim::experiment::{
-    self, Arrow, BenchResult, Error, RadialPoint, SweepPoint, direction_map, radial_profile, sweep,
+    self, Arrow, BenchResult, RadialPoint, SweepPoint, direction_map, radial_profile, sweep,
     waves_heard,
 };
 use swarm_sim::geometry::Swarm;
@@ -99,7 +100,7 @@ fn run_figure(st: &mut Stage<'_>, f: Field, scn: &Scenario) -> Result<RunFigure,
         }
     }
     st.done(&p);
-    Ok(chosen.ok_or("no run")?)
+    chosen.ok_or(Error::NoRun)
 }
 
 /// Figs. 6 and 9: the sweep of field `f` with placement `side`. `scn` is placed by `main`.
@@ -112,10 +113,7 @@ fn sweep_of(
     side: Side,
     scn: &Scenario,
 ) -> Result<Vec<SweepPoint>, Error> {
-    let spec = scn
-        .sweep
-        .as_ref()
-        .ok_or("built-in scenario without sweep")?;
+    let spec = scn.sweep.as_ref().ok_or(Error::ScenarioWithout("sweep"))?;
     let placement = placement(main, side);
     let block = match placement {
         Placement::Random => SWEEPS_RANDOM,
@@ -141,7 +139,7 @@ fn sweep_of(
 
 /// Figs. 7, 10, 11: a direction map.
 fn map_of(st: &mut Stage<'_>, m: Scene, scn: &Scenario) -> Result<Vec<Arrow>, Error> {
-    let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
+    let grid = scn.grid.as_ref().ok_or(Error::ScenarioWithout("grid"))?;
     let p = st.start(
         &format!("{} field", scn.name),
         (grid.xs.len() * grid.ys.len()) as u64,
@@ -246,7 +244,7 @@ fn speed(st: &Stage<'_>, sharp: &Scenario) -> Result<Vec<BenchResult>, Error> {
     BENCH_AGENTS
         .iter()
         .enumerate()
-        .map(|(k, &n)| experiment::bench(sharp, n, st.seed(SPEED.at(k))))
+        .map(|(k, &n)| Ok(experiment::bench(sharp, n, st.seed(SPEED.at(k)))?))
         .collect()
 }
 

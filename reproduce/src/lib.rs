@@ -14,12 +14,13 @@
 //!   [`settle`] (the rows the comparison cannot settle by itself), [`caption_cloud`],
 //!   [`sensitivity`], [`beyond`] (beyond the paper) and [`shapes`] (section 5).
 
-use swarm_sim::experiment::{Error, RadialPoint};
+use swarm_sim::experiment::RadialPoint;
 use swarm_sim::scenario::{Placement, Scenario};
 
 pub mod beyond;
 pub mod caption_cloud;
 pub mod compute;
+pub mod error;
 pub mod results;
 pub mod sensitivity;
 pub mod settle;
@@ -29,6 +30,7 @@ pub mod stages;
 pub mod units;
 
 pub use compute::compute;
+pub use error::Error;
 pub use results::{Results, UnitResult};
 pub use units::{Field, Scene, Side, UNITS, Unit, placement, units};
 
@@ -76,7 +78,7 @@ pub const CLOUD_REFINED: [f64; 9] = [3.25, 3.75, 4.25, 4.75, 6.25, 6.75, 7.25, 7
 /// # Errors
 /// If there is none of that name.
 pub fn builtin(name: &str) -> Result<Scenario, Error> {
-    Scenario::builtin(name).ok_or_else(|| format!("built-in scenario {name} is missing").into())
+    Scenario::builtin(name).ok_or_else(|| Error::NoScenario(name.to_owned()))
 }
 
 /// A built-in scenario with its agents placed by `placement`.

@@ -7,9 +7,10 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use crate::shapes::ShapesResult;
 use crate::units::{UNITS, Unit};
-use swarm_sim::experiment::{Arrow, BenchResult, Error, RadialPoint, RunOutput, SweepPoint};
+use swarm_sim::experiment::{Arrow, BenchResult, RadialPoint, RunOutput, SweepPoint};
 use swarm_sim::probe::{Msd, Plateaus, StartRun};
 use swarm_sim::timecourse::TimeCourse;
 use swarm_sim::waves::Wave;
@@ -294,7 +295,7 @@ macro_rules! getter {
         pub fn $name(&self, unit: Unit) -> Result<&$ty, Error> {
             match &self.get(unit)?.outcome {
                 Outcome::$variant(v) => Ok(v),
-                _ => Err(format!("{unit}: its result is no {}", stringify!($variant)).into()),
+                _ => Err(Error::WrongKind(unit, stringify!($variant))),
             }
         }
     };
@@ -307,10 +308,10 @@ impl Results {
     /// If the unit already has a result, or the result is not of the unit's kind.
     pub fn insert(&mut self, r: UnitResult) -> Result<(), Error> {
         if !r.outcome.fits(r.unit) {
-            return Err(format!("{}: the result is not of this unit's kind", r.unit).into());
+            return Err(Error::NotOfKind(r.unit));
         }
         if self.by_unit.contains_key(&r.unit) {
-            return Err(format!("{}: a second result", r.unit).into());
+            return Err(Error::SecondResult(r.unit));
         }
         self.by_unit.insert(r.unit, r);
         Ok(())
@@ -345,9 +346,7 @@ impl Results {
     /// # Errors
     /// If it has none.
     fn get(&self, unit: Unit) -> Result<&UnitResult, Error> {
-        self.by_unit
-            .get(&unit)
-            .ok_or_else(|| format!("{unit}: no result").into())
+        self.by_unit.get(&unit).ok_or(Error::NoResult(unit))
     }
 
     getter!(run, Run, RunFigure);

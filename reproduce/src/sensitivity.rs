@@ -4,11 +4,12 @@
 
 use nalgebra::Point2;
 
+use crate::Error;
 use crate::results::{ExtentRun, SlopeRuns};
 use crate::stage::Stage;
 use crate::stages::{EXTENT, KNOBS, SLOPE_DIVERSITY, SLOPE_SUCCESS};
 use crate::{builtin_placed, refined};
-use swarm_sim::experiment::{Error, SweepPoint};
+use swarm_sim::experiment::SweepPoint;
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::sensitivity::{Knob, diversity_at, heading_against_x, success_against};
 
@@ -97,10 +98,11 @@ pub fn knob(
     gradient: &Scenario,
 ) -> Result<Vec<Vec<SweepPoint>>, Error> {
     let k = usize::from(k);
-    let (key, _, values, _, both_placements) = knob_specs()
-        .into_iter()
-        .nth(k)
-        .ok_or_else(|| format!("no knob {k}"))?;
+    let (key, _, values, _, both_placements) =
+        knob_specs().into_iter().nth(k).ok_or(Error::NoSuch {
+            what: "knob",
+            index: k,
+        })?;
     let cases = cases(main, sharp, gradient, both_placements)?;
     let knobs: Vec<Knob> = values.iter().map(|v| v.1).collect();
     let p = st.start(

@@ -7,8 +7,8 @@ use protocol::direction::Opposite;
 
 use serde::{Deserialize, Serialize};
 
+use crate::Error;
 use hal_emu::world::field::Field;
-use swarm_sim::experiment::Error;
 use swarm_sim::progress::Progress;
 use swarm_sim::scenario::LATTICE_SPACING;
 use swarm_sim::seeds::derive;

@@ -4,10 +4,10 @@
 
 use std::time::Instant as Clock;
 
+use crate::Error;
 use crate::builtin_placed;
 use crate::stages::Offset;
 use crate::units::{Field, Scene};
-use swarm_sim::experiment::Error;
 use swarm_sim::progress::Progress;
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::seeds::derive;

@@ -7,6 +7,8 @@ use std::fmt;
 use std::str::FromStr;
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use crate::Error;
 use swarm_sim::scenario::Placement;
 
 /// One of the paper's two fields.
@@ -243,15 +245,15 @@ impl fmt::Display for Unit {
 }
 
 impl FromStr for Unit {
-    type Err = String;
+    type Err = Error;
 
     /// The unit of [`UNITS`] with this [`Unit::name`].
-    fn from_str(s: &str) -> Result<Unit, String> {
+    fn from_str(s: &str) -> Result<Unit, Error> {
         UNITS
             .iter()
             .copied()
             .find(|u| u.name() == s)
-            .ok_or_else(|| format!("no unit of swarm reproduce is named {s:?}"))
+            .ok_or_else(|| Error::NoUnit(s.to_owned()))
     }
 }
 
@@ -285,11 +287,15 @@ mod tests {
     fn every_unit_has_its_own_name_and_reads_back() {
         let mut names: Vec<String> = UNITS.iter().map(|u| u.name()).collect();
         for u in UNITS {
-            assert_eq!(u.name().parse::<Unit>(), Ok(u));
+            assert_eq!(u.name().parse::<Unit>().unwrap(), u);
         }
         names.sort();
         names.dedup();
         assert_eq!(names.len(), UNITS.len());
-        assert!("plateau/main/4".parse::<Unit>().is_err());
+        let e = "plateau/main/4".parse::<Unit>().unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            "no unit of swarm reproduce is named \"plateau/main/4\""
+        );
     }
 }

@@ -32,6 +32,20 @@ pub enum Knob {
     Extent(f64),
 }
 
+/// Why a knob cannot be set on a scenario.
+#[derive(Debug, thiserror::Error)]
+pub enum KnobError {
+    /// A negotiation period must be an even number of cycles (half gathering, half deciding).
+    #[error("a period of {0} cycles is not even")]
+    OddPeriod(u16),
+    /// The scenario's field has no ramp along x.
+    #[error("scenario {0} has no slope to change")]
+    NoSlope(String),
+    /// A rectangle of agents has no diameter.
+    #[error("the extent knob needs a disk or lattice swarm")]
+    ExtentOfRectangle,
+}
+
 impl Knob {
     /// `scn` with this knob set.
     ///
@@ -43,7 +57,7 @@ impl Knob {
             Knob::Cycle(secs) => s.run.params.wave.cycle = Duration::from_secs(secs),
             Knob::Period(cycles) => {
                 if cycles < 2 || cycles % 2 != 0 {
-                    return Err(format!("a period of {cycles} cycles is not even").into());
+                    return Err(KnobError::OddPeriod(cycles).into());
                 }
                 s.run.params.gather_cycles = cycles / 2;
                 s.run.params.decide_cycles = cycles / 2;
@@ -63,7 +77,7 @@ impl Knob {
                     }
                 }
                 if !found {
-                    return Err(format!("scenario {} has no slope to change", scn.name).into());
+                    return Err(KnobError::NoSlope(scn.name.clone()).into());
                 }
             }
             Knob::Extent(d) => match scn.shape {
@@ -78,7 +92,7 @@ impl Knob {
                     s.shape = Shape::Disk { diameter: d };
                 }
                 Shape::Rectangle { .. } => {
-                    return Err("the extent knob needs a disk or lattice swarm".into());
+                    return Err(KnobError::ExtentOfRectangle.into());
                 }
             },
         }

@@ -293,7 +293,21 @@ pub fn one_wave(spec: &WaveSpec, seed: u64) -> Result<Wave, Error> {
             return Ok(w);
         }
     }
-    Err(format!("no single wave in {MAX_REDRAWS} protocol seeds").into())
+    Err(WaveError::NoSingleWave(MAX_REDRAWS).into())
+}
+
+/// Why one wave could not be had.
+#[derive(Debug, thiserror::Error)]
+pub enum WaveError {
+    /// Every protocol seed tried started two waves at once.
+    #[error("no single wave in {0} protocol seeds")]
+    NoSingleWave(u64),
+    /// The swarm has no agent.
+    #[error("no agents")]
+    NoAgents,
+    /// The wave was still going at the horizon, seconds.
+    #[error("the wave lasted more than {0} s")]
+    TooLong(u64),
 }
 
 /// Transmissions so far of an agent: waves initiated and messages relayed.
@@ -314,11 +328,11 @@ fn follow(spec: &WaveSpec, swarm: &Swarm, seed: u64) -> Result<Option<Wave>, Err
         .map(|a| a.poll_timeout().as_millis().div_ceil(1000))
         .collect();
     let Some(&start) = first.iter().min() else {
-        return Err("no agents".into());
+        return Err(WaveError::NoAgents.into());
     };
     let mut firsts = first.iter().enumerate().filter(|&(_, &t)| t == start);
     let Some((initiator, _)) = firsts.next() else {
-        return Err("no agents".into());
+        return Err(WaveError::NoAgents.into());
     };
     if firsts.next().is_some() {
         return Ok(None);
@@ -370,7 +384,7 @@ fn follow(spec: &WaveSpec, swarm: &Swarm, seed: u64) -> Result<Option<Wave>, Err
             }
         }
     }
-    Err(format!("the wave lasted more than {MAX_WAVE_S} s").into())
+    Err(WaveError::TooLong(MAX_WAVE_S).into())
 }
 
 /// Hops from agent `from` to every agent in the neighbour graph (breadth-first search; `None`

@@ -42,7 +42,7 @@ pub(super) fn write(
     results: &Results,
 ) -> Result<CaptionCloud, Error> {
     let scn = builtin_placed("cloud-caption", main)?;
-    let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
+    let grid = scn.grid.as_ref().ok_or(super::WriteError::NoGrid)?;
     let arrows = results.map(Unit::CaptionMap)?;
     write_field_csv(&figs.join("cloud-caption-field.csv"), arrows)?;
     figures::direction_figure(

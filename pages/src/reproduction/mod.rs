@@ -140,6 +140,38 @@ fn outward_limit(profile: &[RadialPoint]) -> Option<(f64, f64)> {
     swarm_sim::stats::crossing(&inward_points(profile), 0.0, true)
 }
 
+/// Why the page cannot be written from its results (besides a run's or a file's own error).
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    /// Units without a result.
+    #[error("{count} units have no result, the first {first}")]
+    Missing {
+        /// How many.
+        count: usize,
+        /// The first, in the order of the units.
+        first: reproduce::Unit,
+    },
+    /// The tapped runs are not the averaged course's runs (they must be the same).
+    #[error("{scenario}: the tapped runs' plateau {tapped} is not the course's {course}")]
+    NotTheCourses {
+        /// The scenario.
+        scenario: String,
+        /// The tapped runs' plateau.
+        tapped: f64,
+        /// The course's.
+        course: f64,
+    },
+    /// A built-in scenario drawn as a map has no grid.
+    #[error("built-in scenario without grid")]
+    NoGrid,
+    /// The caption's cloud has no edge to mark.
+    #[error("the caption's cloud has no edge")]
+    NoEdge,
+    /// The plateau's rows lack the page's own cycle and placement.
+    #[error("the page's own cycle is not among the plateau's")]
+    NoOwnCycle,
+}
+
 /// Results of `swarm reproduce` that the command prints.
 #[derive(Clone, Debug)]
 pub struct Summary {

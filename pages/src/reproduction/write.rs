@@ -5,6 +5,8 @@
 
 use std::path::Path;
 
+use super::WriteError;
+
 use super::results::{CycleRun, Results};
 use super::units::placement;
 use super::units::{Field, Scene, Side, Unit};
@@ -35,7 +37,11 @@ use swarm_sim::timecourse::TimeCourse;
 pub fn write(results: &Results, opts: &Options) -> Result<Summary, Error> {
     let missing = results.missing();
     if let Some(first) = missing.first() {
-        return Err(format!("{} units have no result, the first {first}", missing.len()).into());
+        return Err(WriteError::Missing {
+            count: missing.len(),
+            first: *first,
+        }
+        .into());
     }
     let figs = opts.docs.join("figures");
     std::fs::create_dir_all(&figs)?;
@@ -190,7 +196,7 @@ fn map_files(figs: &Path, results: &Results, s: &Scenes) -> Result<Vec<Vec<Arrow
         (Scene::Gradient, &s.gradient),
         (Scene::Cloud, &s.cloud),
     ] {
-        let grid = scn.grid.as_ref().ok_or("built-in scenario without grid")?;
+        let grid = scn.grid.as_ref().ok_or(WriteError::NoGrid)?;
         let arrows = results.map(Unit::Map(m))?;
         write_field_csv(&figs.join(format!("{}-field.csv", scn.name)), arrows)?;
         figures::direction_figure(

@@ -1,10 +1,11 @@
 //! Where the gradient's runs spend their periods before arriving: the first move's heading
 //! from every step of the way, and the way of the averaged courses' runs.
 
+use crate::Error;
 use crate::results::Way;
 use crate::stage::Stage;
 use crate::stages::HEADING;
-use swarm_sim::experiment::{Error, RunOutput};
+use swarm_sim::experiment::RunOutput;
 use swarm_sim::probe::periods_per_bin;
 use swarm_sim::scenario::{Scenario, Success};
 use swarm_sim::sensitivity::heading_against_x;

@@ -10,12 +10,13 @@ pub mod start;
 pub mod steep;
 pub mod wander;
 
+use crate::Error;
 use crate::results::{CourseDigest, Levels, RefractoryRuns, Times};
 use crate::stage::Stage;
 use crate::stages::COURSES;
 use crate::units::{Field, Side, placement};
 use crate::{COURSE_RUNS, PLATEAU_MIN_AFTER};
-use swarm_sim::experiment::{Error, RunOutput};
+use swarm_sim::experiment::RunOutput;
 use swarm_sim::probe::{Plateaus, StartRun, plateaus, tapped_runs};
 use swarm_sim::scenario::{Placement, Scenario};
 

@@ -1,9 +1,9 @@
 //! The sharp plateau against the cycle and the placement.
 
+use crate::Error;
 use crate::stage::Stage;
 use crate::stages::PLATEAU;
 use crate::units::{Side, placement};
-use swarm_sim::experiment::Error;
 use swarm_sim::probe::{Plateaus, plateaus, tapped_runs};
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::sensitivity::Knob;
@@ -31,9 +31,10 @@ pub fn one(
     k: usize,
     sharp: &Scenario,
 ) -> Result<Option<Plateaus>, Error> {
-    let cycle_s = *CYCLES
-        .get(k)
-        .ok_or_else(|| format!("no plateau cycle {k}"))?;
+    let cycle_s = *CYCLES.get(k).ok_or(Error::NoSuch {
+        what: "plateau cycle",
+        index: k,
+    })?;
     let placement = placement(main, side);
     if placement == main && cycle_s == default_cycle(sharp) {
         return Ok(None);

@@ -4,10 +4,10 @@
 //! the wave is run by [`swarm_sim::probe::flood`], the simulator's delivery rule as a model;
 //! where the protocol takes the time, the model's wave is checked to be the protocol's.
 
+use crate::Error;
 use crate::results::{RefractoryRun, RefractoryRuns};
 use crate::stage::Stage;
 use crate::stages::WAVE;
-use swarm_sim::experiment::Error;
 use swarm_sim::probe::flood;
 use swarm_sim::waves::{Wave, WaveSpec, one_wave};
 
@@ -96,9 +96,7 @@ pub fn check(w: &Wave, relay_s: u64, refractory_s: u64) -> Result<(), Error> {
         }
     }
     if sends != expected {
-        return Err(
-            format!("refractory {refractory_s} s: the model's wave is not the protocol's").into(),
-        );
+        return Err(Error::ModelDiffers(refractory_s));
     }
     Ok(())
 }

@@ -2,9 +2,9 @@
 //! and negotiation period ([`Sensor::PerPeriod`]), the averaged courses run again with the
 //! same seeds.
 
+use crate::Error;
 use crate::results::Levels;
 use crate::stage::Stage;
-use swarm_sim::experiment::Error;
 use swarm_sim::probe::{Tapped, plateaus, tapped_runs};
 use swarm_sim::scenario::Scenario;
 use swarm_sim::sim::Sensor;

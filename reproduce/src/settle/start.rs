@@ -1,8 +1,8 @@
 //! The starting diversity against the agents across x = 0.
 
+use crate::Error;
 use crate::stage::Stage;
 use crate::stages::START;
-use swarm_sim::experiment::Error;
 use swarm_sim::probe::{StartRun, start_diversity};
 use swarm_sim::scenario::{Placement, Scenario};
 

@@ -3,10 +3,10 @@
 use nalgebra::Point2;
 use rayon::prelude::*;
 
+use crate::Error;
 use crate::results::Times;
 use crate::stage::Stage;
 use crate::stages::STEEP;
-use swarm_sim::experiment::Error;
 use swarm_sim::scenario::Scenario;
 use swarm_sim::seeds::derive;
 use swarm_sim::sensitivity::Knob;
@@ -22,11 +22,10 @@ pub const NEAR: f64 = 0.33;
 pub fn slope_of(k: usize) -> Result<Option<f64>, Error> {
     match k {
         0 => Ok(None),
-        _ => Ok(Some(
-            *SLOPES
-                .get(k - 1)
-                .ok_or_else(|| format!("no steepness case {k}"))?,
-        )),
+        _ => Ok(Some(*SLOPES.get(k - 1).ok_or(Error::NoSuch {
+            what: "steepness case",
+            index: k,
+        })?)),
     }
 }
 

@@ -71,7 +71,7 @@ pub(super) fn write(
     cloud: &CaptionCloud,
 ) -> Result<(CaptionPart, TowardBorder), Error> {
     let scn = super::super::builtin_placed("cloud-caption", cloud.placement)?;
-    let (edge, _) = marks::cloud_reach(&scn).ok_or("the caption's cloud has no edge")?;
+    let (edge, _) = marks::cloud_reach(&scn).ok_or(super::super::WriteError::NoEdge)?;
     let reach = claim(Id::CaptionToward)
         .values()
         .first()

@@ -25,6 +25,7 @@ use std::path::Path;
 
 use serde::Serialize;
 
+use super::WriteError;
 use super::caption_cloud::CaptionCloud;
 use report::csv_files::fixed;
 use reproduce::results::Results;
@@ -90,10 +91,11 @@ pub(super) fn write(
     for (k, (scn, d)) in scns.iter().zip(digests).enumerate() {
         let course = courses.get(k).map_or(f64::NAN, |c| c[0].plateau);
         if (d.plateaus.agents.mean - course).abs() > 1e-9 {
-            return Err(format!(
-                "{}: the tapped runs' plateau {} is not the course's {}",
-                scn.name, d.plateaus.agents.mean, course
-            )
+            return Err(WriteError::NotTheCourses {
+                scenario: scn.name.clone(),
+                tapped: d.plateaus.agents.mean,
+                course,
+            }
             .into());
         }
     }

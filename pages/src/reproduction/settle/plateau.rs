@@ -121,7 +121,7 @@ pub(super) fn write(
     let main_row = rows
         .iter()
         .find(|r| r.placement == main && r.cycle_s == default_cycle)
-        .ok_or("the page's own cycle is among the plateau's")?;
+        .ok_or(super::super::WriteError::NoOwnCycle)?;
     let facts = PlateauFacts {
         by_cycle: rows
             .iter()

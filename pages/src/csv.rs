@@ -184,3 +184,29 @@ pub fn write_course_csv(
     }
     w.flush()
 }
+
+/// The data of an x–y figure, one row per point: `line,X,Y,se` (`se` empty where the figure
+/// draws no error bar), with the figure's axis names as the column names of x and y.
+///
+/// # Errors
+/// If the file cannot be written.
+pub fn write_lines_csv(
+    path: &Path,
+    x: &str,
+    y: &str,
+    lines: &[report::plot::Line],
+) -> std::io::Result<()> {
+    let mut w = create(path)?;
+    w.write_record(["line", x, y, "se"])?;
+    for l in lines {
+        for &(px, py, se) in &l.points {
+            let se = if se == 0.0 {
+                String::new()
+            } else {
+                fixed(se, 4)
+            };
+            w.write_record([l.label.clone(), fixed(px, 4), fixed(py, 4), se])?;
+        }
+    }
+    w.flush()
+}

@@ -157,22 +157,28 @@ fn along_figure(
         .flatten()
         .map(|q| q.1 + q.2)
         .fold(ceiling(), f64::max);
+    let lines: Vec<Line> = measures
+        .iter()
+        .zip(&this.prof)
+        .map(|(m, pts)| Line {
+            label: m.to_string(),
+            points: pts.clone(),
+        })
+        .collect();
+    let (x, y) = (
+        "x of the swarm's centre / R",
+        "mean V_k (variance) or bits (entropy)",
+    );
+    crate::csv::write_lines_csv(&figs.join("beyond-diversity.csv"), x, y, &lines)?;
     plot::xy_figure(
         &figs.join("beyond-diversity.svg"),
         &format!(
             "{}: the agents' mean diversity against the swarm's x, {SENS_RUNS} runs per point",
             gradient.name
         ),
-        "x of the swarm's centre / R",
-        "mean V_k (variance) or bits (entropy)",
-        &measures
-            .iter()
-            .zip(&this.prof)
-            .map(|(m, pts)| Line {
-                label: m.to_string(),
-                points: pts.clone(),
-            })
-            .collect::<Vec<_>>(),
+        x,
+        y,
+        &lines,
         (0.0, 1.05 * y_max),
         &[(this.line_x, " success line")],
         false,

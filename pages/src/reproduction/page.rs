@@ -129,6 +129,12 @@ struct Setup {
     refractory_s: u64,
     step: String,
     periods: u32,
+    /// Waves an agent takes part in per cycle at the page's cycle (the cycle-length
+    /// experiment), and the share of its cycle it is then busy (active or refractory: the relay
+    /// delay and the refractory time per wave), which is the share of its initiations that
+    /// fall while it is busy and are skipped.
+    heard: String,
+    busy_pct: String,
 }
 
 /// Which run a run figure shows.
@@ -303,7 +309,20 @@ fn of((ok, n): (usize, usize)) -> String {
 
 fn setup(r: &Report<'_>) -> Setup {
     let p = &r.sharp.run.params;
+    let (cycle_s, relay_s, refractory_s) = (
+        p.wave.cycle.as_millis() / 1000,
+        p.wave.relay_delay.as_millis() / 1000,
+        p.wave.refractory.as_millis() / 1000,
+    );
+    let heard = r
+        .cycle_rows
+        .iter()
+        .find(|row| row.cycle_s == cycle_s)
+        .map_or(f64::NAN, |row| row.waves_heard);
+    let busy = heard * (relay_s + refractory_s) as f64 / cycle_s.max(1) as f64;
     Setup {
+        heard: fixed(heard, 0),
+        busy_pct: pct(busy),
         radius: fixed(marks::swarm_radius(r.sharp), 1),
         other_runs: r
             .other_sweeps
@@ -315,9 +334,9 @@ fn setup(r: &Report<'_>) -> Setup {
         placements: PLACEMENTS,
         lattice_spacing: LATTICE_SPACING.to_string(),
         lattice_degree: fixed(lattice_degree(r), 1),
-        cycle_s: p.wave.cycle.as_millis() / 1000,
-        relay_s: p.wave.relay_delay.as_millis() / 1000,
-        refractory_s: p.wave.refractory.as_millis() / 1000,
+        cycle_s,
+        relay_s,
+        refractory_s,
         step: r.sharp.run.step.to_string(),
         periods: r.sharp.periods,
     }
@@ -512,6 +531,10 @@ struct CourseScenario {
     plateau_runs: usize,
     /// Diversity of the noise alone: noise² / 12.
     noise_floor: String,
+    /// The paper's periods until its single run arrives, and whether ours (main placement)
+    /// take longer on average.
+    paper_arrival: String,
+    slower: bool,
     /// Mixture estimate of the starting diversity from the fraction across, main placement:
     /// p (1 − p) Δ² + noise floor, Δ the field's step (sharp border only).
     mixture: Option<String>,
@@ -523,8 +546,13 @@ struct CourseSection {
     /// Smallest and largest y of the gradient run figure's centre.
     gradient_run_y: [String; 2],
     runs: u32,
+    /// The plateau counts runs that arrived at least this many periods before the end.
+    min_after: u32,
     periods: u32,
     scenarios: Vec<CourseScenario>,
+    /// The sharp plateau against the cycle length, main placement (the settling section):
+    /// its lowest and highest, with their cycles.
+    plateau_by_cycle: [String; 2],
 }
 
 /// The mean of `f` over a course's last ten periods.
@@ -578,7 +606,16 @@ fn course_scenario(
         .collect();
     let main = &pair[0];
     let p = main.across_at_start;
+    let paper_arrival = {
+        use crate::claims::{Id, Value, claim};
+        match claim([Id::SharpArrival, Id::GradientArrival][k.min(1)]).value {
+            Value::At(v) => v,
+            _ => f64::NAN,
+        }
+    };
     CourseScenario {
+        paper_arrival: paper_arrival.to_string(),
+        slower: main.mean_arrival > paper_arrival,
         name: scn.name.clone(),
         x_start: scn.start.x.to_string(),
         paper_start: paper.start.to_string(),
@@ -617,9 +654,22 @@ fn course_section(r: &Report<'_>) -> CourseSection {
     let (lo, hi) = ys
         .iter()
         .fold((f64::MAX, f64::MIN), |(a, b), &y| (a.min(y), b.max(y)));
+    let main_cycles: Vec<(u64, f64)> = r
+        .settled
+        .plateau
+        .by_cycle
+        .iter()
+        .filter(|c| c.1 == r.main)
+        .map(|c| (c.0, c.2))
+        .collect();
+    let at = |c: Option<&(u64, f64)>| {
+        c.map_or("n/a".into(), |c| format!("{} at {} s", fixed(c.1, 2), c.0))
+    };
     CourseSection {
+        plateau_by_cycle: [at(main_cycles.first()), at(main_cycles.last())],
         gradient_run_y: [fixed(lo, 1), fixed(hi, 1)],
         runs: COURSE_RUNS,
+        min_after: reproduce::PLATEAU_MIN_AFTER,
         periods: r.sharp.periods,
         scenarios,
     }

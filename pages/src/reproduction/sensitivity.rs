@@ -164,6 +164,12 @@ fn knob_figure(
                 .collect(),
         })
         .collect();
+    crate::csv::write_lines_csv(
+        &figs.join(figure).with_extension("csv"),
+        what,
+        "success rate",
+        &lines,
+    )?;
     plot::xy_figure(
         &figs.join(figure),
         &format!("success from x = {SENS_X} against the {key}, {SENS_RUNS} runs per point"),
@@ -198,6 +204,16 @@ fn slope_rows(
             ]
         })
         .collect();
+    let lines = [Line {
+        label: format!("{} placement", main),
+        points: runs.diversity.clone(),
+    }];
+    crate::csv::write_lines_csv(
+        &figs.join("sensitivity-slope.csv"),
+        "slope of the ramp / per R",
+        "mean V_k",
+        &lines,
+    )?;
     plot::xy_figure(
         &figs.join("sensitivity-slope.svg"),
         &format!(
@@ -205,10 +221,7 @@ fn slope_rows(
         ),
         "slope of the ramp / per R",
         "mean V_k",
-        &[Line {
-            label: format!("{} placement", main),
-            points: runs.diversity.clone(),
-        }],
+        &lines,
         (0.0, 30.0),
         &[],
         false,
@@ -249,6 +262,12 @@ fn extent_rows(
             points: run.profile.clone(),
         });
     }
+    crate::csv::write_lines_csv(
+        &figs.join("sensitivity-extent.csv"),
+        "x_init / R",
+        "mean cos(direction)",
+        &lines,
+    )?;
     plot::xy_figure(
         &figs.join("sensitivity-extent.svg"),
         &format!(

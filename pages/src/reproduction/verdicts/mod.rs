@@ -146,7 +146,7 @@ fn rates(r: &Report<'_>, c: &'static Claim) -> Judged {
             short.join(", ")
         ),
         Id::GradientMid => format!(
-            "{other} placement{}: its swarms' preferences along the ramp largely cancel and many march along y (see the gradient below)",
+            "{other} placement{}: its swarms' preferences along the ramp largely cancel (see the gradient below)",
             if short.is_empty() {
                 " holds too".to_string()
             } else {
@@ -566,7 +566,7 @@ fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
                 "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; at \\|x\\| = 3 our swarm (radius 3 R) still touches the border, so those arrows point at it"
             ),
             (false, false) => format!(
-                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp, both ways"
+                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp"
             ),
         },
     }

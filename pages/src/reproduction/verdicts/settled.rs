@@ -60,7 +60,23 @@ pub(super) fn steeper(r: &Report<'_>) -> Judged {
             fixed(s.to_criterion.1, 1),
         ),
         verdict: verdict::trend(s.per_doubling.0, s.per_doubling.1, Sign::Falls, also),
-        why: "the rule: the time to the same line (the border, or the ramp's start) falls with the slope (its 95 % interval against log2 of the slope below zero) and success does not; the paper's evidence, 7 periods on the sharp border against 15 on the gradient, times two criteria 2.33 R apart".into(),
+        why: {
+            use crate::claims::{Id, Value, claim};
+            use crate::paper::Fig;
+            let at = |id| match claim(id).value {
+                Value::At(v) => v.to_string(),
+                _ => "?".into(),
+            };
+            format!(
+                "the rule: the time to the same line (the border, or the ramp's start) falls with the slope (its 95 % interval against log2 of the slope below zero) and success does not; the paper's evidence, the mean success times of its sweeps ({} and {}; its single runs arrive at t = {} and t = {}, {} and {}), times two criteria 2.33 R apart",
+                Fig::SharpSweep,
+                Fig::GradientSweep,
+                at(Id::SharpArrival),
+                at(Id::GradientArrival),
+                Fig::SharpRun,
+                Fig::GradientRun,
+            )
+        },
     }
 }
 

@@ -168,6 +168,8 @@ struct Comparison {
     sharp_plateau_runs: usize,
     gradient_plateau_runs: usize,
     plateau_runs: u32,
+    /// The paper's runs per point of its sweeps.
+    paper_runs: u32,
     runs: Vec<RunNote>,
     run_tries: u64,
 }
@@ -377,6 +379,7 @@ fn comparison(r: &Report<'_>) -> Comparison {
         sharp_plateau_runs: r.plateaus[0].2,
         gradient_plateau_runs: r.plateaus[1].2,
         plateau_runs: r.plateau_runs,
+        paper_runs: crate::verdict::PAPER_RUNS,
         runs: ["sharp", "gradient"]
             .into_iter()
             .zip(r.runs)

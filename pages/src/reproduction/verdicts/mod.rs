@@ -66,7 +66,7 @@ fn rate_claim(c: &Claim, pts: &[SweepPoint]) -> (Verdict, (f64, f64)) {
     let sel = within(pts, c);
     let worst = sel
         .iter()
-        .map(|p| verdict::rate(p.successes, p.runs, band))
+        .map(|p| verdict::rate(p.successes, p.runs, band, Some(verdict::PAPER_RUNS)))
         .max_by_key(|v| Verdict::ALL.iter().position(|w| w == v))
         .unwrap_or(Verdict::NotReproduced);
     let rates = sel
@@ -78,7 +78,39 @@ fn rate_claim(c: &Claim, pts: &[SweepPoint]) -> (Verdict, (f64, f64)) {
 
 /// Every row, computed from the report's runs, in the order of [`CLAIMS`].
 pub(super) fn verdicts(r: &Report<'_>) -> Vec<Row> {
-    CLAIMS.iter().map(|c| row(c, judge(r, c))).collect()
+    CLAIMS
+        .iter()
+        .map(|c| {
+            let mut j = judge(r, c);
+            if let Some(what) = one_placement(c.id) {
+                j.why = format!(
+                    "{}; judged on the {} placement only: the page does not run {what} with the {} placement",
+                    j.why,
+                    r.main,
+                    r.main.other()
+                );
+            }
+            row(c, j)
+        })
+        .collect()
+}
+
+/// The runs a claim is judged on, where the page runs them with its main placement only
+/// (`None`: both placements, or a claim no placement bears on: the shapes' formations, the
+/// wave of the paper's figure).
+fn one_placement(id: Id) -> Option<&'static str> {
+    match id {
+        Id::SharpMapNear | Id::SharpMapFar | Id::GradientMapNear | Id::GradientMapFar => {
+            Some("the direction maps")
+        }
+        Id::SharpEdge | Id::GradientEdge => Some("the first move's heading against the start"),
+        Id::CloudLimit | Id::CloudOutward | Id::CaptionLimit | Id::CaptionToward => {
+            Some("the cloud profiles")
+        }
+        Id::SharpWalk | Id::GradientWalk => Some("the tapped courses"),
+        Id::Steeper => Some("the steeper ramps"),
+        _ => None,
+    }
 }
 
 fn judge(r: &Report<'_>, c: &'static Claim) -> Judged {
@@ -89,9 +121,8 @@ fn judge(r: &Report<'_>, c: &'static Claim) -> Judged {
         Id::SharpStart | Id::GradientStart => start(r, c),
         Id::SharpArrival | Id::GradientArrival => arrival(r, c),
         Id::SharpPlateau | Id::GradientPlateau => plateau(r, c),
-        Id::SharpMapNear | Id::SharpMapFar | Id::GradientMapNear | Id::GradientMapFar => {
-            directions(r, c)
-        }
+        Id::SharpMapFar => sharp_map_far(r, c),
+        Id::SharpMapNear | Id::GradientMapNear | Id::GradientMapFar => directions(r, c),
         Id::SharpEdge | Id::GradientEdge => edge(r, c),
         Id::CloudLimit | Id::CloudOutward | Id::CaptionLimit => cloud(r, c),
         Id::ShapesLine | Id::ShapesCross => shapes(r, c.id),
@@ -132,8 +163,12 @@ fn rates(r: &Report<'_>, c: &'static Claim) -> Judged {
     let short: Vec<String> = within(&r.other_sweeps[k], c)
         .iter()
         .filter(|p| {
-            verdict::rate(p.successes, p.runs, c.band().unwrap_or((1.0, 1.0)))
-                != Verdict::Reproduced
+            verdict::rate(
+                p.successes,
+                p.runs,
+                c.band().unwrap_or((1.0, 1.0)),
+                Some(verdict::PAPER_RUNS),
+            ) != Verdict::Reproduced
         })
         .map(|p| format!("{} ({})", p.x_init, fixed(p.success_rate(), 2)))
         .collect();
@@ -173,9 +208,30 @@ fn rates(r: &Report<'_>, c: &'static Claim) -> Judged {
 
 /// "Falls beyond 2.5 R": the rate's slope against x beyond 2.5 R is positive (it falls with the
 /// distance) with its whole interval, and the farthest start's rate is below the level inside
-/// 2.5 R by more than two standard errors.
+/// 2.5 R by more than two standard errors; on both placements' sweeps, the weaker verdict.
 fn sharp_far(r: &Report<'_>) -> Judged {
-    let sharp = &r.sweeps[0];
+    let (vm, om, sm) = sharp_far_of(&r.sweeps[0]);
+    let (vo, oo, so) = sharp_far_of(&r.other_sweeps[0]);
+    Judged {
+        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
+        verdict: vm.both(vo),
+        why: format!(
+            "the rule, on each placement: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}: {}, {}: {}) below the rate inside 2.5 R; the weaker verdict of the two ({}: {}, {}: {})",
+            r.main,
+            fixed(2.0 * sm, 2),
+            r.main.other(),
+            fixed(2.0 * so, 2),
+            r.main,
+            vm.words(),
+            r.main.other(),
+            vo.words()
+        ),
+    }
+}
+
+/// [`sharp_far`] on one placement's sweep: the verdict, ours in words, and the standard error
+/// of the fall from inside 2.5 R to the farthest start.
+fn sharp_far_of(sharp: &[SweepPoint]) -> (Verdict, String, f64) {
     let far: Vec<&SweepPoint> = sharp.iter().filter(|p| p.x_init < -2.5 - 1e-9).collect();
     let pts: Vec<(f64, f64)> = far.iter().map(|p| (p.x_init, p.success_rate())).collect();
     let fit = stats::line_fit(&pts);
@@ -196,67 +252,105 @@ fn sharp_far(r: &Report<'_>) -> Judged {
     let v = fit.map_or(Verdict::NotReproduced, |f| {
         verdict::trend(f.slope, f.slope_ci, Sign::Rises, falls)
     });
+    let ours = format!(
+        "{}; slope {} per R; {} inside 2.5 R, {} at x = {}",
+        pts.iter()
+            .map(|(x, v)| format!("{x}: {}", fixed(*v, 2)))
+            .collect::<Vec<_>>()
+            .join(", "),
+        fit.map_or("–".into(), |f| format!(
+            "{} ± {}",
+            fixed(f.slope, 2),
+            fixed(f.slope_ci, 2)
+        )),
+        fixed(inside, 2),
+        farthest.map_or("–".into(), |p| fixed(p.success_rate(), 2)),
+        farthest.map_or("–".into(), |p| p.x_init.to_string()),
+    );
+    (v, ours, fall_se)
+}
+
+/// The share of the variance a line must explain for "decreases linearly".
+const LINEAR_R2: f64 = 0.9;
+
+/// "Decreases linearly toward the border": the mean time's slope against x is negative with its
+/// whole interval, and a line explains at least 90 % of its variance; on both placements'
+/// sweeps, the weaker verdict.
+fn sharp_time(r: &Report<'_>) -> Judged {
+    let (vm, om) = sharp_time_of(&r.sweeps[0]);
+    let (vo, oo) = sharp_time_of(&r.other_sweeps[0]);
     Judged {
-        ours: format!(
-            "{}: {}; slope {} per R; {} inside 2.5 R, {} at x = {}",
-            r.main,
-            pts.iter()
-                .map(|(x, v)| format!("{x}: {}", fixed(*v, 2)))
-                .collect::<Vec<_>>()
-                .join(", "),
-            fit.map_or("–".into(), |f| format!(
-                "{} ± {}",
-                fixed(f.slope, 2),
-                fixed(f.slope_ci, 2)
-            )),
-            fixed(inside, 2),
-            farthest.map_or("–".into(), |p| fixed(p.success_rate(), 2)),
-            farthest.map_or("–".into(), |p| p.x_init.to_string()),
-        ),
-        verdict: v,
+        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
+        verdict: vm.both(vo),
         why: format!(
-            "the rule: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}) below the rate inside 2.5 R",
-            fixed(2.0 * fall_se, 2)
+            "the rule, on each placement: the slope's 95 % interval below zero, and a line explaining at least {} % of the variance (R² ≥ {LINEAR_R2}); means of the successful runs only; the weaker verdict of the two ({}: {}, {}: {})",
+            fixed(100.0 * LINEAR_R2, 0),
+            r.main,
+            vm.words(),
+            r.main.other(),
+            vo.words()
         ),
     }
 }
 
-/// "Decreases linearly toward the border": the mean time's slope against x is negative with its
-/// whole interval, and a line explains at least 90 % of its variance.
-fn sharp_time(r: &Report<'_>) -> Judged {
+/// [`sharp_time`] on one placement's sweep: the verdict and ours in words.
+fn sharp_time_of(sharp: &[SweepPoint]) -> (Verdict, String) {
     let c = claim(Id::SharpTime);
-    let sharp = &r.sweeps[0];
     let times: Vec<(f64, f64)> = sharp
         .iter()
         .filter(|p| c.covers(p.x_init))
         .filter_map(|p| mean_time_at(sharp, p.x_init).map(|t| (p.x_init, t)))
         .collect();
     let fit = stats::line_fit(&times);
-    const LINEAR_R2: f64 = 0.9;
     let v = fit.map_or(Verdict::NotReproduced, |f| {
         verdict::trend(f.slope, f.slope_ci, Sign::Falls, f.r2 >= LINEAR_R2)
     });
-    Judged {
-        ours: format!(
-            "{} periods; {}",
-            times
-                .iter()
-                .map(|t| fixed(t.1, 1))
-                .collect::<Vec<_>>()
-                .join(", "),
-            fit.map_or("no fit".into(), |f| format!(
-                "{} ± {} periods per R toward the border, R² {}",
-                fixed(-f.slope, 1),
-                fixed(f.slope_ci, 1),
-                fixed(f.r2, 2)
-            ))
-        ),
-        verdict: v,
-        why: format!(
-            "the rule: the slope's 95 % interval below zero, and a line explaining at least {} % of the variance (R² ≥ {LINEAR_R2}); means of the successful runs only",
-            fixed(100.0 * LINEAR_R2, 0)
-        ),
-    }
+    let ours = format!(
+        "{} periods; {}",
+        times
+            .iter()
+            .map(|t| fixed(t.1, 1))
+            .collect::<Vec<_>>()
+            .join(", "),
+        fit.map_or("no fit".into(), |f| format!(
+            "{} ± {} periods per R toward the border, R² {}",
+            fixed(-f.slope, 1),
+            fixed(f.slope_ci, 1),
+            fixed(f.r2, 2)
+        ))
+    );
+    (v, ours)
+}
+
+/// The level claim `c` judged again on the other placement's averaged course (`m ± se` over
+/// `runs` runs): the weaker verdict of the two, and the other placement's value added to ours.
+fn other_placement(
+    r: &Report<'_>,
+    c: &'static Claim,
+    mut j: Judged,
+    (m, se): (f64, f64),
+    runs: String,
+    digits: usize,
+) -> Judged {
+    let paper = c.band().map_or(f64::NAN, |b| b.0);
+    let other = verdict::level(m, se, paper, c.tolerance());
+    j.ours = format!(
+        "{}; {}: {} ± {} ({runs})",
+        j.ours,
+        r.main.other(),
+        fixed(m, digits),
+        fixed(se, digits)
+    );
+    j.why = format!(
+        "{}; the weaker verdict of the two placements ({}: {}, {}: {})",
+        j.why,
+        r.main,
+        j.verdict.words(),
+        r.main.other(),
+        other.words()
+    );
+    j.verdict = j.verdict.both(other);
+    j
 }
 
 /// The average diversity at t = 0.
@@ -297,7 +391,13 @@ fn start(r: &Report<'_>, c: &'static Claim) -> Judged {
             start_against_across(r, k, paper),
         ),
     };
-    sensor_both(r, c, judged, |l| l.start, 2)
+    let o = &r.courses[k][1];
+    let (om, ose) = o
+        .points
+        .first()
+        .map_or((f64::NAN, f64::NAN), |p| (p.diversity.mean, p.diversity.se));
+    let judged = sensor_both(r, c, judged, |l| l.start, 2);
+    other_placement(r, c, judged, (om, ose), format!("{} runs", o.runs), 2)
 }
 
 /// A level row judged again under the other sensor model (one reading per agent and period,
@@ -402,7 +502,20 @@ fn arrival(r: &Report<'_>, c: &'static Claim) -> Judged {
             }
         ),
     };
-    sensor_both(r, c, judged, |l| l.arrival, 1)
+    let o = &r.courses[k][1];
+    let oat: Vec<f64> = o
+        .success_at
+        .iter()
+        .flatten()
+        .map(|&t| f64::from(t))
+        .collect();
+    let (om, ose) = (
+        stats::mean(&oat).unwrap_or(f64::NAN),
+        stats::standard_error(&oat).unwrap_or(f64::NAN),
+    );
+    let runs = format!("the {} of {} runs that arrived", oat.len(), o.runs);
+    let judged = sensor_both(r, c, judged, |l| l.arrival, 1);
+    other_placement(r, c, judged, (om, ose), runs, 1)
 }
 
 /// "rises", "falls" or "changes", as `values` (in order) do.
@@ -570,6 +683,25 @@ fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
             ),
         },
     }
+}
+
+/// "Random beyond 2.5 R" on the sharp map is the same fact as the sharp border's perception
+/// edge (`SharpEdge`: where the first move stops heading for the border): one computation,
+/// two views. The map's arrows are judged as for any "random" claim, the edge as its own row
+/// does, and the row gets the weaker verdict, so the two rows cannot contradict each other.
+fn sharp_map_far(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let mut j = directions(r, c);
+    let e = edge(r, claim(Id::SharpEdge));
+    j.why = format!(
+        "{}; the same fact as the perception edge's row (where the first move stops heading for the border: {}, {}), so the weaker of the two verdicts (map: {}, edge: {})",
+        j.why,
+        e.ours,
+        e.verdict.words(),
+        j.verdict.words(),
+        e.verdict.words()
+    );
+    j.verdict = j.verdict.both(e.verdict);
+    j
 }
 
 /// The farthest start from which the first move heads for the border, both extents.

@@ -31,11 +31,18 @@ pub(super) fn walk(r: &Report<'_>, c: &'static Claim) -> Judged {
         ),
         verdict: verdict::walk(w.x_slope, w.y_slope, dims),
         why: if dims == 1 {
-            "the rule: the growth along the border (y) has its 95 % interval above zero and the growth across it (x) is below a tenth of that (least squares over lags 1 to 20; the lags overlap, so the intervals are a guide)".into()
+            format!(
+                "the rule: the growth along the border (y) has its 95 % interval above zero and the growth across it (x) is below it, the interval of their difference above zero ({} ± {}; least squares over lags 1 to {}; the lags overlap, so the intervals are a guide)",
+                fixed(w.y_slope.0 - w.x_slope.0, 4),
+                fixed(w.x_slope.1.hypot(w.y_slope.1), 4),
+                w.max_lag
+            )
         } else {
             format!(
-                "the rule: both growths have their 95 % intervals above zero and each is at least a tenth of the other; along x it grows {} times slower than along y: below the line the pull toward +x bounds the walk on one side (settling section)",
-                fixed(w.y_slope.0 / w.x_slope.0.max(1e-12), 1)
+                "the rule: both growths have their 95 % intervals above zero and the interval of their difference contains zero (a diffusion in two dimensions is the same along both); along x it grows {} times slower than along y (difference {} ± {}), so by the sharp border's test this walk is one along y: below the line the pull toward +x bounds it on one side (settling section)",
+                fixed(w.y_slope.0 / w.x_slope.0.max(1e-12), 1),
+                fixed(w.y_slope.0 - w.x_slope.0, 4),
+                fixed(w.x_slope.1.hypot(w.y_slope.1), 4)
             )
         },
     }

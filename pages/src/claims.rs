@@ -35,10 +35,16 @@ pub enum Id {
     GradientMid,
     /// Gradient: success 25 % at x = −4.
     GradientFar,
+    /// Gradient: success falls beyond x = −2.
+    GradientFall,
+    /// Gradient: the mean success time against the start, as the text words it.
+    GradientTime,
     /// Gradient map: every arrow between −2.2 and 2.2 points to +x.
     GradientMapNear,
     /// Gradient map: random beyond 2.2.
     GradientMapFar,
+    /// Gradient map: random for x < −2.2.
+    GradientMapLeft,
     /// Sharp border: the farthest start from which the first move heads for the border.
     SharpEdge,
     /// Gradient: the same.
@@ -47,6 +53,8 @@ pub enum Id {
     CloudLimit,
     /// The text's cloud: inside, the swarm heads out toward its border.
     CloudOutward,
+    /// The text's cloud: between d ≈ 4 and 7 the swarm moves toward it.
+    CloudToward,
     /// The caption's cloud: the distance beyond which the swarm no longer heads for it.
     CaptionLimit,
     /// The discussion: on a random field a line's swarm moves along its axis.
@@ -383,6 +391,38 @@ pub const CLAIMS: &[Claim] = &[
         drawn: &[(Figure::Sweep("gradient"), "paper: 25 % at x_init = −4")],
     },
     Claim {
+        id: Id::GradientFall,
+        source: "§3.2, Fig. 9",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientSweep],
+        quotes: &[
+            "At x_{init}\\lesssim -2 for decreasing distance from the border the success rates decrease significantly",
+        ],
+        quantity: "Gradient: success beyond x_init = −2",
+        paper: "falls (\"decrease significantly\")",
+        value: Value::Words,
+        over: Some((-5.0, -2.0)),
+        ends: Ends::Open,
+        kind: Kind::Trend,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::GradientTime,
+        source: "§3.2, Fig. 9",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientSweep],
+        quotes: &[
+            "the success times increase with decreasing distance from the border between the two domains",
+        ],
+        quantity: "Gradient: mean success time from −2 to the border (x = 0), against the distance from it",
+        paper: "\"increase with decreasing distance from the border\" (as written)",
+        value: Value::Words,
+        over: Some((-2.0, 0.0)),
+        ends: Ends::LowClosed,
+        kind: Kind::Trend,
+        drawn: &[],
+    },
+    Claim {
         id: Id::GradientMapNear,
         source: "§3.2, Fig. 10",
         secs: &[Sec::Gradient],
@@ -402,13 +442,27 @@ pub const CLAIMS: &[Claim] = &[
         )],
     },
     Claim {
-        id: Id::GradientMapFar,
+        id: Id::GradientMapLeft,
         source: "§3.2, Fig. 10",
         secs: &[Sec::Gradient],
         figs: &[Fig::GradientMap],
         quotes: &[
             "For x<-2.2 the swarm moves randomly as it does not perceive the linear gradient",
         ],
+        quantity: "Gradient map: arrows toward +x, x < −2.2",
+        paper: "random",
+        value: Value::Words,
+        over: Some((f64::NEG_INFINITY, -2.2)),
+        ends: Ends::Open,
+        kind: Kind::Direction { toward: false },
+        drawn: &[],
+    },
+    Claim {
+        id: Id::GradientMapFar,
+        source: "§3.2, Fig. 10",
+        secs: &[Sec::Gradient],
+        figs: &[Fig::GradientMap],
+        quotes: &["For x\\gtrsim 2 the swarm moves randomly"],
         quantity: "Gradient map: arrows toward +x, x > 2.2",
         paper: "random",
         value: Value::Words,
@@ -498,6 +552,23 @@ pub const CLAIMS: &[Claim] = &[
                 "paper (text): d = 4, heads out inside",
             ),
         ],
+    },
+    Claim {
+        id: Id::CloudToward,
+        source: "§3.3, text",
+        secs: &[Sec::Cloud],
+        figs: &[Fig::Cloud],
+        quotes: &[
+            "For 7\\gtrsim d\\gtrsim 4 the swarm moves towards the circular domain",
+            "it proceeds to move towards its border where it measures the largest average diversity",
+        ],
+        quantity: "Cloud (the text's): from d ≈ 4 to 7 the swarm moves toward it",
+        paper: "toward the cloud for 7 ≳ d ≳ 4",
+        value: Value::Range(4.0, 7.0),
+        over: Some((4.0, 7.0)),
+        ends: Ends::Open,
+        kind: Kind::Profile,
+        drawn: &[],
     },
     Claim {
         id: Id::CaptionLimit,
@@ -617,9 +688,11 @@ pub const CLAIMS: &[Claim] = &[
         source: "§2.1, text beside Fig. 2",
         secs: &[Sec::Waves],
         figs: &[Fig::Waves],
-        quotes: &["The refractory state assures that a signal will neither 'flood' a swarm"],
-        quantity: "The refractory state keeps a wave from flooding the swarm",
-        paper: "signals neither flood the swarm nor come back",
+        quotes: &[
+            "The refractory state assures that a signal will neither 'flood' a swarm, i.e. signals will not (re)activate the initial sender, nor periodically propagate through the swarm e.g. as a spiraling wave",
+        ],
+        quantity: "The refractory state keeps a wave from flooding the swarm and from coming back periodically",
+        paper: "signals neither flood the swarm (re-activate the sender) nor propagate periodically (e.g. a spiral wave)",
         value: Value::Words,
         over: None,
         ends: Ends::Open,

@@ -100,13 +100,17 @@ pub(super) fn verdicts(r: &Report<'_>) -> Vec<Row> {
 /// wave of the paper's figure).
 fn one_placement(id: Id) -> Option<&'static str> {
     match id {
-        Id::SharpMapNear | Id::SharpMapFar | Id::GradientMapNear | Id::GradientMapFar => {
-            Some("the direction maps")
-        }
+        Id::SharpMapNear
+        | Id::SharpMapFar
+        | Id::GradientMapNear
+        | Id::GradientMapFar
+        | Id::GradientMapLeft => Some("the direction maps"),
         Id::SharpEdge | Id::GradientEdge => Some("the first move's heading against the start"),
-        Id::CloudLimit | Id::CloudOutward | Id::CaptionLimit | Id::CaptionToward => {
-            Some("the cloud profiles")
-        }
+        Id::CloudLimit
+        | Id::CloudOutward
+        | Id::CloudToward
+        | Id::CaptionLimit
+        | Id::CaptionToward => Some("the cloud profiles"),
         Id::SharpWalk | Id::GradientWalk => Some("the tapped courses"),
         Id::Steeper => Some("the steeper ramps"),
         _ => None,
@@ -117,6 +121,10 @@ fn judge(r: &Report<'_>, c: &'static Claim) -> Judged {
     match c.id {
         Id::SharpNear | Id::GradientMid | Id::GradientFar => rates(r, c),
         Id::SharpFar => sharp_far(r),
+        Id::GradientFall => gradient_fall(r),
+        Id::GradientTime => gradient_time(r),
+        Id::GradientMapLeft => gradient_map_left(r, c),
+        Id::CloudToward => cloud_toward(r, c),
         Id::SharpTime => sharp_time(r),
         Id::SharpStart | Id::GradientStart => start(r, c),
         Id::SharpArrival | Id::GradientArrival => arrival(r, c),
@@ -210,8 +218,8 @@ fn rates(r: &Report<'_>, c: &'static Claim) -> Judged {
 /// distance) with its whole interval, and the farthest start's rate is below the level inside
 /// 2.5 R by more than two standard errors; on both placements' sweeps, the weaker verdict.
 fn sharp_far(r: &Report<'_>) -> Judged {
-    let (vm, om, sm) = sharp_far_of(&r.sweeps[0]);
-    let (vo, oo, so) = sharp_far_of(&r.other_sweeps[0]);
+    let (vm, om, sm) = far_of(&r.sweeps[0], -2.5, Id::SharpNear, "inside 2.5 R");
+    let (vo, oo, so) = far_of(&r.other_sweeps[0], -2.5, Id::SharpNear, "inside 2.5 R");
     Judged {
         ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
         verdict: vm.both(vo),
@@ -229,13 +237,135 @@ fn sharp_far(r: &Report<'_>) -> Judged {
     }
 }
 
-/// [`sharp_far`] on one placement's sweep: the verdict, ours in words, and the standard error
-/// of the fall from inside 2.5 R to the farthest start.
-fn sharp_far_of(sharp: &[SweepPoint]) -> (Verdict, String, f64) {
-    let far: Vec<&SweepPoint> = sharp.iter().filter(|p| p.x_init < -2.5 - 1e-9).collect();
+/// "Falls beyond x = −2" on the gradient: as [`sharp_far`], from −2 and against the rate over
+/// the range the paper gives as mostly successful (−2 ≤ x < 2.33); both placements.
+fn gradient_fall(r: &Report<'_>) -> Judged {
+    let (vm, om, sm) = far_of(&r.sweeps[1], -2.0, Id::GradientMid, "over −2 … 2.33");
+    let (vo, oo, so) = far_of(&r.other_sweeps[1], -2.0, Id::GradientMid, "over −2 … 2.33");
+    Judged {
+        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
+        verdict: vm.both(vo),
+        why: format!(
+            "the rule, on each placement: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}: {}, {}: {}) below the rate over −2 ≤ x < 2.33; the weaker verdict of the two ({}: {}, {}: {})",
+            r.main,
+            fixed(2.0 * sm, 2),
+            r.main.other(),
+            fixed(2.0 * so, 2),
+            r.main,
+            vm.words(),
+            r.main.other(),
+            vo.words()
+        ),
+    }
+}
+
+/// "The success times increase with decreasing distance from the border", judged as written:
+/// the mean time's slope against x over −2 ≤ x < 0 (where the distance from the border falls
+/// as x grows) has its 95 % interval above zero; both placements. The row says what the other
+/// reading (times falling toward the border) gives.
+fn gradient_time(r: &Report<'_>) -> Judged {
+    let of = |pts: &[SweepPoint]| {
+        let times: Vec<(f64, f64)> = pts
+            .iter()
+            .filter(|p| claim(Id::GradientTime).covers(p.x_init))
+            .filter_map(|p| mean_time_at(pts, p.x_init).map(|t| (p.x_init, t)))
+            .collect();
+        let fit = stats::line_fit(&times);
+        let v = fit.map_or(Verdict::NotReproduced, |f| {
+            verdict::trend(f.slope, f.slope_ci, Sign::Rises, true)
+        });
+        let other = fit.map_or(Verdict::NotReproduced, |f| {
+            verdict::trend(f.slope, f.slope_ci, Sign::Falls, true)
+        });
+        let ours = format!(
+            "{} periods; {}",
+            times
+                .iter()
+                .map(|t| fixed(t.1, 1))
+                .collect::<Vec<_>>()
+                .join(", "),
+            fit.map_or("no fit".into(), |f| format!(
+                "{} ± {} periods per R toward the border",
+                fixed(f.slope, 1),
+                fixed(f.slope_ci, 1)
+            ))
+        );
+        (v, other, ours)
+    };
+    let (vm, wm, om) = of(&r.sweeps[1]);
+    let (vo, wo, oo) = of(&r.other_sweeps[1]);
+    Judged {
+        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
+        verdict: vm.both(vo),
+        why: format!(
+            "the rule, as the text words it: the mean time's slope against x from −2 to the border has its 95 % interval above zero (times rising as the distance falls), on each placement, the weaker verdict; read the other way (times falling toward the border, as in the sharp border's sweep) it is {}",
+            wm.both(wo).words()
+        ),
+    }
+}
+
+/// "Random for x < −2.2" on the gradient map is the same fact as the gradient's perception
+/// edge (`GradientEdge`): as [`sharp_map_far`], the weaker of the two verdicts.
+fn gradient_map_left(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let mut j = directions(r, c);
+    let e = edge(r, claim(Id::GradientEdge));
+    j.why = format!(
+        "{}; the same fact as the gradient's perception edge's row ({}, {}), so the weaker of the two verdicts (map: {}, edge: {})",
+        j.why,
+        e.ours,
+        e.verdict.words(),
+        j.verdict.words(),
+        e.verdict.words()
+    );
+    j.verdict = j.verdict.both(e.verdict);
+    j
+}
+
+/// The text's cloud, "toward the circular domain" for 7 ≳ d ≳ 4: the mean inward alignment of
+/// the radial profile at least 0.5 at every distance strictly between (the worst point
+/// decides, [`verdict::profile`]).
+fn cloud_toward(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let pts: Vec<&swarm_sim::experiment::RadialPoint> =
+        r.profile.iter().filter(|p| c.covers(p.distance)).collect();
+    let v = verdict::profile(
+        &pts.iter()
+            .map(|p| (p.inward, p.inward_se))
+            .collect::<Vec<_>>(),
+        0.5,
+    );
+    let short: Vec<String> = pts
+        .iter()
+        .filter(|p| p.inward < 0.5)
+        .map(|p| format!("{} ({})", fixed(p.distance, 2), fixed(p.inward, 2)))
+        .collect();
+    let lowest = pts.iter().map(|p| p.inward).fold(f64::INFINITY, f64::min);
+    Judged {
+        ours: format!(
+            "{} of {} distances from 4 to 7 with mean inward alignment ≥ 0.5 (lowest {})",
+            pts.len() - short.len(),
+            pts.len(),
+            fixed(lowest, 2)
+        ),
+        verdict: v,
+        why: if short.is_empty() {
+            "the rule: at every distance strictly between 4 and 7 the mean inward alignment (the radial profile's) at least 0.5".into()
+        } else {
+            format!(
+                "the rule: at every distance strictly between 4 and 7 the mean inward alignment (the radial profile's) at least 0.5; short at {}",
+                short.join(", ")
+            )
+        },
+    }
+}
+
+/// A "falls beyond" claim on one placement's sweep: the rate's slope beyond `edge` and the
+/// farthest start against the rate over claim `near`'s range. The verdict, ours in words,
+/// and the standard error of the fall.
+fn far_of(sweep: &[SweepPoint], edge: f64, near: Id, near_words: &str) -> (Verdict, String, f64) {
+    let far: Vec<&SweepPoint> = sweep.iter().filter(|p| p.x_init < edge - 1e-9).collect();
     let pts: Vec<(f64, f64)> = far.iter().map(|p| (p.x_init, p.success_rate())).collect();
     let fit = stats::line_fit(&pts);
-    let near = within(sharp, claim(Id::SharpNear));
+    let near = within(sweep, claim(near));
     let (ok, n) = near
         .iter()
         .fold((0, 0), |(k, n), p| (k + p.successes, n + p.runs));
@@ -253,7 +383,7 @@ fn sharp_far_of(sharp: &[SweepPoint]) -> (Verdict, String, f64) {
         verdict::trend(f.slope, f.slope_ci, Sign::Rises, falls)
     });
     let ours = format!(
-        "{}; slope {} per R; {} inside 2.5 R, {} at x = {}",
+        "{}; slope {} per R; {} {near_words}, {} at x = {}",
         pts.iter()
             .map(|(x, v)| format!("{x}: {}", fixed(*v, 2)))
             .collect::<Vec<_>>()
@@ -642,7 +772,9 @@ fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
     let arrows = &r.maps[if sharp { 0 } else { 1 }];
     let (a, b) = c.over.unwrap_or_default();
     let far = matches!(c.id, Id::SharpMapFar | Id::GradientMapFar);
+    let left = c.id == Id::GradientMapLeft;
     let keep = |x: f64| match (sharp, far) {
+        _ if left => x < b - 1e-9,
         (true, false) => x != 0.0 && x.abs() <= b + 1e-9,
         (true, true) => x.abs() > b + 1e-9,
         (false, false) => x > a - 1e-9 && x < b + 1e-9,
@@ -672,6 +804,9 @@ fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
         ),
         verdict: v,
         why: match (toward, sharp) {
+            _ if left => {
+                format!("the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give")
+            }
             (true, _) => format!(
                 "the rule: at least 95 % of the arrows within ±{CONE_DEG}° of the target direction"
             ),

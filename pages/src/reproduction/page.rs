@@ -704,6 +704,30 @@ fn page<'a>(r: &Report<'a>) -> Result<Page<'a>, Error> {
 }
 
 /// `docs/reproduction.md`, rendered from `templates/reproduction.md.j2`.
-pub(super) fn markdown(r: &Report<'_>) -> Result<String, Error> {
-    Ok(crate::page::render("reproduction.md.j2", page(r)?)?)
+/// The page, and its view model as JSON with what varies from run to run (wall time, threads,
+/// the speed section) blanked: the data `templates_fill_every_number_from_data` renders.
+pub(super) fn markdown(r: &Report<'_>) -> Result<(String, serde_json::Value), Error> {
+    let p = page(r)?;
+    let md = crate::page::render("reproduction.md.j2", &p)?;
+    let mut model = serde_json::to_value(&p)?;
+    blank_timing(&mut model);
+    Ok((md, model))
+}
+
+/// The view model's fields that vary from run to run, blanked (strings "…", numbers 0).
+pub(super) fn blank_timing(model: &mut serde_json::Value) {
+    fn blank(v: &mut serde_json::Value) {
+        match v {
+            serde_json::Value::String(s) => *s = "…".into(),
+            serde_json::Value::Number(_) => *v = 0.into(),
+            serde_json::Value::Array(xs) => xs.iter_mut().for_each(blank),
+            serde_json::Value::Object(m) => m.values_mut().for_each(blank),
+            _ => {}
+        }
+    }
+    for key in ["wall_s", "threads", "speed"] {
+        if let Some(v) = model.get_mut(key) {
+            blank(v);
+        }
+    }
 }

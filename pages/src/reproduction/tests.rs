@@ -134,3 +134,177 @@ fn the_whole_page_written_from_json_lines_is_the_same() {
     same_files(&opts.docs, &again.docs);
     std::fs::remove_dir_all(&base).ok();
 }
+
+/// Every number of the view model moved: each run of digits in a string, and each JSON
+/// number, one up ("0.52 ± 0.02" becomes "1.53 ± 1.03").
+fn perturbed(v: &serde_json::Value) -> serde_json::Value {
+    use serde_json::Value as V;
+    match v {
+        V::String(s) => {
+            let mut out = String::new();
+            let mut digits = String::new();
+            for c in s.chars().chain(['\0']) {
+                if c.is_ascii_digit() {
+                    digits.push(c);
+                    continue;
+                }
+                if !digits.is_empty() {
+                    let n: u128 = digits.parse().unwrap_or(0);
+                    out.push_str(&format!("{:0w$}", n + 1, w = digits.len()));
+                    digits.clear();
+                }
+                if c != '\0' {
+                    out.push(c);
+                }
+            }
+            V::String(out)
+        }
+        V::Number(n) => n.as_u64().map_or_else(
+            || serde_json::json!(n.as_f64().unwrap_or(0.0) + 1.0),
+            |u| serde_json::json!(u + 1),
+        ),
+        V::Array(xs) => V::Array(xs.iter().map(perturbed).collect()),
+        V::Object(m) => V::Object(m.iter().map(|(k, x)| (k.clone(), perturbed(x))).collect()),
+        other => other.clone(),
+    }
+}
+
+/// The pieces of a page line that carry a number the reader takes for data: the line cut at
+/// sentence ends and table cells, without what no data fills (the paper's figure and section
+/// numbers, which come from the `fig`/`sec` globals and are checked against the LaTeX source;
+/// code spans; link targets).
+fn number_pieces(line: &str) -> Vec<String> {
+    let mut clean = String::new();
+    let mut in_code = false;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '`' => in_code = !in_code,
+            _ if in_code => {}
+            ']' if chars.peek() == Some(&'(') => {
+                for d in chars.by_ref() {
+                    if d == ')' {
+                        break;
+                    }
+                }
+            }
+            _ => clean.push(c),
+        }
+    }
+    let clean = without_paper_refs(&clean);
+    let mut out = Vec::new();
+    for piece in clean.split(['|', ';']).flat_map(|p| p.split(". ")) {
+        if piece.chars().any(|c| c.is_ascii_digit()) {
+            out.push(piece.trim().to_owned());
+        }
+    }
+    out
+}
+
+/// `s` with the paper's figure and section references ("Fig. 5b", "Figs. 6 and 9",
+/// "Figs. 8–10", "§3.2") cut down to "Fig" and "§".
+fn without_paper_refs(s: &str) -> String {
+    let c: Vec<char> = s.chars().collect();
+    let mut out = String::new();
+    let mut i = 0;
+    // The number list from `j` on: digits, a panel letter or "(d)", joined by ", ", " and ",
+    // "–"; where it ends.
+    let list_end = |mut j: usize| -> usize {
+        loop {
+            let start = j;
+            while j < c.len() && (c[j].is_ascii_digit() || c[j] == '.' && j > start) {
+                j += 1;
+            }
+            if j == start {
+                return start;
+            }
+            if j < c.len() && c[j].is_ascii_lowercase() {
+                j += 1;
+            }
+            let rest: String = c[j..].iter().take(6).collect();
+            let sep = [" and ", "–"].into_iter().find(|p| {
+                rest.starts_with(p) && rest[p.len()..].starts_with(|d: char| d.is_ascii_digit())
+            });
+            match sep {
+                Some(p) => j += p.chars().count(),
+                None => return j,
+            }
+        }
+    };
+    while i < c.len() {
+        let rest: String = c[i..].iter().take(6).collect();
+        let head = ["Figs. ", "Fig. ", "§"]
+            .into_iter()
+            .find(|p| rest.starts_with(p));
+        if let Some(h) = head {
+            let j = list_end(i + h.chars().count());
+            if j > i + h.chars().count() {
+                out.push_str(h.trim_end_matches(['.', ' ']));
+                i = j;
+                continue;
+            }
+        }
+        out.push(c[i]);
+        i += 1;
+    }
+    out
+}
+
+/// No number on the page is typed into a template: rendered from the committed view model and
+/// from a copy with every number moved, every piece of the page that carries a digit
+/// changes. A piece that stays is a number the template typed in (fill it from data, or name
+/// the constant in the view model).
+#[test]
+fn templates_fill_every_number_from_data() {
+    let model: serde_json::Value =
+        serde_json::from_str(include_str!("../../../docs/data/reproduction-page.json"))
+            .expect("docs/data/reproduction-page.json: swarm reproduce writes it");
+    let a = crate::page::render("reproduction.md.j2", &model).unwrap();
+    let b = crate::page::render("reproduction.md.j2", perturbed(&model)).unwrap();
+    let (la, lb): (Vec<&str>, Vec<&str>) = (a.lines().collect(), b.lines().collect());
+    assert_eq!(la.len(), lb.len(), "the perturbed page has other lines");
+    let mut typed = Vec::new();
+    for (x, y) in la.iter().zip(&lb) {
+        // Piece by piece in place: a moved number may land on another's value elsewhere.
+        // A line whose wording turns on a number (a branch of the template) is data's.
+        let (before, after) = (number_pieces(x), number_pieces(y));
+        if before.len() != after.len() {
+            continue;
+        }
+        typed.extend(
+            before
+                .into_iter()
+                .zip(after)
+                .filter(|(p, q)| p == q)
+                .map(|(p, _)| p),
+        );
+    }
+    // The ratchet: the pieces typed in today, each to be filled from data or deleted (issue
+    // 38); a new one fails, and so does a listed one that is gone (take it off the list).
+    let known: Vec<&str> = include_str!("typed_numbers.txt")
+        .lines()
+        .filter(|l| !l.starts_with("//") && !l.trim().is_empty())
+        .collect();
+    let new: Vec<&String> = typed
+        .iter()
+        .filter(|p| !known.contains(&p.as_str()))
+        .collect();
+    let gone: Vec<&&str> = known
+        .iter()
+        .filter(|k| !typed.iter().any(|p| p == *k))
+        .collect();
+    assert!(
+        new.is_empty(),
+        "{} pieces of the page keep their numbers whatever the data (typed into a template; fill them from the view model):\n{}",
+        new.len(),
+        new.iter()
+            .map(|p| p.as_str())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+    assert!(
+        gone.is_empty(),
+        "no longer typed in, take them off pages/src/reproduction/typed_numbers.txt:\n{}",
+        gone.iter().map(|p| **p).collect::<Vec<_>>().join("\n")
+    );
+}

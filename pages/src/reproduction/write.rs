@@ -26,6 +26,9 @@ use swarm_sim::experiment::{Arrow, Error, RadialPoint, RunOutput, SweepPoint};
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::timecourse::TimeCourse;
 
+/// The page's view model (its numbers as the template sees them), under `docs/data/`.
+pub const MODEL: &str = "reproduction-page.json";
+
 /// Writes every file of `swarm reproduce` into `opts.docs` (`reproduction.md`) and its
 /// `figures/` from `results`, which must hold every unit's; `opts.seed` and
 /// `opts.placement` must be those the results were computed with (the page names them).
@@ -65,7 +68,7 @@ pub fn write(results: &Results, opts: &Options) -> Result<Summary, Error> {
     let beyond = beyond::write(&figs, s.fields(), results)?;
     let waves = wave_files(&figs, results)?;
     let wall_s = results.wall_s();
-    let md = markdown(&Report {
+    let (md, model) = markdown(&Report {
         placement: results.placements(Unit::Placements)?.clone(),
         speed: results.speed(Unit::Speed)?,
         seed: opts.seed,
@@ -95,6 +98,11 @@ pub fn write(results: &Results, opts: &Options) -> Result<Summary, Error> {
     })?;
     let report = opts.docs.join("reproduction.md");
     std::fs::write(&report, md)?;
+    let data = opts.docs.join("data");
+    std::fs::create_dir_all(&data)?;
+    let mut json = serde_json::to_string_pretty(&model)?;
+    json.push('\n');
+    std::fs::write(data.join(MODEL), json)?;
     Ok(Summary {
         report,
         wall_s,

@@ -53,6 +53,9 @@ pub(super) struct SteepPart {
     runs: u32,
     x: String,
     near: String,
+    /// How far apart the two fields' success criteria lie: the gradient's line against the
+    /// sharp border's band, R.
+    criteria_apart: String,
     /// Per case: field, slope, success, mean time to the criterion, to the common line.
     rows: Vec<Vec<String>>,
     per_doubling: String,
@@ -104,10 +107,15 @@ pub(super) fn write(
         ],
         &rows,
     )?;
+    let line_x = match &gradient.success {
+        Some(swarm_sim::scenario::Success::BeyondX { x }) => *x,
+        _ => f64::NAN,
+    };
     let part = SteepPart {
         runs: RUNS,
         x: gradient.start.x.to_string(),
         near: NEAR.to_string(),
+        criteria_apart: line_x.to_string(),
         rows,
         per_doubling: pm(steep.per_doubling.0, steep.per_doubling.1, 2),
         sharp_time: fixed(steep.sharp_time, 1),

@@ -247,14 +247,19 @@ pub struct Sim<'a, R: Reading = f32> {
     centre: Point2<f64>,
     periods: u32,
     queue: Calendar,
+    /// Per agent, the second of its live entry in `queue` (`u64::MAX`: none). An entry of
+    /// another second is stale and skipped; an agent queued twice at one second is served once.
     scheduled: Vec<u64>,
-    /// Per agent, the seconds at which it has an entry in `queue` (stale or not), so an agent
-    /// whose timeout returns to a second already queued is not queued twice.
-    queued: Vec<Vec<u64>>,
+    /// Per agent, its wave state as of its last call (the state changes only in calls): read
+    /// at every delivery, so kept apart from the agents, which are large.
+    states: Vec<WaveState>,
     proto_rng: Pcg64Mcg,
     noise_rng: Pcg64Mcg,
     due: Vec<u32>,
+    /// This second's transmissions, sender and message: the first `tx_len` entries (the
+    /// others are buffers kept for reuse; messages are copied in place, not moved).
     tx: Vec<(u32, SimMessage<32, R>)>,
+    tx_len: usize,
     calls: u64,
     /// The fields' means at every agent's position (agent-major, `R::QUANTITIES` per agent):
     /// positions change only when the swarm moves, so the fields are evaluated once per agent
@@ -416,8 +421,11 @@ impl<'a, R: Reading> Sim<'a, R> {
                 &mut proto_rng,
             )?;
             agent.set_opposite(cfg.opposite);
+            // Only a recording run looks at the events ([`Sim::record`]).
+            agent.set_events(false);
             agents.push(agent);
         }
+        let states = agents.iter().map(|a| a.state()).collect();
         let mut sim = Sim {
             swarm,
             fields,
@@ -427,11 +435,12 @@ impl<'a, R: Reading> Sim<'a, R> {
             periods: 0,
             queue: Calendar::new(),
             scheduled: vec![u64::MAX; n],
-            queued: vec![Vec::new(); n],
+            states,
             proto_rng,
             noise_rng,
             due: Vec::new(),
             tx: Vec::new(),
+            tx_len: 0,
             calls: 0,
             means: Vec::with_capacity(n * R::QUANTITIES),
             trace: None,
@@ -476,6 +485,9 @@ impl<'a, R: Reading> Sim<'a, R> {
     /// moves. Costs memory; a run without it records nothing.
     pub fn record(&mut self) {
         let n = self.agents.len();
+        for a in &mut self.agents {
+            a.set_events(true);
+        }
         self.trace.get_or_insert_with(|| Recorder {
             events: Vec::new(),
             heard: vec![Vec::new(); n],
@@ -518,6 +530,10 @@ impl<'a, R: Reading> Sim<'a, R> {
 
     /// Takes agent `i`'s events at second `t`, recording them if asked.
     fn drain_events(&mut self, i: usize, t: u64) {
+        if self.trace.is_none() {
+            // Events are off ([`ThreePhaseAgent::set_events`]): none is queued.
+            return;
+        }
         while let Some(e) = self.agents[i].poll_event() {
             let Some(rec) = self.trace.as_mut() else {
                 continue;
@@ -571,10 +587,7 @@ impl<'a, R: Reading> Sim<'a, R> {
         let t = secs(self.agents[i].poll_timeout());
         if t != self.scheduled[i] {
             self.scheduled[i] = t;
-            if !self.queued[i].contains(&t) {
-                self.queued[i].push(t);
-                self.queue.push(t, i as u32);
-            }
+            self.queue.push(t, i as u32);
         }
     }
 
@@ -636,7 +649,6 @@ impl<'a, R: Reading> Sim<'a, R> {
         due.sort_unstable();
         due.retain(|&i| {
             let i = i as usize;
-            self.queued[i].retain(|&q| q != t);
             let now_due = self.scheduled[i] == t;
             if now_due {
                 self.scheduled[i] = u64::MAX;
@@ -645,13 +657,23 @@ impl<'a, R: Reading> Sim<'a, R> {
         });
         for &i in &due {
             let i = i as usize;
-            if self.agents[i].state() != WaveState::Active {
+            if self.states[i] != WaveState::Active {
                 self.sample(i);
             }
             self.note_scores(i);
             self.agents[i].handle_timeout(now, &mut self.proto_rng);
+            self.states[i] = self.agents[i].state();
             self.calls += 1;
-            while let Some(m) = self.agents[i].poll_transmit() {
+            loop {
+                if self.tx_len == self.tx.len() {
+                    self.tx.push((0, SimMessage::Opinion(None)));
+                }
+                let (sender, m) = &mut self.tx[self.tx_len];
+                if !self.agents[i].poll_transmit_into(m) {
+                    break;
+                }
+                *sender = i as u32;
+                self.tx_len += 1;
                 if let Some(rec) = self.trace.as_mut() {
                     rec.events.push(TraceEvent::Sent {
                         t_ms: t * 1000,
@@ -660,7 +682,6 @@ impl<'a, R: Reading> Sim<'a, R> {
                         len: 1,
                     });
                 }
-                self.tx.push((i as u32, m));
             }
             self.drain_events(i, t);
             self.reschedule(i);
@@ -668,10 +689,10 @@ impl<'a, R: Reading> Sim<'a, R> {
         due.clear();
         self.due = due;
         let tx = std::mem::take(&mut self.tx);
-        for (s, m) in &tx {
+        for (s, m) in &tx[..self.tx_len] {
             for l in self.swarm.neighbours(*s as usize) {
                 let r = l.agent as usize;
-                if self.agents[r].state() != WaveState::Inactive {
+                if self.states[r] != WaveState::Inactive {
                     // An active or refractory agent ignores every message (the wave rule; most
                     // deliveries are such: a wave comes back to the agents it came from). Not
                     // calling it changes nothing but its `ignored`/`wrong_phase` counters,
@@ -687,6 +708,7 @@ impl<'a, R: Reading> Sim<'a, R> {
                 let own = self.sample(r);
                 let accepted =
                     self.agents[r].handle_message(now, l.bearing, m, &mut self.proto_rng);
+                self.states[r] = self.agents[r].state();
                 self.calls += 1;
                 debug_assert!(self.agents[r].poll_transmit().is_none());
                 if !accepted {
@@ -706,7 +728,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             }
         }
         self.tx = tx;
-        self.tx.clear();
+        self.tx_len = 0;
     }
 
     /// Runs one negotiation period, then moves the swarm along the decided direction.

@@ -215,12 +215,18 @@ impl WaveNode {
     /// [`Instant::MAX`] means "never" and is never due: a schedule that saturates at the end of
     /// time stops there (otherwise a cycle ending at `MAX` would start another one ending at
     /// `MAX`, and `poll(Instant::MAX)` would never return `None`).
+    #[inline]
     pub fn poll(&mut self, now: Instant, rng: &mut impl RngCore) -> Option<WaveAction> {
         // Nothing due: the common case (every message an agent hears calls this first), and
-        // `poll_timeout` is the earliest of the same candidates.
+        // `poll_timeout` is the earliest of the same candidates. Inlined; the rest is not.
         if self.poll_timeout() > now {
             return None;
         }
+        self.poll_due(now, rng)
+    }
+
+    /// [`poll`](Self::poll) once something is due.
+    fn poll_due(&mut self, now: Instant, rng: &mut impl RngCore) -> Option<WaveAction> {
         // The earliest due candidate; among equal instants the first in this order (refractory
         // end, relay, initiation, cycle end, extra initiation). Written out rather than as an
         // iterator chain: this is the simulator's hottest function.

@@ -646,7 +646,9 @@ impl<'a, R: Reading> Sim<'a, R> {
         let mut due = std::mem::take(&mut self.due);
         self.queue.take(t, &mut due);
         // Served by increasing index, whatever order they were queued in.
-        due.sort_unstable();
+        if !due.is_sorted() {
+            due.sort_unstable();
+        }
         due.retain(|&i| {
             let i = i as usize;
             let now_due = self.scheduled[i] == t;

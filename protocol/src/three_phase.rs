@@ -174,6 +174,8 @@ pub struct ThreePhaseAgent<
     periods: u32,
     weights: DirectionWeights<BearingKey, S>,
     stored: D::Pool,
+    /// Whether `stored` is filled ([`ThreePhaseAgent::set_pooling`]).
+    pooling: bool,
     last_diversity: f32,
     preferred: Option<f32>,
     decision: Option<f32>,
@@ -223,6 +225,7 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
             periods: 0,
             weights: DirectionWeights::default(),
             stored,
+            pooling: true,
             last_diversity: 0.0,
             preferred: None,
             decision: None,
@@ -291,6 +294,14 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         self.events_on = on;
     }
 
+    /// Whether the readings of scored messages are pooled for the observer's diversity `V_k`
+    /// ([`diversity`](Self::diversity), [`SimEvent::Evaluated`]); they are unless turned off.
+    /// Off, `V_k` is 0 from the next evaluation on and nothing else changes: the pool plays no
+    /// part in the agent's decisions, and a caller that never reads it saves the work.
+    pub fn set_pooling(&mut self, on: bool) {
+        self.pooling = on;
+    }
+
     /// Counters.
     pub fn stats(&self) -> &AgentStats {
         &self.stats
@@ -336,7 +347,9 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
                 if !self.weights.add(key(bearing), v) {
                     self.stats.slots_full = self.stats.slots_full.wrapping_add(1);
                 }
-                self.stored.push_all(r.iter().copied().chain(own));
+                if self.pooling {
+                    self.stored.push_all(r.iter().copied().chain(own));
+                }
             }
             SimMessage::Opinion(Some(o)) if o.is_finite() => {
                 self.preferred = Some(match self.preferred {

@@ -563,6 +563,15 @@ impl<'a, R: Reading> Sim<'a, R> {
             .unwrap_or_default()
     }
 
+    /// Stops accumulating the observer's diversity ([`ThreePhaseAgent::set_pooling`]): every
+    /// later period's [`Period::diversity`] is 0; the run is otherwise the same, draw for draw.
+    /// For runs whose diversity nobody reads (a sweep's).
+    pub fn without_diversity(&mut self) {
+        for a in &mut self.agents {
+            a.set_pooling(false);
+        }
+    }
+
     /// Observes the messages the agents score from now on ([`Tap`]); changes nothing in the
     /// run.
     pub fn tap(&mut self) {

@@ -59,7 +59,13 @@ impl Sector {
 
 /// `angle` wrapped into `[0, 2π)`; −0 becomes +0, so one direction has one bit pattern.
 pub fn wrap_positive(angle: f32) -> f32 {
-    let a = libm::fmodf(angle, TAU);
+    // `fmodf` is exact and returns `x` itself when `|x| < |y|`: skip the call then (every
+    // bearing of the 2D simulator, which calls this for each message scored).
+    let a = if angle.abs() < TAU {
+        angle
+    } else {
+        libm::fmodf(angle, TAU)
+    };
     let a = if a < 0.0 { a + TAU } else { a };
     // `a == 0.0` also holds for −0.0 (found by fuzz/three_phase).
     if a >= TAU || a == 0.0 { 0.0 } else { a }

@@ -86,6 +86,7 @@ pub struct Moments {
 
 impl Moments {
     /// Adds one reading.
+    #[inline]
     pub fn push(&mut self, x: f32) {
         let x = f64::from(x);
         self.n = self.n.saturating_add(1);
@@ -110,6 +111,7 @@ impl Moments {
 }
 
 impl Pool for Moments {
+    #[inline]
     fn push(&mut self, x: f32) {
         Moments::push(self, x);
     }

@@ -85,6 +85,66 @@ pub struct AgentStats {
     pub lost: u32,
 }
 
+impl<const N: usize, R: Copy> SimMessage<N, R> {
+    /// Makes `self` a copy of `src` in place: only `src`'s readings are copied, not the whole
+    /// `N`-reading buffer a move or a clone carries.
+    pub fn copy_from(&mut self, src: &Self) {
+        match (self, src) {
+            (SimMessage::Readings(d), SimMessage::Readings(s)) => {
+                d.clear();
+                // Cannot fail: both hold up to `N`.
+                let _ = d.extend_from_slice(s);
+            }
+            (d, s) => *d = s.clone(),
+        }
+    }
+
+    /// An empty message of `phase` (no readings, no opinion), written in place.
+    fn reset(&mut self, phase: Phase) {
+        match (phase, &mut *self) {
+            (Phase::Gathering, SimMessage::Readings(r)) => r.clear(),
+            (Phase::Gathering, m) => *m = SimMessage::Readings(Vec::new()),
+            (Phase::Deciding, m) => *m = SimMessage::Opinion(None),
+        }
+    }
+}
+
+/// The messages sent and not yet polled, oldest first: a ring of `K` slots written in place
+/// (a message holds up to `N` readings, and moving it whole at every hop was most of the 2D
+/// simulator's time). A send into a full outbox drops the oldest.
+#[derive(Clone, Debug)]
+struct Outbox<M, const K: usize> {
+    slots: [M; K],
+    head: usize,
+    len: usize,
+}
+
+impl<M, const K: usize> Outbox<M, K> {
+    /// The slot of the next message, dropping the oldest if all `K` are taken; `true` with
+    /// it if one was dropped.
+    fn push_slot(&mut self) -> (&mut M, bool) {
+        let dropped = self.len == K;
+        if dropped {
+            self.head = (self.head + 1) % K;
+            self.len -= 1;
+        }
+        let i = (self.head + self.len) % K;
+        self.len += 1;
+        (&mut self.slots[i], dropped)
+    }
+
+    /// The oldest message, removed (its slot is reused by a later send).
+    fn pop_front(&mut self) -> Option<&M> {
+        if self.len == 0 {
+            return None;
+        }
+        let i = self.head;
+        self.head = (self.head + 1) % K;
+        self.len -= 1;
+        Some(&self.slots[i])
+    }
+}
+
 /// Key of a direction slot: the bearing's bits, so "the same neighbour" is exact equality.
 type BearingKey = u32;
 
@@ -114,12 +174,18 @@ pub struct ThreePhaseAgent<
     periods: u32,
     weights: DirectionWeights<BearingKey, S>,
     stored: D::Pool,
+    /// Whether `stored` is filled ([`ThreePhaseAgent::set_pooling`]).
+    pooling: bool,
     last_diversity: f32,
     preferred: Option<f32>,
     decision: Option<f32>,
-    pending: Option<SimMessage<N, R>>,
-    outbox: Deque<SimMessage<N, R>, OUTBOX>,
+    /// The message to relay, while `pending`; refilled in place, never moved.
+    relay: SimMessage<N, R>,
+    pending: bool,
+    outbox: Outbox<SimMessage<N, R>, OUTBOX>,
     events: Deque<SimEvent, EVENT_QUEUE>,
+    /// Whether events are queued ([`ThreePhaseAgent::set_events`]).
+    events_on: bool,
     stats: AgentStats,
     opposite: Opposite,
 }
@@ -159,12 +225,19 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
             periods: 0,
             weights: DirectionWeights::default(),
             stored,
+            pooling: true,
             last_diversity: 0.0,
             preferred: None,
             decision: None,
-            pending: None,
-            outbox: Deque::new(),
+            relay: SimMessage::Opinion(None),
+            pending: false,
+            outbox: Outbox {
+                slots: core::array::from_fn(|_| SimMessage::Opinion(None)),
+                head: 0,
+                len: 0,
+            },
             events: Deque::new(),
+            events_on: true,
             stats: AgentStats::default(),
             opposite: Opposite::CounterClockwise,
         })
@@ -214,6 +287,21 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         self.opposite = rule;
     }
 
+    /// Whether [`SimEvent`]s are queued for [`poll_event`](Self::poll_event) (they are unless
+    /// turned off): a caller that never looks at them turns them off and saves the work.
+    /// Nothing else changes; with events off, none is queued, so none is lost.
+    pub fn set_events(&mut self, on: bool) {
+        self.events_on = on;
+    }
+
+    /// Whether the readings of scored messages are pooled for the observer's diversity `V_k`
+    /// ([`diversity`](Self::diversity), [`SimEvent::Evaluated`]); they are unless turned off.
+    /// Off, `V_k` is 0 from the next evaluation on and nothing else changes: the pool plays no
+    /// part in the agent's decisions, and a caller that never reads it saves the work.
+    pub fn set_pooling(&mut self, on: bool) {
+        self.pooling = on;
+    }
+
     /// Counters.
     pub fn stats(&self) -> &AgentStats {
         &self.stats
@@ -259,7 +347,9 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
                 if !self.weights.add(key(bearing), v) {
                     self.stats.slots_full = self.stats.slots_full.wrapping_add(1);
                 }
-                self.stored.push_all(r.iter().copied().chain(own));
+                if self.pooling {
+                    self.stored.push_all(r.iter().copied().chain(own));
+                }
             }
             SimMessage::Opinion(Some(o)) if o.is_finite() => {
                 self.preferred = Some(match self.preferred {
@@ -269,7 +359,8 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
             }
             SimMessage::Opinion(_) => {}
         }
-        self.pending = Some(msg.clone());
+        self.relay.copy_from(msg);
+        self.pending = true;
         true
     }
 
@@ -277,19 +368,14 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
     pub fn handle_timeout(&mut self, now: Instant, rng: &mut impl RngCore) {
         while let Some(action) = self.wave.poll(now, rng) {
             match action {
-                WaveAction::Initiate => {
-                    let m = match self.phase {
-                        Phase::Gathering => SimMessage::Readings(Vec::new()),
-                        Phase::Deciding => SimMessage::Opinion(None),
-                    };
-                    self.send(m);
+                WaveAction::Initiate => self.send(false),
+                WaveAction::Relay if self.pending => {
+                    self.pending = false;
+                    self.send(true);
                 }
-                WaveAction::Relay => match self.pending.take() {
-                    Some(m) => self.send(m),
-                    // The phase changed while the agent was active: the relay is dropped
-                    // (receivers would ignore it) but the agent still goes refractory.
-                    None => self.push_event(SimEvent::State(WaveState::Refractory)),
-                },
+                // The phase changed while the agent was active: the relay is dropped
+                // (receivers would ignore it) but the agent still goes refractory.
+                WaveAction::Relay => self.push_event(SimEvent::State(WaveState::Refractory)),
                 WaveAction::Rested => self.push_event(SimEvent::State(WaveState::Inactive)),
                 WaveAction::CycleEnded(_) => self.end_cycle(),
             }
@@ -303,7 +389,19 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
 
     /// The next message to broadcast to every neighbour in range.
     pub fn poll_transmit(&mut self) -> Option<SimMessage<N, R>> {
-        self.outbox.pop_front()
+        self.outbox.pop_front().cloned()
+    }
+
+    /// [`poll_transmit`](Self::poll_transmit) into `out`, copied in place
+    /// ([`SimMessage::copy_from`]); `false` (and `out` untouched) if there is nothing to send.
+    pub fn poll_transmit_into(&mut self, out: &mut SimMessage<N, R>) -> bool {
+        match self.outbox.pop_front() {
+            Some(m) => {
+                out.copy_from(m);
+                true
+            }
+            None => false,
+        }
     }
 
     /// The next event.
@@ -311,19 +409,24 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         self.events.pop_front()
     }
 
-    /// Puts this agent's own contribution into `m` and queues it.
-    fn send(&mut self, mut m: SimMessage<N, R>) {
-        match &mut m {
+    /// Queues the message to relay (`relay`) or a new one of the phase, with this agent's
+    /// own contribution put in.
+    fn send(&mut self, relay: bool) {
+        let (m, dropped) = self.outbox.push_slot();
+        if dropped {
+            self.stats.lost = self.stats.lost.wrapping_add(1);
+        }
+        if relay {
+            m.copy_from(&self.relay);
+        } else {
+            m.reset(self.phase);
+        }
+        match m {
             SimMessage::Readings(r) => {
                 push_evicting(r, self.reading);
             }
             SimMessage::Opinion(o) => *o = self.preferred,
         }
-        if self.outbox.is_full() {
-            self.outbox.pop_front();
-            self.stats.lost = self.stats.lost.wrapping_add(1);
-        }
-        let _ = self.outbox.push_back(m);
         self.push_event(SimEvent::State(WaveState::Refractory));
     }
 
@@ -346,7 +449,7 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
                 });
                 self.phase = Phase::Deciding;
                 self.phase_cycles = 0;
-                self.pending = None;
+                self.pending = false;
             }
             Phase::Deciding if self.phase_cycles >= self.params.decide_cycles => {
                 self.periods = self.periods.wrapping_add(1);
@@ -357,13 +460,16 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
                 });
                 self.phase = Phase::Gathering;
                 self.phase_cycles = 0;
-                self.pending = None;
+                self.pending = false;
             }
             _ => {}
         }
     }
 
     fn push_event(&mut self, e: SimEvent) {
+        if !self.events_on {
+            return;
+        }
         if self.events.is_full() {
             self.events.pop_front();
             self.stats.lost = self.stats.lost.wrapping_add(1);

@@ -192,9 +192,13 @@ impl WaveNode {
     }
 
     /// The next instant at which [`poll`](Self::poll) has something to do.
+    #[inline]
     pub fn poll_timeout(&self) -> Instant {
         let mut t = self.cycle_end;
-        for i in [self.initiate_at, self.extra_at].into_iter().flatten() {
+        if let Some(i) = self.initiate_at {
+            t = t.min(i);
+        }
+        if let Some(i) = self.extra_at {
             t = t.min(i);
         }
         match self.state {
@@ -211,27 +215,43 @@ impl WaveNode {
     /// [`Instant::MAX`] means "never" and is never due: a schedule that saturates at the end of
     /// time stops there (otherwise a cycle ending at `MAX` would start another one ending at
     /// `MAX`, and `poll(Instant::MAX)` would never return `None`).
+    #[inline]
     pub fn poll(&mut self, now: Instant, rng: &mut impl RngCore) -> Option<WaveAction> {
         // Nothing due: the common case (every message an agent hears calls this first), and
-        // `poll_timeout` is the earliest of the same candidates.
+        // `poll_timeout` is the earliest of the same candidates. Inlined; the rest is not.
         if self.poll_timeout() > now {
             return None;
         }
-        let rest = (self.state == WaveState::Refractory).then_some(self.refractory_until);
-        let relay = (self.state == WaveState::Active).then_some(self.relay_at);
-        let due = |t: Option<Instant>| t.filter(|&t| t <= now && t != Instant::MAX);
-        let candidates = [
-            rest,
-            relay,
-            self.initiate_at,
-            Some(self.cycle_end),
-            self.extra_at,
-        ];
-        let (which, at) = candidates
-            .iter()
-            .enumerate()
-            .filter_map(|(i, &t)| due(t).map(|t| (i, t)))
-            .min_by_key(|&(i, t)| (t, i))?;
+        self.poll_due(now, rng)
+    }
+
+    /// [`poll`](Self::poll) once something is due.
+    fn poll_due(&mut self, now: Instant, rng: &mut impl RngCore) -> Option<WaveAction> {
+        // The earliest due candidate; among equal instants the first in this order (refractory
+        // end, relay, initiation, cycle end, extra initiation). Written out rather than as an
+        // iterator chain: this is the simulator's hottest function.
+        let mut best: Option<(u8, Instant)> = None;
+        let mut consider = |which: u8, t: Option<Instant>| {
+            if let Some(t) = t
+                && t <= now
+                && t != Instant::MAX
+                && best.is_none_or(|(_, b)| t < b)
+            {
+                best = Some((which, t));
+            }
+        };
+        consider(
+            0,
+            (self.state == WaveState::Refractory).then_some(self.refractory_until),
+        );
+        consider(
+            1,
+            (self.state == WaveState::Active).then_some(self.relay_at),
+        );
+        consider(2, self.initiate_at);
+        consider(3, Some(self.cycle_end));
+        consider(4, self.extra_at);
+        let (which, at) = best?;
         Some(match which {
             0 => {
                 self.state = WaveState::Inactive;

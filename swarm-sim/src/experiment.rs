@@ -79,8 +79,8 @@ pub fn run_tapped(
     seed: u64,
 ) -> Result<(RunOutput, Vec<Tap>), Error> {
     let observe = Observe {
-        trace: false,
         tap: true,
+        ..Observe::default()
     };
     let (out, _, taps) = run_inner(scn, cfg, start, periods, seed, false, observe)?;
     Ok((out, taps))
@@ -93,6 +93,8 @@ struct Observe {
     trace: bool,
     /// Each period's [`Tap`].
     tap: bool,
+    /// No observer's diversity ([`Sim::without_diversity`]): every period's is 0.
+    no_diversity: bool,
 }
 
 /// [`run`] (to the last period) with its events recorded for the replay viewer
@@ -109,7 +111,7 @@ pub fn run_traced(
 ) -> Result<(RunOutput, Vec<hal_emu::TraceEvent>), Error> {
     let observe = Observe {
         trace: true,
-        tap: false,
+        ..Observe::default()
     };
     let (out, events, _) = run_inner(scn, cfg, start, periods, seed, false, observe)?;
     Ok((out, events))
@@ -153,6 +155,9 @@ fn run_inner(
         }
         if observe.tap {
             sim.tap();
+        }
+        if observe.no_diversity {
+            sim.without_diversity();
         }
         for _ in 0..periods {
             let p = sim.run_period()?;
@@ -210,6 +215,13 @@ impl<'a> AnySim<'a> {
         match self {
             AnySim::One(s) => s.record(),
             AnySim::Two(s) => s.record(),
+        }
+    }
+
+    fn without_diversity(&mut self) {
+        match self {
+            AnySim::One(s) => s.without_diversity(),
+            AnySim::Two(s) => s.without_diversity(),
         }
     }
 
@@ -333,7 +345,13 @@ pub fn sweep_run(
         .and_then(|p| xs.get(p))
         .ok_or_else(|| format!("sweep unit {k} is beyond the sweep"))?;
     let s = derive(seed, &[p, r]);
-    run(scn, cfg, Point2::new(*x, 0.0), scn.periods, s, true).map(|o| o.success_at)
+    // Only the success counts: the observer's diversity is not accumulated.
+    let observe = Observe {
+        no_diversity: true,
+        ..Observe::default()
+    };
+    let start = Point2::new(*x, 0.0);
+    run_inner(scn, cfg, start, scn.periods, s, true, observe).map(|o| o.0.success_at)
 }
 
 /// The points of a sweep from its units' outcomes ([`sweep_run`], in unit order).

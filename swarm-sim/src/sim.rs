@@ -247,14 +247,19 @@ pub struct Sim<'a, R: Reading = f32> {
     centre: Point2<f64>,
     periods: u32,
     queue: Calendar,
+    /// Per agent, the second of its live entry in `queue` (`u64::MAX`: none). An entry of
+    /// another second is stale and skipped; an agent queued twice at one second is served once.
     scheduled: Vec<u64>,
-    /// Per agent, the seconds at which it has an entry in `queue` (stale or not), so an agent
-    /// whose timeout returns to a second already queued is not queued twice.
-    queued: Vec<Vec<u64>>,
+    /// Per agent, its wave state as of its last call (the state changes only in calls): read
+    /// at every delivery, so kept apart from the agents, which are large.
+    states: Vec<WaveState>,
     proto_rng: Pcg64Mcg,
     noise_rng: Pcg64Mcg,
     due: Vec<u32>,
+    /// This second's transmissions, sender and message: the first `tx_len` entries (the
+    /// others are buffers kept for reuse; messages are copied in place, not moved).
     tx: Vec<(u32, SimMessage<32, R>)>,
+    tx_len: usize,
     calls: u64,
     /// The fields' means at every agent's position (agent-major, `R::QUANTITIES` per agent):
     /// positions change only when the swarm moves, so the fields are evaluated once per agent
@@ -280,57 +285,104 @@ struct Recorder {
 /// The sectors a bearing is binned into for the viewer (its LED colours).
 pub const TRACE_SECTORS: u8 = 8;
 
-/// The agents' due seconds: a wheel of one-second buckets covering `[now, now + WHEEL)` and a
-/// heap for anything later. Every entry in the wheel lies in that window, so a bucket holds
-/// exactly the entries of one second.
+/// The agents' due seconds: a wheel of one-second slots covering `[now, now + WHEEL)` and a
+/// heap for anything later. Each agent is due at one second at most (the simulator's
+/// `scheduled`): in the wheel it sits in its slot's list, linked through per-agent `next`/`prev`
+/// arrays, so moving it to another second is O(1) and allocates nothing. Heap entries are
+/// checked against `scheduled` when the window reaches them (an agent moved since is skipped).
 struct Calendar {
-    buckets: Vec<Vec<u32>>,
+    /// Per slot, the first agent of its list ([`NONE`]: empty).
+    head: Vec<u32>,
+    /// Per agent, the next agent in its slot's list.
+    next: Vec<u32>,
+    /// Per agent, the previous agent in its slot's list ([`NONE`]: it is the head).
+    prev: Vec<u32>,
+    /// Per agent, the slot whose list it is in ([`NONE`]: none).
+    slot_of: Vec<u32>,
     in_wheel: usize,
     later: BinaryHeap<Reverse<(u64, u32)>>,
     now: u64,
 }
 
+/// No agent.
+const NONE: u32 = u32::MAX;
+
 impl Calendar {
     const WHEEL: u64 = 4096;
 
-    fn new() -> Self {
+    fn new(agents: usize) -> Self {
         Calendar {
-            buckets: vec![Vec::new(); Self::WHEEL as usize],
+            head: vec![NONE; Self::WHEEL as usize],
+            next: vec![NONE; agents],
+            prev: vec![NONE; agents],
+            slot_of: vec![NONE; agents],
             in_wheel: 0,
             later: BinaryHeap::new(),
             now: 0,
         }
     }
 
-    fn bucket(&mut self, t: u64) -> &mut Vec<u32> {
-        &mut self.buckets[(t % Self::WHEEL) as usize]
+    fn slot(t: u64) -> usize {
+        (t % Self::WHEEL) as usize
     }
 
-    /// Queues agent `i` at second `t` (a second already passed counts as now).
-    fn push(&mut self, t: u64, i: u32) {
+    /// Links agent `i` into the slot of second `t`, which the window covers.
+    fn link(&mut self, t: u64, i: u32) {
+        let s = Self::slot(t);
+        let h = self.head[s];
+        self.next[i as usize] = h;
+        self.prev[i as usize] = NONE;
+        if h != NONE {
+            self.prev[h as usize] = i;
+        }
+        self.head[s] = i;
+        self.slot_of[i as usize] = s as u32;
+        self.in_wheel += 1;
+    }
+
+    /// Moves agent `i` to second `t` (a second already passed counts as now), out of the
+    /// slot it was in, if any.
+    fn reschedule(&mut self, t: u64, i: u32) {
+        let iu = i as usize;
+        let slot = self.slot_of[iu];
+        if slot != NONE {
+            let (p, n) = (self.prev[iu], self.next[iu]);
+            if p == NONE {
+                self.head[slot as usize] = n;
+            } else {
+                self.next[p as usize] = n;
+            }
+            if n != NONE {
+                self.prev[n as usize] = p;
+            }
+            self.slot_of[iu] = NONE;
+            self.in_wheel -= 1;
+        }
         let t = t.max(self.now);
         if t - self.now < Self::WHEEL {
-            self.bucket(t).push(i);
-            self.in_wheel += 1;
+            self.link(t, i);
         } else {
             self.later.push(Reverse((t, i)));
         }
     }
 
-    /// Moves what the window now covers from the heap into the wheel.
-    fn refill(&mut self) {
+    /// Moves what the window now covers from the heap into the wheel: the entries still
+    /// current (`scheduled[i] == t`) and not already linked.
+    fn refill(&mut self, scheduled: &[u64]) {
         while let Some(&Reverse((t, i))) = self.later.peek() {
             if t - self.now >= Self::WHEEL {
                 break;
             }
             self.later.pop();
-            self.bucket(t).push(i);
-            self.in_wheel += 1;
+            if scheduled[i as usize] == t && self.slot_of[i as usize] == NONE {
+                self.link(t, i);
+            }
         }
     }
 
-    /// The first second at or before `until` with entries, if any; the window moves up to it.
-    fn next_due(&mut self, until: u64) -> Option<u64> {
+    /// The first second at or before `until` with an agent due, if any; the window moves up
+    /// to it.
+    fn next_due(&mut self, until: u64, scheduled: &[u64]) -> Option<u64> {
         loop {
             if self.now > until {
                 return None;
@@ -340,23 +392,36 @@ impl Calendar {
                 if t > until {
                     return None;
                 }
-                self.now = t;
-                self.refill();
+                self.now = self.now.max(t);
+                self.refill(scheduled);
+                if self.in_wheel == 0 {
+                    // Only stale heap entries up to here: look further.
+                    continue;
+                }
             }
-            if !self.bucket(self.now).is_empty() {
+            if self.head[Self::slot(self.now)] != NONE {
                 return Some(self.now);
             }
             self.now += 1;
-            self.refill();
+            self.refill(scheduled);
         }
     }
 
-    /// Appends the agents queued at second `t` (the current second) to `out`.
+    /// Appends the agents due at second `t` (the current second) to `out`, unlinked, in the
+    /// order they were queued (mostly by increasing index already).
     fn take(&mut self, t: u64, out: &mut Vec<u32>) {
         debug_assert_eq!(t, self.now);
-        let b = &mut self.buckets[(t % Self::WHEEL) as usize];
-        self.in_wheel -= b.len();
-        out.append(b);
+        let s = Self::slot(t);
+        let from = out.len();
+        let mut i = self.head[s];
+        while i != NONE {
+            out.push(i);
+            self.slot_of[i as usize] = NONE;
+            self.in_wheel -= 1;
+            i = self.next[i as usize];
+        }
+        self.head[s] = NONE;
+        out[from..].reverse();
     }
 }
 
@@ -416,8 +481,11 @@ impl<'a, R: Reading> Sim<'a, R> {
                 &mut proto_rng,
             )?;
             agent.set_opposite(cfg.opposite);
+            // Only a recording run looks at the events ([`Sim::record`]).
+            agent.set_events(false);
             agents.push(agent);
         }
+        let states = agents.iter().map(|a| a.state()).collect();
         let mut sim = Sim {
             swarm,
             fields,
@@ -425,13 +493,14 @@ impl<'a, R: Reading> Sim<'a, R> {
             agents,
             centre,
             periods: 0,
-            queue: Calendar::new(),
+            queue: Calendar::new(n),
             scheduled: vec![u64::MAX; n],
-            queued: vec![Vec::new(); n],
+            states,
             proto_rng,
             noise_rng,
             due: Vec::new(),
             tx: Vec::new(),
+            tx_len: 0,
             calls: 0,
             means: Vec::with_capacity(n * R::QUANTITIES),
             trace: None,
@@ -476,6 +545,9 @@ impl<'a, R: Reading> Sim<'a, R> {
     /// moves. Costs memory; a run without it records nothing.
     pub fn record(&mut self) {
         let n = self.agents.len();
+        for a in &mut self.agents {
+            a.set_events(true);
+        }
         self.trace.get_or_insert_with(|| Recorder {
             events: Vec::new(),
             heard: vec![Vec::new(); n],
@@ -489,6 +561,15 @@ impl<'a, R: Reading> Sim<'a, R> {
             .as_mut()
             .map(|r| std::mem::take(&mut r.events))
             .unwrap_or_default()
+    }
+
+    /// Stops accumulating the observer's diversity ([`ThreePhaseAgent::set_pooling`]): every
+    /// later period's [`Period::diversity`] is 0; the run is otherwise the same, draw for draw.
+    /// For runs whose diversity nobody reads (a sweep's).
+    pub fn without_diversity(&mut self) {
+        for a in &mut self.agents {
+            a.set_pooling(false);
+        }
     }
 
     /// Observes the messages the agents score from now on ([`Tap`]); changes nothing in the
@@ -518,6 +599,10 @@ impl<'a, R: Reading> Sim<'a, R> {
 
     /// Takes agent `i`'s events at second `t`, recording them if asked.
     fn drain_events(&mut self, i: usize, t: u64) {
+        if self.trace.is_none() {
+            // Events are off ([`ThreePhaseAgent::set_events`]): none is queued.
+            return;
+        }
         while let Some(e) = self.agents[i].poll_event() {
             let Some(rec) = self.trace.as_mut() else {
                 continue;
@@ -571,10 +656,7 @@ impl<'a, R: Reading> Sim<'a, R> {
         let t = secs(self.agents[i].poll_timeout());
         if t != self.scheduled[i] {
             self.scheduled[i] = t;
-            if !self.queued[i].contains(&t) {
-                self.queued[i].push(t);
-                self.queue.push(t, i as u32);
-            }
+            self.queue.reschedule(t, i as u32);
         }
     }
 
@@ -622,7 +704,7 @@ impl<'a, R: Reading> Sim<'a, R> {
 
     /// Runs every due second up to and including `until`.
     fn advance_to(&mut self, until: u64) {
-        while let Some(t) = self.queue.next_due(until) {
+        while let Some(t) = self.queue.next_due(until, &self.scheduled) {
             self.second(t);
         }
     }
@@ -633,10 +715,11 @@ impl<'a, R: Reading> Sim<'a, R> {
         let mut due = std::mem::take(&mut self.due);
         self.queue.take(t, &mut due);
         // Served by increasing index, whatever order they were queued in.
-        due.sort_unstable();
+        if !due.is_sorted() {
+            due.sort_unstable();
+        }
         due.retain(|&i| {
             let i = i as usize;
-            self.queued[i].retain(|&q| q != t);
             let now_due = self.scheduled[i] == t;
             if now_due {
                 self.scheduled[i] = u64::MAX;
@@ -645,13 +728,23 @@ impl<'a, R: Reading> Sim<'a, R> {
         });
         for &i in &due {
             let i = i as usize;
-            if self.agents[i].state() != WaveState::Active {
+            if self.states[i] != WaveState::Active {
                 self.sample(i);
             }
             self.note_scores(i);
             self.agents[i].handle_timeout(now, &mut self.proto_rng);
+            self.states[i] = self.agents[i].state();
             self.calls += 1;
-            while let Some(m) = self.agents[i].poll_transmit() {
+            loop {
+                if self.tx_len == self.tx.len() {
+                    self.tx.push((0, SimMessage::Opinion(None)));
+                }
+                let (sender, m) = &mut self.tx[self.tx_len];
+                if !self.agents[i].poll_transmit_into(m) {
+                    break;
+                }
+                *sender = i as u32;
+                self.tx_len += 1;
                 if let Some(rec) = self.trace.as_mut() {
                     rec.events.push(TraceEvent::Sent {
                         t_ms: t * 1000,
@@ -660,7 +753,6 @@ impl<'a, R: Reading> Sim<'a, R> {
                         len: 1,
                     });
                 }
-                self.tx.push((i as u32, m));
             }
             self.drain_events(i, t);
             self.reschedule(i);
@@ -668,10 +760,10 @@ impl<'a, R: Reading> Sim<'a, R> {
         due.clear();
         self.due = due;
         let tx = std::mem::take(&mut self.tx);
-        for (s, m) in &tx {
+        for (s, m) in &tx[..self.tx_len] {
             for l in self.swarm.neighbours(*s as usize) {
                 let r = l.agent as usize;
-                if self.agents[r].state() != WaveState::Inactive {
+                if self.states[r] != WaveState::Inactive {
                     // An active or refractory agent ignores every message (the wave rule; most
                     // deliveries are such: a wave comes back to the agents it came from). Not
                     // calling it changes nothing but its `ignored`/`wrong_phase` counters,
@@ -687,6 +779,7 @@ impl<'a, R: Reading> Sim<'a, R> {
                 let own = self.sample(r);
                 let accepted =
                     self.agents[r].handle_message(now, l.bearing, m, &mut self.proto_rng);
+                self.states[r] = self.agents[r].state();
                 self.calls += 1;
                 debug_assert!(self.agents[r].poll_transmit().is_none());
                 if !accepted {
@@ -706,7 +799,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             }
         }
         self.tx = tx;
-        self.tx.clear();
+        self.tx_len = 0;
     }
 
     /// Runs one negotiation period, then moves the swarm along the decided direction.

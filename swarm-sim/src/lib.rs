@@ -14,6 +14,7 @@
 //! - depend on the number of threads: every run has its own seed ([`seeds`]), runs are
 //!   independent, and results are collected in run order.
 
+mod calendar;
 pub mod experiment;
 pub mod geometry;
 pub mod json;

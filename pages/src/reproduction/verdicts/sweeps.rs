@@ -1,0 +1,198 @@
+//! The summary table's rows read off the sweeps (success and mean time against the start),
+//! judged on both placements' sweeps, the weaker verdict.
+
+use super::{Judged, Report, mean_time_at, within};
+use crate::claims::{Id, claim};
+use crate::verdict::{self, Sign, Verdict};
+use report::csv_files::fixed;
+use swarm_sim::experiment::SweepPoint;
+use swarm_sim::stats;
+
+/// "Falls beyond 2.5 R": the rate's slope against x beyond 2.5 R is positive (it falls with the
+/// distance) with its whole interval, and the farthest start's rate is below the level inside
+/// 2.5 R by more than two standard errors; on both placements' sweeps, the weaker verdict.
+pub(super) fn sharp_far(r: &Report<'_>) -> Judged {
+    let (vm, om, sm) = far_of(&r.sweeps[0], -2.5, Id::SharpNear, "inside 2.5 R");
+    let (vo, oo, so) = far_of(&r.other_sweeps[0], -2.5, Id::SharpNear, "inside 2.5 R");
+    Judged {
+        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
+        verdict: vm.both(vo),
+        why: format!(
+            "the rule, on each placement: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}: {}, {}: {}) below the rate inside 2.5 R; the weaker verdict of the two ({}: {}, {}: {})",
+            r.main,
+            fixed(2.0 * sm, 2),
+            r.main.other(),
+            fixed(2.0 * so, 2),
+            r.main,
+            vm.words(),
+            r.main.other(),
+            vo.words()
+        ),
+    }
+}
+
+/// "Falls beyond x = −2" on the gradient: as [`sharp_far`], from −2 and against the rate over
+/// the range the paper gives as mostly successful (−2 ≤ x < 2.33); both placements.
+pub(super) fn gradient_fall(r: &Report<'_>) -> Judged {
+    let (vm, om, sm) = far_of(&r.sweeps[1], -2.0, Id::GradientMid, "over −2 … 2.33");
+    let (vo, oo, so) = far_of(&r.other_sweeps[1], -2.0, Id::GradientMid, "over −2 … 2.33");
+    Judged {
+        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
+        verdict: vm.both(vo),
+        why: format!(
+            "the rule, on each placement: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}: {}, {}: {}) below the rate over −2 ≤ x < 2.33; the weaker verdict of the two ({}: {}, {}: {})",
+            r.main,
+            fixed(2.0 * sm, 2),
+            r.main.other(),
+            fixed(2.0 * so, 2),
+            r.main,
+            vm.words(),
+            r.main.other(),
+            vo.words()
+        ),
+    }
+}
+
+/// "The success times increase with decreasing distance from the border", judged as written:
+/// the mean time's slope against x over −2 ≤ x < 0 (where the distance from the border falls
+/// as x grows) has its 95 % interval above zero; both placements. The row says what the other
+/// reading (times falling toward the border) gives.
+pub(super) fn gradient_time(r: &Report<'_>) -> Judged {
+    let of = |pts: &[SweepPoint]| {
+        let times: Vec<(f64, f64)> = pts
+            .iter()
+            .filter(|p| claim(Id::GradientTime).covers(p.x_init))
+            .filter_map(|p| mean_time_at(pts, p.x_init).map(|t| (p.x_init, t)))
+            .collect();
+        let fit = stats::line_fit(&times);
+        let v = fit.map_or(Verdict::NotReproduced, |f| {
+            verdict::trend(f.slope, f.slope_ci, Sign::Rises, true)
+        });
+        let other = fit.map_or(Verdict::NotReproduced, |f| {
+            verdict::trend(f.slope, f.slope_ci, Sign::Falls, true)
+        });
+        let ours = format!(
+            "{} periods; {}",
+            times
+                .iter()
+                .map(|t| fixed(t.1, 1))
+                .collect::<Vec<_>>()
+                .join(", "),
+            fit.map_or("no fit".into(), |f| format!(
+                "{} ± {} periods per R toward the border",
+                fixed(f.slope, 1),
+                fixed(f.slope_ci, 1)
+            ))
+        );
+        (v, other, ours)
+    };
+    let (vm, wm, om) = of(&r.sweeps[1]);
+    let (vo, wo, oo) = of(&r.other_sweeps[1]);
+    Judged {
+        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
+        verdict: vm.both(vo),
+        why: format!(
+            "the rule, as the text words it: the mean time's slope against x from −2 to the border has its 95 % interval above zero (times rising as the distance falls), on each placement, the weaker verdict; read the other way (times falling toward the border, as in the sharp border's sweep) it is {}",
+            wm.both(wo).words()
+        ),
+    }
+}
+
+/// A "falls beyond" claim on one placement's sweep: the rate's slope beyond `edge` and the
+/// farthest start against the rate over claim `near`'s range. The verdict, ours in words,
+/// and the standard error of the fall.
+pub(super) fn far_of(
+    sweep: &[SweepPoint],
+    edge: f64,
+    near: Id,
+    near_words: &str,
+) -> (Verdict, String, f64) {
+    let far: Vec<&SweepPoint> = sweep.iter().filter(|p| p.x_init < edge - 1e-9).collect();
+    let pts: Vec<(f64, f64)> = far.iter().map(|p| (p.x_init, p.success_rate())).collect();
+    let fit = stats::line_fit(&pts);
+    let near = within(sweep, claim(near));
+    let (ok, n) = near
+        .iter()
+        .fold((0, 0), |(k, n), p| (k + p.successes, n + p.runs));
+    let inside = f64::from(ok) / f64::from(n.max(1));
+    let farthest = far.first();
+    let (fall, fall_se) = farthest.map_or((0.0, 0.0), |p| {
+        let q = p.success_rate();
+        let se = (inside * (1.0 - inside) / f64::from(n.max(1))
+            + q * (1.0 - q) / f64::from(p.runs.max(1)))
+        .sqrt();
+        (inside - q, se)
+    });
+    let falls = fall > 2.0 * fall_se;
+    let v = fit.map_or(Verdict::NotReproduced, |f| {
+        verdict::trend(f.slope, f.slope_ci, Sign::Rises, falls)
+    });
+    let ours = format!(
+        "{}; slope {} per R; {} {near_words}, {} at x = {}",
+        pts.iter()
+            .map(|(x, v)| format!("{x}: {}", fixed(*v, 2)))
+            .collect::<Vec<_>>()
+            .join(", "),
+        fit.map_or("–".into(), |f| format!(
+            "{} ± {}",
+            fixed(f.slope, 2),
+            fixed(f.slope_ci, 2)
+        )),
+        fixed(inside, 2),
+        farthest.map_or("–".into(), |p| fixed(p.success_rate(), 2)),
+        farthest.map_or("–".into(), |p| p.x_init.to_string()),
+    );
+    (v, ours, fall_se)
+}
+
+/// The share of the variance a line must explain for "decreases linearly".
+const LINEAR_R2: f64 = 0.9;
+
+/// "Decreases linearly toward the border": the mean time's slope against x is negative with its
+/// whole interval, and a line explains at least 90 % of its variance; on both placements'
+/// sweeps, the weaker verdict.
+pub(super) fn sharp_time(r: &Report<'_>) -> Judged {
+    let (vm, om) = sharp_time_of(&r.sweeps[0]);
+    let (vo, oo) = sharp_time_of(&r.other_sweeps[0]);
+    Judged {
+        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
+        verdict: vm.both(vo),
+        why: format!(
+            "the rule, on each placement: the slope's 95 % interval below zero, and a line explaining at least {} % of the variance (R² ≥ {LINEAR_R2}); means of the successful runs only; the weaker verdict of the two ({}: {}, {}: {})",
+            fixed(100.0 * LINEAR_R2, 0),
+            r.main,
+            vm.words(),
+            r.main.other(),
+            vo.words()
+        ),
+    }
+}
+
+/// [`sharp_time`] on one placement's sweep: the verdict and ours in words.
+pub(super) fn sharp_time_of(sharp: &[SweepPoint]) -> (Verdict, String) {
+    let c = claim(Id::SharpTime);
+    let times: Vec<(f64, f64)> = sharp
+        .iter()
+        .filter(|p| c.covers(p.x_init))
+        .filter_map(|p| mean_time_at(sharp, p.x_init).map(|t| (p.x_init, t)))
+        .collect();
+    let fit = stats::line_fit(&times);
+    let v = fit.map_or(Verdict::NotReproduced, |f| {
+        verdict::trend(f.slope, f.slope_ci, Sign::Falls, f.r2 >= LINEAR_R2)
+    });
+    let ours = format!(
+        "{} periods; {}",
+        times
+            .iter()
+            .map(|t| fixed(t.1, 1))
+            .collect::<Vec<_>>()
+            .join(", "),
+        fit.map_or("no fit".into(), |f| format!(
+            "{} ± {} periods per R toward the border, R² {}",
+            fixed(-f.slope, 1),
+            fixed(f.slope_ci, 1),
+            fixed(f.r2, 2)
+        ))
+    );
+    (v, ours)
+}

@@ -11,18 +11,7 @@ use swarm_sim::stats;
 /// "Random for x < −2.2" on the gradient map is the same fact as the gradient's perception
 /// edge (`GradientEdge`): as [`sharp_map_far`], the weaker of the two verdicts.
 pub(super) fn gradient_map_left(r: &Report<'_>, c: &'static Claim) -> Judged {
-    let mut j = directions(r, c);
-    let e = edge(r, claim(Id::GradientEdge));
-    j.why = format!(
-        "{}; the same fact as the gradient's perception edge's row ({}, {}), so the weaker of the two verdicts (map: {}, edge: {})",
-        j.why,
-        e.ours,
-        e.verdict.words(),
-        j.verdict.words(),
-        e.verdict.words()
-    );
-    j.verdict = j.verdict.both(e.verdict);
-    j
+    with_edge(r, c, Id::GradientEdge)
 }
 
 /// The bearing an arrow at `at` should point in: at the border (sharp) or toward +x
@@ -95,8 +84,14 @@ pub(super) fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
 /// two views. The map's arrows are judged as for any "random" claim, the edge as its own row
 /// does, and the row gets the weaker verdict, so the two rows cannot contradict each other.
 pub(super) fn sharp_map_far(r: &Report<'_>, c: &'static Claim) -> Judged {
+    with_edge(r, c, Id::SharpEdge)
+}
+
+/// The map row `c` and the perception edge `edge` (one fact, two views): the map's verdict and
+/// the edge row's, the weaker of the two.
+fn with_edge(r: &Report<'_>, c: &'static Claim, edge_id: Id) -> Judged {
     let mut j = directions(r, c);
-    let e = edge(r, claim(Id::SharpEdge));
+    let e = edge(r, claim(edge_id));
     j.why = format!(
         "{}; the same fact as the perception edge's row (where the first move stops heading for the border: {}, {}), so the weaker of the two verdicts (map: {}, edge: {})",
         j.why,

@@ -12,35 +12,25 @@ use swarm_sim::stats;
 /// distance) with its whole interval, and the farthest start's rate is below the level inside
 /// 2.5 R by more than two standard errors; on both placements' sweeps, the weaker verdict.
 pub(super) fn sharp_far(r: &Report<'_>) -> Judged {
-    let (vm, om, sm) = far_of(&r.sweeps[0], -2.5, Id::SharpNear, "inside 2.5 R");
-    let (vo, oo, so) = far_of(&r.other_sweeps[0], -2.5, Id::SharpNear, "inside 2.5 R");
-    Judged {
-        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
-        verdict: vm.both(vo),
-        why: format!(
-            "the rule, on each placement: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}: {}, {}: {}) below the rate inside 2.5 R; the weaker verdict of the two ({}: {}, {}: {})",
-            r.main,
-            fixed(2.0 * sm, 2),
-            r.main.other(),
-            fixed(2.0 * so, 2),
-            r.main,
-            vm.words(),
-            r.main.other(),
-            vo.words()
-        ),
-    }
+    falls(r, 0, -2.5, Id::SharpNear, "inside 2.5 R")
 }
 
 /// "Falls beyond x = −2" on the gradient: as [`sharp_far`], from −2 and against the rate over
 /// the range the paper gives as mostly successful (−2 ≤ x < 2.33); both placements.
 pub(super) fn gradient_fall(r: &Report<'_>) -> Judged {
-    let (vm, om, sm) = far_of(&r.sweeps[1], -2.0, Id::GradientMid, "over −2 … 2.33");
-    let (vo, oo, so) = far_of(&r.other_sweeps[1], -2.0, Id::GradientMid, "over −2 … 2.33");
+    falls(r, 1, -2.0, Id::GradientMid, "over −2 … 2.33")
+}
+
+/// A "falls beyond `edge`" row of field `k` ([`far_of`] on each placement's sweep, against the
+/// rate over claim `near`'s range, `near_words`), the weaker verdict of the two.
+fn falls(r: &Report<'_>, k: usize, edge: f64, near: Id, near_words: &str) -> Judged {
+    let (vm, om, sm) = far_of(&r.sweeps[k], edge, near, near_words);
+    let (vo, oo, so) = far_of(&r.other_sweeps[k], edge, near, near_words);
     Judged {
         ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
         verdict: vm.both(vo),
         why: format!(
-            "the rule, on each placement: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}: {}, {}: {}) below the rate over −2 ≤ x < 2.33; the weaker verdict of the two ({}: {}, {}: {})",
+            "the rule, on each placement: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}: {}, {}: {}) below the rate {near_words}; the weaker verdict of the two ({}: {}, {}: {})",
             r.main,
             fixed(2.0 * sm, 2),
             r.main.other(),

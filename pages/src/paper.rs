@@ -270,7 +270,8 @@ pub fn number_latex(latex: &str) -> (BTreeMap<String, u8>, BTreeMap<String, Stri
     let mut figs = BTreeMap::new();
     let mut n = 0u8;
     for (at, _) in latex.match_indices("\\begin{figure") {
-        n += 1;
+        // Saturating: a source with more than 255 figures numbers the rest 255, no panic.
+        n = n.saturating_add(1);
         let body = &latex[at..];
         let end = body.find("\\end{figure").unwrap_or(body.len());
         if let Some(l) = first_label(&body[..end]) {

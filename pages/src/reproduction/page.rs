@@ -715,7 +715,7 @@ pub(super) fn markdown(r: &Report<'_>) -> Result<(String, serde_json::Value), Er
 }
 
 /// The view model's fields that vary from run to run, blanked (strings "…", numbers 0).
-pub(super) fn blank_timing(model: &mut serde_json::Value) {
+fn blank_timing(model: &mut serde_json::Value) {
     fn blank(v: &mut serde_json::Value) {
         match v {
             serde_json::Value::String(s) => *s = "…".into(),

@@ -49,11 +49,7 @@ fn falls(r: &Report<'_>, k: usize, edge: f64, near: Id, near_words: &str) -> Jud
 /// reading (times falling toward the border) gives.
 pub(super) fn gradient_time(r: &Report<'_>) -> Judged {
     let of = |pts: &[SweepPoint]| {
-        let times: Vec<(f64, f64)> = pts
-            .iter()
-            .filter(|p| claim(Id::GradientTime).covers(p.x_init))
-            .filter_map(|p| mean_time_at(pts, p.x_init).map(|t| (p.x_init, t)))
-            .collect();
+        let times = mean_times(pts, Id::GradientTime);
         let fit = stats::line_fit(&times);
         let v = fit.map_or(Verdict::NotReproduced, |f| {
             verdict::trend(f.slope, f.slope_ci, Sign::Rises, true)
@@ -63,11 +59,7 @@ pub(super) fn gradient_time(r: &Report<'_>) -> Judged {
         });
         let ours = format!(
             "{} periods; {}",
-            times
-                .iter()
-                .map(|t| fixed(t.1, 1))
-                .collect::<Vec<_>>()
-                .join(", "),
+            joined(&times),
             fit.map_or("no fit".into(), |f| format!(
                 "{} ± {} periods per R toward the border",
                 fixed(f.slope, 1),
@@ -160,23 +152,14 @@ pub(super) fn sharp_time(r: &Report<'_>) -> Judged {
 
 /// [`sharp_time`] on one placement's sweep: the verdict and ours in words.
 pub(super) fn sharp_time_of(sharp: &[SweepPoint]) -> (Verdict, String) {
-    let c = claim(Id::SharpTime);
-    let times: Vec<(f64, f64)> = sharp
-        .iter()
-        .filter(|p| c.covers(p.x_init))
-        .filter_map(|p| mean_time_at(sharp, p.x_init).map(|t| (p.x_init, t)))
-        .collect();
+    let times = mean_times(sharp, Id::SharpTime);
     let fit = stats::line_fit(&times);
     let v = fit.map_or(Verdict::NotReproduced, |f| {
         verdict::trend(f.slope, f.slope_ci, Sign::Falls, f.r2 >= LINEAR_R2)
     });
     let ours = format!(
         "{} periods; {}",
-        times
-            .iter()
-            .map(|t| fixed(t.1, 1))
-            .collect::<Vec<_>>()
-            .join(", "),
+        joined(&times),
         fit.map_or("no fit".into(), |f| format!(
             "{} ± {} periods per R toward the border, R² {}",
             fixed(-f.slope, 1),
@@ -185,4 +168,22 @@ pub(super) fn sharp_time_of(sharp: &[SweepPoint]) -> (Verdict, String) {
         ))
     );
     (v, ours)
+}
+
+/// `(x, mean success time)` at every start of `pts` inside claim `id`'s range.
+fn mean_times(pts: &[SweepPoint], id: Id) -> Vec<(f64, f64)> {
+    let c = claim(id);
+    pts.iter()
+        .filter(|p| c.covers(p.x_init))
+        .filter_map(|p| mean_time_at(pts, p.x_init).map(|t| (p.x_init, t)))
+        .collect()
+}
+
+/// The times of [`mean_times`], one decimal each, comma-separated.
+fn joined(times: &[(f64, f64)]) -> String {
+    times
+        .iter()
+        .map(|t| fixed(t.1, 1))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

@@ -19,6 +19,7 @@
 mod error;
 mod scenarios;
 mod stats_serde;
+mod suite_file;
 
 use std::fmt::Write as _;
 
@@ -36,6 +37,7 @@ use swarm_sim::progress::Progress;
 pub use super::InTheLoop;
 pub use error::CampaignError;
 
+pub use suite_file::{ExperimentCount, SuiteCounts, SuiteFile};
 pub use scenarios::{
     ADVERSARY_AT, Fault, REBOOT_DOWN, SCENARIOS, Scenario, config, hil_places, pattern_for,
 };

@@ -53,8 +53,9 @@ pub struct CampaignArgs {
     /// The Markdown report (default: docs/reliability.md of the checkout cimax was built from,
     /// for the documented campaign only, every scenario over 200 seeds from seed 1 at the
     /// scenarios' own loss, and only when run inside that checkout; any other campaign writes
-    /// nothing unless --out is given). With --shard, the directory of the part. Missing
-    /// folders are created.
+    /// nothing unless --out is given). With both rules, the lab suite's counts go to
+    /// data/lab-suite.json beside it (the reproduction page's lab row reads them). With --shard,
+    /// the directory of the part. Missing folders are created.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// The SVG chart (default: figures/reliability.svg beside the report).
@@ -422,6 +423,7 @@ fn check_paths(args: &CampaignArgs, page: Option<&Path>) -> Result<(), String> {
         all.push(("--out", out.to_path_buf()));
         all.push(("--figure", figure.with_file_name("reliability-rules.svg")));
         all.push(("--figure", figure));
+        all.push(("--out", suite_path(out)));
     }
     if let Some(t) = &args.trace {
         all.push(("--trace", t.clone()));
@@ -441,6 +443,15 @@ fn figure_path(out: &Path, figure: Option<PathBuf>) -> PathBuf {
             .join("figures")
             .join("reliability.svg")
     })
+}
+
+/// The lab suite's counts of page `out` ([`lab::campaign::SuiteFile`]): `data/lab-suite.json`
+/// beside the page, which the reproduction page's lab row reads.
+fn suite_path(out: &Path) -> PathBuf {
+    out.parent()
+        .unwrap_or(Path::new("."))
+        .join("data")
+        .join("lab-suite.json")
 }
 
 /// Prints every failed run and missed bar of `reports` on stderr; `true` if one counts against
@@ -558,6 +569,9 @@ fn write_page(
             adaptive,
             Some(&relative(&rules_figure, out)),
         ));
+        let suite = suite_path(out);
+        let counts = lab::campaign::SuiteFile::new(fixed.plan.seeds, &results.suites);
+        staged.write(&suite, counts.to_json())?;
         for (readings, f, a) in &results.suites {
             let section = suite_section(f, a, *readings, fixed.plan.seeds);
             missed.extend(section.missed.iter().map(|m| m.replace('`', "")));
@@ -571,10 +585,11 @@ fn write_page(
             .as_ref()
             .map(|(f, a, seeds)| pages::reliability::stress::loss_section(f, a, *seeds));
         format!(
-            "wrote {}, {} and {}",
+            "wrote {}, {}, {} and {}",
             out.display(),
             figure.display(),
-            rules_figure.display()
+            rules_figure.display(),
+            suite.display()
         )
     } else {
         format!("wrote {} and {}", out.display(), figure.display())

@@ -71,6 +71,12 @@ pub enum Id {
     CaptionToward,
     /// The refractory state keeps a wave from flooding the swarm.
     Refractory,
+    /// Every agent initiates at least once per cycle (§2.1).
+    Initiations,
+    /// Indecision points get rarer as the swarm grows (§5).
+    Indecision,
+    /// The robots' lab experiment (§4), from the lab suite's file.
+    Lab,
 }
 
 /// How a claim is judged.
@@ -697,6 +703,56 @@ pub const CLAIMS: &[Claim] = &[
         over: None,
         ends: Ends::Open,
         kind: Kind::Mechanism,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::Initiations,
+        source: "§2.1",
+        secs: &[Sec::Waves],
+        figs: &[],
+        quotes: &[
+            "each agent initiates the sending of a signal at least once within a time period",
+        ],
+        quantity: "Every agent initiates at least once per cycle",
+        paper: "at least once per cycle: every agent-cycle",
+        value: Value::Words,
+        over: None,
+        ends: Ends::Open,
+        kind: Kind::Rate,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::Indecision,
+        source: "§5 (discussion)",
+        secs: &[Sec::Discussion],
+        figs: &[Fig::Lights],
+        quotes: &[
+            "The chances of reaching an indecision point, when two aMussels decide to move left and two aMussels decide to move right",
+            "decrease with increasing number of members of a swarm",
+        ],
+        quantity: "Indecision points (as many agents decide left as right) get rarer as the swarm grows",
+        paper: "rarer with more members; negligible for a large 2D swarm",
+        value: Value::Words,
+        over: None,
+        ends: Ends::Open,
+        kind: Kind::Trend,
+        drawn: &[],
+    },
+    Claim {
+        id: Id::Lab,
+        source: "§4",
+        secs: &[Sec::Experiments],
+        figs: &[Fig::Lights],
+        quotes: &[
+            "For each light configuration the experiment was independently repeated five times with a success rate of 100 \\%",
+            "We conducted this experiment five independent times with all experiments successful",
+        ],
+        quantity: "Four robots in a line: every light configuration, and the alternating experiment, decided right",
+        paper: "100 % (5 runs per configuration, 5 alternating)",
+        value: Value::At(1.0),
+        over: None,
+        ends: Ends::Open,
+        kind: Kind::Rate,
         drawn: &[],
     },
 ];

@@ -111,11 +111,23 @@ pub struct CycleRow {
     pub cycle_s: u64,
     /// Mean waves an agent took part in per gathering cycle (61 = no collisions).
     pub waves_heard: f64,
+    /// Agents that initiated a wave in that cycle (the rest were busy at their initiation's
+    /// second), over the runs that measured `waves_heard`.
+    pub initiating: u64,
+    /// Agents over those runs (agent-cycles).
+    pub agent_cycles: u64,
     /// Success at each initial position.
     pub points: Vec<SweepPoint>,
 }
 
-/// `cycle_s,waves_heard,x_init,runs,success_rate,mean_success_time`.
+impl CycleRow {
+    /// The share of agent-cycles with an initiation.
+    pub fn initiating_share(&self) -> f64 {
+        self.initiating as f64 / self.agent_cycles.max(1) as f64
+    }
+}
+
+/// `cycle_s,waves_heard,initiating_share,x_init,runs,success_rate,mean_success_time`.
 ///
 /// # Errors
 /// If the file cannot be written.
@@ -124,6 +136,7 @@ pub fn write_cycle_csv(path: &Path, rows: &[CycleRow]) -> std::io::Result<()> {
     w.write_record([
         "cycle_s",
         "waves_heard",
+        "initiating_share",
         "x_init",
         "runs",
         "success_rate",
@@ -134,6 +147,7 @@ pub fn write_cycle_csv(path: &Path, rows: &[CycleRow]) -> std::io::Result<()> {
             w.write_record([
                 r.cycle_s.to_string(),
                 fixed(r.waves_heard, 2),
+                fixed(r.initiating_share(), 4),
                 p.x_init.to_string(),
                 p.runs.to_string(),
                 fixed(p.success_rate(), 4),

@@ -23,8 +23,8 @@ use crate::{
     refined, sensitivity, settle,
 };
 use swarm_sim::experiment::{
-    self, Arrow, BenchResult, RadialPoint, SweepPoint, direction_map, radial_profile, sweep,
-    waves_heard,
+    self, Arrow, BenchResult, RadialPoint, SweepPoint, cycle_load, direction_map, radial_profile,
+    sweep,
 };
 use swarm_sim::geometry::Swarm;
 use swarm_sim::scenario::{Placement, Scenario};
@@ -81,6 +81,7 @@ fn outcome(unit: Unit, st: &mut Stage<'_>, main: Placement, s: &Scenes) -> Resul
         Unit::Waves => O::Waves(wave(st)?),
         Unit::Speed => O::Speed(speed(st, &s.sharp)?),
         Unit::Placements => O::Placements(placement_stats(st)?),
+        Unit::Indecision(side) => O::Indecision(crate::indecision::runs(st, main, side)?),
     })
 }
 
@@ -209,10 +210,12 @@ fn cycle_effect(st: &mut Stage<'_>, sharp: &Scenario) -> Result<Vec<CycleRun>, E
         cfg.params.wave.cycle = Duration::from_secs(c);
         let seed = st.seed(CYCLE_SWEEPS.at(k));
         let points = sweep(sharp, cfg, &CYCLE_XS, CYCLE_RUNS, seed, &p)?;
-        let heard = waves_heard(sharp, cfg, 10, st.seed(CYCLE_WAVES.at(k)))?;
+        let load = cycle_load(sharp, cfg, 10, st.seed(CYCLE_WAVES.at(k)))?;
         rows.push(CycleRun {
             cycle_s: c,
-            waves_heard: heard,
+            waves_heard: load.heard,
+            initiating: load.initiating,
+            agent_cycles: load.agents,
             points,
         });
     }

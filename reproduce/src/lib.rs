@@ -21,6 +21,7 @@ pub mod beyond;
 pub mod caption_cloud;
 pub mod compute;
 pub mod error;
+pub mod indecision;
 pub mod results;
 pub mod sensitivity;
 pub mod settle;

@@ -11,7 +11,7 @@ use crate::Error;
 use crate::shapes::ShapesResult;
 use crate::units::{UNITS, Unit};
 use swarm_sim::experiment::{Arrow, BenchResult, RadialPoint, RunOutput, SweepPoint};
-use swarm_sim::probe::{Msd, Plateaus, StartRun};
+use swarm_sim::probe::{Msd, Plateaus, Split, StartRun};
 use swarm_sim::timecourse::TimeCourse;
 use swarm_sim::waves::Wave;
 
@@ -36,6 +36,10 @@ pub struct CycleRun {
     /// Waves heard per agent per cycle.
     #[serde(with = "swarm_sim::json")]
     pub waves_heard: f64,
+    /// Agents that initiated a wave in that first cycle, over the same runs.
+    pub initiating: u64,
+    /// Agents over those runs (agent-cycles).
+    pub agent_cycles: u64,
     /// Success from each start of [`CYCLE_XS`](crate::CYCLE_XS).
     pub points: Vec<SweepPoint>,
 }
@@ -245,6 +249,8 @@ pub enum Outcome {
     Speed(Vec<BenchResult>),
     /// [`Unit::Placements`].
     Placements(PlacementStats),
+    /// [`Unit::Indecision`]: one split per run, sizes in order.
+    Indecision(Vec<Split>),
 }
 
 impl Outcome {
@@ -276,6 +282,7 @@ impl Outcome {
                 | (Unit::Waves, O::Waves(_))
                 | (Unit::Speed, O::Speed(_))
                 | (Unit::Placements, O::Placements(_))
+                | (Unit::Indecision(_), O::Indecision(_))
         )
     }
 }
@@ -372,4 +379,5 @@ impl Results {
     getter!(waves, Waves, Wave);
     getter!(speed, Speed, Vec<BenchResult>);
     getter!(placements, Placements, PlacementStats);
+    getter!(indecision, Indecision, Vec<Split>);
 }

@@ -133,6 +133,8 @@ pub const HEADING: Block = Block::new("settle: heading", 620, 10);
 pub const START: Block = Block::grid("settle: start", 630, 4, 2);
 /// Steeper, faster: per slope.
 pub const STEEP: Block = Block::new("settle: steep", 640, 10);
+/// Indecision points against the swarm's size, per placement.
+pub const INDECISION: Block = Block::new("indecision", 650, 2);
 
 /// Every block, in order: what the test checks for overlaps.
 #[cfg(test)]
@@ -163,6 +165,7 @@ const BLOCKS: &[Block] = &[
     HEADING,
     START,
     STEEP,
+    INDECISION,
 ];
 
 #[cfg(test)]

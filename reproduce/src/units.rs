@@ -135,13 +135,15 @@ pub enum Unit {
     Speed,
     /// Neighbour counts of random placements.
     Placements,
+    /// Indecision points against the swarm's size.
+    Indecision(Side),
 }
 
 use Field::{Gradient as G, Sharp as S};
 use Side::{Main as M, Other as O};
 
 /// Every unit, in the order the unsharded command computes them.
-pub const UNITS: [Unit; 55] = [
+pub const UNITS: [Unit; 57] = [
     Unit::Run(S),
     Unit::Run(G),
     Unit::Sweep(S, M),
@@ -197,6 +199,8 @@ pub const UNITS: [Unit; 55] = [
     Unit::Waves,
     Unit::Speed,
     Unit::Placements,
+    Unit::Indecision(M),
+    Unit::Indecision(O),
 ];
 
 /// Every unit of `swarm reproduce`, in a fixed order ([`UNITS`]).
@@ -234,6 +238,7 @@ impl Unit {
             Unit::Waves => "waves".into(),
             Unit::Speed => "speed".into(),
             Unit::Placements => "placements".into(),
+            Unit::Indecision(s) => format!("indecision/{}", s.name()),
         }
     }
 }

@@ -35,7 +35,7 @@ pub struct RunOutput {
 }
 
 /// Places a swarm for run `seed`.
-fn place(scn: &Scenario, agents: usize, seed: u64) -> Result<Swarm, Error> {
+pub(crate) fn place(scn: &Scenario, agents: usize, seed: u64) -> Result<Swarm, Error> {
     let mut rng = Pcg64Mcg::seed_from_u64(derive(seed, &[3]));
     let shape = scn.shape.scaled_for(scn.agents, agents);
     Ok(Swarm::place(agents, shape, 1.0, &mut rng)?)
@@ -257,6 +257,22 @@ impl<'a> AnySim<'a> {
         match self {
             AnySim::One(s) => s.calls(),
             AnySim::Two(s) => s.calls(),
+        }
+    }
+
+    /// Agents that initiated at least one wave so far.
+    fn initiating(&self) -> u64 {
+        match self {
+            AnySim::One(s) => s
+                .agents()
+                .iter()
+                .filter(|a| a.wave_stats().initiated > 0)
+                .count() as u64,
+            AnySim::Two(s) => s
+                .agents()
+                .iter()
+                .filter(|a| a.wave_stats().initiated > 0)
+                .count() as u64,
         }
     }
 
@@ -496,7 +512,34 @@ pub fn radial_profile(
 /// # Errors
 /// The first run's error, if any run fails.
 pub fn waves_heard(scn: &Scenario, cfg: RunConfig, runs: u32, seed: u64) -> Result<f64, Error> {
-    let per_run: Vec<f64> = (0..runs)
+    Ok(cycle_load(scn, cfg, runs, seed)?.heard)
+}
+
+/// What one cycle asks of an agent ([`cycle_load`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CycleLoad {
+    /// Waves heard (messages accepted) per agent in the cycle, the mean over runs.
+    #[serde(with = "crate::json")]
+    pub heard: f64,
+    /// Agents that initiated a wave in the cycle, over all runs.
+    pub initiating: u64,
+    /// Agents over all runs (agent-cycles).
+    pub agents: u64,
+}
+
+/// The first cycle of `runs` runs from the scenario's start (seeds derived from `seed`): the
+/// waves an agent hears, and how many agents initiate (the rest had their initiation fall while
+/// they were busy, [`protocol::wave::WaveStats::skipped_initiations`]).
+///
+/// # Errors
+/// If a run cannot be set up.
+pub fn cycle_load(
+    scn: &Scenario,
+    cfg: RunConfig,
+    runs: u32,
+    seed: u64,
+) -> Result<CycleLoad, Error> {
+    let per_run: Vec<(f64, u64, u64)> = (0..runs)
         .into_par_iter()
         .map(|r| {
             let s = derive(seed, &[u64::from(r)]);
@@ -504,11 +547,16 @@ pub fn waves_heard(scn: &Scenario, cfg: RunConfig, runs: u32, seed: u64) -> Resu
             let mut sim = AnySim::new(&swarm, scn, cfg, scn.start, s)?;
             let cycle = cfg.params.wave.cycle.as_millis() / 1000;
             sim.run_until(cycle);
-            let heard = sim.accepted();
-            Ok(heard as f64 / swarm.len().max(1) as f64)
+            let n = swarm.len() as u64;
+            Ok((sim.accepted() as f64 / n.max(1) as f64, sim.initiating(), n))
         })
         .collect::<Result<_, Error>>()?;
-    Ok(stats::mean(&per_run).unwrap_or(0.0))
+    let heard: Vec<f64> = per_run.iter().map(|r| r.0).collect();
+    Ok(CycleLoad {
+        heard: stats::mean(&heard).unwrap_or(0.0),
+        initiating: per_run.iter().map(|r| r.1).sum(),
+        agents: per_run.iter().map(|r| r.2).sum(),
+    })
 }
 
 /// Agent-steps per second at one swarm size.

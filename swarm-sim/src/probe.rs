@@ -393,3 +393,62 @@ mod tests {
         assert_eq!(bins.iter().map(|b| b.1).sum::<f64>(), 1.0);
     }
 }
+
+/// How one negotiation period's decisions split along x ([`splits`]): the agents that decided
+/// to move left (a bearing with cos < 0), right (cos > 0), and the swarm's size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Split {
+    /// Agents in the swarm.
+    pub agents: usize,
+    /// Agents whose decided bearing points to −x.
+    pub left: u32,
+    /// Agents whose decided bearing points to +x.
+    pub right: u32,
+}
+
+impl Split {
+    /// As many agents decided left as right: the paper's "indecision point" (two robots left,
+    /// two right), for a swarm of any size.
+    pub fn tied(&self) -> bool {
+        self.left == self.right
+    }
+}
+
+/// One negotiation period of a swarm of each size of `sizes` (`scn`'s shape scaled to keep its
+/// density), centred at `start`, `runs` each (size `p`, run `r`: seed `derive(seed, [p, r])`):
+/// how the agents' decisions split along x. Single-quantity scenarios only.
+///
+/// # Errors
+/// The first run's error.
+pub fn splits(
+    scn: &Scenario,
+    sizes: &[usize],
+    start: Point2<f64>,
+    runs: u32,
+    seed: u64,
+    progress: &Progress,
+) -> Result<Vec<Split>, Error> {
+    let n = sizes.len() * runs as usize;
+    (0..n)
+        .into_par_iter()
+        .map(|k| {
+            let (p, r) = (k / runs as usize, k % runs as usize);
+            let s = derive(seed, &[p as u64, r as u64]);
+            let swarm = crate::experiment::place(scn, sizes[p], s)?;
+            let mut sim = crate::sim::Sim::<f32>::new(&swarm, &scn.field, scn.run, start, s)?;
+            sim.run_period()?;
+            let (mut left, mut right) = (0, 0);
+            for b in sim.agents().iter().filter_map(|a| a.decision()) {
+                let c = b.cos();
+                left += u32::from(c < 0.0);
+                right += u32::from(c > 0.0);
+            }
+            progress.inc();
+            Ok(Split {
+                agents: sizes[p],
+                left,
+                right,
+            })
+        })
+        .collect()
+}

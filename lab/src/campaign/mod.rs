@@ -37,10 +37,10 @@ use swarm_sim::progress::Progress;
 pub use super::InTheLoop;
 pub use error::CampaignError;
 
-pub use suite_file::{ExperimentCount, SuiteCounts, SuiteFile};
 pub use scenarios::{
     ADVERSARY_AT, Fault, REBOOT_DOWN, SCENARIOS, Scenario, config, hil_places, pattern_for,
 };
+pub use suite_file::{ExperimentCount, SuiteCounts, SuiteFile};
 
 /// `--decide`: the protocol's [`DecisionRule`] on the command line.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum, Serialize, Deserialize)]

@@ -135,6 +135,8 @@ struct Setup {
     /// fall while it is busy and are skipped.
     heard: String,
     busy_pct: String,
+    /// The share of agent-cycles without an initiation, measured at the page's cycle.
+    skipped_pct: String,
 }
 
 /// Which run a run figure shows.
@@ -316,15 +318,14 @@ fn setup(r: &Report<'_>) -> Setup {
         p.wave.relay_delay.as_millis() / 1000,
         p.wave.refractory.as_millis() / 1000,
     );
-    let heard = r
-        .cycle_rows
-        .iter()
-        .find(|row| row.cycle_s == cycle_s)
-        .map_or(f64::NAN, |row| row.waves_heard);
+    let row = r.cycle_rows.iter().find(|row| row.cycle_s == cycle_s);
+    let heard = row.map_or(f64::NAN, |row| row.waves_heard);
+    let skipped = row.map_or(f64::NAN, |row| 1.0 - row.initiating_share());
     let busy = heard * (relay_s + refractory_s) as f64 / cycle_s.max(1) as f64;
     Setup {
         heard: fixed(heard, 0),
         busy_pct: pct(busy),
+        skipped_pct: pct(skipped),
         radius: fixed(marks::swarm_radius(r.sharp), 1),
         other_runs: r
             .other_sweeps
@@ -446,7 +447,11 @@ fn cycle_section(r: &Report<'_>) -> CycleSection {
         .cycle_rows
         .iter()
         .map(|row| {
-            let mut cells = vec![row.cycle_s.to_string(), fixed(row.waves_heard, 1)];
+            let mut cells = vec![
+                row.cycle_s.to_string(),
+                fixed(row.waves_heard, 1),
+                pct(row.initiating_share()),
+            ];
             for pnt in &row.points {
                 cells.push(fixed(pnt.success_rate(), 2));
                 cells.push(opt(pnt.mean_success_periods, 1));

@@ -275,6 +275,8 @@ fn cycle_files(figs: &Path, runs: &[CycleRun], sharp: &Scenario) -> Result<Vec<C
         .map(|r| CycleRow {
             cycle_s: r.cycle_s,
             waves_heard: r.waves_heard,
+            initiating: r.initiating,
+            agent_cycles: r.agent_cycles,
             points: r.points.clone(),
         })
         .collect();
@@ -300,6 +302,13 @@ fn cycle_figure(path: &Path, sharp: &Scenario, cycle_rows: &[CycleRow]) -> Resul
             points: cycle_rows
                 .iter()
                 .map(|r| (r.cycle_s as f64, r.waves_heard / sharp.agents as f64, 0.0))
+                .collect(),
+        }))
+        .chain(std::iter::once(Line {
+            label: "agents that initiate a wave in the cycle".into(),
+            points: cycle_rows
+                .iter()
+                .map(|r| (r.cycle_s as f64, r.initiating_share(), 0.0))
                 .collect(),
         }))
         .collect();

@@ -10,10 +10,12 @@
 //! - steeper gradients ([`steep`]);
 //! - the caption's cloud, toward its border ([`caption`]);
 //! - the refractory time, off and on ([`refractory`]);
-//! - the sensor model the paper leaves open, both ways ([`sensor`]).
+//! - the sensor model the paper leaves open, both ways ([`sensor`]);
+//! - indecision points against the swarm's size ([`indecision`]).
 
 mod arrival;
 mod caption;
+mod indecision;
 mod plateau;
 mod refractory;
 pub(super) mod sensor;
@@ -45,6 +47,7 @@ pub(super) struct SettleSection {
     caption: caption::CaptionPart,
     refractory: refractory::RefractoryPart,
     sensor: sensor::SensorPart,
+    indecision: indecision::IndecisionPart,
 }
 
 /// The section's facts the comparison's rows read.
@@ -67,6 +70,8 @@ pub(super) struct Settled {
     pub(super) steep: steep::Steepness,
     /// The caption's cloud toward its border.
     pub(super) caption: caption::TowardBorder,
+    /// Indecision points against the swarm's size.
+    pub(super) indecision: indecision::Indecision,
 }
 
 /// The section from its units' results and the averaged courses (`courses`, per field: main
@@ -116,6 +121,7 @@ pub(super) fn write(
     let (steep_part, steepness) = steep::write(figs, scns, results)?;
     let (caption_part, toward) = caption::write(figs, caption_cloud)?;
     let (refractory, flooding) = refractory::write(figs, results.refractory(Unit::Refractory)?)?;
+    let (indecision_part, indecision) = indecision::write(figs, main, results)?;
     Ok(Settled {
         section: SettleSection {
             plateau,
@@ -126,6 +132,7 @@ pub(super) fn write(
             caption: caption_part,
             refractory,
             sensor: sensor_part,
+            indecision: indecision_part,
         },
         plateau: plateau_facts,
         arrival: arrival_facts,
@@ -135,6 +142,7 @@ pub(super) fn write(
         wander: walks,
         steep: steepness,
         caption: toward,
+        indecision,
     })
 }
 

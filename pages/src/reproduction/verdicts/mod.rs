@@ -12,6 +12,7 @@ use swarm_sim::experiment::SweepPoint;
 use swarm_sim::stats;
 
 mod maps;
+mod outside;
 mod settled;
 mod sweeps;
 
@@ -140,6 +141,9 @@ fn judge(r: &Report<'_>, c: &'static Claim) -> Judged {
         Id::Steeper => settled::steeper(r),
         Id::CaptionToward => settled::toward_border(r),
         Id::Refractory => settled::refractory(r),
+        Id::Initiations => outside::initiations(r, c),
+        Id::Indecision => outside::indecision(r),
+        Id::Lab => outside::lab(c),
     }
 }
 

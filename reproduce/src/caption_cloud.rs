@@ -6,7 +6,8 @@ use nalgebra::Point2;
 
 use crate::Error;
 use crate::stage::Stage;
-use crate::stages::{CAPTION_MAP, CAPTION_PROFILE};
+use crate::stages::{CAPTION_MAP, CAPTION_PROFILE, PROFILES_OTHER};
+use crate::units::{Side, placement};
 use crate::{CLOUD_REFINED, PROFILE_RUNS, builtin_placed, by_distance, refined};
 use swarm_sim::experiment::{Arrow, RadialPoint, direction_map, radial_profile};
 use swarm_sim::scenario::Placement;
@@ -36,15 +37,23 @@ pub fn map(st: &mut Stage<'_>, main: Placement) -> Result<Vec<Arrow>, Error> {
     Ok(arrows)
 }
 
-/// The caption's cloud's radial profile with the `main` placement, by increasing distance.
+/// The caption's cloud's radial profile with `side`'s placement (the page's is `main`), by
+/// increasing distance.
 ///
 /// # Errors
 /// If a run fails.
-pub fn profile(st: &mut Stage<'_>, main: Placement) -> Result<Vec<RadialPoint>, Error> {
-    let scn = builtin_placed("cloud-caption", main)?;
+pub fn profile(st: &mut Stage<'_>, main: Placement, side: Side) -> Result<Vec<RadialPoint>, Error> {
+    let scn = builtin_placed("cloud-caption", placement(main, side))?;
+    let seed = match side {
+        Side::Main => CAPTION_PROFILE.at(0),
+        Side::Other => PROFILES_OTHER.at(1),
+    };
     let distances = distances();
     let p = st.start(
-        "cloud-caption radial profile",
+        &format!(
+            "cloud-caption radial profile, {} placement",
+            placement(main, side)
+        ),
         distances.len() as u64 * u64::from(PROFILE_RUNS),
     );
     let profile = radial_profile(
@@ -53,7 +62,7 @@ pub fn profile(st: &mut Stage<'_>, main: Placement) -> Result<Vec<RadialPoint>, 
         Point2::origin(),
         &distances,
         PROFILE_RUNS,
-        st.seed(CAPTION_PROFILE.at(0)),
+        st.seed(seed),
         &p,
     )?;
     let profile = by_distance(profile);

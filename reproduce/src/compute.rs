@@ -13,8 +13,8 @@ use crate::Error;
 use crate::results::{CycleRun, Outcome, PlacementStats, RunFigure, UnitResult};
 use crate::stage::{Scenes, Stage};
 use crate::stages::{
-    CLOUD_PROFILE, COURSES, CYCLE_SWEEPS, CYCLE_WAVES, MAPS, PLACEMENT_STATS, RUN_FIGURES, SHAPES,
-    SPEED, SWEEPS_LATTICE, SWEEPS_RANDOM, WAVE,
+    CLOUD_PROFILE, COURSES, CYCLE_SWEEPS, CYCLE_WAVES, MAPS, MAPS_OTHER, PLACEMENT_STATS,
+    PROFILES_OTHER, RUN_FIGURES, SHAPES, SPEED, SWEEPS_LATTICE, SWEEPS_RANDOM, WAVE,
 };
 use crate::units::{Field, Scene, Side, Unit, placement};
 use crate::{
@@ -58,22 +58,24 @@ fn outcome(unit: Unit, st: &mut Stage<'_>, main: Placement, s: &Scenes) -> Resul
     Ok(match unit {
         Unit::Run(f) => O::Run(run_figure(st, f, s.field(f))?),
         Unit::Sweep(f, side) => O::Sweep(sweep_of(st, main, f, side, s.field(f))?),
-        Unit::Map(m) => O::Map(map_of(st, m, s.scene(m))?),
-        Unit::CloudProfile => O::Profile(cloud_profile(st, &s.cloud)?),
+        Unit::Map(m, side) => O::Map(map_of(st, main, m, side, s.scene(m))?),
+        Unit::CloudProfile(side) => O::Profile(cloud_profile(st, main, side, &s.cloud)?),
         Unit::CaptionMap => O::Map(caption_cloud::map(st, main)?),
-        Unit::CaptionProfile => O::Profile(caption_cloud::profile(st, main)?),
+        Unit::CaptionProfile(side) => O::Profile(caption_cloud::profile(st, main, side)?),
         Unit::Course(f, side) => O::Course(course(st, main, f, side, s.field(f))?),
-        Unit::Tapped(f) => O::Tapped(Box::new(settle::tapped(st, f, s.field(f))?)),
+        Unit::Tapped(f, side) => {
+            O::Tapped(Box::new(settle::tapped(st, main, f, side, s.field(f))?))
+        }
         Unit::Sensor(f) => O::Sensor(settle::sensor(st, f, s.field(f))?),
         Unit::Plateau(side, k) => O::Plateau(settle::plateau(st, main, side, k, &s.sharp)?),
         Unit::Heading(f) => O::Heading(settle::heading(st, f, s.field(f))?),
         Unit::Start(f, side) => O::Start(settle::start(st, main, f, side, s.field(f))?),
-        Unit::Steep(k) => O::Steep(settle::steep(st, k, s.fields())?),
+        Unit::Steep(k, side) => O::Steep(settle::steep(st, k, main, side, s.fields())?),
         Unit::Refractory => O::Refractory(settle::refractory(st)?),
         Unit::Cycle => O::Cycle(cycle_effect(st, &s.sharp)?),
         Unit::Knob(k) => O::Knob(sensitivity::knob(st, main, k, &s.sharp, &s.gradient)?),
         Unit::Slope => O::Slope(sensitivity::slope(st, &s.gradient)?),
-        Unit::Extent => O::Extent(sensitivity::extent(st, &s.sharp, &s.gradient)?),
+        Unit::Extent(side) => O::Extent(sensitivity::extent(st, main, side, s.fields())?),
         Unit::Shapes => O::Shapes(Box::new(shapes(st, &s.sharp)?)),
         Unit::BeyondSuccess => O::BeyondSuccess(beyond::success(st, s.fields())?),
         Unit::BeyondAlong => O::BeyondAlong(beyond::along(st, &s.gradient)?),
@@ -139,25 +141,52 @@ fn sweep_of(
 }
 
 /// Figs. 7, 10, 11: a direction map.
-fn map_of(st: &mut Stage<'_>, m: Scene, scn: &Scenario) -> Result<Vec<Arrow>, Error> {
+fn map_of(
+    st: &mut Stage<'_>,
+    main: Placement,
+    m: Scene,
+    side: Side,
+    scn: &Scenario,
+) -> Result<Vec<Arrow>, Error> {
+    let placed;
+    let (scn, seed) = match side {
+        Side::Main => (scn, MAPS.at(m.index())),
+        Side::Other => {
+            placed = builtin_placed(&scn.name, main.other())?;
+            (&placed, MAPS_OTHER.at(m.index()))
+        }
+    };
     let grid = scn.grid.as_ref().ok_or(Error::ScenarioWithout("grid"))?;
     let p = st.start(
-        &format!("{} field", scn.name),
+        &format!("{} field, {} placement", scn.name, placement(main, side)),
         (grid.xs.len() * grid.ys.len()) as u64,
     );
-    let arrows = direction_map(scn, grid, st.seed(MAPS.at(m.index())), &p)?;
+    let arrows = direction_map(scn, grid, st.seed(seed), &p)?;
     st.done(&p);
     Ok(arrows)
 }
 
-/// Cloud: how far the swarm perceives it, by increasing distance.
-fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint>, Error> {
+/// Cloud: how far the swarm perceives it, by increasing distance, with `side`'s placement.
+fn cloud_profile(
+    st: &mut Stage<'_>,
+    main: Placement,
+    side: Side,
+    cloud: &Scenario,
+) -> Result<Vec<RadialPoint>, Error> {
+    let placed;
+    let (cloud, seed) = match side {
+        Side::Main => (cloud, CLOUD_PROFILE.at(0)),
+        Side::Other => {
+            placed = builtin_placed(&cloud.name, main.other())?;
+            (&placed, PROFILES_OTHER.at(0))
+        }
+    };
     let distances = refined(
         (0..=24).map(|k| 0.5 * f64::from(k)).collect(),
         &CLOUD_REFINED,
     );
     let p = st.start(
-        "cloud radial profile",
+        &format!("cloud radial profile, {} placement", placement(main, side)),
         distances.len() as u64 * u64::from(PROFILE_RUNS),
     );
     let profile = radial_profile(
@@ -166,7 +195,7 @@ fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint
         Point2::origin(),
         &distances,
         PROFILE_RUNS,
-        st.seed(CLOUD_PROFILE.at(0)),
+        st.seed(seed),
         &p,
     )?;
     let profile = by_distance(profile);

@@ -7,7 +7,8 @@ use nalgebra::Point2;
 use crate::Error;
 use crate::results::{ExtentRun, SlopeRuns};
 use crate::stage::Stage;
-use crate::stages::{EXTENT, KNOBS, SLOPE_DIVERSITY, SLOPE_SUCCESS};
+use crate::stages::{EXTENT, EXTENT_OTHER, KNOBS, SLOPE_DIVERSITY, SLOPE_SUCCESS};
+use crate::units::{Side, placement};
 use crate::{builtin_placed, refined};
 use swarm_sim::experiment::SweepPoint;
 use swarm_sim::scenario::{Placement, Scenario};
@@ -169,22 +170,39 @@ pub const DIAMETERS: [f64; 2] = [6.0, 5.0];
 /// If a run fails.
 pub fn extent(
     st: &mut Stage<'_>,
-    sharp: &Scenario,
-    gradient: &Scenario,
+    main: Placement,
+    side: Side,
+    [sharp, gradient]: [&Scenario; 2],
 ) -> Result<Vec<ExtentRun>, Error> {
     let xs = refined(
         (1..=9).map(|k| -0.5 * f64::from(k)).rev().collect(),
         &EXTENT_REFINED,
     );
     let mut runs = Vec::new();
+    // The other placement runs the page's extent only (the perception edges' rows).
+    let diameters = match side {
+        Side::Main => &DIAMETERS[..],
+        Side::Other => &DIAMETERS[..1],
+    };
     let p = st.start(
-        "sensitivity: extent",
-        4 * xs.len() as u64 * u64::from(EXTENT_RUNS),
+        &format!("sensitivity: extent, {} placement", placement(main, side)),
+        2 * (diameters.len() * xs.len()) as u64 * u64::from(EXTENT_RUNS),
     );
     for (k, scn) in [sharp, gradient].into_iter().enumerate() {
-        for (j, d) in DIAMETERS.into_iter().enumerate() {
+        let placed;
+        let scn = match side {
+            Side::Main => scn,
+            Side::Other => {
+                placed = crate::builtin_placed(&scn.name, main.other())?;
+                &placed
+            }
+        };
+        for (j, &d) in diameters.iter().enumerate() {
             let s = Knob::Extent(d).apply(scn)?;
-            let seed = st.seed(EXTENT.at2(k, j));
+            let seed = st.seed(match side {
+                Side::Main => EXTENT.at2(k, j),
+                Side::Other => EXTENT_OTHER.at(k),
+            });
             let mut profile = heading_against_x(&s, &xs, EXTENT_RUNS, seed, &p)?;
             profile.sort_by(|a, b| a.0.total_cmp(&b.0));
             runs.push(ExtentRun {

@@ -3,7 +3,7 @@
 //! owns a [`Block`] of offsets, and the blocks are listed in `BLOCKS`, where a test checks
 //! that no two overlap. A new experiment takes a free block here, so it can never reuse
 //! another's seeds by accident. Two experiments share seeds on purpose, and say so: the tapped
-//! courses rerun the main placement's courses ([`COURSES`]), and the refractory experiment
+//! courses rerun both placements' courses ([`COURSES`]), and the refractory experiment
 //! reruns the waves figure's wave ([`WAVE`]).
 //!
 //! The offsets are the ones the page has always used (the page does not change); the speed
@@ -90,8 +90,7 @@ pub const SWEEPS_LATTICE: Block = Block::new("sweeps, lattice", 12, 2);
 pub const MAPS: Block = Block::new("direction maps", 20, 3);
 /// The cloud's radial profile.
 pub const CLOUD_PROFILE: Block = Block::new("cloud profile", 30, 1);
-/// The averaged courses, per field (stride 2) and placement; the tapped courses rerun the
-/// main placement's.
+/// The averaged courses, per field (stride 2) and placement; the tapped courses rerun them.
 pub const COURSES: Block = Block::grid("averaged courses", 40, 4, 2);
 /// The cycle-length sweeps, per cycle.
 pub const CYCLE_SWEEPS: Block = Block::new("cycle-length sweeps", 50, 7);
@@ -135,6 +134,14 @@ pub const START: Block = Block::grid("settle: start", 630, 4, 2);
 pub const STEEP: Block = Block::new("settle: steep", 640, 10);
 /// Indecision points against the swarm's size, per placement.
 pub const INDECISION: Block = Block::new("indecision", 650, 2);
+/// The direction maps with the other placement, per scene.
+pub const MAPS_OTHER: Block = Block::new("direction maps, other placement", 660, 3);
+/// The swarm's extent with the other placement, per field.
+pub const EXTENT_OTHER: Block = Block::new("extent, other placement", 670, 2);
+/// The radial profiles with the other placement: the text's cloud, the caption's.
+pub const PROFILES_OTHER: Block = Block::new("cloud profiles, other placement", 680, 2);
+/// Steeper, faster with the other placement: per slope.
+pub const STEEP_OTHER: Block = Block::new("settle: steep, other placement", 690, 10);
 
 /// Every block, in order: what the test checks for overlaps.
 #[cfg(test)]
@@ -166,6 +173,10 @@ const BLOCKS: &[Block] = &[
     START,
     STEEP,
     INDECISION,
+    MAPS_OTHER,
+    EXTENT_OTHER,
+    PROFILES_OTHER,
+    STEEP_OTHER,
 ];
 
 #[cfg(test)]

@@ -88,18 +88,18 @@ pub enum Unit {
     Run(Field),
     /// Figs. 6 and 9: a sweep of starts.
     Sweep(Field, Side),
-    /// Figs. 7, 10, 11: a direction map.
-    Map(Scene),
-    /// The text's cloud's radial profile.
-    CloudProfile,
+    /// Figs. 7, 10, 11: a direction map, with the page's placement or the other.
+    Map(Scene, Side),
+    /// The text's cloud's radial profile, with the page's placement or the other.
+    CloudProfile(Side),
     /// The caption's cloud's direction map.
     CaptionMap,
-    /// The caption's cloud's radial profile.
-    CaptionProfile,
+    /// The caption's cloud's radial profile, with the page's placement or the other.
+    CaptionProfile(Side),
     /// Figs. 5b and 8b averaged.
     Course(Field, Side),
-    /// The averaged courses' runs (main placement) again, tapped.
-    Tapped(Field),
+    /// The averaged courses' runs again, tapped, with the page's placement or the other.
+    Tapped(Field, Side),
     /// The averaged courses with one sensor reading per period.
     Sensor(Field),
     /// The sharp plateau at one cycle (the page's own cycle with the main placement is the
@@ -109,8 +109,8 @@ pub enum Unit {
     Heading(Field),
     /// The starting diversity against the agents across.
     Start(Field, Side),
-    /// Steeper ramps: one case.
-    Steep(u8),
+    /// Steeper ramps: one case, with the page's placement or the other.
+    Steep(u8, Side),
     /// The refractory time, off and on.
     Refractory,
     /// The cycle length (sharp).
@@ -119,8 +119,9 @@ pub enum Unit {
     Knob(u8),
     /// Sensitivity to the gradient's slope.
     Slope,
-    /// The swarm's extent against the perception edges.
-    Extent,
+    /// The swarm's extent against the perception edges (the other placement: the page's
+    /// extent only).
+    Extent(Side),
     /// The discussion's shapes on a random field.
     Shapes,
     /// Beyond the paper: success with the entropy.
@@ -143,25 +144,32 @@ use Field::{Gradient as G, Sharp as S};
 use Side::{Main as M, Other as O};
 
 /// Every unit, in the order the unsharded command computes them.
-pub const UNITS: [Unit; 57] = [
+pub const UNITS: [Unit; 71] = [
     Unit::Run(S),
     Unit::Run(G),
     Unit::Sweep(S, M),
     Unit::Sweep(S, O),
     Unit::Sweep(G, M),
     Unit::Sweep(G, O),
-    Unit::Map(Scene::Sharp),
-    Unit::Map(Scene::Gradient),
-    Unit::Map(Scene::Cloud),
-    Unit::CloudProfile,
+    Unit::Map(Scene::Sharp, M),
+    Unit::Map(Scene::Gradient, M),
+    Unit::Map(Scene::Cloud, M),
+    Unit::Map(Scene::Sharp, O),
+    Unit::Map(Scene::Gradient, O),
+    Unit::Map(Scene::Cloud, O),
+    Unit::CloudProfile(M),
+    Unit::CloudProfile(O),
     Unit::CaptionMap,
-    Unit::CaptionProfile,
+    Unit::CaptionProfile(M),
+    Unit::CaptionProfile(O),
     Unit::Course(S, M),
     Unit::Course(S, O),
     Unit::Course(G, M),
     Unit::Course(G, O),
-    Unit::Tapped(S),
-    Unit::Tapped(G),
+    Unit::Tapped(S, M),
+    Unit::Tapped(G, M),
+    Unit::Tapped(S, O),
+    Unit::Tapped(G, O),
     Unit::Sensor(S),
     Unit::Sensor(G),
     Unit::Plateau(M, 0),
@@ -178,12 +186,18 @@ pub const UNITS: [Unit; 57] = [
     Unit::Start(S, O),
     Unit::Start(G, M),
     Unit::Start(G, O),
-    Unit::Steep(0),
-    Unit::Steep(1),
-    Unit::Steep(2),
-    Unit::Steep(3),
-    Unit::Steep(4),
-    Unit::Steep(5),
+    Unit::Steep(0, M),
+    Unit::Steep(1, M),
+    Unit::Steep(2, M),
+    Unit::Steep(3, M),
+    Unit::Steep(4, M),
+    Unit::Steep(5, M),
+    Unit::Steep(0, O),
+    Unit::Steep(1, O),
+    Unit::Steep(2, O),
+    Unit::Steep(3, O),
+    Unit::Steep(4, O),
+    Unit::Steep(5, O),
     Unit::Refractory,
     Unit::Cycle,
     Unit::Knob(0),
@@ -191,7 +205,8 @@ pub const UNITS: [Unit; 57] = [
     Unit::Knob(2),
     Unit::Knob(3),
     Unit::Slope,
-    Unit::Extent,
+    Unit::Extent(M),
+    Unit::Extent(O),
     Unit::Shapes,
     Unit::BeyondSuccess,
     Unit::BeyondAlong,
@@ -215,22 +230,22 @@ impl Unit {
         match self {
             Unit::Run(f) => format!("run/{}", f.name()),
             Unit::Sweep(f, s) => format!("sweep/{}/{}", f.name(), s.name()),
-            Unit::Map(m) => format!("map/{}", m.name()),
+            Unit::Map(m, s) => format!("map/{}/{}", m.name(), s.name()),
             Unit::Course(f, s) => format!("course/{}/{}", f.name(), s.name()),
-            Unit::Tapped(f) => format!("tapped/{}", f.name()),
+            Unit::Tapped(f, s) => format!("tapped/{}/{}", f.name(), s.name()),
             Unit::Sensor(f) => format!("sensor/{}", f.name()),
             Unit::Plateau(s, k) => format!("plateau/{}/{k}", s.name()),
             Unit::Heading(f) => format!("heading/{}", f.name()),
             Unit::Start(f, s) => format!("start/{}/{}", f.name(), s.name()),
-            Unit::Steep(k) => format!("steep/{k}"),
+            Unit::Steep(k, s) => format!("steep/{k}/{}", s.name()),
             Unit::Knob(k) => format!("knob/{k}"),
-            Unit::CloudProfile => "cloud-profile".into(),
+            Unit::CloudProfile(s) => format!("cloud-profile/{}", s.name()),
             Unit::CaptionMap => "caption-map".into(),
-            Unit::CaptionProfile => "caption-profile".into(),
+            Unit::CaptionProfile(s) => format!("caption-profile/{}", s.name()),
             Unit::Refractory => "refractory".into(),
             Unit::Cycle => "cycle".into(),
             Unit::Slope => "slope".into(),
-            Unit::Extent => "extent".into(),
+            Unit::Extent(s) => format!("extent/{}", s.name()),
             Unit::Shapes => "shapes".into(),
             Unit::BeyondSuccess => "beyond-success".into(),
             Unit::BeyondAlong => "beyond-along".into(),

@@ -12,7 +12,7 @@ use crate::figures;
 use crate::marks;
 use report::csv_files::fixed;
 use reproduce::results::Results;
-use reproduce::units::Unit;
+use reproduce::units::{Side, Unit};
 use reproduce::{PROFILE_RUNS, builtin_placed};
 use swarm_sim::experiment::{Arrow, Error, RadialPoint};
 use swarm_sim::scenario::Placement;
@@ -27,6 +27,8 @@ pub(super) struct CaptionCloud {
     pub(super) arrows: Vec<Arrow>,
     /// Inward alignment against distance.
     pub(super) profile: Vec<RadialPoint>,
+    /// The same with the other placement.
+    pub(super) other_profile: Vec<RadialPoint>,
     /// The placement its swarm had.
     pub(super) placement: Placement,
 }
@@ -52,7 +54,12 @@ pub(super) fn write(
         arrows,
         &marks::map(&scn.name),
     )?;
-    let profile = results.profile(Unit::CaptionProfile)?;
+    let profile = results.profile(Unit::CaptionProfile(Side::Main))?;
+    let other_profile = results.profile(Unit::CaptionProfile(Side::Other))?;
+    write_radial_csv(
+        &figs.join(format!("cloud-caption-profile-{}.csv", main.other())),
+        other_profile,
+    )?;
     write_radial_csv(&figs.join("cloud-caption-profile.csv"), profile)?;
     figures::radial_figure(
         &figs.join("cloud-caption-profile.svg"),
@@ -65,6 +72,7 @@ pub(super) fn write(
     Ok(CaptionCloud {
         arrows: arrows.clone(),
         profile: profile.clone(),
+        other_profile: other_profile.clone(),
         placement: main,
     })
 }
@@ -192,6 +200,7 @@ mod tests {
             &CaptionCloud {
                 arrows,
                 profile,
+                other_profile: Vec::new(),
                 placement: Placement::Lattice,
             },
             &[point(0.0, 1.0)],

@@ -22,7 +22,11 @@ pub(super) struct Report<'a> {
     /// Sweeps with the other placement.
     pub(super) other_sweeps: &'a [Vec<SweepPoint>],
     pub(super) maps: &'a [Vec<Arrow>],
+    /// The direction maps with the other placement.
+    pub(super) other_maps: &'a [Vec<Arrow>],
     pub(super) profile: &'a [RadialPoint],
+    /// The text's cloud's profile with the other placement.
+    pub(super) other_profile: &'a [RadialPoint],
     pub(super) profile_runs: u32,
     /// The cloud of Fig. 11's caption.
     pub(super) caption_cloud: &'a caption_cloud::CaptionCloud,

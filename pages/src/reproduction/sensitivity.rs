@@ -7,7 +7,7 @@ use reproduce::results::{ExtentRun, SlopeRuns};
 use reproduce::sensitivity::{
     DIAMETERS, EXTENT_RUNS, SENS_RUNS, SENS_X, cases, knob_specs, line_x,
 };
-use reproduce::units::Unit;
+use reproduce::units::{Side, Unit};
 
 /// One sensitivity table: a knob's values down, the cases across.
 #[derive(Serialize)]
@@ -24,6 +24,9 @@ pub(super) struct SensTable {
 #[derive(Serialize)]
 pub(super) struct ExtentRow {
     pub(super) field: String,
+    /// The placement (the page's: rows 0–3, per field both diameters; the other: rows 4 and
+    /// 5, per field the page's diameter).
+    pub(super) placement: String,
     pub(super) diameter: String,
     pub(super) agents: usize,
     /// The edge, R, two decimals.
@@ -59,6 +62,10 @@ pub(super) struct SensitivitySection {
     pub(super) extent_big_matches: bool,
     /// The 2.5 R swarm's edges are shorter than the 3 R swarm's on both fields.
     pub(super) extent_small_shorter: bool,
+    /// The cycle knob's runs from x = [`SENS_X`]: per case (its label, "field, placement"),
+    /// per cycle length (seconds) the point. The rate rows' escape through the cycle reads it.
+    #[serde(skip)]
+    pub(super) by_cycle: Vec<(String, Vec<(f64, SweepPoint)>)>,
 }
 
 /// Success and mean time as a table cell.
@@ -86,7 +93,13 @@ pub(super) fn write(
 ) -> Result<SensitivitySection, Error> {
     let tables = knob_tables(figs, main, sharp, gradient, results)?;
     let slope_rows = slope_rows(figs, main, gradient, results.slope(Unit::Slope)?)?;
-    let extent = extent_rows(figs, main, sharp, gradient, results.extent(Unit::Extent)?)?;
+    let extent = extent_rows(
+        figs,
+        main,
+        [sharp, gradient],
+        results.extent(Unit::Extent(Side::Main))?,
+        results.extent(Unit::Extent(Side::Other))?,
+    )?;
     let edge = |k: usize| extent[k].edge_se.map_or(0.0, |e| e.0);
     let extent_big_matches = {
         use crate::{claims::Id, verdict::Verdict};
@@ -94,7 +107,25 @@ pub(super) fn write(
             && verdicts::edge_verdict(extent[2].edge_se, Id::GradientEdge) == Verdict::Reproduced
     };
     let extent_small_shorter = edge(1) < edge(0) && edge(3) < edge(2);
+    let by_cycle = {
+        let (_, _, values, _, both) = &knob_specs()[0];
+        let labels = cases(main, sharp, gradient, *both)?
+            .into_iter()
+            .map(|c| c.0);
+        labels
+            .zip(results.knob(Unit::Knob(0))?)
+            .map(|(label, pts)| {
+                let by: Vec<(f64, SweepPoint)> = values
+                    .iter()
+                    .map(|v| v.0)
+                    .zip(pts.iter().cloned())
+                    .collect();
+                (label, by)
+            })
+            .collect()
+    };
     Ok(SensitivitySection {
+        by_cycle,
         extent_big_matches,
         extent_small_shorter,
         runs: SENS_RUNS,
@@ -233,17 +264,24 @@ fn slope_rows(
 fn extent_rows(
     figs: &Path,
     main: Placement,
-    sharp: &Scenario,
-    gradient: &Scenario,
+    scns: [&Scenario; 2],
     runs: &[ExtentRun],
+    other_runs: &[ExtentRun],
 ) -> Result<Vec<ExtentRow>, Error> {
     let mut extent = Vec::new();
     let mut lines = Vec::new();
-    let cases = [sharp, gradient]
+    let cases = scns
         .into_iter()
         .enumerate()
-        .flat_map(|(k, scn)| DIAMETERS.map(|d| (k, scn, d)));
-    for ((k, scn, d), run) in cases.zip(runs) {
+        .flat_map(|(k, scn)| DIAMETERS.map(|d| (k, scn, d, main)))
+        .zip(runs)
+        .chain(
+            scns.into_iter()
+                .enumerate()
+                .map(|(k, scn)| (k, scn, DIAMETERS[0], main.other()))
+                .zip(other_runs),
+        );
+    for ((k, scn, d, placement), run) in cases {
         let edge = extent_edge(&run.profile);
         let id = [
             crate::claims::Id::SharpEdge,
@@ -251,6 +289,7 @@ fn extent_rows(
         ][k];
         extent.push(ExtentRow {
             field: scn.name.clone(),
+            placement: placement.to_string(),
             diameter: d.to_string(),
             agents: run.agents,
             edge: edge.map(|e| format!("{} ± {}", fixed(e.0, 2), fixed(e.1, 2))),
@@ -258,7 +297,10 @@ fn extent_rows(
             verdict: verdicts::edge_verdict(edge, id).words(),
         });
         lines.push(Line {
-            label: format!("{}, diameter {d} R ({} agents)", scn.name, run.agents),
+            label: format!(
+                "{}, diameter {d} R ({} agents, {placement})",
+                scn.name, run.agents
+            ),
             points: run.profile.clone(),
         });
     }
@@ -271,7 +313,7 @@ fn extent_rows(
     plot::xy_figure(
         &figs.join("sensitivity-extent.svg"),
         &format!(
-            "heading of the first move toward +x against the start, {EXTENT_RUNS} runs per point ({main})"
+            "heading of the first move toward +x against the start, {EXTENT_RUNS} runs per point"
         ),
         "x_init / R",
         "mean cos(direction)",

@@ -52,8 +52,8 @@ pub fn write(results: &Results, opts: &Options) -> Result<Summary, Error> {
     let s = Scenes::new(main)?;
     let runs = run_files(&figs, results, &s)?;
     let [sweeps, other_sweeps] = sweep_files(&figs, main, results, &s)?;
-    let maps = map_files(&figs, results, &s)?;
-    let profile = profile_files(&figs, results, &s.cloud)?;
+    let [maps, other_maps] = map_files(&figs, main, results, &s)?;
+    let [profile, other_profile] = profile_files(&figs, main, results, &s.cloud)?;
     let caption = caption_cloud::write(&figs, main, results)?;
     let courses = course_files(&figs, main, results, &s)?;
     let plateaus: Vec<(f64, f64, usize)> = courses
@@ -82,7 +82,9 @@ pub fn write(results: &Results, opts: &Options) -> Result<Summary, Error> {
         main,
         other_sweeps: &other_sweeps,
         maps: &maps,
+        other_maps: &other_maps,
         profile,
+        other_profile,
         profile_runs: PROFILE_RUNS,
         caption_cloud: &caption,
         plateaus: &plateaus,
@@ -196,36 +198,55 @@ fn sweep_figures(
     Ok(())
 }
 
-/// Figs. 7, 10, 11: the direction maps' CSV files and figures; the maps.
-fn map_files(figs: &Path, results: &Results, s: &Scenes) -> Result<Vec<Vec<Arrow>>, Error> {
-    let mut maps = Vec::new();
-    for (m, scn) in [
-        (Scene::Sharp, &s.sharp),
-        (Scene::Gradient, &s.gradient),
-        (Scene::Cloud, &s.cloud),
-    ] {
-        let grid = scn.grid.as_ref().ok_or(WriteError::NoGrid)?;
-        let arrows = results.map(Unit::Map(m))?;
-        write_field_csv(&figs.join(format!("{}-field.csv", scn.name)), arrows)?;
-        figures::direction_figure(
-            &figs.join(format!("{}-field.svg", scn.name)),
-            scn,
-            grid,
-            arrows,
-            &marks::map(&scn.name),
-        )?;
-        maps.push(arrows.clone());
+/// Figs. 7, 10, 11: the direction maps' CSV files and figures (`NAME-field`, and with the other
+/// placement `NAME-field-PLACEMENT`); the maps, per side (main, other).
+fn map_files(
+    figs: &Path,
+    main: Placement,
+    results: &Results,
+    s: &Scenes,
+) -> Result<[Vec<Vec<Arrow>>; 2], Error> {
+    let mut maps = [Vec::new(), Vec::new()];
+    for side in Side::BOTH {
+        for (m, scn) in [
+            (Scene::Sharp, &s.sharp),
+            (Scene::Gradient, &s.gradient),
+            (Scene::Cloud, &s.cloud),
+        ] {
+            let grid = scn.grid.as_ref().ok_or(WriteError::NoGrid)?;
+            let arrows = results.map(Unit::Map(m, side))?;
+            let name = match side {
+                Side::Main => format!("{}-field", scn.name),
+                Side::Other => format!("{}-field-{}", scn.name, main.other()),
+            };
+            write_field_csv(&figs.join(format!("{name}.csv")), arrows)?;
+            figures::direction_figure(
+                &figs.join(format!("{name}.svg")),
+                scn,
+                grid,
+                arrows,
+                &marks::map(&scn.name),
+            )?;
+            maps[side.index()].push(arrows.clone());
+        }
     }
     Ok(maps)
 }
 
-/// Cloud: the radial profile's CSV file and figure; the profile.
+/// Cloud: the radial profile's CSV file and figure (and the other placement's CSV file); the
+/// profiles, main and other.
 fn profile_files<'a>(
     figs: &Path,
+    main: Placement,
     results: &'a Results,
     cloud: &Scenario,
-) -> Result<&'a [RadialPoint], Error> {
-    let profile = results.profile(Unit::CloudProfile)?;
+) -> Result<[&'a [RadialPoint]; 2], Error> {
+    let other = results.profile(Unit::CloudProfile(Side::Other))?;
+    write_radial_csv(
+        &figs.join(format!("cloud-profile-{}.csv", main.other())),
+        other,
+    )?;
+    let profile = results.profile(Unit::CloudProfile(Side::Main))?;
     write_radial_csv(&figs.join("cloud-profile.csv"), profile)?;
     figures::radial_figure(
         &figs.join("cloud-profile.svg"),
@@ -235,7 +256,7 @@ fn profile_files<'a>(
         profile,
         &marks::profile_lines(cloud),
     )?;
-    Ok(profile)
+    Ok([profile, other])
 }
 
 /// Figs. 5b and 8b averaged: per field, the courses' CSV file and figure; the courses

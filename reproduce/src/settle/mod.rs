@@ -25,16 +25,35 @@ pub fn course_seed(st: &Stage<'_>, f: Field) -> u64 {
     st.seed(COURSES.at2(f.index(), Side::Main.index()))
 }
 
-/// The runs of field `f`'s averaged course (main placement; `scn` is so placed) again, tapped.
+/// The runs of field `f`'s averaged course with `side`'s placement (`scn` is placed by
+/// `main`) again, tapped: the same seeds, so the same runs.
 ///
 /// # Errors
 /// If a run fails.
-pub fn tapped(st: &mut Stage<'_>, f: Field, scn: &Scenario) -> Result<CourseDigest, Error> {
+pub fn tapped(
+    st: &mut Stage<'_>,
+    main: Placement,
+    f: Field,
+    side: Side,
+    scn: &Scenario,
+) -> Result<CourseDigest, Error> {
+    let placed;
+    let scn = match side {
+        Side::Main => scn,
+        Side::Other => {
+            placed = crate::builtin_placed(&scn.name, main.other())?;
+            &placed
+        }
+    };
     let p = st.start(
-        &format!("{}: the courses' runs, tapped", scn.name),
+        &format!(
+            "{}: the courses' runs, tapped, {} placement",
+            scn.name,
+            placement(main, side)
+        ),
         u64::from(COURSE_RUNS),
     );
-    let seed = course_seed(st, f);
+    let seed = st.seed(COURSES.at2(f.index(), side.index()));
     let t = tapped_runs(
         scn,
         scn.run,
@@ -103,12 +122,18 @@ pub fn start(
     start::runs(st, placement(main, side), f.index(), side.index(), scn)
 }
 
-/// Steeper ramps: case `k` (0 the sharp border, then the slopes).
+/// Steeper ramps: case `k` (0 the sharp border, then the slopes) with `side`'s placement.
 ///
 /// # Errors
 /// If `k` is no case or a run fails.
-pub fn steep(st: &mut Stage<'_>, k: u8, scns: [&Scenario; 2]) -> Result<Vec<Times>, Error> {
-    steep::case(st, usize::from(k), scns)
+pub fn steep(
+    st: &mut Stage<'_>,
+    k: u8,
+    main: Placement,
+    side: Side,
+    scns: [&Scenario; 2],
+) -> Result<Vec<Times>, Error> {
+    steep::case(st, usize::from(k), main, side, scns)
 }
 
 /// The refractory time, off and on.
@@ -136,14 +161,14 @@ mod tests {
                 })
                 .collect();
             assert_eq!(ks, (0..plateau::CYCLES.len()).collect::<Vec<_>>());
+            let cases: Vec<usize> = UNITS
+                .iter()
+                .filter_map(|u| match u {
+                    Unit::Steep(k, s) if *s == side => Some(usize::from(*k)),
+                    _ => None,
+                })
+                .collect();
+            assert_eq!(cases, (0..=steep::SLOPES.len()).collect::<Vec<_>>());
         }
-        let cases: Vec<usize> = UNITS
-            .iter()
-            .filter_map(|u| match u {
-                Unit::Steep(k) => Some(usize::from(*k)),
-                _ => None,
-            })
-            .collect();
-        assert_eq!(cases, (0..=steep::SLOPES.len()).collect::<Vec<_>>());
     }
 }

@@ -6,8 +6,9 @@ use rayon::prelude::*;
 use crate::Error;
 use crate::results::Times;
 use crate::stage::Stage;
-use crate::stages::STEEP;
-use swarm_sim::scenario::Scenario;
+use crate::stages::{STEEP, STEEP_OTHER};
+use crate::units::{Side, placement};
+use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::seeds::derive;
 use swarm_sim::sensitivity::Knob;
 
@@ -37,23 +38,48 @@ pub fn label(sharp: &Scenario, slope: Option<f64>) -> String {
     }
 }
 
-/// Runs case `k` (0 the sharp border, then each slope of [`SLOPES`]) from the page's start.
+/// Runs case `k` (0 the sharp border, then each slope of [`SLOPES`]) from the page's start,
+/// with `side`'s placement (`scns` are placed by `main`): [`RUNS`] runs, or with the other
+/// placement [`OTHER_RUNS`](crate::OTHER_RUNS), as the sweeps.
 ///
 /// # Errors
 /// If `k` is no case or a run fails.
-pub fn case(st: &mut Stage<'_>, k: usize, scns: [&Scenario; 2]) -> Result<Vec<Times>, Error> {
-    let [sharp, gradient] = scns;
+pub fn case(
+    st: &mut Stage<'_>,
+    k: usize,
+    main: Placement,
+    side: Side,
+    scns: [&Scenario; 2],
+) -> Result<Vec<Times>, Error> {
+    let placed;
+    let [sharp, gradient] = match side {
+        Side::Main => scns,
+        Side::Other => {
+            placed = [
+                crate::builtin_placed(&scns[0].name, main.other())?,
+                crate::builtin_placed(&scns[1].name, main.other())?,
+            ];
+            [&placed[0], &placed[1]]
+        }
+    };
+    let (runs_n, seed) = match side {
+        Side::Main => (RUNS, st.seed(STEEP.at(k))),
+        Side::Other => (crate::OTHER_RUNS, st.seed(STEEP_OTHER.at(k))),
+    };
     let slope = slope_of(k)?;
     let scn = match slope {
         None => sharp.clone(),
         Some(s) => Knob::Slope(s).apply(gradient)?,
     };
     let p = st.start(
-        &format!("steepness: {}", label(sharp, slope)),
-        u64::from(RUNS),
+        &format!(
+            "steepness: {}, {} placement",
+            label(sharp, slope),
+            placement(main, side)
+        ),
+        u64::from(runs_n),
     );
-    let seed = st.seed(STEEP.at(k));
-    let runs = (0..RUNS)
+    let runs = (0..runs_n)
         .into_par_iter()
         .map(|r| {
             let start = Point2::new(gradient.start.x, 0.0);

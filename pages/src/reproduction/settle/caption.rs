@@ -69,7 +69,7 @@ fn span<'a>(points: impl Iterator<Item = &'a (f64, f64, f64)>) -> Option<[String
 pub(super) fn write(
     figs: &Path,
     cloud: &CaptionCloud,
-) -> Result<(CaptionPart, TowardBorder), Error> {
+) -> Result<(CaptionPart, [TowardBorder; 2]), Error> {
     let scn = super::super::builtin_placed("cloud-caption", cloud.placement)?;
     let (edge, _) = marks::cloud_reach(&scn).ok_or(super::super::WriteError::NoEdge)?;
     let reach = claim(Id::CaptionToward)
@@ -77,15 +77,9 @@ pub(super) fn write(
         .first()
         .map_or(f64::NAN, |v| v.0);
     let paper_mark = format!("paper: d ≲ {reach}");
-    let toward: Vec<(f64, f64, f64)> = cloud
-        .profile
-        .iter()
-        .filter(|p| p.distance > 0.0 && p.distance < reach)
-        .map(|p: &RadialPoint| {
-            let sign = if p.distance < edge { -1.0 } else { 1.0 };
-            (p.distance, sign * p.inward, p.inward_se)
-        })
-        .collect();
+    let judged = toward_border(&cloud.profile, edge, reach);
+    let other = toward_border(&cloud.other_profile, edge, reach);
+    let toward = judged.points.clone();
     let rows: Vec<Vec<String>> = toward
         .iter()
         .map(|&(d, m, se)| vec![fixed(d, 2), pm(m, se, 2)])
@@ -117,14 +111,6 @@ pub(super) fn write(
         .filter(|t| t.1 < THRESHOLD)
         .map(|t| fixed(t.0, 2))
         .collect();
-    let inside: Vec<(f64, f64, f64)> = toward.iter().copied().filter(|t| t.0 < edge).collect();
-    let judged = TowardBorder {
-        edge,
-        reach,
-        points: toward.clone(),
-        settles_at: swarm_sim::stats::crossing(&inside, 0.0, false),
-        threshold: THRESHOLD,
-    };
     let part = CaptionPart {
         runs: super::super::PROFILE_RUNS,
         edge: fixed(edge, 1),
@@ -138,5 +124,25 @@ pub(super) fn write(
         radius: fixed(marks::swarm_radius(&scn), 1),
         outside: span(toward.iter().filter(|t| t.0 >= edge && t.1 >= THRESHOLD)),
     };
-    Ok((part, judged))
+    Ok((part, [judged, other]))
+}
+
+/// The alignment toward the border (at `edge`) of a radial profile below the claim's `reach`.
+fn toward_border(profile: &[RadialPoint], edge: f64, reach: f64) -> TowardBorder {
+    let points: Vec<(f64, f64, f64)> = profile
+        .iter()
+        .filter(|p| p.distance > 0.0 && p.distance < reach)
+        .map(|p| {
+            let sign = if p.distance < edge { -1.0 } else { 1.0 };
+            (p.distance, sign * p.inward, p.inward_se)
+        })
+        .collect();
+    let inside: Vec<(f64, f64, f64)> = points.iter().copied().filter(|t| t.0 < edge).collect();
+    TowardBorder {
+        edge,
+        reach,
+        settles_at: swarm_sim::stats::crossing(&inside, 0.0, false),
+        points,
+        threshold: THRESHOLD,
+    }
 }

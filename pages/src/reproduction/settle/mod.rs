@@ -14,14 +14,14 @@
 //! - indecision points against the swarm's size ([`indecision`]).
 
 mod arrival;
-mod caption;
+pub(super) mod caption;
 mod indecision;
 mod plateau;
 mod refractory;
 pub(super) mod sensor;
 mod start;
-mod steep;
-mod wander;
+pub(super) mod steep;
+pub(super) mod wander;
 
 use std::path::Path;
 
@@ -30,8 +30,9 @@ use serde::Serialize;
 use super::WriteError;
 use super::caption_cloud::CaptionCloud;
 use report::csv_files::fixed;
+use reproduce::results::CourseDigest;
 use reproduce::results::Results;
-use reproduce::units::{Field, Unit};
+use reproduce::units::{Field, Side, Unit};
 use swarm_sim::experiment::Error;
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::timecourse::TimeCourse;
@@ -64,12 +65,13 @@ pub(super) struct Settled {
     pub(super) refractory: refractory::Flooding,
     /// The levels under the other sensor model.
     pub(super) sensor: sensor::SensorFacts,
-    /// The walk along the sharp border and the gradient's walk in two dimensions.
-    pub(super) wander: wander::Walks,
+    /// The walk along the sharp border and the gradient's walk in two dimensions, per
+    /// placement (main, other).
+    pub(super) wander: [wander::Walks; 2],
     /// Steeper gradients, faster arrival.
-    pub(super) steep: steep::Steepness,
-    /// The caption's cloud toward its border.
-    pub(super) caption: caption::TowardBorder,
+    pub(super) steep: [steep::Steepness; 2],
+    /// The caption's cloud toward its border, per placement (main, other).
+    pub(super) caption: [caption::TowardBorder; 2],
     /// Indecision points against the swarm's size.
     pub(super) indecision: indecision::Indecision,
 }
@@ -89,19 +91,24 @@ pub(super) fn write(
     courses: &[[TimeCourse; 2]],
     caption_cloud: &CaptionCloud,
 ) -> Result<Settled, Error> {
-    let digests = [
-        results.tapped(Unit::Tapped(Field::Sharp))?,
-        results.tapped(Unit::Tapped(Field::Gradient))?,
-    ];
-    for (k, (scn, d)) in scns.iter().zip(digests).enumerate() {
-        let course = courses.get(k).map_or(f64::NAN, |c| c[0].plateau);
-        if (d.plateaus.agents.mean - course).abs() > 1e-9 {
-            return Err(WriteError::NotTheCourses {
-                scenario: scn.name.clone(),
-                tapped: d.plateaus.agents.mean,
-                course,
+    let tapped = |side| -> Result<[&CourseDigest; 2], Error> {
+        Ok([
+            results.tapped(Unit::Tapped(Field::Sharp, side))?,
+            results.tapped(Unit::Tapped(Field::Gradient, side))?,
+        ])
+    };
+    let (digests, others) = (tapped(Side::Main)?, tapped(Side::Other)?);
+    for (j, ds) in [digests, others].iter().enumerate() {
+        for (k, (scn, d)) in scns.iter().zip(ds).enumerate() {
+            let course = courses.get(k).map_or(f64::NAN, |c| c[j].plateau);
+            if (d.plateaus.agents.mean - course).abs() > 1e-9 {
+                return Err(WriteError::NotTheCourses {
+                    scenario: scn.name.clone(),
+                    tapped: d.plateaus.agents.mean,
+                    course,
+                }
+                .into());
             }
-            .into());
         }
     }
     let held = [
@@ -118,6 +125,7 @@ pub(super) fn write(
     let (arrival, arrival_facts) = arrival::write(figs, scns, headings, ways)?;
     let (start, start_facts) = start::write(figs, main, scns, results)?;
     let (wander_part, walks) = wander::write(figs, [&digests[0].msd, &digests[1].msd])?;
+    let other_walks = wander::walks([&others[0].msd, &others[1].msd]);
     let (steep_part, steepness) = steep::write(figs, scns, results)?;
     let (caption_part, toward) = caption::write(figs, caption_cloud)?;
     let (refractory, flooding) = refractory::write(figs, results.refractory(Unit::Refractory)?)?;
@@ -139,7 +147,7 @@ pub(super) fn write(
         start: start_facts,
         refractory: flooding,
         sensor: sensor_facts,
-        wander: walks,
+        wander: [walks, other_walks],
         steep: steepness,
         caption: toward,
         indecision,

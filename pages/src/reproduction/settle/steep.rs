@@ -14,7 +14,7 @@ use report::csv_files::fixed;
 use report::plot::{self, Line};
 use reproduce::results::{Results, Times};
 use reproduce::settle::steep::{NEAR, RUNS, SLOPES, label, slope_of};
-use reproduce::units::Unit;
+use reproduce::units::{Side, Unit};
 use swarm_sim::experiment::Error;
 use swarm_sim::scenario::Scenario;
 use swarm_sim::stats;
@@ -79,20 +79,25 @@ pub(super) fn write(
     figs: &Path,
     scns: [&Scenario; 2],
     results: &Results,
-) -> Result<(SteepPart, Steepness), Error> {
+) -> Result<(SteepPart, [Steepness; 2]), Error> {
     let [sharp, gradient] = scns;
     let page_slope =
         gradient.field.mean(Point2::new(1.0, 0.0)) - gradient.field.mean(Point2::origin());
-    let mut cases = Vec::new();
-    for k in 0..=SLOPES.len() {
-        let slope = slope_of(k)?;
-        cases.push(Case {
-            label: label(sharp, slope),
-            slope,
-            runs: results.steep(Unit::Steep(k as u8))?.clone(),
-        });
-    }
+    let cases_of = |side| -> Result<Vec<Case>, Error> {
+        (0..=SLOPES.len())
+            .map(|k| {
+                let slope = slope_of(k)?;
+                Ok(Case {
+                    label: label(sharp, slope),
+                    slope,
+                    runs: results.steep(Unit::Steep(k as u8, side))?.clone(),
+                })
+            })
+            .collect()
+    };
+    let cases = cases_of(Side::Main)?;
     let steep = steepness(&cases);
+    let other = steepness(&cases_of(Side::Other)?);
     figure(figs, &cases)?;
     let rows: Vec<Vec<String>> = cases.iter().map(cells).collect();
     write_csv(
@@ -133,7 +138,7 @@ pub(super) fn write(
             fixed(steep.to_criterion.1, 1),
         ],
     };
-    Ok((part, steep))
+    Ok((part, [steep, other]))
 }
 
 /// Mean periods of the runs that met a time (`pick`), and how many.

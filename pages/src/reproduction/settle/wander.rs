@@ -56,6 +56,14 @@ pub(super) struct WanderPart {
     gradient_ratio: String,
 }
 
+/// Both fields' walks from their mean squared displacements (sharp, gradient).
+pub(super) fn walks([sharp, gradient]: [&Vec<Msd>; 2]) -> Walks {
+    Walks {
+        sharp: walk(sharp),
+        gradient: walk(gradient),
+    }
+}
+
 /// The part from the walks after arrival of both fields' courses' runs ([`msd`]); writes
 /// `settle-wander.{csv,svg}`.
 ///
@@ -63,10 +71,7 @@ pub(super) struct WanderPart {
 /// If a file cannot be written.
 pub(super) fn write(figs: &Path, msds: [&Vec<Msd>; 2]) -> Result<(WanderPart, Walks), Error> {
     let [sharp, gradient] = msds;
-    let walks = Walks {
-        sharp: walk(sharp),
-        gradient: walk(gradient),
-    };
+    let walks = walks(msds);
     let rows = SHOWN
         .iter()
         .filter_map(|&lag| {

@@ -3,7 +3,7 @@
 
 use super::{Judged, Report, edge_verdict, field_of};
 use crate::claims::{Claim, Id, Kind, claim};
-use crate::verdict::{self, CONE_DEG, Heading};
+use crate::verdict::{self, CONE_DEG, Heading, Verdict};
 use report::csv_files::fixed;
 use swarm_sim::experiment::Arrow;
 use swarm_sim::stats;
@@ -25,10 +25,44 @@ pub(super) fn target(sharp: bool, a: &Arrow) -> f64 {
 }
 
 /// Arrows of a direction map inside a claim's range, counted inside the ±45° cone around
-/// their target, with the mean cosine to it (an arrow without a direction counts 0).
+/// their target, with the mean cosine to it (an arrow without a direction counts 0); the map
+/// of each placement, the weaker verdict.
 pub(super) fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
+    let k = if field_of(c.id) == 0 { 0 } else { 1 };
+    let (vm, om) = on_map(&r.maps[k], c);
+    let (vo, oo) = on_map(&r.other_maps[k], c);
+    let sharp = k == 0;
+    let toward = matches!(c.kind, Kind::Direction { toward: true });
+    let left = c.id == Id::GradientMapLeft;
+    Judged {
+        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
+        verdict: vm.both(vo),
+        why: match (toward, sharp) {
+            _ if left => {
+                format!("the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give")
+            }
+            (true, _) => format!(
+                "the rule: at least 95 % of the arrows within ±{CONE_DEG}° of the target direction"
+            ),
+            (false, true) => format!(
+                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; at \\|x\\| = 3 our swarm (radius 3 R) still touches the border, so those arrows point at it"
+            ),
+            (false, false) => format!(
+                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp"
+            ),
+        } + &format!(
+            "; both placements' maps (the {other} one in figures/*-field-{other}.svg), the weaker verdict ({}: {}, {other}: {})",
+            r.main,
+            vm.words(),
+            vo.words(),
+            other = r.main.other()
+        ),
+    }
+}
+
+/// One map's verdict on claim `c`, and what it shows.
+fn on_map(arrows: &[Arrow], c: &'static Claim) -> (verdict::Verdict, String) {
     let sharp = field_of(c.id) == 0;
-    let arrows = &r.maps[if sharp { 0 } else { 1 }];
     let (a, b) = c.over.unwrap_or_default();
     let far = matches!(c.id, Id::SharpMapFar | Id::GradientMapFar);
     let left = c.id == Id::GradientMapLeft;
@@ -55,28 +89,14 @@ pub(super) fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
     };
     let v = verdict::direction(inside, sel.len(), heading);
     let mean_cos = stats::mean(&cos).unwrap_or(f64::NAN);
-    Judged {
-        ours: format!(
-            "{inside} of {} within ±{CONE_DEG}°; mean cos {}; {half} with a component toward it",
+    (
+        v,
+        format!(
+            "{inside} of {} within ±{CONE_DEG}°, mean cos {}, {half} with a component toward it",
             sel.len(),
             fixed(mean_cos, 2)
         ),
-        verdict: v,
-        why: match (toward, sharp) {
-            _ if left => {
-                format!("the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give")
-            }
-            (true, _) => format!(
-                "the rule: at least 95 % of the arrows within ±{CONE_DEG}° of the target direction"
-            ),
-            (false, true) => format!(
-                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; at \\|x\\| = 3 our swarm (radius 3 R) still touches the border, so those arrows point at it"
-            ),
-            (false, false) => format!(
-                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp"
-            ),
-        },
-    }
+    )
 }
 
 /// "Random beyond 2.5 R" on the sharp map is the same fact as the sharp border's perception
@@ -104,12 +124,15 @@ fn with_edge(r: &Report<'_>, c: &'static Claim, edge_id: Id) -> Judged {
     j
 }
 
-/// The farthest start from which the first move heads for the border, both extents.
+/// The farthest start from which the first move heads for the border, both extents; the
+/// page's extent with both placements, the weaker verdict.
 pub(super) fn edge(r: &Report<'_>, c: &'static Claim) -> Judged {
     let k = field_of(c.id);
     let big = &r.sensitivity.extent[2 * k];
     let small = &r.sensitivity.extent[2 * k + 1];
-    let v = edge_verdict(big.edge_se, c.id);
+    let other = r.sensitivity.extent.get(4 + k);
+    let vo = other.map_or(Verdict::NotReproduced, |o| edge_verdict(o.edge_se, c.id));
+    let v = edge_verdict(big.edge_se, c.id).both(vo);
     let show = |e: Option<(f64, f64)>| {
         e.map_or("none".into(), |(d, se)| {
             format!("{} ± {} R", fixed(d, 2), fixed(se, 2))
@@ -117,9 +140,12 @@ pub(super) fn edge(r: &Report<'_>, c: &'static Claim) -> Judged {
     };
     Judged {
         ours: format!(
-            "{} ({} R swarm); {} for a {} R one",
+            "{} ({} R swarm, {}); {} ({}); {} for a {} R one",
             show(big.edge_se),
             big.diameter,
+            big.placement,
+            show(other.and_then(|o| o.edge_se)),
+            other.map_or("–", |o| o.placement.as_str()),
             show(small.edge_se),
             small.diameter
         ),

@@ -10,16 +10,20 @@ use report::csv_files::fixed;
 /// across and along.
 pub(super) fn walk(r: &Report<'_>, c: &'static Claim) -> Judged {
     let sharp = field_of(c.id) == 0;
-    let w = if sharp {
-        &r.settled.wander.sharp
-    } else {
-        &r.settled.wander.gradient
-    };
+    super::on_both(r, |k| {
+        let w = &r.settled.wander[k];
+        walk_on(if sharp { &w.sharp } else { &w.gradient }, c)
+    })
+}
+
+/// A walk claim on one placement's walk.
+fn walk_on(w: &crate::reproduction::settle::wander::Walk, c: &'static Claim) -> Judged {
     let dims = match c.kind {
         Kind::Walk { dims } => dims,
         _ => 1,
     };
     let pm = |s: (f64, f64)| format!("{} ± {}", fixed(s.0, 4), fixed(s.1, 4));
+    let v = verdict::walk(w.x_slope, w.y_slope, dims);
     Judged {
         ours: format!(
             "mean squared displacement after arrival grows {} R² per period along x, {} along y; after {} periods {} and {} R²",
@@ -29,13 +33,19 @@ pub(super) fn walk(r: &Report<'_>, c: &'static Claim) -> Judged {
             fixed(w.at_max.0, 2),
             fixed(w.at_max.1, 2)
         ),
-        verdict: verdict::walk(w.x_slope, w.y_slope, dims),
+        verdict: v,
         why: if dims == 1 {
             format!(
                 "the rule: the growth along the border (y) has its 95 % interval above zero and the growth across it (x) is below it, the interval of their difference above zero ({} ± {}; least squares over lags 1 to {}; the lags overlap, so the intervals are a guide)",
                 fixed(w.y_slope.0 - w.x_slope.0, 4),
                 fixed(w.x_slope.1.hypot(w.y_slope.1), 4),
                 w.max_lag
+            )
+        } else if v == crate::verdict::Verdict::Reproduced {
+            format!(
+                "the rule: both growths have their 95 % intervals above zero and the interval of their difference contains zero (a diffusion in two dimensions is the same along both): difference {} ± {}",
+                fixed(w.y_slope.0 - w.x_slope.0, 4),
+                fixed(w.x_slope.1.hypot(w.y_slope.1), 4)
             )
         } else {
             format!(
@@ -48,9 +58,14 @@ pub(super) fn walk(r: &Report<'_>, c: &'static Claim) -> Judged {
     }
 }
 
-/// Steeper ramps (settling section): time to the same line against the slope.
+/// Steeper ramps (settling section): time to the same line against the slope, on both
+/// placements.
 pub(super) fn steeper(r: &Report<'_>) -> Judged {
-    let s = &r.settled.steep;
+    super::on_both(r, |k| steeper_on(&r.settled.steep[k]))
+}
+
+/// Steeper ramps on one placement's runs.
+fn steeper_on(s: &crate::reproduction::settle::steep::Steepness) -> Judged {
     let (lo, hi) = s.slopes;
     let also = s.success.1 >= s.success.0;
     Judged {
@@ -87,9 +102,13 @@ pub(super) fn steeper(r: &Report<'_>) -> Judged {
     }
 }
 
-/// The caption's cloud toward its border (settling section).
+/// The caption's cloud toward its border (settling section), on both placements.
 pub(super) fn toward_border(r: &Report<'_>) -> Judged {
-    let t = &r.settled.caption;
+    super::on_both(r, |k| toward_border_on(&r.settled.caption[k]))
+}
+
+/// The caption's cloud toward its border on one placement's profile.
+fn toward_border_on(t: &crate::reproduction::settle::caption::TowardBorder) -> Judged {
     let points: Vec<(f64, f64)> = t.points.iter().map(|p| (p.1, p.2)).collect();
     let short: Vec<String> = t
         .points

@@ -64,6 +64,7 @@ struct Page<'a> {
     waves: crate::waves::WavesSection,
     names: [String; 3],
     placement: PlacementNote,
+    settings: super::settings::Settings,
 }
 
 /// Which placement ran every experiment, which only the sweeps, and their neighbour counts.
@@ -553,14 +554,16 @@ struct CourseSection {
     min_after: u32,
     periods: u32,
     scenarios: Vec<CourseScenario>,
+    /// The time of a course's first value: the swarm at its start.
+    t0: u32,
     /// The sharp plateau against the cycle length, main placement (the settling section):
     /// its lowest and highest, with their cycles.
     plateau_by_cycle: [String; 2],
 }
 
-/// The mean of `f` over a course's last ten periods.
+/// The mean of `f` over a course's last [`TAIL`](super::settings::TAIL) periods.
 fn tail_of(c: &TimeCourse, f: fn(&swarm_sim::timecourse::TimePoint) -> f64) -> f64 {
-    let k = c.points.len().saturating_sub(10);
+    let k = c.points.len().saturating_sub(super::settings::TAIL);
     let v: Vec<f64> = c.points[k..].iter().map(f).collect();
     swarm_sim::stats::mean(&v).unwrap_or(f64::NAN)
 }
@@ -674,6 +677,7 @@ fn course_section(r: &Report<'_>) -> CourseSection {
         runs: COURSE_RUNS,
         min_after: reproduce::PLATEAU_MIN_AFTER,
         periods: r.sharp.periods,
+        t0: r.courses[0][0].points.first().map_or(0, |p| p.t),
         scenarios,
     }
 }
@@ -700,6 +704,7 @@ fn page<'a>(r: &Report<'a>) -> Result<Page<'a>, Error> {
         waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),
         placement: placement_note(r),
+        settings: super::settings::settings([r.sharp, r.gradient, r.cloud], r.main)?,
     })
 }
 

@@ -35,6 +35,9 @@ pub(super) struct ExtentRow {
     pub(super) verdict: &'static str,
 }
 
+/// The mean heading the perception edge is where the first move's heading falls through.
+pub(super) const EDGE_LEVEL: f64 = 0.5;
+
 /// Where the first move's heading toward the border (`(x, mean cos, s.e.)`, x < 0) last falls
 /// through 0.5 going away from the border, interpolated: the farthest start from which the swarm
 /// heads for the border, as a distance, with its standard error.
@@ -42,7 +45,7 @@ pub(super) fn extent_edge(profile: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
     let mut by_distance: Vec<(f64, f64, f64)> =
         profile.iter().map(|&(x, m, se)| (x.abs(), m, se)).collect();
     by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
-    swarm_sim::stats::crossing(&by_distance, 0.5, false)
+    swarm_sim::stats::crossing(&by_distance, EDGE_LEVEL, false)
 }
 
 /// The sensitivity section.
@@ -59,6 +62,8 @@ pub(super) struct SensitivitySection {
     pub(super) extent_big_matches: bool,
     /// The 2.5 R swarm's edges are shorter than the 3 R swarm's on both fields.
     pub(super) extent_small_shorter: bool,
+    /// The step of the extent's grid where it is refined (around the paper's edges), R.
+    pub(super) refined: String,
 }
 
 /// Success and mean time as a table cell.
@@ -94,9 +99,20 @@ pub(super) fn write(
             && verdicts::edge_verdict(extent[2].edge_se, Id::GradientEdge) == Verdict::Reproduced
     };
     let extent_small_shorter = edge(1) < edge(0) && edge(3) < edge(2);
+    let xs: Vec<f64> = results
+        .extent(Unit::Extent)?
+        .first()
+        .map_or(Vec::new(), |run| run.profile.iter().map(|p| p.0).collect());
+    let refined = xs
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|g| *g > 1e-9)
+        .reduce(f64::min)
+        .map_or("–".into(), |g| ((g * 100.0).round() / 100.0).to_string());
     Ok(SensitivitySection {
         extent_big_matches,
         extent_small_shorter,
+        refined,
         runs: SENS_RUNS,
         x: SENS_X.to_string(),
         tables,

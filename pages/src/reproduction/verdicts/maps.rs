@@ -49,7 +49,9 @@ pub(super) fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
     let half = cos.iter().filter(|&&c| c > 0.0).count();
     let toward = matches!(c.kind, Kind::Direction { toward: true });
     let heading = if toward {
-        Heading::Toward { share: 0.95 }
+        Heading::Toward {
+            share: verdict::TOWARD_SHARE,
+        }
     } else {
         Heading::Random
     };

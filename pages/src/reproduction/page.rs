@@ -265,20 +265,24 @@ fn sweep_rows(main: &[SweepPoint], other: &[SweepPoint]) -> Vec<[String; 7]> {
         .collect()
 }
 
-/// Success rates in the sharp border's band |x| ≤ 2.
+/// Success rates in the sharp border's band |x| ≤ [`SHARP_NEAR`](super::settings::SHARP_NEAR).
 fn sharp_near(points: &[SweepPoint]) -> (f64, f64) {
-    rate_range(points, |x| x.abs() <= 2.0 + 1e-9)
+    rate_range(points, |x| x.abs() <= super::settings::SHARP_NEAR + 1e-9)
 }
 
-/// Success rates in the gradient's band −2 ≤ x < 2.33.
+/// Success rates in the gradient's band of its claim `GradientMid` (−2 ≤ x < 2.33).
 fn gradient_mid(points: &[SweepPoint]) -> [String; 2] {
-    let (lo, hi) = rate_range(points, |x| (-2.0 - 1e-9..2.33).contains(&x));
+    let c = crate::claims::claim(crate::claims::Id::GradientMid);
+    let (lo, hi) = rate_range(points, |x| c.covers(x));
     [pct(lo), pct(hi)]
 }
 
-/// Success rate at x = −4, `–` if not swept.
+/// Success rate at the x of the claim `GradientFar` (−4), `–` if not swept.
 fn at_m4(points: &[SweepPoint]) -> String {
-    rate_at(points, -4.0).map_or("–".into(), pct)
+    let x = crate::claims::claim(crate::claims::Id::GradientFar)
+        .over
+        .map_or(f64::NAN, |o| o.0);
+    rate_at(points, x).map_or("–".into(), pct)
 }
 
 /// Mean degree of the lattice placement of the sharp scenario's swarm.

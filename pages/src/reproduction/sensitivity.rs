@@ -62,6 +62,10 @@ pub(super) struct SensitivitySection {
     pub(super) extent_big_matches: bool,
     /// The 2.5 R swarm's edges are shorter than the 3 R swarm's on both fields.
     pub(super) extent_small_shorter: bool,
+    /// Runs per point of the sharp border's sweeps, and the largest binomial standard error of
+    /// a rate from [`SENS_RUNS`] runs (at 0.5), one decimal.
+    pub(super) sweep_runs: u32,
+    pub(super) rate_se: String,
     /// The step of the extent's grid where it is refined (around the paper's edges), R.
     pub(super) refined: String,
 }
@@ -113,6 +117,8 @@ pub(super) fn write(
         extent_big_matches,
         extent_small_shorter,
         refined,
+        sweep_runs: sharp.sweep.as_ref().map_or(0, |s| s.runs),
+        rate_se: fixed((0.25 / f64::from(SENS_RUNS)).sqrt(), 1),
         runs: SENS_RUNS,
         x: SENS_X.to_string(),
         tables,

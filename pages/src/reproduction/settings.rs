@@ -120,6 +120,9 @@ pub(super) struct Settings {
     starts: [String; 2],
     /// The sharp border: its x, X's mean left of it and right of it.
     sharp: [String; 3],
+    /// The most variance a store can have with half its readings at each of the sharp
+    /// border's two means: (half their difference)².
+    sharp_bound: String,
     /// The gradient: where its ramp starts, X's mean before it.
     gradient: [String; 2],
     /// The text's cloud: X's mean inside, where the ramp starts and ends (d), X's mean beyond.
@@ -133,6 +136,12 @@ pub(super) struct Settings {
     /// the sharp border's start and from the gradient's; the most the gradient's mean reads
     /// there (slope × that distance).
     across: [String; 4],
+    /// [`SHARP_NEAR`].
+    sharp_near: String,
+    /// The rings of the main placement's lattice (1, 6, 12, …) when its agents are a centred
+    /// hexagonal number of them that fill the paper's disk exactly (its last ring at the
+    /// disk's radius); `None` otherwise.
+    hex_shells: Option<Vec<usize>>,
     /// The sharp border's success distance, R.
     near: String,
     /// The gradient's success line, x.
@@ -182,6 +191,10 @@ struct PaperSaid {
     cloud_claims: [String; 4],
     /// The caption's cloud's limit.
     caption_limit: String,
+    /// The gradient's success: the x range of 85–100 % and that range; the x of 25 % and
+    /// that rate.
+    gradient_mid: [String; 3],
+    gradient_far: [String; 2],
 }
 
 fn paper_said() -> PaperSaid {
@@ -217,7 +230,34 @@ fn paper_said() -> PaperSaid {
             paper(Id::CloudOutward, 0),
         ],
         caption_limit: paper(Id::CaptionLimit, 0),
+        gradient_mid: {
+            let c = claim(Id::GradientMid);
+            let (lo, hi) = c.over.unwrap_or((f64::NAN, f64::NAN));
+            [num(lo), num(hi), c.paper.to_owned()]
+        },
+        gradient_far: [
+            claim(Id::GradientFar).over.map_or("–".into(), |o| num(o.0)),
+            claim(Id::GradientFar)
+                .values()
+                .first()
+                .map_or("–".into(), |v| format!("{} %", num(100.0 * v.0))),
+        ],
     }
+}
+
+/// The sharp border's "near" band of the page: |x| ≤ this, R.
+pub(super) const SHARP_NEAR: f64 = 2.0;
+
+/// The rings of a centred hexagonal lattice of `agents` nodes at [`LATTICE_SPACING`] (1, 6,
+/// 12, …) if `agents` is such a number and its last ring lies at `radius`.
+fn hex_shells(agents: usize, radius: f64) -> Option<Vec<usize>> {
+    let mut shells = vec![1];
+    while shells.iter().sum::<usize>() < agents {
+        shells.push(6 * shells.len());
+    }
+    let rings = (shells.len() - 1) as f64;
+    (shells.iter().sum::<usize>() == agents && (rings * LATTICE_SPACING - radius).abs() < 1e-9)
+        .then_some(shells)
 }
 
 /// The periods at the end of a course its tail values average.
@@ -270,6 +310,12 @@ pub(super) fn settings(
             seg(sharp, 0, 0, |s| s.level),
             seg(sharp, 0, 1, |s| s.level),
         ],
+        sharp_bound: {
+            let (lo, hi) = (segment(sharp, 0, 0), segment(sharp, 0, 1));
+            lo.zip(hi).map_or("–".into(), |(lo, hi)| {
+                round2(((hi.level - lo.level) / 2.0).powi(2))
+            })
+        },
         gradient: [
             seg(gradient, 0, 1, |s| s.from),
             seg(gradient, 0, 0, |s| s.level),
@@ -288,7 +334,9 @@ pub(super) fn settings(
             num(offset + caption.run.noise / 2.0),
         ],
         caption_offset: num(offset),
+        hex_shells: hex_shells(sharp.agents, DISK.values[0] / 2.0),
         near,
+        sharp_near: num(SHARP_NEAR),
         line,
         robot_cycle: [
             secs(robots.cycle - robots.cycle_spread),

@@ -224,6 +224,10 @@ pub enum Heading {
 /// pointing at it, degrees.
 pub const CONE_DEG: f64 = 45.0;
 
+/// The least share of the arrows inside the cone for a claim that every arrow points at the
+/// target.
+pub const TOWARD_SHARE: f64 = 0.95;
+
 /// `inside` of `n` arrows inside the ±[`CONE_DEG`] cone, against the claim `heading`. Toward:
 /// the band is `[share, 1]`; random: the band is the uniform share (1/4) widened by two
 /// binomial standard errors.

@@ -35,6 +35,10 @@ pub fn quantile(xs: &[f64], p: f64) -> Option<f64> {
     Some(v[rank - 1])
 }
 
+/// The confidence of every interval [`line_fit`] gives (its half-width `ci`), and so of every
+/// trend and comparison judged with one: 95 %.
+pub const CONFIDENCE: f64 = 0.95;
+
 /// A least-squares line through points, with what a trend claim needs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LineFit {
@@ -74,7 +78,9 @@ pub fn line_fit(points: &[(f64, f64)]) -> Option<LineFit> {
         .sum();
     let df = (n - 2) as f64;
     let se = (sse / df / sxx).sqrt();
-    let t = StudentsT::new(0.0, 1.0, df).ok()?.inverse_cdf(0.975);
+    let t = StudentsT::new(0.0, 1.0, df)
+        .ok()?
+        .inverse_cdf((1.0 + CONFIDENCE) / 2.0);
     Some(LineFit {
         slope,
         intercept,

@@ -16,6 +16,9 @@ use crate::scenario::Scenario;
 use crate::seeds::derive;
 use crate::stats;
 
+/// The quantiles over runs of a [`Spread`]'s band (`q10`, `q90`).
+pub const BAND: [f64; 2] = [0.1, 0.9];
+
 /// Mean and spread of one quantity over runs at one time.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Spread {
@@ -38,8 +41,8 @@ impl Spread {
     pub fn of(xs: &[f64]) -> Spread {
         Spread {
             mean: stats::mean(xs).unwrap_or(f64::NAN),
-            q10: stats::quantile(xs, 0.1).unwrap_or(f64::NAN),
-            q90: stats::quantile(xs, 0.9).unwrap_or(f64::NAN),
+            q10: stats::quantile(xs, BAND[0]).unwrap_or(f64::NAN),
+            q90: stats::quantile(xs, BAND[1]).unwrap_or(f64::NAN),
             se: stats::standard_error(xs).unwrap_or(f64::NAN),
         }
     }

@@ -300,7 +300,10 @@ mod tests {
         assert!(dir.join(FIGURE).exists());
         let md = crate::page::render(
             "reproduction/shapes.md.j2",
-            serde_json::json!({ "shapes": r.section }),
+            serde_json::json!({
+                "shapes": r.section,
+                "settings": { "bin_deg": 360 / BINS },
+            }),
         )
         .unwrap();
         assert!(md.contains("| line | 61 | 45 |"), "{md}");

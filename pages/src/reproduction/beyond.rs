@@ -21,6 +21,8 @@ use swarm_sim::scenario::Scenario;
 /// The section as its template (`reproduction/beyond.md.j2`) sees it.
 #[derive(Default, Serialize)]
 pub(super) struct BeyondSection {
+    /// [`SAME_WITHIN`].
+    same_within: String,
     runs: u32,
     x: String,
     main_bin: String,
@@ -28,7 +30,7 @@ pub(super) struct BeyondSection {
     fields: Vec<String>,
     /// Per measure: its name, then success from `x` (rate and mean time) per field.
     rows: Vec<Vec<String>>,
-    /// Per field: the entropy (main bin) is within 0.15 of the variance's success rate.
+    /// Per field: the entropy (main bin) is within [`SAME_WITHIN`] of the variance's success rate.
     same_success: Vec<bool>,
     /// Per field: the lowest entropy success rate over the bins, and the variance's.
     worst_entropy: Vec<String>,
@@ -68,7 +70,7 @@ pub(super) struct BeyondSection {
     /// Two quantities (light uniform, oxygen the sharp border): per measure, its name and
     /// success from `x` (rate and mean time).
     two_rows: Vec<[String; 2]>,
-    /// Per measure: two quantities succeed within 0.15 of the sharp field alone.
+    /// Per measure: two quantities succeed within [`SAME_WITHIN`] of the sharp field alone.
     two_same: Vec<bool>,
 }
 
@@ -112,6 +114,7 @@ fn success_section(
         })
         .collect();
     BeyondSection {
+        same_within: SAME_WITHIN.to_string(),
         runs: SENS_RUNS,
         x: SENS_X.to_string(),
         main_bin: MAIN_BIN.to_string(),
@@ -119,7 +122,7 @@ fn success_section(
         rows,
         same_success: results
             .iter()
-            .map(|per| (per[main_m].success_rate() - per[0].success_rate()).abs() <= 0.15)
+            .map(|per| (per[main_m].success_rate() - per[0].success_rate()).abs() <= SAME_WITHIN)
             .collect(),
         worst_entropy: results
             .iter()
@@ -138,6 +141,9 @@ fn success_section(
         ..BeyondSection::default()
     }
 }
+
+/// Two success rates closer than this are the same, within what the runs can tell.
+const SAME_WITHIN: f64 = 0.15;
 
 /// log2 of a message's most readings with the scorer's own (33): the entropy's ceiling.
 fn ceiling() -> f64 {
@@ -229,7 +235,7 @@ fn along_fill(this: &Along, s: &mut BeyondSection) {
         hi[1] - lo[1] <= slope_ratio.log2() + 0.25 && hi[0] / lo[0] > slope_ratio;
 }
 
-/// Two quantities' rows, and per measure whether it is within 0.15 of the sharp field alone
+/// Two quantities' rows, and per measure whether it is within [`SAME_WITHIN`] of the sharp field alone
 /// (`results`, the success per field and measure).
 fn two_section(
     measures: [Measure; 2],
@@ -241,7 +247,7 @@ fn two_section(
     let mut two_same = Vec::new();
     for (m, (measure, pt)) in measures.iter().zip(pts).enumerate() {
         let alone = &results[0][if m == 0 { 0 } else { main_m }];
-        two_same.push((pt.success_rate() - alone.success_rate()).abs() <= 0.15);
+        two_same.push((pt.success_rate() - alone.success_rate()).abs() <= SAME_WITHIN);
         two_rows.push([measure.to_string(), cell(pt)]);
     }
     (two_rows, two_same)

@@ -21,6 +21,11 @@ use swarm_sim::scenario::Placement;
 /// the text's cloud.
 const THRESHOLD: f64 = 0.5;
 
+/// The map's rings (d from, to: `from < d ≤ to`) whose arrows should point toward the centre
+/// (outside the caption's ramp, within reach) and away from it (inside the ramp).
+const INWARD_RING: [f64; 2] = [5.0, 7.0];
+const OUTWARD_RING: [f64; 2] = [0.0, 4.0];
+
 /// The caption's cloud's results.
 pub(super) struct CaptionCloud {
     /// One arrow per grid point.
@@ -83,6 +88,10 @@ pub(super) fn write(
 pub(super) struct CaptionSection {
     /// Runs per distance of the profile.
     runs: u32,
+    /// The alignment the heading limits are read at ([`THRESHOLD`]).
+    threshold: String,
+    /// [`INWARD_RING`] and [`OUTWARD_RING`].
+    rings: [[String; 2]; 2],
     /// Where the mean inward alignment last falls through 0.5 ([`perception_limit`]).
     limit: Option<String>,
     /// Where the mean inward alignment first turns positive going out ([`outward_limit`]).
@@ -100,6 +109,11 @@ pub(super) struct CaptionSection {
     map_inward: String,
     /// Arrows of the map with a component away from the centre, among those with 0 < d ≤ 4.
     map_outward: String,
+}
+
+/// Whether `from < d ≤ to` (to rounding).
+fn in_ring([from, to]: [f64; 2], d: f64) -> bool {
+    d > from + 1e-9 && d <= to + 1e-9
 }
 
 /// Arrows with `keep(d)` (d: distance from the centre) pointing toward (`toward`) or away
@@ -139,6 +153,8 @@ pub(super) fn section(
     Ok(CaptionSection {
         reach: super::page::reach(&builtin_placed("cloud-caption", c.placement)?),
         runs: PROFILE_RUNS,
+        threshold: THRESHOLD.to_string(),
+        rings: [INWARD_RING, OUTWARD_RING].map(|r| r.map(|d| d.to_string())),
         limit: perception_limit(&c.profile, THRESHOLD).map(|d| fixed(d.0, 1)),
         outward: outward_limit(&c.profile).map(|d| fixed(d.0, 1)),
         inward: inward
@@ -148,8 +164,8 @@ pub(super) fn section(
         most_outward,
         text_limit: perception_limit(text_profile, THRESHOLD).map(|d| fixed(d.0, 1)),
         text_outward: outward_limit(text_profile).map(|d| fixed(d.0, 1)),
-        map_inward: radial_arrows(&c.arrows, |d| d > 5.0 && d <= 7.0 + 1e-9, true),
-        map_outward: radial_arrows(&c.arrows, |d| d > 1e-9 && d <= 4.0 + 1e-9, false),
+        map_inward: radial_arrows(&c.arrows, |d| in_ring(INWARD_RING, d), true),
+        map_outward: radial_arrows(&c.arrows, |d| in_ring(OUTWARD_RING, d), false),
     })
 }
 

@@ -31,6 +31,7 @@ mod beyond;
 mod caption_cloud;
 mod page;
 mod sensitivity;
+mod settings;
 mod settle;
 mod verdicts;
 mod write;

@@ -68,6 +68,7 @@ struct Page<'a> {
     waves: crate::waves::WavesSection,
     names: [String; 3],
     placement: PlacementNote,
+    settings: super::settings::Settings,
 }
 
 /// Which placement ran every experiment, which only the sweeps, and their neighbour counts.
@@ -270,20 +271,24 @@ fn sweep_rows(main: &[SweepPoint], other: &[SweepPoint]) -> Vec<[String; 7]> {
         .collect()
 }
 
-/// Success rates in the sharp border's band |x| ≤ 2.
+/// Success rates in the sharp border's band |x| ≤ [`SHARP_NEAR`](super::settings::SHARP_NEAR).
 fn sharp_near(points: &[SweepPoint]) -> (f64, f64) {
-    rate_range(points, |x| x.abs() <= 2.0 + 1e-9)
+    rate_range(points, |x| x.abs() <= super::settings::SHARP_NEAR + 1e-9)
 }
 
-/// Success rates in the gradient's band −2 ≤ x < 2.33.
+/// Success rates in the gradient's band of its claim `GradientMid` (−2 ≤ x < 2.33).
 fn gradient_mid(points: &[SweepPoint]) -> [String; 2] {
-    let (lo, hi) = rate_range(points, |x| (-2.0 - 1e-9..2.33).contains(&x));
+    let c = crate::claims::claim(crate::claims::Id::GradientMid);
+    let (lo, hi) = rate_range(points, |x| c.covers(x));
     [pct(lo), pct(hi)]
 }
 
-/// Success rate at x = −4, `–` if not swept.
+/// Success rate at the x of the claim `GradientFar` (−4), `–` if not swept.
 fn at_m4(points: &[SweepPoint]) -> String {
-    rate_at(points, -4.0).map_or("–".into(), pct)
+    let x = crate::claims::claim(crate::claims::Id::GradientFar)
+        .over
+        .map_or(f64::NAN, |o| o.0);
+    rate_at(points, x).map_or("–".into(), pct)
 }
 
 /// Mean degree of the lattice placement of the sharp scenario's swarm.
@@ -562,14 +567,16 @@ struct CourseSection {
     min_after: u32,
     periods: u32,
     scenarios: Vec<CourseScenario>,
+    /// The time of a course's first value: the swarm at its start.
+    t0: u32,
     /// The sharp plateau against the cycle length, main placement (the settling section):
     /// its lowest and highest, with their cycles.
     plateau_by_cycle: [String; 2],
 }
 
-/// The mean of `f` over a course's last ten periods.
+/// The mean of `f` over a course's last [`TAIL`](super::settings::TAIL) periods.
 fn tail_of(c: &TimeCourse, f: fn(&swarm_sim::timecourse::TimePoint) -> f64) -> f64 {
-    let k = c.points.len().saturating_sub(10);
+    let k = c.points.len().saturating_sub(super::settings::TAIL);
     let v: Vec<f64> = c.points[k..].iter().map(f).collect();
     swarm_sim::stats::mean(&v).unwrap_or(f64::NAN)
 }
@@ -683,6 +690,7 @@ fn course_section(r: &Report<'_>) -> CourseSection {
         runs: COURSE_RUNS,
         min_after: reproduce::PLATEAU_MIN_AFTER,
         periods: r.sharp.periods,
+        t0: r.courses[0][0].points.first().map_or(0, |p| p.t),
         scenarios,
     }
 }
@@ -709,6 +717,7 @@ fn page<'a>(r: &Report<'a>) -> Result<Page<'a>, Error> {
         waves: r.waves.clone(),
         names: [r.sharp, r.gradient, r.cloud].map(|s| s.name.clone()),
         placement: placement_note(r),
+        settings: super::settings::settings([r.sharp, r.gradient, r.cloud], r.main)?,
     })
 }
 

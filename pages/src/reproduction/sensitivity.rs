@@ -38,6 +38,9 @@ pub(super) struct ExtentRow {
     pub(super) verdict: &'static str,
 }
 
+/// The mean heading the perception edge is where the first move's heading falls through.
+pub(super) const EDGE_LEVEL: f64 = 0.5;
+
 /// Where the first move's heading toward the border (`(x, mean cos, s.e.)`, x < 0) last falls
 /// through 0.5 going away from the border, interpolated: the farthest start from which the swarm
 /// heads for the border, as a distance, with its standard error.
@@ -45,7 +48,7 @@ pub(super) fn extent_edge(profile: &[(f64, f64, f64)]) -> Option<(f64, f64)> {
     let mut by_distance: Vec<(f64, f64, f64)> =
         profile.iter().map(|&(x, m, se)| (x.abs(), m, se)).collect();
     by_distance.sort_by(|a, b| a.0.total_cmp(&b.0));
-    swarm_sim::stats::crossing(&by_distance, 0.5, false)
+    swarm_sim::stats::crossing(&by_distance, EDGE_LEVEL, false)
 }
 
 /// The sensitivity section.
@@ -66,6 +69,12 @@ pub(super) struct SensitivitySection {
     /// per cycle length (seconds) the point. The rate rows' escape through the cycle reads it.
     #[serde(skip)]
     pub(super) by_cycle: Vec<(String, Vec<(f64, SweepPoint)>)>,
+    /// Runs per point of the sharp border's sweeps, and the largest binomial standard error of
+    /// a rate from [`SENS_RUNS`] runs (at 0.5), one decimal.
+    pub(super) sweep_runs: u32,
+    pub(super) rate_se: String,
+    /// The step of the extent's grid where it is refined (around the paper's edges), R.
+    pub(super) refined: String,
 }
 
 /// Success and mean time as a table cell.
@@ -124,10 +133,23 @@ pub(super) fn write(
             })
             .collect()
     };
+    let xs: Vec<f64> = results
+        .extent(Unit::Extent(Side::Main))?
+        .first()
+        .map_or(Vec::new(), |run| run.profile.iter().map(|p| p.0).collect());
+    let refined = xs
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .filter(|g| *g > 1e-9)
+        .reduce(f64::min)
+        .map_or("–".into(), |g| ((g * 100.0).round() / 100.0).to_string());
     Ok(SensitivitySection {
         by_cycle,
         extent_big_matches,
         extent_small_shorter,
+        refined,
+        sweep_runs: sharp.sweep.as_ref().map_or(0, |s| s.runs),
+        rate_se: fixed((0.25 / f64::from(SENS_RUNS)).sqrt(), 1),
         runs: SENS_RUNS,
         x: SENS_X.to_string(),
         tables,

@@ -46,9 +46,14 @@ pub(in super::super) struct ArrivalFacts {
     pub(in super::super) heading_mid_last_r: f64,
 }
 
+/// The quantiles of the arrival's spread.
+const QUANTILES: [f64; 3] = [0.1, 0.5, 0.9];
+
 /// The part of the section the template sees.
 #[derive(Serialize)]
 pub(super) struct ArrivalPart {
+    /// [`QUANTILES`] in %, "10 / 50 / 90".
+    quantiles: String,
     runs: u32,
     course_runs: u32,
     step: String,
@@ -215,7 +220,7 @@ fn summary(scns: [&Scenario; 2], profiles: &[Profile], rows: Vec<Vec<String>>) -
                     stats::standard_error(a).unwrap_or(0.0),
                     1,
                 ),
-                format!("{} / {} / {}", q(0.1), q(0.5), q(0.9)),
+                QUANTILES.map(q).join(" / "),
                 format!("{} – {}", q(0.0), q(1.0)),
                 if predicted.is_finite() {
                     fixed(predicted, 1)
@@ -240,6 +245,7 @@ fn summary(scns: [&Scenario; 2], profiles: &[Profile], rows: Vec<Vec<String>>) -
         .map(|h| drift(h.1, scns[1].run.step).unwrap_or(f64::INFINITY))
         .sum();
     ArrivalPart {
+        quantiles: QUANTILES.map(|q| (100.0 * q).to_string()).join(" / "),
         runs: RUNS,
         course_runs: super::super::COURSE_RUNS,
         step: fixed(STEP, 2),

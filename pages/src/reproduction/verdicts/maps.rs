@@ -83,7 +83,9 @@ fn on_map(arrows: &[Arrow], c: &'static Claim) -> (verdict::Verdict, String) {
     let half = cos.iter().filter(|&&c| c > 0.0).count();
     let toward = matches!(c.kind, Kind::Direction { toward: true });
     let heading = if toward {
-        Heading::Toward { share: 0.95 }
+        Heading::Toward {
+            share: verdict::TOWARD_SHARE,
+        }
     } else {
         Heading::Random
     };

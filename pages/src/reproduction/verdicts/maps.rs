@@ -42,10 +42,12 @@ pub(super) fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
                 format!("the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give")
             }
             (true, _) => format!(
-                "the rule: at least 95 % of the arrows within ±{CONE_DEG}° of the target direction"
+                "the rule: at least {} % of the arrows within ±{CONE_DEG}° of the target direction",
+                fixed(100.0 * verdict::TOWARD_SHARE, 0)
             ),
             (false, true) => format!(
-                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; at \\|x\\| = 3 our swarm (radius 3 R) still touches the border, so those arrows point at it"
+                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; at the map's first column beyond the claim our swarm (radius {} R) still touches the border, so those arrows point at it",
+                fixed(crate::marks::swarm_radius(r.sharp), 1)
             ),
             (false, false) => format!(
                 "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp"
@@ -153,7 +155,8 @@ pub(super) fn edge(r: &Report<'_>, c: &'static Claim) -> Judged {
         ),
         verdict: v,
         why: format!(
-            "where the mean heading toward the border falls through 0.5, interpolated on a 0.25 R grid around the claim; the smaller swarm's edge is {}",
+            "where the mean heading toward the border falls through {}, interpolated on the starts' grid, refined around the claim; the smaller swarm's edge is {}",
+            crate::reproduction::sensitivity::EDGE_LEVEL,
             match (big.edge_se, small.edge_se) {
                 (Some(b), Some(s)) if s.0 < b.0 => "shorter",
                 (Some(_), Some(_)) => "not shorter",

@@ -174,12 +174,16 @@ fn rates(r: &Report<'_>, c: &'static Claim) -> Judged {
         })
         .map(|p| format!("{} ({})", p.x_init, fixed(p.success_rate(), 2)))
         .collect();
+    let near = match r.sharp.success {
+        Some(swarm_sim::scenario::Success::NearX { within, .. }) => within,
+        _ => f64::NAN,
+    };
     let why = match c.id {
         Id::SharpNear if short.is_empty() => format!(
-            "both placements hold; the {other} placement's swarms settle where the border halves their agents, which need not pass within 0.33 R of the centre of mass (see the sharp border below)"
+            "both placements hold; the {other} placement's swarms settle where the border halves their agents, which need not pass within {near} R of the centre of mass (see the sharp border below)"
         ),
         Id::SharpNear => format!(
-            "{other} placement short at x = {}: its swarms settle where the border halves their agents, which need not pass within 0.33 R of the centre of mass (see the sharp border below)",
+            "{other} placement short at x = {}: its swarms settle where the border halves their agents, which need not pass within {near} R of the centre of mass (see the sharp border below)",
             short.join(", ")
         ),
         Id::GradientMid => format!(
@@ -290,6 +294,10 @@ fn on_both(r: &Report<'_>, on: impl Fn(usize) -> Judged) -> Judged {
     }
 }
 
+/// The least mean inward alignment that counts as heading for the cloud ("toward" rows and
+/// the perception limits: half of a unanimous heading).
+const ALIGNED: f64 = 0.5;
+
 fn cloud_toward_on(c: &'static Claim, profile: &[swarm_sim::experiment::RadialPoint]) -> Judged {
     let pts: Vec<&swarm_sim::experiment::RadialPoint> =
         profile.iter().filter(|p| c.covers(p.distance)).collect();
@@ -297,27 +305,30 @@ fn cloud_toward_on(c: &'static Claim, profile: &[swarm_sim::experiment::RadialPo
         &pts.iter()
             .map(|p| (p.inward, p.inward_se))
             .collect::<Vec<_>>(),
-        0.5,
+        ALIGNED,
     );
+    let (lo, hi) = c.over.unwrap_or((f64::NAN, f64::NAN));
     let short: Vec<String> = pts
         .iter()
-        .filter(|p| p.inward < 0.5)
+        .filter(|p| p.inward < ALIGNED)
         .map(|p| format!("{} ({})", fixed(p.distance, 2), fixed(p.inward, 2)))
         .collect();
     let lowest = pts.iter().map(|p| p.inward).fold(f64::INFINITY, f64::min);
     Judged {
         ours: format!(
-            "{} of {} distances from 4 to 7 with mean inward alignment ≥ 0.5 (lowest {})",
+            "{} of {} distances from {lo} to {hi} with mean inward alignment ≥ {ALIGNED} (lowest {})",
             pts.len() - short.len(),
             pts.len(),
             fixed(lowest, 2)
         ),
         verdict: v,
         why: if short.is_empty() {
-            "the rule: at every distance strictly between 4 and 7 the mean inward alignment (the radial profile's) at least 0.5".into()
+            format!(
+                "the rule: at every distance strictly between {lo} and {hi} the mean inward alignment (the radial profile's) at least {ALIGNED}"
+            )
         } else {
             format!(
-                "the rule: at every distance strictly between 4 and 7 the mean inward alignment (the radial profile's) at least 0.5; short at {}",
+                "the rule: at every distance strictly between {lo} and {hi} the mean inward alignment (the radial profile's) at least {ALIGNED}; short at {}",
                 short.join(", ")
             )
         },
@@ -682,20 +693,20 @@ fn cloud_on(
 ) -> Judged {
     let (d, what) = match c.id {
         Id::CloudLimit => (
-            perception_limit(text, 0.5),
-            "where the mean inward alignment last falls through 0.5 going out",
+            perception_limit(text, ALIGNED),
+            format!("where the mean inward alignment last falls through {ALIGNED} going out"),
         ),
         Id::CloudOutward => (
             outward_limit(text),
-            "where the mean inward alignment turns from negative to positive going out",
+            "where the mean inward alignment turns from negative to positive going out".into(),
         ),
         _ => (
-            perception_limit(caption, 0.5),
-            "where the mean inward alignment last falls through 0.5 going out",
+            perception_limit(caption, ALIGNED),
+            format!("where the mean inward alignment last falls through {ALIGNED} going out"),
         ),
     };
     let v = edge_verdict(d, c.id);
-    let mut why = format!("{what}, interpolated on a 0.25 R grid around the claim");
+    let mut why = format!("{what}, interpolated on the profile's grid, refined around the claim");
     if c.id == Id::CloudOutward {
         let lines = crate::marks::setup_profile(r.cloud);
         if let [start, end, ..] = &lines[..] {

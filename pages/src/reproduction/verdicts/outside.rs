@@ -143,8 +143,11 @@ pub(super) fn lab(c: &Claim) -> Judged {
         ours: ours.join("; "),
         verdict: v.unwrap_or(Verdict::NotReproduced),
         why: format!(
-            "the emulated arena's lab suite (docs/reliability.md; {} seeds per experiment, the paper's six configurations and the alternating experiment from each), read from docs/data/lab-suite.json; judged on the fixed rule, the paper's robots' (a decision at the end of each 10-cycle phase), against 100 % with the paper's {} and {} runs (two binomial standard errors); the adaptive rule is ours",
-            file.seeds, PAPER_LAB_RUNS.0, PAPER_LAB_RUNS.1
+            "the emulated arena's lab suite (docs/reliability.md; {} seeds per experiment, the paper's six configurations and the alternating experiment from each), read from docs/data/lab-suite.json; judged on the fixed rule, the paper's robots' (a decision at the end of each {}-cycle phase), against all runs right with the paper's {} and {} runs (two binomial standard errors); the adaptive rule is ours",
+            file.seeds,
+            protocol::Params::robots().negotiation_cycles,
+            PAPER_LAB_RUNS.0,
+            PAPER_LAB_RUNS.1
         ),
     }
 }

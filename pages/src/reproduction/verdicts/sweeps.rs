@@ -12,13 +12,21 @@ use swarm_sim::stats;
 /// distance) with its whole interval, and the farthest start's rate is below the level inside
 /// 2.5 R by more than two standard errors; on both placements' sweeps, the weaker verdict.
 pub(super) fn sharp_far(r: &Report<'_>) -> Judged {
-    falls(r, 0, -2.5, Id::SharpNear, "inside 2.5 R")
+    let (_, hi) = claim(Id::SharpNear).over.unwrap_or((f64::NAN, f64::NAN));
+    falls(r, 0, -hi, Id::SharpNear, &format!("inside {hi} R"))
 }
 
 /// "Falls beyond x = −2" on the gradient: as [`sharp_far`], from −2 and against the rate over
 /// the range the paper gives as mostly successful (−2 ≤ x < 2.33); both placements.
 pub(super) fn gradient_fall(r: &Report<'_>) -> Judged {
-    falls(r, 1, -2.0, Id::GradientMid, "over −2 … 2.33")
+    let (lo, hi) = claim(Id::GradientMid).over.unwrap_or((f64::NAN, f64::NAN));
+    falls(
+        r,
+        1,
+        lo,
+        Id::GradientMid,
+        &format!("over {} … {hi}", lo.to_string().replace('-', "−")),
+    )
 }
 
 /// A "falls beyond `edge`" row of field `k` ([`far_of`] on each placement's sweep, against the
@@ -30,7 +38,8 @@ fn falls(r: &Report<'_>, k: usize, edge: f64, near: Id, near_words: &str) -> Jud
         ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
         verdict: vm.both(vo),
         why: format!(
-            "the rule, on each placement: the slope's 95 % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}: {}, {}: {}) below the rate {near_words}; the weaker verdict of the two ({}: {}, {}: {})",
+            "the rule, on each placement: the slope's {} % interval above zero (the rate falls with the distance), and the farthest start's rate more than two standard errors ({}: {}, {}: {}) below the rate {near_words}; the weaker verdict of the two ({}: {}, {}: {})",
+            fixed(100.0 * stats::CONFIDENCE, 0),
             r.main,
             fixed(2.0 * sm, 2),
             r.main.other(),

@@ -211,11 +211,11 @@ pub const UNITS: [Unit; 71] = [
     Unit::BeyondSuccess,
     Unit::BeyondAlong,
     Unit::BeyondTwo,
+    Unit::Indecision(M),
+    Unit::Indecision(O),
     Unit::Waves,
     Unit::Speed,
     Unit::Placements,
-    Unit::Indecision(M),
-    Unit::Indecision(O),
 ];
 
 /// Every unit of `swarm reproduce`, in a fixed order ([`UNITS`]).

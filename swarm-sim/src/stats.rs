@@ -53,6 +53,31 @@ pub struct LineFit {
     pub r2: f64,
 }
 
+/// The curvature of `(x, y)` points: the coefficient of x² in the least-squares parabola
+/// `a + b x + c x²` and the half-width of its two-sided [`CONFIDENCE`] interval (Student's t
+/// with n − 3 degrees of freedom times its standard error). A trend is linear by this test
+/// when the interval contains zero. `None` for fewer than four points or fewer than three
+/// distinct x.
+pub fn curvature(points: &[(f64, f64)]) -> Option<(f64, f64)> {
+    use nalgebra::{DMatrix, DVector};
+    use statrs::distribution::{ContinuousCDF, StudentsT};
+    let n = points.len();
+    if n < 4 {
+        return None;
+    }
+    let x = DMatrix::from_fn(n, 3, |i, j| points[i].0.powi(j as i32));
+    let y = DVector::from_iterator(n, points.iter().map(|p| p.1));
+    let xtx_inv = (x.transpose() * &x).try_inverse()?;
+    let beta = &xtx_inv * x.transpose() * &y;
+    let sse = (&y - &x * &beta).norm_squared();
+    let df = (n - 3) as f64;
+    let se = (sse / df * xtx_inv[(2, 2)]).sqrt();
+    let t = StudentsT::new(0.0, 1.0, df)
+        .ok()?
+        .inverse_cdf((1.0 + CONFIDENCE) / 2.0);
+    se.is_finite().then_some((beta[2], t * se))
+}
+
 /// The least-squares line through `(x, y)` points; `None` for fewer than three points or when
 /// every x is the same.
 pub fn line_fit(points: &[(f64, f64)]) -> Option<LineFit> {
@@ -184,6 +209,26 @@ mod tests {
         assert_eq!(quantile(&xs, 0.95), Some(95.0));
         assert_eq!(quantile(&[3.0, f64::NAN], 0.95), Some(3.0));
         assert_eq!(quantile(&[], 0.5), None);
+    }
+
+    #[test]
+    fn the_curvature_test_tells_a_parabola_from_a_noisy_line() {
+        // A parabola, exactly: c = 0.5 with a vanishing interval.
+        let parabola: Vec<(f64, f64)> = (0..6)
+            .map(f64::from)
+            .map(|x| (x, 1.0 + 2.0 * x + 0.5 * x * x))
+            .collect();
+        let (c, ci) = curvature(&parabola).unwrap();
+        assert!((c - 0.5).abs() < 1e-9 && ci < 1e-6, "{c} ± {ci}");
+        // A line with alternating noise: its interval contains zero.
+        let line: Vec<(f64, f64)> = (0..6)
+            .map(f64::from)
+            .map(|x| (x, 3.0 - x + if x as i32 % 2 == 0 { 0.1 } else { -0.1 }))
+            .collect();
+        let (c, ci) = curvature(&line).unwrap();
+        assert!(c.abs() <= ci, "{c} ± {ci}");
+        assert_eq!(curvature(&line[..3]), None);
+        assert_eq!(curvature(&[(1.0, 1.0); 5]), None);
     }
 
     #[test]

@@ -136,11 +136,9 @@ pub(super) fn far_of(
     (v, ours, fall_se)
 }
 
-/// The share of the variance a line must explain for "decreases linearly".
-const LINEAR_R2: f64 = 0.9;
-
 /// "Decreases linearly toward the border": the mean time's slope against x is negative with its
-/// whole interval, and a line explains at least 90 % of its variance; on both placements'
+/// whole interval, and the points are a line by a stated test: the least-squares parabola's x²
+/// coefficient has its 95 % interval around zero ([`stats::curvature`]); on both placements'
 /// sweeps, the weaker verdict.
 pub(super) fn sharp_time(r: &Report<'_>) -> Judged {
     let (vm, om) = sharp_time_of(&r.sweeps[0]);
@@ -149,12 +147,12 @@ pub(super) fn sharp_time(r: &Report<'_>) -> Judged {
         ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
         verdict: vm.both(vo),
         why: format!(
-            "the rule, on each placement: the slope's 95 % interval below zero, and a line explaining at least {} % of the variance (R² ≥ {LINEAR_R2}); means of the successful runs only; the weaker verdict of the two ({}: {}, {}: {})",
-            fixed(100.0 * LINEAR_R2, 0),
+            "the rule, on each placement: the slope's {pct} % interval below zero, and no curvature (the least-squares parabola's x² coefficient with its {pct} % interval around zero); means of the successful runs only; the weaker verdict of the two ({}: {}, {}: {})",
             r.main,
             vm.words(),
             r.main.other(),
-            vo.words()
+            vo.words(),
+            pct = fixed(100.0 * stats::CONFIDENCE, 0),
         ),
     }
 }
@@ -163,17 +161,24 @@ pub(super) fn sharp_time(r: &Report<'_>) -> Judged {
 pub(super) fn sharp_time_of(sharp: &[SweepPoint]) -> (Verdict, String) {
     let times = mean_times(sharp, Id::SharpTime);
     let fit = stats::line_fit(&times);
+    let bend = stats::curvature(&times);
+    let straight = bend.is_some_and(|(c, ci)| c.abs() <= ci);
     let v = fit.map_or(Verdict::NotReproduced, |f| {
-        verdict::trend(f.slope, f.slope_ci, Sign::Falls, f.r2 >= LINEAR_R2)
+        verdict::trend(f.slope, f.slope_ci, Sign::Falls, straight)
     });
     let ours = format!(
-        "{} periods; {}",
+        "{} periods; {}; curvature {}",
         joined(&times),
         fit.map_or("no fit".into(), |f| format!(
             "{} ± {} periods per R toward the border, R² {}",
             fixed(-f.slope, 1),
             fixed(f.slope_ci, 1),
             fixed(f.r2, 2)
+        )),
+        bend.map_or("–".into(), |(c, ci)| format!(
+            "{} ± {} periods per R²",
+            fixed(c, 2),
+            fixed(ci, 2)
         ))
     );
     (v, ours)

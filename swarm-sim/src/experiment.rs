@@ -95,7 +95,15 @@ struct Observe {
     tap: bool,
     /// No observer's diversity ([`Sim::without_diversity`]): every period's is 0.
     no_diversity: bool,
+    /// Stops as soon as the criterion is out of reach (the swarm cannot get there in the
+    /// periods left, a step each): the periods are then cut short, [`RunOutput::success_at`]
+    /// is the same.
+    give_up: bool,
 }
+
+/// Slack on how far a swarm can move, for the rounding of its moves (each a `step` long up to
+/// a few ulps): far more than rounding, far less than any criterion's scale.
+const REACH_SLACK: f64 = 1e-6;
 
 /// [`run`] (to the last period) with its events recorded for the replay viewer
 /// ([`Sim::record`]).
@@ -168,6 +176,17 @@ fn run_inner(
             if out.success_at.is_none() && met(p.to) {
                 out.success_at = Some(p.index);
                 if stop_on_success {
+                    break;
+                }
+            }
+            if observe.give_up && out.success_at.is_none() {
+                let left = f64::from(periods - p.index.min(periods));
+                let reach = cfg.step.abs() * left + REACH_SLACK;
+                if scn
+                    .success
+                    .as_ref()
+                    .is_some_and(|s| !s.reachable(p.to, reach))
+                {
                     break;
                 }
             }
@@ -345,9 +364,11 @@ pub fn sweep_run(
         .and_then(|p| xs.get(p))
         .ok_or_else(|| format!("sweep unit {k} is beyond the sweep"))?;
     let s = derive(seed, &[p, r]);
-    // Only the success counts: the observer's diversity is not accumulated.
+    // Only the success counts: the observer's diversity is not accumulated, and a run
+    // whose success is out of reach stops.
     let observe = Observe {
         no_diversity: true,
+        give_up: true,
         ..Observe::default()
     };
     let start = Point2::new(*x, 0.0);

@@ -1,6 +1,6 @@
 //! `cimax swarm reproduce --shard I/N` and `cimax merge` of its parts, with the built binary.
-//! The fast tests use the cheapest units (a split into 55 shards of one unit each: unit 52 is
-//! one wave, unit 54 the placements' neighbour counts) and crafted parts: parts that are not
+//! The fast tests use the cheapest units (a split into 53 shards of one unit each: unit 50 is
+//! one wave, unit 52 the placements' neighbour counts) and crafted parts: parts that are not
 //! one whole page are refused with the problem named and nothing written. The ignored test
 //! runs the whole page unsharded and in three shards and compares every file (minutes in
 //! release: `cargo test --release -p host-sim --test shard_reproduce -- --ignored`).
@@ -14,7 +14,7 @@ use common::{cimax_in, files, merge_in, scratch, text};
 use serde_json::Value;
 
 /// Units of the page.
-const UNITS: u64 = 55;
+const UNITS: u64 = 53;
 
 /// Shard `i` of `n` of `swarm reproduce EXTRA...` into `dir`: checks what it said and returns
 /// its part.
@@ -83,57 +83,57 @@ fn reproduce_parts_that_are_not_one_whole_page_are_refused_and_named() {
     let root = scratch("shard-reproduce-refused");
     let _ = std::fs::remove_dir_all(&root);
     let parts = root.join("parts");
-    let wave = shard(&parts, 53, 55, &["--quiet"]);
-    let placements = shard(&parts, 55, 55, &["--quiet"]);
+    let wave = shard(&parts, 51, 53, &["--quiet"]);
+    let placements = shard(&parts, 53, 53, &["--quiet"]);
     refused(
         &root.join("missing"),
         &[&placements, &wave],
         &format!(
-            "missing shards {} of 55",
-            (1..=52)
-                .chain([54])
+            "missing shards {} of 53",
+            (1..=50)
+                .chain([52])
                 .map(|i| i.to_string())
                 .collect::<Vec<_>>()
                 .join(", ")
         ),
     );
     // Another seed, another placement: another job.
-    let seed2 = shard(&root.join("seed2"), 55, 55, &["--quiet", "--seed", "2"]);
+    let seed2 = shard(&root.join("seed2"), 53, 53, &["--quiet", "--seed", "2"]);
     refused(
         &root.join("seed"),
         &[&wave, &seed2],
         &format!(
-            "part-55-of-55.jsonl: a different job: config differs in \"seed\": 2 vs 1 in {}",
+            "part-53-of-53.jsonl: a different job: config differs in \"seed\": 2 vs 1 in {}",
             wave.display()
         ),
     );
-    let random = shard(&root.join("random"), 55, 55, &["--placement", "random"]);
+    let random = shard(&root.join("random"), 53, 53, &["--placement", "random"]);
     refused(
         &root.join("placement"),
         &[&random, &wave],
         "config differs in \"placement\": \"random\" vs \"lattice\"",
     );
     // The same shard twice; the same unit twice in a part.
-    let copy = root.join("copy").join("part-55-of-55.jsonl");
+    let copy = root.join("copy").join("part-53-of-53.jsonl");
     std::fs::create_dir_all(copy.parent().unwrap()).unwrap();
     std::fs::copy(&placements, &copy).unwrap();
     refused(
         &root.join("twice"),
         &[&wave, &placements, &copy],
-        "shard 55 given twice (also in ",
+        "shard 53 given twice (also in ",
     );
     let l = lines(&placements);
-    let doubled = root.join("doubled").join("part-55-of-55.jsonl");
+    let doubled = root.join("doubled").join("part-53-of-53.jsonl");
     std::fs::create_dir_all(doubled.parent().unwrap()).unwrap();
     let end = l[2].replace("\"units\":1", "\"units\":2");
     std::fs::write(&doubled, format!("{}\n{}\n{}\n{end}\n", l[0], l[1], l[1])).unwrap();
     refused(
         &root.join("unit-twice"),
         &[&wave, &doubled],
-        "part-55-of-55.jsonl:3: unit 54 given twice (also on line 2)",
+        "part-53-of-53.jsonl:3: unit 52 given twice (also on line 2)",
     );
     // Whole parts (every unit there) whose results are not the page's: the placements'
-    // result for every unit; unit 0's result of the wrong kind; a job of 54 units.
+    // result for every unit; unit 0's result of the wrong kind; a job of 52 units.
     let result: Value = serde_json::from_str::<Value>(&l[1]).unwrap()["result"].clone();
     let forged = root.join("forged").join("part-1-of-1.jsonl");
     crafted(&forged, &l[0], UNITS, &vec![result.clone(); UNITS as usize]);
@@ -154,7 +154,7 @@ fn reproduce_parts_that_are_not_one_whole_page_are_refused_and_named() {
     refused(
         &root.join("fewer"),
         &[&forged],
-        "part-1-of-1.jsonl: a job this cimax cannot redo: 54 units, but swarm reproduce has 55",
+        "part-1-of-1.jsonl: a job this cimax cannot redo: 52 units, but swarm reproduce has 53",
     );
     // The part of a shard needs a directory: there is no default (docs/ is the page's).
     let out = cimax_in(&root, &["swarm", "reproduce", "--shard", "1/3"]);

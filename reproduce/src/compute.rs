@@ -62,8 +62,11 @@ fn outcome(unit: Unit, st: &mut Stage<'_>, main: Placement, s: &Scenes) -> Resul
         Unit::CloudProfile => O::Profile(cloud_profile(st, &s.cloud)?),
         Unit::CaptionMap => O::Map(caption_cloud::map(st, main)?),
         Unit::CaptionProfile => O::Profile(caption_cloud::profile(st, main)?),
-        Unit::Course(f, side) => O::Course(course(st, main, f, side, s.field(f))?),
-        Unit::Tapped(f) => O::Tapped(Box::new(settle::tapped(st, f, s.field(f))?)),
+        Unit::Course(f, Side::Main) => {
+            let (c, d) = settle::course(st, main, f, s.field(f))?;
+            O::MainCourse(c, Box::new(d))
+        }
+        Unit::Course(f, Side::Other) => O::Course(course(st, main, f, s.field(f))?),
         Unit::Sensor(f) => O::Sensor(settle::sensor(st, f, s.field(f))?),
         Unit::Plateau(side, k) => O::Plateau(settle::plateau(st, main, side, k, &s.sharp)?),
         Unit::Heading(f) => O::Heading(settle::heading(st, f, s.field(f))?),
@@ -173,20 +176,17 @@ fn cloud_profile(st: &mut Stage<'_>, cloud: &Scenario) -> Result<Vec<RadialPoint
     Ok(profile)
 }
 
-/// Figs. 5b and 8b averaged: [`COURSE_RUNS`] full runs from the start of field `f` with
-/// placement `side`. The main placement's runs give the diversity plateaus.
+/// Figs. 5b and 8b averaged, the other placement: [`COURSE_RUNS`] full runs from the start of
+/// field `f` (the main placement's are [`settle::course`]).
 fn course(
     st: &mut Stage<'_>,
     main: Placement,
     f: Field,
-    side: Side,
     scn: &Scenario,
 ) -> Result<TimeCourse, Error> {
+    let side = Side::Other;
     let placement = placement(main, side);
-    let placed = match side {
-        Side::Main => scn.clone(),
-        Side::Other => builtin_placed(&scn.name, placement)?,
-    };
+    let placed = builtin_placed(&scn.name, placement)?;
     let p = st.start(
         &format!("{} course, {placement} placement", scn.name),
         u64::from(COURSE_RUNS),

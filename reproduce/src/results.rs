@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::shapes::ShapesResult;
-use crate::units::{UNITS, Unit};
+use crate::units::{Field, Side, UNITS, Unit};
 use swarm_sim::experiment::{Arrow, BenchResult, RadialPoint, RunOutput, SweepPoint};
 use swarm_sim::probe::{Msd, Plateaus, StartRun};
 use swarm_sim::timecourse::TimeCourse;
@@ -141,8 +141,8 @@ pub struct Levels {
     pub runs: usize,
 }
 
-/// The runs of one field's averaged course, main placement, again (the same seeds), tapped:
-/// what the section reads off them.
+/// The runs of one field's averaged course, main placement, tapped as they run: what
+/// "Settling the open rows" reads off them.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CourseDigest {
     /// Their plateaus, three ways.
@@ -207,10 +207,10 @@ pub enum Outcome {
     Map(Vec<Arrow>),
     /// [`Unit::CloudProfile`], [`Unit::CaptionProfile`].
     Profile(Vec<RadialPoint>),
-    /// [`Unit::Course`].
+    /// [`Unit::Course`], other placement.
     Course(TimeCourse),
-    /// [`Unit::Tapped`].
-    Tapped(Box<CourseDigest>),
+    /// [`Unit::Course`], main placement: the course and what its tapped runs give.
+    MainCourse(TimeCourse, Box<CourseDigest>),
     /// [`Unit::Sensor`].
     Sensor(Levels),
     /// [`Unit::Plateau`] (`None`: the courses' own cycle and placement, not run again).
@@ -257,8 +257,8 @@ impl Outcome {
                 | (Unit::Sweep(..), O::Sweep(_))
                 | (Unit::Map(_) | Unit::CaptionMap, O::Map(_))
                 | (Unit::CloudProfile | Unit::CaptionProfile, O::Profile(_))
-                | (Unit::Course(..), O::Course(_))
-                | (Unit::Tapped(_), O::Tapped(_))
+                | (Unit::Course(_, Side::Other), O::Course(_))
+                | (Unit::Course(_, Side::Main), O::MainCourse(..))
                 | (Unit::Sensor(_), O::Sensor(_))
                 | (Unit::Plateau(..), O::Plateau(_))
                 | (Unit::Heading(_), O::Heading(_))
@@ -353,8 +353,30 @@ impl Results {
     getter!(sweep, Sweep, Vec<SweepPoint>);
     getter!(map, Map, Vec<Arrow>);
     getter!(profile, Profile, Vec<RadialPoint>);
-    getter!(course, Course, TimeCourse);
-    getter!(tapped, Tapped, CourseDigest);
+
+    /// The averaged course of `unit` (a [`Unit::Course`], either placement).
+    ///
+    /// # Errors
+    /// If it has no result, or `unit` is not a course.
+    pub fn course(&self, unit: Unit) -> Result<&TimeCourse, Error> {
+        match &self.get(unit)?.outcome {
+            Outcome::Course(c) | Outcome::MainCourse(c, _) => Ok(c),
+            _ => Err(Error::WrongKind(unit, "Course")),
+        }
+    }
+
+    /// What the tapped runs of field `f`'s averaged course (main placement) give.
+    ///
+    /// # Errors
+    /// If that course has no result.
+    pub fn tapped(&self, f: Field) -> Result<&CourseDigest, Error> {
+        let unit = Unit::Course(f, Side::Main);
+        match &self.get(unit)?.outcome {
+            Outcome::MainCourse(_, d) => Ok(d),
+            _ => Err(Error::WrongKind(unit, "MainCourse")),
+        }
+    }
+
     getter!(sensor, Sensor, Levels);
     getter!(plateau, Plateau, Option<Plateaus>);
     getter!(heading, Heading, Vec<(f64, f64, f64)>);

@@ -96,10 +96,9 @@ pub enum Unit {
     CaptionMap,
     /// The caption's cloud's radial profile.
     CaptionProfile,
-    /// Figs. 5b and 8b averaged.
+    /// Figs. 5b and 8b averaged; the main placement's runs are tapped as they run (what
+    /// "Settling the open rows" reads off them, [`crate::results::CourseDigest`]).
     Course(Field, Side),
-    /// The averaged courses' runs (main placement) again, tapped.
-    Tapped(Field),
     /// The averaged courses with one sensor reading per period.
     Sensor(Field),
     /// The sharp plateau at one cycle (the page's own cycle with the main placement is the
@@ -141,7 +140,7 @@ use Field::{Gradient as G, Sharp as S};
 use Side::{Main as M, Other as O};
 
 /// Every unit, in the order the unsharded command computes them.
-pub const UNITS: [Unit; 55] = [
+pub const UNITS: [Unit; 53] = [
     Unit::Run(S),
     Unit::Run(G),
     Unit::Sweep(S, M),
@@ -158,8 +157,6 @@ pub const UNITS: [Unit; 55] = [
     Unit::Course(S, O),
     Unit::Course(G, M),
     Unit::Course(G, O),
-    Unit::Tapped(S),
-    Unit::Tapped(G),
     Unit::Sensor(S),
     Unit::Sensor(G),
     Unit::Plateau(M, 0),
@@ -213,7 +210,6 @@ impl Unit {
             Unit::Sweep(f, s) => format!("sweep/{}/{}", f.name(), s.name()),
             Unit::Map(m) => format!("map/{}", m.name()),
             Unit::Course(f, s) => format!("course/{}/{}", f.name(), s.name()),
-            Unit::Tapped(f) => format!("tapped/{}", f.name()),
             Unit::Sensor(f) => format!("sensor/{}", f.name()),
             Unit::Plateau(s, k) => format!("plateau/{}/{k}", s.name()),
             Unit::Heading(f) => format!("heading/{}", f.name()),

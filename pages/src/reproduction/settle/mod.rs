@@ -85,8 +85,8 @@ pub(super) fn write(
     caption_cloud: &CaptionCloud,
 ) -> Result<Settled, Error> {
     let digests = [
-        results.tapped(Unit::Tapped(Field::Sharp))?,
-        results.tapped(Unit::Tapped(Field::Gradient))?,
+        results.tapped(Field::Sharp)?,
+        results.tapped(Field::Gradient)?,
     ];
     for (k, (scn, d)) in scns.iter().zip(digests).enumerate() {
         let course = courses.get(k).map_or(f64::NAN, |c| c[0].plateau);

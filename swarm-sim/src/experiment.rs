@@ -86,6 +86,21 @@ pub fn run_tapped(
     Ok((out, taps))
 }
 
+/// [`run`] of one period without the observer's diversity (0; nothing else changes): for
+/// the direction maps, radial profiles and headings, which read only the move.
+pub(crate) fn run_undiverse(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    seed: u64,
+) -> Result<RunOutput, Error> {
+    let observe = Observe {
+        no_diversity: true,
+        ..Observe::default()
+    };
+    Ok(run_inner(scn, cfg, start, 1, seed, false, observe)?.0)
+}
+
 /// What a run records besides its periods.
 #[derive(Clone, Copy, Debug, Default)]
 struct Observe {
@@ -433,7 +448,7 @@ pub fn direction_map(
         .par_iter()
         .enumerate()
         .map(|(k, &at)| {
-            let out = run(scn, cfg, at, 1, derive(seed, &[k as u64]), false)?;
+            let out = run_undiverse(scn, cfg, at, derive(seed, &[k as u64]))?;
             progress.inc();
             let p = out.periods[0];
             Ok(Arrow {
@@ -487,7 +502,7 @@ pub fn radial_profile(
                 std::f64::consts::TAU * Pcg64Mcg::seed_from_u64(derive(s, &[4])).random::<f64>();
             let d = distances[p];
             let at = centre + nalgebra::Vector2::new(d * phi.cos(), d * phi.sin());
-            let out = run(scn, cfg, at, 1, s, false)?;
+            let out = run_undiverse(scn, cfg, at, s)?;
             progress.inc();
             // Direction to the centre is phi + π.
             Ok(out.periods[0]

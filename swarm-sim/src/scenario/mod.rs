@@ -269,7 +269,7 @@ impl Success {
             Success::NearX { x, within } => (c.x - x).abs() - within,
             Success::BeyondX { x } => x - c.x,
         };
-        !(gap > reach)
+        gap.partial_cmp(&reach) != Some(std::cmp::Ordering::Greater)
     }
 }
 

@@ -595,3 +595,43 @@ pub fn bench(scn: &Scenario, agents: usize, seed: u64) -> Result<BenchResult, Er
         calls: sim.calls(),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn success_out_of_reach_is_told_conservatively() {
+        let near = Success::NearX {
+            x: 0.0,
+            within: 0.33,
+        };
+        let at = |x| Point2::new(x, 1.0);
+        assert!(near.reachable(at(-1.0), 0.68));
+        assert!(!near.reachable(at(-1.0), 0.66));
+        assert!(!near.reachable(at(1.0), 0.66));
+        assert!(near.reachable(at(f64::NAN), 0.0));
+        let beyond = Success::BeyondX { x: 2.33 };
+        assert!(beyond.reachable(at(3.0), 0.0));
+        assert!(beyond.reachable(at(2.0), 0.34));
+        assert!(!beyond.reachable(at(2.0), 0.32));
+    }
+
+    #[test]
+    fn a_sweep_run_that_gives_up_has_the_success_of_the_whole_run() {
+        // Twelve periods of 0.33 R: from |x| = 5 the line is out of reach from the first move
+        // on, from |x| = 3.5 only after a few moves away from it, from 2.5 rarely.
+        let mut scn = Scenario::builtin("sharp").unwrap();
+        scn.periods = 12;
+        let xs = [-5.0, -3.5, -2.5, 3.5, 5.0];
+        let runs = 2;
+        for k in 0..(xs.len() * runs) as u64 {
+            let gave_up = sweep_run(&scn, scn.run, &xs, runs as u32, 7, k).unwrap();
+            let (p, r) = (k / runs as u64, k % runs as u64);
+            let s = derive(7, &[p, r]);
+            let start = Point2::new(xs[p as usize], 0.0);
+            let whole = run(&scn, scn.run, start, scn.periods, s, true).unwrap();
+            assert_eq!(gave_up, whole.success_at, "unit {k}");
+        }
+    }
+}

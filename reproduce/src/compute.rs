@@ -13,14 +13,13 @@ use crate::Error;
 use crate::results::{CycleRun, Outcome, PlacementStats, RunFigure, UnitResult};
 use crate::stage::{Scenes, Stage};
 use crate::stages::{
-    CLOUD_PROFILE, COURSES, CYCLE_SWEEPS, CYCLE_WAVES, MAPS, MAPS_OTHER, PLACEMENT_STATS,
-    PROFILES_OTHER, RUN_FIGURES, SHAPES, SPEED, SWEEPS_LATTICE, SWEEPS_RANDOM, WAVE,
+    CLOUD_PROFILE, CYCLE_SWEEPS, CYCLE_WAVES, MAPS, MAPS_OTHER, PLACEMENT_STATS, PROFILES_OTHER,
+    RUN_FIGURES, SHAPES, SPEED, SWEEPS_LATTICE, SWEEPS_RANDOM, WAVE,
 };
 use crate::units::{Field, Scene, Side, Unit, placement};
 use crate::{
-    CLOUD_REFINED, COURSE_RUNS, CYCLE_RUNS, CYCLE_XS, CYCLES, OTHER_RUNS, Options, PLACEMENTS,
-    PLATEAU_MIN_AFTER, PROFILE_RUNS, RUN_TRIES, beyond, builtin_placed, by_distance, caption_cloud,
-    refined, sensitivity, settle,
+    CLOUD_REFINED, CYCLE_RUNS, CYCLE_XS, CYCLES, OTHER_RUNS, Options, PLACEMENTS, PROFILE_RUNS,
+    RUN_TRIES, beyond, builtin_placed, by_distance, caption_cloud, refined, sensitivity, settle,
 };
 use swarm_sim::experiment::{
     self, Arrow, BenchResult, RadialPoint, SweepPoint, cycle_load, direction_map, radial_profile,
@@ -29,7 +28,6 @@ use swarm_sim::experiment::{
 use swarm_sim::geometry::Swarm;
 use swarm_sim::scenario::{Placement, Scenario};
 use swarm_sim::seeds::derive;
-use swarm_sim::timecourse::{TimeCourse, time_course};
 
 /// Swarm sizes of the speed figures.
 const BENCH_AGENTS: [usize; 3] = [61, 1000, 10_000];
@@ -62,9 +60,9 @@ fn outcome(unit: Unit, st: &mut Stage<'_>, main: Placement, s: &Scenes) -> Resul
         Unit::CloudProfile(side) => O::Profile(cloud_profile(st, main, side, &s.cloud)?),
         Unit::CaptionMap => O::Map(caption_cloud::map(st, main)?),
         Unit::CaptionProfile(side) => O::Profile(caption_cloud::profile(st, main, side)?),
-        Unit::Course(f, side) => O::Course(course(st, main, f, side, s.field(f))?),
-        Unit::Tapped(f, side) => {
-            O::Tapped(Box::new(settle::tapped(st, main, f, side, s.field(f))?))
+        Unit::Course(f, side) => {
+            let (c, d) = settle::course(st, main, f, side, s.field(f))?;
+            O::Course(c, Box::new(d))
         }
         Unit::Sensor(f) => O::Sensor(settle::sensor(st, f, s.field(f))?),
         Unit::Plateau(side, k) => O::Plateau(settle::plateau(st, main, side, k, &s.sharp)?),
@@ -201,30 +199,6 @@ fn cloud_profile(
     let profile = by_distance(profile);
     st.done(&p);
     Ok(profile)
-}
-
-/// Figs. 5b and 8b averaged: [`COURSE_RUNS`] full runs from the start of field `f` with
-/// placement `side`. The main placement's runs give the diversity plateaus.
-fn course(
-    st: &mut Stage<'_>,
-    main: Placement,
-    f: Field,
-    side: Side,
-    scn: &Scenario,
-) -> Result<TimeCourse, Error> {
-    let placement = placement(main, side);
-    let placed = match side {
-        Side::Main => scn.clone(),
-        Side::Other => builtin_placed(&scn.name, placement)?,
-    };
-    let p = st.start(
-        &format!("{} course, {placement} placement", scn.name),
-        u64::from(COURSE_RUNS),
-    );
-    let seed = st.seed(COURSES.at2(f.index(), side.index()));
-    let c = time_course(&placed, COURSE_RUNS, PLATEAU_MIN_AFTER, seed, &p)?;
-    st.done(&p);
-    Ok(c)
 }
 
 /// The cycle length: success and waves heard per cycle length of [`CYCLES`].

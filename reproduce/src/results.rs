@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Error;
 use crate::shapes::ShapesResult;
-use crate::units::{UNITS, Unit};
+use crate::units::{Field, Side, UNITS, Unit};
 use swarm_sim::experiment::{Arrow, BenchResult, RadialPoint, RunOutput, SweepPoint};
 use swarm_sim::probe::{Msd, Plateaus, Split, StartRun};
 use swarm_sim::timecourse::TimeCourse;
@@ -145,8 +145,8 @@ pub struct Levels {
     pub runs: usize,
 }
 
-/// The runs of one field's averaged course, main placement, again (the same seeds), tapped:
-/// what the section reads off them.
+/// The runs of one field's averaged course, either placement, tapped as they run: what
+/// "Settling the open rows" reads off them.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CourseDigest {
     /// Their plateaus, three ways.
@@ -211,10 +211,8 @@ pub enum Outcome {
     Map(Vec<Arrow>),
     /// [`Unit::CloudProfile`], [`Unit::CaptionProfile`].
     Profile(Vec<RadialPoint>),
-    /// [`Unit::Course`].
-    Course(TimeCourse),
-    /// [`Unit::Tapped`].
-    Tapped(Box<CourseDigest>),
+    /// [`Unit::Course`]: the course and what its runs, tapped as they ran, give.
+    Course(TimeCourse, Box<CourseDigest>),
     /// [`Unit::Sensor`].
     Sensor(Levels),
     /// [`Unit::Plateau`] (`None`: the courses' own cycle and placement, not run again).
@@ -266,8 +264,7 @@ impl Outcome {
                     Unit::CloudProfile(_) | Unit::CaptionProfile(_),
                     O::Profile(_)
                 )
-                | (Unit::Course(..), O::Course(_))
-                | (Unit::Tapped(..), O::Tapped(_))
+                | (Unit::Course(..), O::Course(..))
                 | (Unit::Sensor(_), O::Sensor(_))
                 | (Unit::Plateau(..), O::Plateau(_))
                 | (Unit::Heading(_), O::Heading(_))
@@ -363,8 +360,30 @@ impl Results {
     getter!(sweep, Sweep, Vec<SweepPoint>);
     getter!(map, Map, Vec<Arrow>);
     getter!(profile, Profile, Vec<RadialPoint>);
-    getter!(course, Course, TimeCourse);
-    getter!(tapped, Tapped, CourseDigest);
+
+    /// The averaged course of `unit` (a [`Unit::Course`], either placement).
+    ///
+    /// # Errors
+    /// If it has no result, or `unit` is not a course.
+    pub fn course(&self, unit: Unit) -> Result<&TimeCourse, Error> {
+        match &self.get(unit)?.outcome {
+            Outcome::Course(c, _) => Ok(c),
+            _ => Err(Error::WrongKind(unit, "Course")),
+        }
+    }
+
+    /// What the tapped runs of field `f`'s averaged course with `side`'s placement give.
+    ///
+    /// # Errors
+    /// If that course has no result.
+    pub fn tapped(&self, f: Field, side: Side) -> Result<&CourseDigest, Error> {
+        let unit = Unit::Course(f, side);
+        match &self.get(unit)?.outcome {
+            Outcome::Course(_, d) => Ok(d),
+            _ => Err(Error::WrongKind(unit, "Course")),
+        }
+    }
+
     getter!(sensor, Sensor, Levels);
     getter!(plateau, Plateau, Option<Plateaus>);
     getter!(heading, Heading, Vec<(f64, f64, f64)>);

@@ -2,9 +2,10 @@
 //! `derive(--seed, [offset])` ([`Stage::seed`](crate::stage::Stage::seed)); each experiment
 //! owns a [`Block`] of offsets, and the blocks are listed in `BLOCKS`, where a test checks
 //! that no two overlap. A new experiment takes a free block here, so it can never reuse
-//! another's seeds by accident. Two experiments share seeds on purpose, and say so: the tapped
-//! courses rerun both placements' courses ([`COURSES`]), and the refractory experiment
-//! reruns the waves figure's wave ([`WAVE`]).
+//! another's seeds by accident. Experiments that share seeds on purpose say so: the sensor
+//! experiment reruns the main placement's courses' seeds with one reading per period
+//! ([`COURSES`]; the courses' own runs, both placements, are tapped as they run, not rerun), and the refractory
+//! experiment reruns the waves figure's wave ([`WAVE`]).
 //!
 //! The offsets are the ones the page has always used (the page does not change); the speed
 //! runs, which set only the page's timing line, now count their sizes, not their agents.
@@ -90,7 +91,8 @@ pub const SWEEPS_LATTICE: Block = Block::new("sweeps, lattice", 12, 2);
 pub const MAPS: Block = Block::new("direction maps", 20, 3);
 /// The cloud's radial profile.
 pub const CLOUD_PROFILE: Block = Block::new("cloud profile", 30, 1);
-/// The averaged courses, per field (stride 2) and placement; the tapped courses rerun them.
+/// The averaged courses, per field (stride 2) and placement (the runs are tapped as they
+/// run; the sensor experiment reruns the main placement's seeds).
 pub const COURSES: Block = Block::grid("averaged courses", 40, 4, 2);
 /// The cycle-length sweeps, per cycle.
 pub const CYCLE_SWEEPS: Block = Block::new("cycle-length sweeps", 50, 7);

@@ -96,10 +96,10 @@ pub enum Unit {
     CaptionMap,
     /// The caption's cloud's radial profile, with the page's placement or the other.
     CaptionProfile(Side),
-    /// Figs. 5b and 8b averaged.
+    /// Figs. 5b and 8b averaged, with the page's placement or the other; the runs are tapped
+    /// as they run (what "Settling the open rows" reads off them,
+    /// [`crate::results::CourseDigest`]).
     Course(Field, Side),
-    /// The averaged courses' runs again, tapped, with the page's placement or the other.
-    Tapped(Field, Side),
     /// The averaged courses with one sensor reading per period.
     Sensor(Field),
     /// The sharp plateau at one cycle (the page's own cycle with the main placement is the
@@ -144,7 +144,7 @@ use Field::{Gradient as G, Sharp as S};
 use Side::{Main as M, Other as O};
 
 /// Every unit, in the order the unsharded command computes them.
-pub const UNITS: [Unit; 71] = [
+pub const UNITS: [Unit; 67] = [
     Unit::Run(S),
     Unit::Run(G),
     Unit::Sweep(S, M),
@@ -166,10 +166,6 @@ pub const UNITS: [Unit; 71] = [
     Unit::Course(S, O),
     Unit::Course(G, M),
     Unit::Course(G, O),
-    Unit::Tapped(S, M),
-    Unit::Tapped(G, M),
-    Unit::Tapped(S, O),
-    Unit::Tapped(G, O),
     Unit::Sensor(S),
     Unit::Sensor(G),
     Unit::Plateau(M, 0),
@@ -232,7 +228,6 @@ impl Unit {
             Unit::Sweep(f, s) => format!("sweep/{}/{}", f.name(), s.name()),
             Unit::Map(m, s) => format!("map/{}/{}", m.name(), s.name()),
             Unit::Course(f, s) => format!("course/{}/{}", f.name(), s.name()),
-            Unit::Tapped(f, s) => format!("tapped/{}/{}", f.name(), s.name()),
             Unit::Sensor(f) => format!("sensor/{}", f.name()),
             Unit::Plateau(s, k) => format!("plateau/{}/{k}", s.name()),
             Unit::Heading(f) => format!("heading/{}", f.name()),

@@ -86,6 +86,21 @@ pub fn run_tapped(
     Ok((out, taps))
 }
 
+/// [`run`] of one period without the observer's diversity (0; nothing else changes): for
+/// the direction maps, radial profiles and headings, which read only the move.
+pub(crate) fn run_undiverse(
+    scn: &Scenario,
+    cfg: RunConfig,
+    start: Point2<f64>,
+    seed: u64,
+) -> Result<RunOutput, Error> {
+    let observe = Observe {
+        no_diversity: true,
+        ..Observe::default()
+    };
+    Ok(run_inner(scn, cfg, start, 1, seed, false, observe)?.0)
+}
+
 /// What a run records besides its periods.
 #[derive(Clone, Copy, Debug, Default)]
 struct Observe {
@@ -95,7 +110,15 @@ struct Observe {
     tap: bool,
     /// No observer's diversity ([`Sim::without_diversity`]): every period's is 0.
     no_diversity: bool,
+    /// Stops as soon as the criterion is out of reach (the swarm cannot get there in the
+    /// periods left, a step each): the periods are then cut short, [`RunOutput::success_at`]
+    /// is the same.
+    give_up: bool,
 }
+
+/// Slack on how far a swarm can move, for the rounding of its moves (each a `step` long up to
+/// a few ulps): far more than rounding, far less than any criterion's scale.
+const REACH_SLACK: f64 = 1e-6;
 
 /// [`run`] (to the last period) with its events recorded for the replay viewer
 /// ([`Sim::record`]).
@@ -168,6 +191,17 @@ fn run_inner(
             if out.success_at.is_none() && met(p.to) {
                 out.success_at = Some(p.index);
                 if stop_on_success {
+                    break;
+                }
+            }
+            if observe.give_up && out.success_at.is_none() {
+                let left = f64::from(periods - p.index.min(periods));
+                let reach = cfg.step.abs() * left + REACH_SLACK;
+                if scn
+                    .success
+                    .as_ref()
+                    .is_some_and(|s| !s.reachable(p.to, reach))
+                {
                     break;
                 }
             }
@@ -361,9 +395,11 @@ pub fn sweep_run(
         .and_then(|p| xs.get(p))
         .ok_or_else(|| format!("sweep unit {k} is beyond the sweep"))?;
     let s = derive(seed, &[p, r]);
-    // Only the success counts: the observer's diversity is not accumulated.
+    // Only the success counts: the observer's diversity is not accumulated, and a run
+    // whose success is out of reach stops.
     let observe = Observe {
         no_diversity: true,
+        give_up: true,
         ..Observe::default()
     };
     let start = Point2::new(*x, 0.0);
@@ -428,7 +464,7 @@ pub fn direction_map(
         .par_iter()
         .enumerate()
         .map(|(k, &at)| {
-            let out = run(scn, cfg, at, 1, derive(seed, &[k as u64]), false)?;
+            let out = run_undiverse(scn, cfg, at, derive(seed, &[k as u64]))?;
             progress.inc();
             let p = out.periods[0];
             Ok(Arrow {
@@ -482,7 +518,7 @@ pub fn radial_profile(
                 std::f64::consts::TAU * Pcg64Mcg::seed_from_u64(derive(s, &[4])).random::<f64>();
             let d = distances[p];
             let at = centre + nalgebra::Vector2::new(d * phi.cos(), d * phi.sin());
-            let out = run(scn, cfg, at, 1, s, false)?;
+            let out = run_undiverse(scn, cfg, at, s)?;
             progress.inc();
             // Direction to the centre is phi + π.
             Ok(out.periods[0]
@@ -606,4 +642,44 @@ pub fn bench(scn: &Scenario, agents: usize, seed: u64) -> Result<BenchResult, Er
         wall_s: t1.elapsed().as_secs_f64(),
         calls: sim.calls(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn success_out_of_reach_is_told_conservatively() {
+        let near = Success::NearX {
+            x: 0.0,
+            within: 0.33,
+        };
+        let at = |x| Point2::new(x, 1.0);
+        assert!(near.reachable(at(-1.0), 0.68));
+        assert!(!near.reachable(at(-1.0), 0.66));
+        assert!(!near.reachable(at(1.0), 0.66));
+        assert!(near.reachable(at(f64::NAN), 0.0));
+        let beyond = Success::BeyondX { x: 2.33 };
+        assert!(beyond.reachable(at(3.0), 0.0));
+        assert!(beyond.reachable(at(2.0), 0.34));
+        assert!(!beyond.reachable(at(2.0), 0.32));
+    }
+
+    #[test]
+    fn a_sweep_run_that_gives_up_has_the_success_of_the_whole_run() {
+        // Twelve periods of 0.33 R: from |x| = 5 the line is out of reach from the first move
+        // on, from |x| = 3.5 only after a few moves away from it, from 2.5 rarely.
+        let mut scn = Scenario::builtin("sharp").unwrap();
+        scn.periods = 12;
+        let xs = [-5.0, -3.5, -2.5, 3.5, 5.0];
+        let runs = 2;
+        for k in 0..(xs.len() * runs) as u64 {
+            let gave_up = sweep_run(&scn, scn.run, &xs, runs as u32, 7, k).unwrap();
+            let (p, r) = (k / runs as u64, k % runs as u64);
+            let s = derive(7, &[p, r]);
+            let start = Point2::new(xs[p as usize], 0.0);
+            let whole = run(&scn, scn.run, start, scn.periods, s, true).unwrap();
+            assert_eq!(gave_up, whole.success_at, "unit {k}");
+        }
+    }
 }

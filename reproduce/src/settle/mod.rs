@@ -19,24 +19,27 @@ use crate::{COURSE_RUNS, PLATEAU_MIN_AFTER};
 use swarm_sim::experiment::RunOutput;
 use swarm_sim::probe::{Plateaus, StartRun, plateaus, tapped_runs};
 use swarm_sim::scenario::{Placement, Scenario};
+use swarm_sim::timecourse::{TimeCourse, summarise};
 
 /// The seed of the averaged course of field `f`, main placement.
 pub fn course_seed(st: &Stage<'_>, f: Field) -> u64 {
     st.seed(COURSES.at2(f.index(), Side::Main.index()))
 }
 
-/// The runs of field `f`'s averaged course with `side`'s placement (`scn` is placed by
-/// `main`) again, tapped: the same seeds, so the same runs.
+/// Figs. 5b and 8b averaged with `side`'s placement (`scn` is placed by `main`):
+/// [`COURSE_RUNS`] full runs from the start of field `f`, tapped as they run (the tap changes
+/// nothing in a run): the course, and what the section reads off the same runs. The start is
+/// on the x axis.
 ///
 /// # Errors
 /// If a run fails.
-pub fn tapped(
+pub fn course(
     st: &mut Stage<'_>,
     main: Placement,
     f: Field,
     side: Side,
     scn: &Scenario,
-) -> Result<CourseDigest, Error> {
+) -> Result<(TimeCourse, CourseDigest), Error> {
     let placed;
     let scn = match side {
         Side::Main => scn,
@@ -46,11 +49,7 @@ pub fn tapped(
         }
     };
     let p = st.start(
-        &format!(
-            "{}: the courses' runs, tapped, {} placement",
-            scn.name,
-            placement(main, side)
-        ),
+        &format!("{} course, {} placement", scn.name, placement(main, side)),
         u64::from(COURSE_RUNS),
     );
     let seed = st.seed(COURSES.at2(f.index(), side.index()));
@@ -65,12 +64,14 @@ pub fn tapped(
     )?;
     st.done(&p);
     let outs: Vec<RunOutput> = t.iter().map(|t| t.out.clone()).collect();
-    Ok(CourseDigest {
+    let course = summarise(&outs, PLATEAU_MIN_AFTER);
+    let digest = CourseDigest {
         plateaus: plateaus(&t, PLATEAU_MIN_AFTER),
         levels: sensor::levels(&t),
         way: arrival::way(scn, &outs),
         msd: wander::msd(&outs),
-    })
+    };
+    Ok((course, digest))
 }
 
 /// Field `f`'s averaged course again with one sensor reading per period.

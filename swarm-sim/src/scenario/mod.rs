@@ -260,6 +260,17 @@ impl Success {
             Success::BeyondX { x } => c.x >= x,
         }
     }
+
+    /// False only if no centre within `reach` of `c` along x (so no centre within `reach` of
+    /// `c` at all) meets the criterion: a swarm at `c` that moves at most `reach` from now on
+    /// cannot succeed. Conservative: a `reach` or `c` that is not a number counts as reachable.
+    pub fn reachable(&self, c: Point2<f64>, reach: f64) -> bool {
+        let gap = match *self {
+            Success::NearX { x, within } => (c.x - x).abs() - within,
+            Success::BeyondX { x } => x - c.x,
+        };
+        gap.partial_cmp(&reach) != Some(std::cmp::Ordering::Greater)
+    }
 }
 
 impl fmt::Display for Success {

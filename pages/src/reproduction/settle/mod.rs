@@ -93,8 +93,8 @@ pub(super) fn write(
 ) -> Result<Settled, Error> {
     let tapped = |side| -> Result<[&CourseDigest; 2], Error> {
         Ok([
-            results.tapped(Unit::Tapped(Field::Sharp, side))?,
-            results.tapped(Unit::Tapped(Field::Gradient, side))?,
+            results.tapped(Field::Sharp, side)?,
+            results.tapped(Field::Gradient, side)?,
         ])
     };
     let (digests, others) = (tapped(Side::Main)?, tapped(Side::Other)?);

@@ -13,8 +13,8 @@ use crate::Error;
 use crate::results::{CycleRun, Outcome, PlacementStats, RunFigure, UnitResult};
 use crate::stage::{Scenes, Stage};
 use crate::stages::{
-    CLOUD_PROFILE, CYCLE_SWEEPS, CYCLE_WAVES, MAPS, MAPS_OTHER, PLACEMENT_STATS, PROFILES_OTHER,
-    RUN_FIGURES, SHAPES, SPEED, SWEEPS_LATTICE, SWEEPS_RANDOM, WAVE,
+    CLOUD_PROFILE, CYCLE_SWEEPS, CYCLE_WAVES, MAPS, MAPS_OTHER, PEER, PLACEMENT_STATS,
+    PROFILES_OTHER, RUN_FIGURES, SHAPES, SPEED, SWEEPS_LATTICE, SWEEPS_RANDOM, WAVE,
 };
 use crate::units::{Field, Scene, Side, Unit, placement};
 use crate::{
@@ -80,6 +80,7 @@ fn outcome(unit: Unit, st: &mut Stage<'_>, main: Placement, s: &Scenes) -> Resul
         Unit::BeyondTwo => O::BeyondTwo(beyond::two(st, &s.sharp)?),
         Unit::Waves => O::Waves(wave(st)?),
         Unit::Speed => O::Speed(speed(st, &s.sharp)?),
+        Unit::PeerWork => O::PeerWork(peer_work(st, &s.sharp)?),
         Unit::Placements => O::Placements(placement_stats(st)?),
         Unit::Indecision(side) => O::Indecision(crate::indecision::runs(st, main, side)?),
     })
@@ -244,6 +245,22 @@ fn wave(st: &mut Stage<'_>) -> Result<swarm_sim::waves::Wave, Error> {
     st.done(&p);
     Ok(w)
 }
+
+/// Runs of the NumPy peer's work (`scripts/numpy_peer.py`): [`PEER_RUNS`] runs of one
+/// negotiation period of the sharp scenario from its start, one after another on this thread,
+/// the observer's pooled diversity included (the peer computes it too). Wall seconds per run.
+fn peer_work(st: &Stage<'_>, sharp: &Scenario) -> Result<f64, Error> {
+    let seed = st.seed(PEER.at(0));
+    let t0 = Clock::now();
+    for r in 0..PEER_RUNS {
+        let s = derive(seed, &[u64::from(r)]);
+        experiment::run(sharp, sharp.run, sharp.start, 1, s, false)?;
+    }
+    Ok(t0.elapsed().as_secs_f64() / f64::from(PEER_RUNS))
+}
+
+/// Runs of [`peer_work`], as the peer's header measures it.
+pub const PEER_RUNS: u32 = 100;
 
 /// Speed: one negotiation period per size of [`BENCH_AGENTS`] on one thread (`swarm bench`).
 fn speed(st: &Stage<'_>, sharp: &Scenario) -> Result<Vec<BenchResult>, Error> {

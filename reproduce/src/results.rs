@@ -245,6 +245,8 @@ pub enum Outcome {
     Waves(Wave),
     /// [`Unit::Speed`].
     Speed(Vec<BenchResult>),
+    /// [`Unit::PeerWork`]: wall seconds per run.
+    PeerWork(#[serde(with = "swarm_sim::json")] f64),
     /// [`Unit::Placements`].
     Placements(PlacementStats),
     /// [`Unit::Indecision`]: one split per run, sizes in order.
@@ -281,6 +283,7 @@ impl Outcome {
                 | (Unit::BeyondTwo, O::BeyondTwo(_))
                 | (Unit::Waves, O::Waves(_))
                 | (Unit::Speed, O::Speed(_))
+                | (Unit::PeerWork, O::PeerWork(_))
                 | (Unit::Placements, O::Placements(_))
                 | (Unit::Indecision(_), O::Indecision(_))
         )
@@ -400,6 +403,7 @@ impl Results {
     getter!(beyond_two, BeyondTwo, Vec<SweepPoint>);
     getter!(waves, Waves, Wave);
     getter!(speed, Speed, Vec<BenchResult>);
+    getter!(peer_work, PeerWork, f64);
     getter!(placements, Placements, PlacementStats);
     getter!(indecision, Indecision, Vec<Split>);
 }

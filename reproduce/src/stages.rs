@@ -144,6 +144,8 @@ pub const EXTENT_OTHER: Block = Block::new("extent, other placement", 670, 2);
 pub const PROFILES_OTHER: Block = Block::new("cloud profiles, other placement", 680, 2);
 /// Steeper, faster with the other placement: per slope.
 pub const STEEP_OTHER: Block = Block::new("settle: steep, other placement", 690, 10);
+/// The NumPy peer's work (timing only).
+pub const PEER: Block = Block::new("peer work", 700, 1);
 
 /// Every block, in order: what the test checks for overlaps.
 #[cfg(test)]
@@ -179,6 +181,7 @@ const BLOCKS: &[Block] = &[
     EXTENT_OTHER,
     PROFILES_OTHER,
     STEEP_OTHER,
+    PEER,
 ];
 
 #[cfg(test)]

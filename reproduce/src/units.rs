@@ -134,6 +134,8 @@ pub enum Unit {
     Waves,
     /// The simulator's speed (wall-clock figures).
     Speed,
+    /// The NumPy peer's work (`scripts/numpy_peer.py`) on one thread (wall-clock figure).
+    PeerWork,
     /// Neighbour counts of random placements.
     Placements,
     /// Indecision points against the swarm's size.
@@ -144,7 +146,7 @@ use Field::{Gradient as G, Sharp as S};
 use Side::{Main as M, Other as O};
 
 /// Every unit, in the order the unsharded command computes them.
-pub const UNITS: [Unit; 67] = [
+pub const UNITS: [Unit; 68] = [
     Unit::Run(S),
     Unit::Run(G),
     Unit::Sweep(S, M),
@@ -209,6 +211,7 @@ pub const UNITS: [Unit; 67] = [
     Unit::BeyondTwo,
     Unit::Indecision(M),
     Unit::Indecision(O),
+    Unit::PeerWork,
     Unit::Waves,
     Unit::Speed,
     Unit::Placements,
@@ -247,6 +250,7 @@ impl Unit {
             Unit::BeyondTwo => "beyond-two".into(),
             Unit::Waves => "waves".into(),
             Unit::Speed => "speed".into(),
+            Unit::PeerWork => "peer-work".into(),
             Unit::Placements => "placements".into(),
             Unit::Indecision(s) => format!("indecision/{}", s.name()),
         }

@@ -89,7 +89,7 @@ where
 /// Runs shard `shard` of `job` as [`run_shard`] does, but its units one after another in unit
 /// order, each free to use every thread itself: for units that are whole stages, which run
 /// their own runs in parallel and time themselves (as `swarm reproduce`'s do). Its share and
-/// progress are counted in units: `shard 2/3: 22 of 67 units of ...`.
+/// progress are counted in units: `shard 2/3: 23 of 68 units of ...`.
 ///
 /// # Errors
 /// The first unit's error, or the part not written.

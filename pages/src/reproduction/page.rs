@@ -9,6 +9,8 @@ use reproduce::results::PlacementStats;
 pub(super) struct Report<'a> {
     pub(super) placement: PlacementStats,
     pub(super) speed: &'a [experiment::BenchResult],
+    /// This run's wall seconds per run of the NumPy peer's work.
+    pub(super) peer_work_s: f64,
     pub(super) seed: u64,
     pub(super) wall_s: f64,
     pub(super) threads: usize,
@@ -251,7 +253,23 @@ struct SpeedSize {
 struct SpeedSection {
     period_s: u64,
     sizes: Vec<SpeedSize>,
+    /// The NumPy peer's work: runs, our milliseconds per run, the peer's, and the ratio.
+    peer_runs: u32,
+    peer_ours_ms: String,
+    peer_ms: String,
+    peer_ratio: String,
+    /// When and where the peer's time was measured.
+    peer_measured: &'static str,
 }
+
+/// The NumPy peer's time per run of its work (`scripts/numpy_peer.py --runs 100`, one thread),
+/// milliseconds: measured, not computed, so it is stated with [`PEER_MEASURED`]. The page sets
+/// this run's time of the same work beside it (`reproduce`'s peer-work unit).
+const PEER_MS: f64 = 38.9;
+
+/// Where [`PEER_MS`] was measured.
+const PEER_MEASURED: &str =
+    "numpy 2.4.6, Python 3.11.7, one thread, on a 2-core Xeon VM, 2026-11-28";
 
 /// The rows of a sweep table: the main placement and the other side by side.
 fn sweep_rows(main: &[SweepPoint], other: &[SweepPoint]) -> Vec<[String; 7]> {
@@ -505,6 +523,11 @@ fn speed_section(r: &Report<'_>) -> SpeedSection {
                 steps_per_s: format!("{:.2e}", b.agent_steps_per_s()),
             })
             .collect(),
+        peer_runs: reproduce::compute::PEER_RUNS,
+        peer_ours_ms: fixed(1e3 * r.peer_work_s, 2),
+        peer_ms: fixed(PEER_MS, 1),
+        peer_ratio: fixed(PEER_MS / (1e3 * r.peer_work_s), 0),
+        peer_measured: PEER_MEASURED,
     }
 }
 

@@ -71,6 +71,7 @@ pub fn write(results: &Results, opts: &Options) -> Result<Summary, Error> {
     let (md, model) = markdown(&Report {
         placement: results.placements(Unit::Placements)?.clone(),
         speed: results.speed(Unit::Speed)?,
+        peer_work_s: *results.peer_work(Unit::PeerWork)?,
         seed: opts.seed,
         wall_s,
         threads: results.threads(),

@@ -10,6 +10,7 @@ use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 
 use crate::Error;
+use crate::on_side;
 use crate::results::{CycleRun, Outcome, PlacementStats, RunFigure, UnitResult};
 use crate::stage::{Scenes, Stage};
 use crate::stages::{
@@ -147,13 +148,10 @@ fn map_of(
     side: Side,
     scn: &Scenario,
 ) -> Result<Vec<Arrow>, Error> {
-    let placed;
-    let (scn, seed) = match side {
-        Side::Main => (scn, MAPS.at(m.index())),
-        Side::Other => {
-            placed = builtin_placed(&scn.name, main.other())?;
-            (&placed, MAPS_OTHER.at(m.index()))
-        }
+    let scn = &*on_side(scn, main, side)?;
+    let seed = match side {
+        Side::Main => MAPS.at(m.index()),
+        Side::Other => MAPS_OTHER.at(m.index()),
     };
     let grid = scn.grid.as_ref().ok_or(Error::ScenarioWithout("grid"))?;
     let p = st.start(
@@ -172,13 +170,10 @@ fn cloud_profile(
     side: Side,
     cloud: &Scenario,
 ) -> Result<Vec<RadialPoint>, Error> {
-    let placed;
-    let (cloud, seed) = match side {
-        Side::Main => (cloud, CLOUD_PROFILE.at(0)),
-        Side::Other => {
-            placed = builtin_placed(&cloud.name, main.other())?;
-            (&placed, PROFILES_OTHER.at(0))
-        }
+    let cloud = &*on_side(cloud, main, side)?;
+    let seed = match side {
+        Side::Main => CLOUD_PROFILE.at(0),
+        Side::Other => PROFILES_OTHER.at(0),
     };
     let distances = refined(
         (0..=24).map(|k| 0.5 * f64::from(k)).collect(),

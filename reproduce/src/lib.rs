@@ -90,6 +90,22 @@ pub fn builtin_placed(name: &str, placement: Placement) -> Result<Scenario, Erro
     Ok(builtin(name)?.placed(placement)?)
 }
 
+/// Scenario `scn` (placed by the page's placement `main`) as `side` runs it: itself, or the
+/// built-in scenario of its name placed by the other placement.
+///
+/// # Errors
+/// If the other placement cannot be had (see [`builtin_placed`]).
+pub fn on_side(
+    scn: &Scenario,
+    main: Placement,
+    side: Side,
+) -> Result<std::borrow::Cow<'_, Scenario>, Error> {
+    Ok(match side {
+        Side::Main => std::borrow::Cow::Borrowed(scn),
+        Side::Other => std::borrow::Cow::Owned(builtin_placed(&scn.name, main.other())?),
+    })
+}
+
 /// `grid` with the points `refined` added where they are new, by increasing value: a grid
 /// refined where the paper claims an edge. The grid's own points keep their indices first, so
 /// their seeds do not change.

@@ -189,16 +189,9 @@ pub fn extent(
         2 * (diameters.len() * xs.len()) as u64 * u64::from(EXTENT_RUNS),
     );
     for (k, scn) in [sharp, gradient].into_iter().enumerate() {
-        let placed;
-        let scn = match side {
-            Side::Main => scn,
-            Side::Other => {
-                placed = crate::builtin_placed(&scn.name, main.other())?;
-                &placed
-            }
-        };
+        let scn = crate::on_side(scn, main, side)?;
         for (j, &d) in diameters.iter().enumerate() {
-            let s = Knob::Extent(d).apply(scn)?;
+            let s = Knob::Extent(d).apply(&scn)?;
             let seed = st.seed(match side {
                 Side::Main => EXTENT.at2(k, j),
                 Side::Other => EXTENT_OTHER.at(k),

@@ -40,14 +40,7 @@ pub fn course(
     side: Side,
     scn: &Scenario,
 ) -> Result<(TimeCourse, CourseDigest), Error> {
-    let placed;
-    let scn = match side {
-        Side::Main => scn,
-        Side::Other => {
-            placed = crate::builtin_placed(&scn.name, main.other())?;
-            &placed
-        }
-    };
+    let scn = &*crate::on_side(scn, main, side)?;
     let p = st.start(
         &format!("{} course, {} placement", scn.name, placement(main, side)),
         u64::from(COURSE_RUNS),

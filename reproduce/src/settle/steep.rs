@@ -51,17 +51,11 @@ pub fn case(
     side: Side,
     scns: [&Scenario; 2],
 ) -> Result<Vec<Times>, Error> {
-    let placed;
-    let [sharp, gradient] = match side {
-        Side::Main => scns,
-        Side::Other => {
-            placed = [
-                crate::builtin_placed(&scns[0].name, main.other())?,
-                crate::builtin_placed(&scns[1].name, main.other())?,
-            ];
-            [&placed[0], &placed[1]]
-        }
-    };
+    let (sharp, gradient) = (
+        crate::on_side(scns[0], main, side)?,
+        crate::on_side(scns[1], main, side)?,
+    );
+    let (sharp, gradient) = (&*sharp, &*gradient);
     let (runs_n, seed) = match side {
         Side::Main => (RUNS, st.seed(STEEP.at(k))),
         Side::Other => (crate::OTHER_RUNS, st.seed(STEEP_OTHER.at(k))),

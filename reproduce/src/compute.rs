@@ -254,7 +254,7 @@ fn peer_work(st: &Stage<'_>, sharp: &Scenario) -> Result<f64, Error> {
     Ok(t0.elapsed().as_secs_f64() / f64::from(PEER_RUNS))
 }
 
-/// Runs of [`peer_work`], as the peer's header measures it.
+/// Runs of the NumPy peer's work (unit `peer-work`), as the peer's header measures it.
 pub const PEER_RUNS: u32 = 100;
 
 /// Speed: one negotiation period per size of [`BENCH_AGENTS`] on one thread (`swarm bench`).

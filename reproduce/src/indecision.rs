@@ -15,9 +15,9 @@ use crate::units::{Side, placement};
 use swarm_sim::probe::{Split, splits};
 use swarm_sim::scenario::Placement;
 
-/// Swarm sizes: the lab's four robots, doubled up to about the paper's 61 agents (even sizes,
-/// so that a tie is possible).
-pub const SIZES: [usize; 5] = [4, 8, 16, 32, 64];
+/// Swarm sizes: the lab's four robots, doubled past the paper's 61 agents to 256, as the
+/// paper's "sufficiently large swarm" (even sizes, so that a tie is possible).
+pub const SIZES: [usize; 7] = [4, 8, 16, 32, 64, 128, 256];
 /// One-period runs per size and placement.
 pub const RUNS: u32 = 200;
 

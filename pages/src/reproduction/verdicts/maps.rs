@@ -29,37 +29,34 @@ pub(super) fn target(sharp: bool, a: &Arrow) -> f64 {
 /// of each placement, the weaker verdict.
 pub(super) fn directions(r: &Report<'_>, c: &'static Claim) -> Judged {
     let k = if field_of(c.id) == 0 { 0 } else { 1 };
-    let (vm, om) = on_map(&r.maps[k], c);
-    let (vo, oo) = on_map(&r.other_maps[k], c);
-    let sharp = k == 0;
     let toward = matches!(c.kind, Kind::Direction { toward: true });
-    let left = c.id == Id::GradientMapLeft;
-    Judged {
-        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
-        verdict: vm.both(vo),
-        why: match (toward, sharp) {
-            _ if left => {
-                format!("the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give")
-            }
-            (true, _) => format!(
-                "the rule: at least {} % of the arrows within ±{CONE_DEG}° of the target direction",
-                fixed(100.0 * verdict::TOWARD_SHARE, 0)
-            ),
-            (false, true) => format!(
-                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; at the map's first column beyond the claim our swarm (radius {} R) still touches the border, so those arrows point at it",
-                fixed(crate::marks::swarm_radius(r.sharp), 1)
-            ),
-            (false, false) => format!(
-                "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp"
-            ),
-        } + &format!(
-            "; both placements' maps (the {other} one in figures/*-field-{other}.svg), the weaker verdict ({}: {}, {other}: {})",
-            r.main,
-            vm.words(),
-            vo.words(),
-            other = r.main.other()
+    let rule = match (toward, k == 0) {
+        _ if c.id == Id::GradientMapLeft => {
+            format!("the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give")
+        }
+        (true, _) => format!(
+            "the rule: at least {} % of the arrows within ±{CONE_DEG}° of the target direction",
+            fixed(100.0 * verdict::TOWARD_SHARE, 0)
         ),
-    }
+        (false, true) => format!(
+            "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; at the map's first column beyond the claim our swarm (radius {} R) still touches the border, so those arrows point at it",
+            fixed(crate::marks::swarm_radius(r.sharp), 1)
+        ),
+        (false, false) => format!(
+            "the rule: about a quarter within ±{CONE_DEG}°, as uniform directions give; past the ramp's start the swarm prefers the direction in which it extends farthest along the ramp"
+        ),
+    } + &format!(
+        " (the {other} placement's maps in figures/*-field-{other}.svg)",
+        other = r.main.other()
+    );
+    super::on_both(r, |side| {
+        let (verdict, ours) = on_map(&[r.maps, r.other_maps][side][k], c);
+        Judged {
+            ours,
+            verdict,
+            why: rule.clone(),
+        }
+    })
 }
 
 /// One map's verdict on claim `c`, and what it shows.

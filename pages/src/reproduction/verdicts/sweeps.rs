@@ -141,20 +141,17 @@ pub(super) fn far_of(
 /// coefficient has its 95 % interval around zero ([`stats::curvature`]); on both placements'
 /// sweeps, the weaker verdict.
 pub(super) fn sharp_time(r: &Report<'_>) -> Judged {
-    let (vm, om) = sharp_time_of(&r.sweeps[0]);
-    let (vo, oo) = sharp_time_of(&r.other_sweeps[0]);
-    Judged {
-        ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
-        verdict: vm.both(vo),
-        why: format!(
-            "the rule, on each placement: the slope's {pct} % interval below zero, and no curvature (the least-squares parabola's x² coefficient with its {pct} % interval around zero); means of the successful runs only; the weaker verdict of the two ({}: {}, {}: {})",
-            r.main,
-            vm.words(),
-            r.main.other(),
-            vo.words(),
-            pct = fixed(100.0 * stats::CONFIDENCE, 0),
-        ),
-    }
+    super::on_both(r, |side| {
+        let (verdict, ours) = sharp_time_of(&[r.sweeps, r.other_sweeps][side][0]);
+        Judged {
+            ours,
+            verdict,
+            why: format!(
+                "the rule: the slope's {pct} % interval below zero, and no curvature (the least-squares parabola's x² coefficient with its {pct} % interval around zero); means of the successful runs only",
+                pct = fixed(100.0 * stats::CONFIDENCE, 0),
+            ),
+        }
+    })
 }
 
 /// [`sharp_time`] on one placement's sweep: the verdict and ours in words.

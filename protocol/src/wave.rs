@@ -208,6 +208,69 @@ impl WaveNode {
         }
     }
 
+    /// [`poll_timeout`](Self::poll_timeout) as it will be once the refractory time has ended:
+    /// the earliest of the cycle's end and the pending initiations (for an active node, its
+    /// relay too).
+    #[inline]
+    pub fn poll_timeout_rested(&self) -> Instant {
+        let t = self.timers();
+        match self.state {
+            WaveState::Active => t.min(self.relay_at),
+            _ => t,
+        }
+    }
+
+    /// The earliest of the cycle's end and the pending initiations.
+    #[inline]
+    fn timers(&self) -> Instant {
+        let mut t = self.cycle_end;
+        if let Some(i) = self.initiate_at {
+            t = t.min(i);
+        }
+        if let Some(i) = self.extra_at {
+            t = t.min(i);
+        }
+        t
+    }
+
+    /// If the relay is the first transition due at `now` (the node is active, its relay is
+    /// due by `now` and nothing else is due before it; ties go to the relay, as in
+    /// [`poll`](Self::poll)), performs it and returns `true`, as `poll` would returning
+    /// [`WaveAction::Relay`]; otherwise does nothing and returns `false`. Whatever else is due
+    /// is left to `poll`.
+    #[inline]
+    pub fn relay_if_first_due(&mut self, now: Instant) -> bool {
+        let at = self.relay_at;
+        if self.state != WaveState::Active || at > now || at == Instant::MAX || at > self.timers() {
+            return false;
+        }
+        self.stats.relayed = self.stats.relayed.wrapping_add(1);
+        self.transmitted(at);
+        true
+    }
+
+    /// True if the only transition due at `now` is the end of the refractory time: the node
+    /// is refractory until `now` or earlier and nothing else is due by `now` (sufficient, not
+    /// necessary: a late call may find a skipped initiation due before the rest).
+    #[inline]
+    pub fn only_rest_due(&self, now: Instant) -> bool {
+        self.state == WaveState::Refractory
+            && self.refractory_until <= now
+            && self.poll_timeout_rested() > now
+    }
+
+    /// If [`only_rest_due`](Self::only_rest_due) at `now`, rests the node (as
+    /// [`poll`](Self::poll) would, returning [`WaveAction::Rested`], with nothing left due
+    /// after) and returns `true`; otherwise does nothing and returns `false`.
+    #[inline]
+    pub fn rest_if_only_due(&mut self, now: Instant) -> bool {
+        let rest = self.only_rest_due(now);
+        if rest {
+            self.state = WaveState::Inactive;
+        }
+        rest
+    }
+
     /// Performs the earliest transition due at or before `now`, if any. Call it until it
     /// returns `None`. Transitions are timed from when they were due, not from `now`, so a late
     /// caller gets the same schedule; ties go refractory end, relay, initiation, cycle end.
@@ -361,6 +424,51 @@ mod tests {
         assert!(n.on_receive(Instant::from_secs(15)));
         assert_eq!(n.stats().ignored, 2);
         assert_eq!(n.stats().relayed, 1);
+    }
+
+    #[test]
+    fn the_short_ways_to_rest_and_relay_are_the_polls_ways() {
+        // Random receptions and calls over many cycles: wherever `only_rest_due` holds, polling
+        // gives exactly one `Rested` and the node that took the short way is the same node (it
+        // may not hold where polling rests all the same: a late call whose skipped initiation
+        // was due first); wherever `relay_if_first_due` relays, polling relays first and then
+        // does the same.
+        let mut rng = Pcg32::new(5, 9);
+        let mut draw = Pcg32::new(6, 1);
+        let mut p = Params::simulation_2d().wave;
+        p.cycle = Duration::from_secs(60);
+        let mut n = WaveNode::new(p, Instant::ZERO, &mut rng);
+        let (mut t, mut shortcuts, mut relays) = (Instant::ZERO, 0, 0);
+        for _ in 0..20_000 {
+            t += Duration::from_secs(u64::from(draw.next_u32() % 4));
+            if draw.next_u32().is_multiple_of(3) {
+                n.on_receive(t);
+            }
+            let (mut short, mut short_rng) = (n.clone(), rng.clone());
+            let (mut relay, mut relay_rng) = (n.clone(), rng.clone());
+            let polled = drain(&mut n, t, &mut rng);
+            if relay.relay_if_first_due(t) {
+                relays += 1;
+                let mut after = heapless::Vec::<_, 8>::new();
+                after.push(WaveAction::Relay).unwrap();
+                after.extend(drain(&mut relay, t, &mut relay_rng));
+                assert_eq!(after, polled, "at {t:?}");
+                assert_eq!(relay.poll_timeout(), n.poll_timeout());
+                assert_eq!(relay.stats(), n.stats());
+            }
+            if short.rest_if_only_due(t) {
+                shortcuts += 1;
+                assert_eq!(polled, [WaveAction::Rested], "at {t:?}");
+                assert_eq!(short.state(), n.state());
+                assert_eq!(short.poll_timeout(), n.poll_timeout());
+                assert!(drain(&mut short, t, &mut short_rng).is_empty());
+            }
+            if n.state() != WaveState::Refractory {
+                assert_eq!(n.poll_timeout_rested(), n.poll_timeout());
+            }
+        }
+        assert!(shortcuts > 1000, "{shortcuts}");
+        assert!(relays > 1000, "{relays}");
     }
 
     #[test]

@@ -6,21 +6,29 @@ use std::collections::BinaryHeap;
 
 /// The agents' due seconds: a wheel of one-second slots covering `[now, now + WHEEL)` and a
 /// heap for anything later. Each agent is due at one second at most (the simulator's
-/// `scheduled`): in the wheel it sits in its slot's list, linked through per-agent `next`/`prev`
-/// arrays, so moving it to another second is O(1) and allocates nothing. Heap entries are
+/// `scheduled`): in the wheel it sits in its slot's list, linked through its per-agent `Links`
+/// record, so moving it to another second is O(1) and allocates nothing. Heap entries are
 /// checked against `scheduled` when the window reaches them (an agent moved since is skipped).
 pub(crate) struct Calendar {
-    /// Per slot, the first agent of its list ([`NONE`]: empty).
-    head: Vec<u32>,
-    /// Per agent, the next agent in its slot's list.
-    next: Vec<u32>,
-    /// Per agent, the previous agent in its slot's list ([`NONE`]: it is the head).
-    prev: Vec<u32>,
-    /// Per agent, the slot whose list it is in ([`NONE`]: none).
-    slot_of: Vec<u32>,
+    /// Per slot, the first agent of its list ([`NONE`]: empty). A fixed-size array: a slot
+    /// index (`t % WHEEL`) needs no bounds check.
+    head: Box<[u32; Calendar::WHEEL as usize]>,
+    /// Per agent, its links (one record per agent: one bounds check per agent touched).
+    links: Vec<Links>,
     in_wheel: usize,
     later: BinaryHeap<Reverse<(u64, u32)>>,
     now: u64,
+}
+
+/// Where an agent sits in the wheel.
+#[derive(Clone, Copy)]
+struct Links {
+    /// The next agent in its slot's list.
+    next: u32,
+    /// The previous agent in its slot's list ([`NONE`]: it is the head).
+    prev: u32,
+    /// The slot whose list it is in ([`NONE`]: none).
+    slot: u32,
 }
 
 /// No agent.
@@ -30,11 +38,14 @@ impl Calendar {
     const WHEEL: u64 = 4096;
 
     pub(crate) fn new(agents: usize) -> Self {
+        let unlinked = Links {
+            next: NONE,
+            prev: NONE,
+            slot: NONE,
+        };
         Calendar {
-            head: vec![NONE; Self::WHEEL as usize],
-            next: vec![NONE; agents],
-            prev: vec![NONE; agents],
-            slot_of: vec![NONE; agents],
+            head: Box::new([NONE; Self::WHEEL as usize]),
+            links: vec![unlinked; agents],
             in_wheel: 0,
             later: BinaryHeap::new(),
             now: 0,
@@ -49,32 +60,32 @@ impl Calendar {
     pub(crate) fn link(&mut self, t: u64, i: u32) {
         let s = Self::slot(t);
         let h = self.head[s];
-        self.next[i as usize] = h;
-        self.prev[i as usize] = NONE;
+        self.links[i as usize] = Links {
+            next: h,
+            prev: NONE,
+            slot: s as u32,
+        };
         if h != NONE {
-            self.prev[h as usize] = i;
+            self.links[h as usize].prev = i;
         }
         self.head[s] = i;
-        self.slot_of[i as usize] = s as u32;
         self.in_wheel += 1;
     }
 
     /// Moves agent `i` to second `t` (a second already passed counts as now), out of the
     /// slot it was in, if any.
     pub(crate) fn reschedule(&mut self, t: u64, i: u32) {
-        let iu = i as usize;
-        let slot = self.slot_of[iu];
+        let Links { next, prev, slot } = self.links[i as usize];
         if slot != NONE {
-            let (p, n) = (self.prev[iu], self.next[iu]);
-            if p == NONE {
-                self.head[slot as usize] = n;
+            if prev == NONE {
+                self.head[slot as usize % Self::WHEEL as usize] = next;
             } else {
-                self.next[p as usize] = n;
+                self.links[prev as usize].next = next;
             }
-            if n != NONE {
-                self.prev[n as usize] = p;
+            if next != NONE {
+                self.links[next as usize].prev = prev;
             }
-            self.slot_of[iu] = NONE;
+            self.links[i as usize].slot = NONE;
             self.in_wheel -= 1;
         }
         let t = t.max(self.now);
@@ -93,7 +104,7 @@ impl Calendar {
                 break;
             }
             self.later.pop();
-            if scheduled[i as usize] == t && self.slot_of[i as usize] == NONE {
+            if scheduled[i as usize] == t && self.links[i as usize].slot == NONE {
                 self.link(t, i);
             }
         }
@@ -135,9 +146,10 @@ impl Calendar {
         let mut i = self.head[s];
         while i != NONE {
             out.push(i);
-            self.slot_of[i as usize] = NONE;
+            let l = &mut self.links[i as usize];
+            l.slot = NONE;
             self.in_wheel -= 1;
-            i = self.next[i as usize];
+            i = l.next;
         }
         self.head[s] = NONE;
         out[from..].reverse();

@@ -457,11 +457,16 @@ impl<'a, R: Reading> Sim<'a, R> {
     }
 
     /// Takes agent `i`'s events at second `t`, recording them if asked.
+    #[inline]
     fn drain_events(&mut self, i: usize, t: u64) {
-        if self.trace.is_none() {
-            // Events are off ([`ThreePhaseAgent::set_events`]): none is queued.
-            return;
+        if self.trace.is_some() {
+            self.record_events(i, t);
         }
+        // Otherwise events are off ([`ThreePhaseAgent::set_events`]): none is queued.
+    }
+
+    /// [`drain_events`](Self::drain_events) of a recording run.
+    fn record_events(&mut self, i: usize, t: u64) {
         while let Some(e) = self.agents[i].poll_event() {
             let Some(rec) = self.trace.as_mut() else {
                 continue;
@@ -512,7 +517,11 @@ impl<'a, R: Reading> Sim<'a, R> {
     }
 
     fn reschedule(&mut self, i: usize) {
-        let t = secs(self.agents[i].poll_timeout());
+        self.schedule(i, secs(self.agents[i].poll_timeout()));
+    }
+
+    /// Queues agent `i` at second `t`.
+    fn schedule(&mut self, i: usize, t: u64) {
         if t != self.scheduled[i] {
             self.scheduled[i] = t;
             self.queue.reschedule(t, i as u32);
@@ -584,16 +593,13 @@ impl<'a, R: Reading> Sim<'a, R> {
         if !due.is_sorted() {
             due.sort_unstable();
         }
-        due.retain(|&i| {
-            let i = i as usize;
-            let now_due = self.scheduled[i] == t;
-            if now_due {
-                self.scheduled[i] = u64::MAX;
-            }
-            now_due
-        });
         for &i in &due {
             let i = i as usize;
+            // Only an agent's live entry counts (see `scheduled`).
+            if self.scheduled[i] != t {
+                continue;
+            }
+            self.scheduled[i] = u64::MAX;
             if self.states[i] != WaveState::Active {
                 self.sample(i);
             }

@@ -26,6 +26,16 @@ pub trait Diversity<R = f32> {
 
     /// An empty pool for this measure.
     fn pool(&self) -> Self::Pool;
+
+    /// The diversity of a message's `readings` followed by the receiver's `own`: the same as
+    /// [`measure`](Self::measure) of the two chained (a measure may override it with a
+    /// faster loop over the slice, with the same result bit for bit).
+    fn measure_message(&self, readings: &[R], own: R) -> f32
+    where
+        R: Copy,
+    {
+        self.measure(readings.iter().copied().chain(core::iter::once(own)))
+    }
 }
 
 /// Readings pushed one at a time, and the diversity of all of them so far.
@@ -68,6 +78,30 @@ impl Diversity for Variance {
         }
         let mean = sum / n as f32;
         let ss: f32 = readings.map(|x| (x - mean) * (x - mean)).sum();
+        let v = ss / n as f32;
+        if v.is_finite() && v > 0.0 { v } else { 0.0 }
+    }
+
+    /// [`measure`](Diversity::measure) of `readings` then `own` in plain loops over the slice
+    /// (the 2D simulator scores every message it delivers with this): the same sums in the
+    /// same order, so the same value bit for bit.
+    #[inline]
+    fn measure_message(&self, readings: &[f32], own: f32) -> f32 {
+        let n = readings.len() + 1;
+        if n < 2 {
+            return 0.0;
+        }
+        let mut sum = 0f32;
+        for &x in readings {
+            sum += x;
+        }
+        sum += own;
+        let mean = sum / n as f32;
+        let mut ss = 0f32;
+        for &x in readings {
+            ss += (x - mean) * (x - mean);
+        }
+        ss += (own - mean) * (own - mean);
         let v = ss / n as f32;
         if v.is_finite() && v > 0.0 { v } else { 0.0 }
     }
@@ -312,6 +346,31 @@ impl<P: Pool, const K: usize> Pool<[f32; K]> for PerQuantityPool<P, K> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_variance_of_a_message_is_the_chained_measure_bit_for_bit() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg32::seed_from_u64(11);
+        let special = [0.0, -0.0, f32::NAN, f32::INFINITY, 1e30, -1e-30];
+        for case in 0..20_000 {
+            let n = rng.random_range(0..=32);
+            let xs: heapless::Vec<f32, 32> = (0..n)
+                .map(|_| match rng.random_range(0..20) {
+                    0 => special[rng.random_range(0..special.len())],
+                    1..=9 => f32::from(rng.random_range(0u8..=255)),
+                    _ => rng.random_range(-3.0f32..8.0),
+                })
+                .collect();
+            let own = rng.random_range(-1.0f32..6.0);
+            let chained = Variance.measure(xs.iter().copied().chain(core::iter::once(own)));
+            let fast = Variance.measure_message(&xs, own);
+            assert_eq!(
+                fast.to_bits(),
+                chained.to_bits(),
+                "case {case}: {xs:?} then {own}"
+            );
+        }
+    }
 
     #[test]
     fn per_quantity_sums_the_quantities_measures() {

@@ -310,6 +310,11 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         &self.stats
     }
 
+    /// The wave node: its state and when each of its transitions is due.
+    pub fn wave(&self) -> &WaveNode {
+        &self.wave
+    }
+
     /// The wave node's counters.
     pub fn wave_stats(&self) -> &WaveStats {
         self.wave.stats()
@@ -346,7 +351,7 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         match msg {
             SimMessage::Readings(r) => {
                 let own = core::iter::once(self.reading);
-                let v = self.diversity.measure(r.iter().copied().chain(own.clone()));
+                let v = self.diversity.measure_message(r, self.reading);
                 if !self.weights.add(key(bearing), v) {
                     self.stats.slots_full = self.stats.slots_full.wrapping_add(1);
                 }

@@ -213,16 +213,30 @@ impl WaveNode {
     /// relay too).
     #[inline]
     pub fn poll_timeout_rested(&self) -> Instant {
-        let t = self.timers();
+        let t = self.timers_at();
         match self.state {
             WaveState::Active => t.min(self.relay_at),
             _ => t,
         }
     }
 
-    /// The earliest of the cycle's end and the pending initiations.
+    /// When the relay is due, while the node is active.
     #[inline]
-    fn timers(&self) -> Instant {
+    pub fn relay_due(&self) -> Option<Instant> {
+        (self.state == WaveState::Active).then_some(self.relay_at)
+    }
+
+    /// When the refractory time ends, while the node is refractory.
+    #[inline]
+    pub fn rest_due(&self) -> Option<Instant> {
+        (self.state == WaveState::Refractory).then_some(self.refractory_until)
+    }
+
+    /// The earliest of the cycle's end and the pending initiations: the node's timers, which
+    /// change only when one of them is due ([`poll_timeout`](Self::poll_timeout) is the
+    /// earliest of these, [`relay_due`](Self::relay_due) and [`rest_due`](Self::rest_due)).
+    #[inline]
+    pub fn timers_at(&self) -> Instant {
         let mut t = self.cycle_end;
         if let Some(i) = self.initiate_at {
             t = t.min(i);
@@ -241,7 +255,11 @@ impl WaveNode {
     #[inline]
     pub fn relay_if_first_due(&mut self, now: Instant) -> bool {
         let at = self.relay_at;
-        if self.state != WaveState::Active || at > now || at == Instant::MAX || at > self.timers() {
+        if self.state != WaveState::Active
+            || at > now
+            || at == Instant::MAX
+            || at > self.timers_at()
+        {
             return false;
         }
         self.stats.relayed = self.stats.relayed.wrapping_add(1);

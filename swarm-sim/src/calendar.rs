@@ -1,8 +1,160 @@
-//! The simulator's calendar of the agents' due seconds ([`Calendar`]), the engine's
-//! (`crate::sim`) event queue.
+//! The simulator's calendar of the agents' due seconds ([`Schedule`]), the engine's
+//! (`crate::sim`) event queue: the agents' timers in a timing wheel ([`Calendar`]), their
+//! relays and rests in two queues.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
+
+use protocol::{Instant, WaveNode};
+
+/// Seconds since the epoch of an instant (the simulation only uses whole seconds; a part of a
+/// second counts as the next).
+pub(crate) fn secs(t: Instant) -> u64 {
+    t.as_millis().div_ceil(1000)
+}
+
+/// Every second at which an agent has something due: its relay (while active), the end of its
+/// refractory time (while refractory) and its timers (the cycle's end, its initiation). The
+/// timers sit in a [`Calendar`]; relays and rests, which come a fixed delay after the call that
+/// made the agent active or refractory and are never cancelled, are queued in the order they
+/// arose, which is the order of their seconds: most calls then touch no wheel slot at all (a
+/// relay or a rest leaves the timers as they were).
+pub(crate) struct Schedule {
+    timers: Calendar,
+    /// Per agent, the second of its timers' entry in `timers`.
+    timer_s: Vec<u64>,
+    /// Per agent, the instants last seen: a call that changed none of them costs no division.
+    seen: Vec<Seen>,
+    relays: Fifo,
+    rests: Fifo,
+    /// The second the wheel returned from the last [`Schedule::next_due`], if it did.
+    wheel_due: Option<u64>,
+}
+
+impl Schedule {
+    pub(crate) fn new(agents: usize) -> Self {
+        Schedule {
+            timers: Calendar::new(agents),
+            timer_s: vec![u64::MAX; agents],
+            seen: vec![
+                Seen {
+                    relay: Instant::MAX,
+                    rest: Instant::MAX,
+                    timers: Instant::MAX,
+                };
+                agents
+            ],
+            relays: Fifo::default(),
+            rests: Fifo::default(),
+            wheel_due: None,
+        }
+    }
+
+    /// Takes note of what agent `i`, whose wave node is `w`, has due after a call to it: a new
+    /// relay or rest is queued, moved timers are moved in the wheel.
+    #[inline]
+    pub(crate) fn track(&mut self, i: usize, w: &WaveNode) {
+        let seen = &mut self.seen[i];
+        // A relay or a rest is a new one when its instant is: an agent relays (and rests) once
+        // per activation, at a later instant each time.
+        if let Some(at) = w.relay_due()
+            && at != seen.relay
+        {
+            seen.relay = at;
+            self.relays.push(secs(at), i as u32);
+        }
+        if let Some(at) = w.rest_due()
+            && at != seen.rest
+        {
+            seen.rest = at;
+            self.rests.push(secs(at), i as u32);
+        }
+        let at = w.timers_at();
+        if at != seen.timers {
+            seen.timers = at;
+            let s = secs(at);
+            if s != self.timer_s[i] {
+                self.timer_s[i] = s;
+                self.timers.reschedule(s, i as u32);
+            }
+        }
+    }
+
+    /// The first second at or before `until` at which anything is due, if any.
+    pub(crate) fn next_due(&mut self, until: u64) -> Option<u64> {
+        let queued = self.relays.first_second().min(self.rests.first_second());
+        self.wheel_due = self.timers.next_due(until.min(queued), &self.timer_s);
+        self.wheel_due.or((queued <= until).then_some(queued))
+    }
+
+    /// Appends the agents with something due at second `t` (the one [`next_due`]
+    /// (Self::next_due) returned) to `out`, by increasing index; an agent with two things due
+    /// then is there twice, side by side.
+    pub(crate) fn take(&mut self, t: u64, out: &mut Vec<u32>) {
+        if self.wheel_due == Some(t) {
+            self.timers.take(t, out);
+        }
+        self.relays.take(t, out);
+        self.rests.take(t, out);
+        out.sort_unstable();
+    }
+}
+
+/// The instants of an agent's relay, rest and timers when it was last tracked.
+#[derive(Clone, Copy)]
+struct Seen {
+    relay: Instant,
+    rest: Instant,
+    timers: Instant,
+}
+
+/// Agents queued by second, first in first out: a vector read from a cursor (cleared whenever
+/// it has been read to the end, compacted when half of it has been read).
+#[derive(Default)]
+struct Fifo {
+    items: Vec<(u64, u32)>,
+    read: usize,
+}
+
+impl Fifo {
+    /// The second of the first entry (`u64::MAX`: none).
+    #[inline]
+    fn first_second(&self) -> u64 {
+        self.items.get(self.read).map_or(u64::MAX, |&(s, _)| s)
+    }
+
+    /// Queues agent `i` at second `s`, behind every entry of an earlier or the same second:
+    /// at the back, unless a run's delays made an earlier second arise later.
+    #[inline]
+    fn push(&mut self, s: u64, i: u32) {
+        if self.items.last().is_none_or(|&(b, _)| b <= s) {
+            self.items.push((s, i));
+        } else {
+            let at = self.read + self.items[self.read..].partition_point(|&(b, _)| b <= s);
+            self.items.insert(at, (s, i));
+        }
+    }
+
+    /// Appends the agents queued at second `t` to `out` and removes them.
+    #[inline]
+    fn take(&mut self, t: u64, out: &mut Vec<u32>) {
+        while let Some(&(s, i)) = self.items.get(self.read) {
+            if s != t {
+                debug_assert!(s > t, "a relay or rest of second {s} was missed at {t}");
+                break;
+            }
+            out.push(i);
+            self.read += 1;
+        }
+        if self.read == self.items.len() {
+            self.items.clear();
+            self.read = 0;
+        } else if self.read > self.items.len() / 2 {
+            self.items.drain(..self.read);
+            self.read = 0;
+        }
+    }
+}
 
 /// The agents' due seconds: a wheel of one-second slots covering `[now, now + WHEEL)` and a
 /// heap for anything later. Each agent is due at one second at most (the simulator's

@@ -100,6 +100,14 @@ impl Diversity for Measure {
         }
     }
 
+    #[inline]
+    fn measure_message(&self, readings: &[f32], own: f32) -> f32 {
+        match self {
+            Measure::Variance => Variance.measure_message(readings, own),
+            Measure::Entropy(e) => e.measure_message(readings, own),
+        }
+    }
+
     fn pool(&self) -> MeasurePool {
         match self {
             Measure::Variance => MeasurePool::Moments(Variance.pool()),

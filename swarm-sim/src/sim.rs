@@ -15,9 +15,9 @@
 //!    decided bearings (agents without a decision abstain; if all abstain, or the bearings cancel
 //!    exactly, the swarm stays put) and the swarm moves `step` along it.
 //!
-//! Time jumps from one due second to the next (a timing wheel of the agents' timeouts: one
-//! bucket per second over the next 4096 seconds, a heap beyond), so the idle part of a long
-//! cycle costs little.
+//! Time jumps from one due second to the next (the agents' timers in a timing wheel, one
+//! bucket per second over the next 4096 seconds and a heap beyond; their relays and rests in
+//! two queues), so the idle part of a long cycle costs little.
 //!
 //! **Readings.** An agent samples X once per activation: when it may initiate (served at a
 //! timeout while not active) and when a message reaches it while it is inactive. The sample is
@@ -26,7 +26,7 @@
 
 use std::fmt;
 
-use crate::calendar::Calendar;
+use crate::calendar::{Schedule, secs};
 use hal_emu::TraceEvent;
 use nalgebra::{Point2, Vector2};
 use protocol::direction::Opposite;
@@ -245,10 +245,8 @@ pub struct Sim<'a, R: Reading = f32> {
     agents: Vec<AgentOf<R>>,
     centre: Point2<f64>,
     periods: u32,
-    queue: Calendar,
-    /// Per agent, the second of its live entry in `queue` (`u64::MAX`: none). An entry of
-    /// another second is stale and skipped; an agent queued twice at one second is served once.
-    scheduled: Vec<u64>,
+    /// When each agent has something due.
+    schedule: Schedule,
     /// Per agent, its wave state as of its last call (the state changes only in calls): read
     /// at every delivery, so kept apart from the agents, which are large.
     states: Vec<WaveState>,
@@ -283,11 +281,6 @@ struct Recorder {
 
 /// The sectors a bearing is binned into for the viewer (its LED colours).
 pub const TRACE_SECTORS: u8 = 8;
-
-/// Seconds since the epoch of an instant (the simulation only uses whole seconds).
-fn secs(t: Instant) -> u64 {
-    t.as_millis().div_ceil(1000)
-}
 
 impl<'a> Sim<'a> {
     /// A run of `swarm` in `field` with its centre of mass at `centre`; every agent starts its
@@ -352,8 +345,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             agents,
             centre,
             periods: 0,
-            queue: Calendar::new(n),
-            scheduled: vec![u64::MAX; n],
+            schedule: Schedule::new(n),
             states,
             proto_rng,
             noise_rng,
@@ -516,16 +508,10 @@ impl<'a, R: Reading> Sim<'a, R> {
         }
     }
 
+    /// Takes note of what agent `i` has due after a call to it.
+    #[inline]
     fn reschedule(&mut self, i: usize) {
-        self.schedule(i, secs(self.agents[i].poll_timeout()));
-    }
-
-    /// Queues agent `i` at second `t`.
-    fn schedule(&mut self, i: usize, t: u64) {
-        if t != self.scheduled[i] {
-            self.scheduled[i] = t;
-            self.queue.reschedule(t, i as u32);
-        }
+        self.schedule.track(i, self.agents[i].wave());
     }
 
     /// Evaluates the field at every agent's position (after the swarm moved).
@@ -572,7 +558,7 @@ impl<'a, R: Reading> Sim<'a, R> {
 
     /// Runs every due second up to and including `until`.
     fn advance_to(&mut self, until: u64) {
-        while let Some(t) = self.queue.next_due(until, &self.scheduled) {
+        while let Some(t) = self.schedule.next_due(until) {
             self.second(t);
         }
     }
@@ -588,18 +574,14 @@ impl<'a, R: Reading> Sim<'a, R> {
     /// transmit into `tx`.
     fn serve_due(&mut self, t: u64, now: Instant) {
         let mut due = std::mem::take(&mut self.due);
-        self.queue.take(t, &mut due);
-        // Served by increasing index, whatever order they were queued in.
-        if !due.is_sorted() {
-            due.sort_unstable();
-        }
+        // By increasing index.
+        self.schedule.take(t, &mut due);
         for &i in &due {
             let i = i as usize;
-            // Only an agent's live entry counts (see `scheduled`).
-            if self.scheduled[i] != t {
+            // Served once, though it may be there twice (a relay or rest and a timer).
+            if secs(self.agents[i].poll_timeout()) != t {
                 continue;
             }
-            self.scheduled[i] = u64::MAX;
             if self.states[i] != WaveState::Active {
                 self.sample(i);
             }
@@ -664,7 +646,7 @@ impl<'a, R: Reading> Sim<'a, R> {
                     // nothing but a counter: no event, the same timeout (most deliveries reach
                     // an agent that is already active or refractory).
                     debug_assert!(self.agents[r].poll_event().is_none());
-                    debug_assert_eq!(secs(self.agents[r].poll_timeout()), self.scheduled[r]);
+                    debug_assert!(secs(self.agents[r].poll_timeout()) > t);
                     continue;
                 }
                 if let (Some(tap), SimMessage::Readings(rs)) = (self.tap.as_mut(), m) {

@@ -90,6 +90,7 @@ pub enum Opposite {
 }
 
 /// [`turn_toward`] with the rule `opposite` for an opinion exactly opposite `from`.
+#[inline]
 pub fn turn_toward_by(from: f32, to: f32, fraction: f32, opposite: Opposite) -> f32 {
     let arc = wrap_signed(to - from);
     if opposite == Opposite::Keep && arc == PI {

@@ -373,14 +373,25 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
     }
 
     /// Does whatever is due at `now`.
+    #[inline]
     pub fn handle_timeout(&mut self, now: Instant, rng: &mut impl RngCore) {
-        // The end of a refractory time alone, a third of all calls in the 2D simulator, takes
-        // the short way ([`WaveNode::rest_if_only_due`]); the same outcome as the loop's.
+        // Nothing due (every message heard first calls this) or the end of a refractory time
+        // alone (a third of all calls in the 2D simulator): the short ways, inlined, with the
+        // same outcome as the loop's ([`WaveNode::rest_if_only_due`]).
+        if self.wave.poll_timeout() > now {
+            return;
+        }
         if self.wave.rest_if_only_due(now) {
             self.push_event(SimEvent::State(WaveState::Inactive));
             return;
         }
-        // So does a relay due first (another third); whatever else is due follows in the loop.
+        self.handle_due(now, rng);
+    }
+
+    /// [`handle_timeout`](Self::handle_timeout) with more than a rest due.
+    fn handle_due(&mut self, now: Instant, rng: &mut impl RngCore) {
+        // A relay due first (another third of the calls) takes a short way too; whatever else
+        // is due follows in the loop.
         if self.wave.relay_if_first_due(now) {
             self.relayed();
         }

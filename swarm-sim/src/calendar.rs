@@ -88,15 +88,17 @@ impl Schedule {
     }
 
     /// Appends the agents with something due at second `t` (the one [`next_due`]
-    /// (Self::next_due) returned) to `out`, by increasing index; an agent with two things due
-    /// then is there twice, side by side.
+    /// (Self::next_due) returned) to `out` (empty), by increasing index, each once.
     pub(crate) fn take(&mut self, t: u64, out: &mut Vec<u32>) {
+        debug_assert!(out.is_empty());
         if self.wheel_due == Some(t) {
             self.timers.take(t, out);
         }
         self.relays.take(t, out);
         self.rests.take(t, out);
         out.sort_unstable();
+        // An agent with two things due then (a relay or rest and a timer) is there once.
+        out.dedup();
     }
 }
 

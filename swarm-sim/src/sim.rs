@@ -578,8 +578,11 @@ impl<'a, R: Reading> Sim<'a, R> {
         self.schedule.take(t, &mut due);
         for &i in &due {
             let i = i as usize;
-            // Served once, though it may be there twice (a relay or rest and a timer).
-            if secs(self.agents[i].poll_timeout()) != t {
+            // Nothing is ever overdue, and an agent with nothing due now (`> now`: its second
+            // is not `t`) would be a stale entry: there are none.
+            let due_now = self.agents[i].poll_timeout() <= now;
+            debug_assert!(due_now, "agent {i} queued at {t} with nothing due");
+            if !due_now {
                 continue;
             }
             if self.states[i] != WaveState::Active {

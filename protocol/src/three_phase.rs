@@ -388,7 +388,9 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         self.handle_due(now, rng);
     }
 
-    /// [`handle_timeout`](Self::handle_timeout) with more than a rest due.
+    /// [`handle_timeout`](Self::handle_timeout) with more than a rest due (kept out of line
+    /// so that the short ways inline).
+    #[inline(never)]
     fn handle_due(&mut self, now: Instant, rng: &mut impl RngCore) {
         // A relay due first (another third of the calls) takes a short way too; whatever else
         // is due follows in the loop.

@@ -137,12 +137,7 @@ impl Swarm {
         rng: &mut impl Rng,
     ) -> Result<Swarm, PlacementError> {
         if let Shape::Lattice { spacing } = shape {
-            let swarm = Swarm::from_offsets(lattice(n, spacing), range);
-            return if swarm.is_connected() {
-                Ok(swarm.recentred())
-            } else {
-                Err(PlacementError { rounds: 0 })
-            };
+            return placed_lattice(n, spacing, range);
         }
         let mut draw = || shape.sample(rng).unwrap_or_else(Vector2::zeros);
         let mut offsets: Vec<Vector2<f64>> = (0..n).map(|_| draw()).collect();
@@ -250,6 +245,34 @@ impl Swarm {
         let labels = self.components();
         labels.iter().all(|&l| l == 0)
     }
+}
+
+/// [`Swarm::place`] of a lattice: the same swarm every time, so each thread keeps the last
+/// few it made (a sweep places the same lattice for every run; its neighbour lists, with an
+/// `atan2` per link, were a twentieth of a one-period run).
+fn placed_lattice(n: usize, spacing: f64, range: f64) -> Result<Swarm, PlacementError> {
+    type Key = (usize, u64, u64);
+    const KEPT: usize = 8;
+    thread_local! {
+        static MADE: std::cell::RefCell<Vec<(Key, Swarm)>> = const { std::cell::RefCell::new(Vec::new()) };
+    }
+    let key = (n, spacing.to_bits(), range.to_bits());
+    if let Some(s) = MADE.with_borrow(|m| m.iter().find(|(k, _)| *k == key).map(|(_, s)| s.clone()))
+    {
+        return Ok(s);
+    }
+    let swarm = Swarm::from_offsets(lattice(n, spacing), range);
+    if !swarm.is_connected() {
+        return Err(PlacementError { rounds: 0 });
+    }
+    let swarm = swarm.recentred();
+    MADE.with_borrow_mut(|m| {
+        if m.len() == KEPT {
+            m.remove(0);
+        }
+        m.push((key, swarm.clone()));
+    });
+    Ok(swarm)
 }
 
 /// The `n` nodes of the triangular lattice with the given spacing (one node at the origin, one

@@ -171,6 +171,9 @@ pub struct ThreePhaseAgent<
     params: Params,
     diversity: D,
     wave: WaveNode,
+    /// `wave.poll_timeout()` as of the end of the last call: the wave node changes only in this
+    /// agent's calls, and every call (and the simulator's check of whom to serve) reads it.
+    next: Instant,
     reading: R,
     phase: Phase,
     phase_cycles: u16,
@@ -218,10 +221,12 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
     ) -> Result<Self, ParamError> {
         params.validate()?;
         let stored = diversity.pool();
+        let wave = WaveNode::new(params.wave, now, rng);
         Ok(ThreePhaseAgent {
             params,
             diversity,
-            wave: WaveNode::new(params.wave, now, rng),
+            next: wave.poll_timeout(),
+            wave,
             reading: R::default(),
             phase: Phase::Gathering,
             phase_cycles: 0,
@@ -346,6 +351,7 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         if !self.wave.on_receive(now) {
             return false;
         }
+        self.next = self.wave.poll_timeout();
         self.stats.accepted = self.stats.accepted.wrapping_add(1);
         self.push_event(SimEvent::State(WaveState::Active));
         match msg {
@@ -378,10 +384,11 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         // Nothing due (every message heard first calls this) or the end of a refractory time
         // alone (a third of all calls in the 2D simulator): the short ways, inlined, with the
         // same outcome as the loop's ([`WaveNode::rest_if_only_due`]).
-        if self.wave.poll_timeout() > now {
+        if self.next > now {
             return;
         }
         if self.wave.rest_if_only_due(now) {
+            self.next = self.wave.poll_timeout();
             self.push_event(SimEvent::State(WaveState::Inactive));
             return;
         }
@@ -405,6 +412,7 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
                 WaveAction::CycleEnded(_) => self.end_cycle(),
             }
         }
+        self.next = self.wave.poll_timeout();
     }
 
     /// The wave node has relayed: the message to relay goes out.
@@ -420,8 +428,10 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
     }
 
     /// When [`handle_timeout`](Self::handle_timeout) must be called next.
+    #[inline]
     pub fn poll_timeout(&self) -> Instant {
-        self.wave.poll_timeout()
+        debug_assert_eq!(self.next, self.wave.poll_timeout());
+        self.next
     }
 
     /// The next message to broadcast to every neighbour in range.

@@ -34,6 +34,14 @@ engine's sweep does not pool V_k, which only the observer reads; this peer does)
 is vectorised over the agents (one NumPy step per busy second, not a Python loop per agent),
 which is what a plain NumPy port looks like.
 
+Measured again on 2026-11-28 (night, main after issue 38's engine work: relays and rests queued
+apart from the timers, short ways for a lone rest and a first relay, messages scored over the
+slice; the same runs bit for bit): this peer 38.5 and 41.0 ms per run (two runs of 100); the
+engine 0.76 s user for 2000 runs in the real release profile (the sweep command below with
+`--runs 2000`, process start and CSV/SVG included), 0.38 ms per run: about 100 times faster
+(before that work 0.63 ms, 61 times). docs/reproduction.md's Speed line times the same work in
+the run that writes the page.
+
 Setup (numpy was not installed on the machine; installed from PyPI):
 
     pip install numpy          # numpy 2.4.6 with Python 3.11.7

@@ -194,13 +194,7 @@ impl WaveNode {
     /// The next instant at which [`poll`](Self::poll) has something to do.
     #[inline]
     pub fn poll_timeout(&self) -> Instant {
-        let mut t = self.cycle_end;
-        if let Some(i) = self.initiate_at {
-            t = t.min(i);
-        }
-        if let Some(i) = self.extra_at {
-            t = t.min(i);
-        }
+        let t = self.timers_at();
         match self.state {
             WaveState::Active => t.min(self.relay_at),
             WaveState::Refractory => t.min(self.refractory_until),

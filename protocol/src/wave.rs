@@ -227,8 +227,10 @@ impl WaveNode {
     }
 
     /// The earliest of the cycle's end and the pending initiations: the node's timers, which
-    /// change only when one of them is due ([`poll_timeout`](Self::poll_timeout) is the
-    /// earliest of these, [`relay_due`](Self::relay_due) and [`rest_due`](Self::rest_due)).
+    /// change only in a [`poll`](Self::poll) at one of them and through
+    /// [`initiate_extra`](Self::initiate_extra) and [`cancel_extra`](Self::cancel_extra)
+    /// ([`poll_timeout`](Self::poll_timeout) is the earliest of these,
+    /// [`relay_due`](Self::relay_due) and [`rest_due`](Self::rest_due)).
     #[inline]
     pub fn timers_at(&self) -> Instant {
         let mut t = self.cycle_end;

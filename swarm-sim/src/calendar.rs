@@ -158,9 +158,9 @@ impl Fifo {
     }
 }
 
-/// The agents' due seconds: a wheel of one-second slots covering `[now, now + WHEEL)` and a
-/// heap for anything later. Each agent is due at one second at most (the simulator's
-/// `scheduled`): in the wheel it sits in its slot's list, linked through its per-agent `Links`
+/// The agents' timers: a wheel of one-second slots covering `[now, now + WHEEL)` and a heap
+/// for anything later. Each agent is due at one second at most ([`Schedule`]'s `timer_s`, the
+/// `scheduled` of the calls below): in the wheel it sits in its slot's list, linked through its per-agent `Links`
 /// record, so moving it to another second is O(1) and allocates nothing. Heap entries are
 /// checked against `scheduled` when the window reaches them (an agent moved since is skipped).
 pub(crate) struct Calendar {
@@ -291,12 +291,11 @@ impl Calendar {
         }
     }
 
-    /// Appends the agents due at second `t` (the current second) to `out`, unlinked, in the
-    /// order they were queued (mostly by increasing index already).
+    /// Appends the agents due at second `t` (the current second) to `out`, unlinked, the last
+    /// queued first ([`Schedule::take`] sorts them).
     pub(crate) fn take(&mut self, t: u64, out: &mut Vec<u32>) {
         debug_assert_eq!(t, self.now);
         let s = Self::slot(t);
-        let from = out.len();
         let mut i = self.head[s];
         while i != NONE {
             out.push(i);
@@ -306,6 +305,5 @@ impl Calendar {
             i = l.next;
         }
         self.head[s] = NONE;
-        out[from..].reverse();
     }
 }

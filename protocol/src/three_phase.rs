@@ -112,41 +112,89 @@ impl<const N: usize, R: Copy> SimMessage<N, R> {
     }
 }
 
-/// The messages sent and not yet polled, oldest first: a ring of `K` slots written in place
-/// (a message holds up to `N` readings, and moving it whole at every hop was most of the 2D
-/// simulator's time). A send into a full outbox drops the oldest.
+/// An agent's message buffers: the message to relay (while one is pending) and the messages
+/// sent and not yet polled, oldest first, up to [`OUTBOX`]; a send into a full outbox drops the
+/// oldest. A message holds up to `N` readings, and copying it whole at every hop was most of
+/// the 2D simulator's time: a relay turns the relay buffer itself into the message sent (its
+/// index goes into the outbox) and takes a free buffer as the next relay buffer, so a hop
+/// copies a message once, as it is heard. `OUTBOX + 1` buffers: the outbox's and the relay's.
 #[derive(Clone, Debug)]
-struct Outbox<M, const K: usize> {
-    slots: [M; K],
-    head: usize,
-    len: usize,
+struct Buffers<M> {
+    bufs: [M; OUTBOX + 1],
+    /// The relay buffer's index.
+    relay: u8,
+    /// The outbox: buffer indices, a ring of `OUTBOX` from `head`, `len` long.
+    out: [u8; OUTBOX],
+    head: u8,
+    len: u8,
 }
 
-impl<M, const K: usize> Outbox<M, K> {
-    /// The slot of the next message, dropping the oldest if all `K` are taken; `true` with
-    /// it if one was dropped.
-    fn push_slot(&mut self) -> (&mut M, bool) {
-        let dropped = self.len == K;
-        if dropped {
-            self.head = (self.head + 1) % K;
-            self.len -= 1;
+impl<M> Buffers<M> {
+    fn new(mut empty: impl FnMut() -> M) -> Self {
+        Buffers {
+            bufs: core::array::from_fn(|_| empty()),
+            relay: 0,
+            out: [0; OUTBOX],
+            head: 0,
+            len: 0,
         }
-        let i = (self.head + self.len) % K;
-        self.len += 1;
-        (&mut self.slots[i], dropped)
     }
 
-    /// The oldest message, removed (its slot is reused by a later send).
-    fn pop_front(&mut self) -> Option<&M> {
+    /// The outbox's `k`-th oldest buffer index.
+    fn out_at(&self, k: u8) -> u8 {
+        self.out[usize::from(self.head + k) % OUTBOX]
+    }
+
+    /// A buffer that is neither the relay buffer nor in the outbox: there is one unless the
+    /// outbox is full and the relay buffer is not in it.
+    fn free(&self) -> u8 {
+        let mut used = 1u8 << self.relay;
+        for k in 0..self.len {
+            used |= 1 << self.out_at(k);
+        }
+        debug_assert!(used.count_ones() as usize <= OUTBOX, "no free buffer");
+        // The lowest clear bit.
+        (!used).trailing_zeros() as u8
+    }
+
+    /// Drops the oldest message if the outbox is full; `true` if one was.
+    fn make_room(&mut self) -> bool {
+        let full = usize::from(self.len) == OUTBOX;
+        if full {
+            self.head = ((usize::from(self.head) + 1) % OUTBOX) as u8;
+            self.len -= 1;
+        }
+        full
+    }
+
+    /// Puts buffer `b` at the back of the outbox (which has room).
+    fn push(&mut self, b: u8) {
+        let i = (usize::from(self.head) + usize::from(self.len)) % OUTBOX;
+        self.out[i] = b;
+        self.len += 1;
+    }
+
+    /// The oldest message's buffer index, removed from the outbox (the buffer is reused by a
+    /// later send).
+    fn pop_front(&mut self) -> Option<u8> {
         if self.len == 0 {
             return None;
         }
-        let i = self.head;
-        self.head = (self.head + 1) % K;
+        let b = self.out[usize::from(self.head)];
+        self.head = ((usize::from(self.head) + 1) % OUTBOX) as u8;
         self.len -= 1;
-        Some(&self.slots[i])
+        Some(b)
+    }
+
+    fn relay(&mut self) -> &mut M {
+        &mut self.bufs[usize::from(self.relay)]
     }
 }
+
+/// A message an agent sent, as [`ThreePhaseAgent::poll_transmit_sent`] hands it out: read it
+/// with [`ThreePhaseAgent::sent`] until the agent's next call.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Sent(u8);
 
 /// Key of a direction slot: the bearing's bits, so "the same neighbour" is exact equality.
 type BearingKey = u32;
@@ -185,10 +233,9 @@ pub struct ThreePhaseAgent<
     last_diversity: f32,
     preferred: Option<f32>,
     decision: Option<f32>,
-    /// The message to relay, while `pending`; refilled in place, never moved.
-    relay: SimMessage<N, R>,
+    /// The message to relay (while `pending`) and the messages sent, not yet polled.
+    buffers: Buffers<SimMessage<N, R>>,
     pending: bool,
-    outbox: Outbox<SimMessage<N, R>, OUTBOX>,
     events: Deque<SimEvent, EVENT_QUEUE>,
     /// Whether events are queued ([`ThreePhaseAgent::set_events`]).
     events_on: bool,
@@ -237,13 +284,8 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
             last_diversity: 0.0,
             preferred: None,
             decision: None,
-            relay: SimMessage::Opinion(None),
+            buffers: Buffers::new(|| SimMessage::Opinion(None)),
             pending: false,
-            outbox: Outbox {
-                slots: core::array::from_fn(|_| SimMessage::Opinion(None)),
-                head: 0,
-                len: 0,
-            },
             events: Deque::new(),
             events_on: true,
             stats: AgentStats::default(),
@@ -373,7 +415,7 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
             }
             SimMessage::Opinion(_) => {}
         }
-        self.relay.copy_from(msg);
+        self.buffers.relay().copy_from(msg);
         self.pending = true;
         true
     }
@@ -436,19 +478,20 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
 
     /// The next message to broadcast to every neighbour in range.
     pub fn poll_transmit(&mut self) -> Option<SimMessage<N, R>> {
-        self.outbox.pop_front().cloned()
+        self.poll_transmit_sent().map(|b| self.sent(b).clone())
     }
 
-    /// [`poll_transmit`](Self::poll_transmit) into `out`, copied in place
-    /// ([`SimMessage::copy_from`]); `false` (and `out` untouched) if there is nothing to send.
-    pub fn poll_transmit_into(&mut self, out: &mut SimMessage<N, R>) -> bool {
-        match self.outbox.pop_front() {
-            Some(m) => {
-                out.copy_from(m);
-                true
-            }
-            None => false,
-        }
+    /// [`poll_transmit`](Self::poll_transmit) without a copy: the message stays in the agent,
+    /// and [`sent`](Self::sent) reads it until the agent's next call (a later send may reuse
+    /// its buffer).
+    pub fn poll_transmit_sent(&mut self) -> Option<Sent> {
+        self.buffers.pop_front().map(Sent)
+    }
+
+    /// The message `s` that [`poll_transmit_sent`](Self::poll_transmit_sent) returned, as
+    /// long as the agent has not been called since.
+    pub fn sent(&self, s: Sent) -> &SimMessage<N, R> {
+        &self.buffers.bufs[usize::from(s.0) % (OUTBOX + 1)]
     }
 
     /// The next event.
@@ -459,16 +502,22 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
     /// Queues the message to relay (`relay`) or a new one of the phase, with this agent's
     /// own contribution put in.
     fn send(&mut self, relay: bool) {
-        let (m, dropped) = self.outbox.push_slot();
-        if dropped {
+        if self.buffers.make_room() {
             self.stats.lost = self.stats.lost.wrapping_add(1);
         }
-        if relay {
-            m.copy_from(&self.relay);
+        let b = if relay {
+            // The relay buffer is the message sent; a free one is the next relay buffer.
+            let b = self.buffers.relay;
+            self.buffers.push(b);
+            self.buffers.relay = self.buffers.free();
+            b
         } else {
-            m.reset(self.phase);
-        }
-        match m {
+            let b = self.buffers.free();
+            self.buffers.bufs[usize::from(b)].reset(self.phase);
+            self.buffers.push(b);
+            b
+        };
+        match &mut self.buffers.bufs[usize::from(b)] {
             SimMessage::Readings(r) => {
                 push_evicting(r, self.reading);
             }
@@ -621,6 +670,40 @@ mod tests {
         );
         assert_eq!(a.phase(), Phase::Gathering);
         assert_eq!(a.stats().wrong_phase, 1);
+    }
+
+    /// An agent nobody polls keeps its last two messages whole, the relays built in its relay
+    /// buffer included, and counts the one it dropped; polling without a copy reads the same.
+    #[test]
+    fn an_unpolled_agent_keeps_its_last_two_messages_and_counts_the_dropped() {
+        let (mut a, mut rng) = agent();
+        // Only the messages count as lost.
+        a.set_events(false);
+        let init = a.wave().timers_at();
+        assert!(
+            init < a.wave().cycle_end() - Duration::from_secs(100),
+            "{init:?}"
+        );
+        a.handle_reading(7.0);
+        a.handle_timeout(init, &mut rng);
+        for (k, x) in [1.0, 2.0, 3.0].into_iter().enumerate() {
+            let heard = init + Duration::from_secs(20 * (k as u64 + 1));
+            a.handle_reading(10.0 * x);
+            assert!(a.handle_message(heard, 0.0, &readings(&[x]), &mut rng));
+            a.handle_timeout(heard + Duration::from_secs(1), &mut rng);
+        }
+        assert_eq!(a.stats().lost, 2, "the initiation and the first relay");
+        let b = a.poll_transmit_sent().unwrap();
+        assert_eq!(a.sent(b), &readings(&[2.0, 20.0]));
+        assert_eq!(a.poll_transmit(), Some(readings(&[3.0, 30.0])));
+        assert_eq!(a.poll_transmit_sent(), None);
+        // The buffers stay apart: a fourth relay leaves the polled third as it was.
+        a.handle_reading(40.0);
+        let heard = init + Duration::from_secs(80);
+        assert!(a.handle_message(heard, 0.0, &readings(&[4.0]), &mut rng));
+        a.handle_timeout(heard + Duration::from_secs(1), &mut rng);
+        assert_eq!(a.poll_transmit(), Some(readings(&[4.0, 40.0])));
+        assert_eq!(a.stats().lost, 2);
     }
 
     #[test]

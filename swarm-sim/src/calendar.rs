@@ -50,10 +50,21 @@ impl Schedule {
         }
     }
 
-    /// Takes note of what agent `i`, whose wave node is `w`, has due after a call to it: a new
-    /// relay or rest is queued, moved timers are moved in the wheel.
+    /// Takes note of agent `i`'s first timers and whatever it has due as it starts (its wave
+    /// node `w`).
+    pub(crate) fn start(&mut self, i: usize, w: &WaveNode) {
+        self.track(i, w, Instant::MAX);
+    }
+
+    /// Takes note of what agent `i`, whose wave node is `w`, has due after a call to it at
+    /// `now`: a new relay or rest is queued, moved timers are moved in the wheel.
+    ///
+    /// The timers are read only if they were due by `now` (at or before it): they change only
+    /// in a call at one of them (the three-phase agent never asks its node for an extra
+    /// initiation, the one other way, [`WaveNode::timers_at`]), and most calls are a relay, a
+    /// rest or a message heard.
     #[inline]
-    pub(crate) fn track(&mut self, i: usize, w: &WaveNode) {
+    pub(crate) fn track(&mut self, i: usize, w: &WaveNode, now: Instant) {
         let seen = &mut self.seen[i];
         // A relay or a rest is a new one when its instant is: an agent relays (and rests) once
         // per activation, at a later instant each time.
@@ -68,6 +79,14 @@ impl Schedule {
         {
             seen.rest = at;
             self.rests.push(secs(at), i as u32);
+        }
+        if seen.timers > now {
+            debug_assert_eq!(
+                seen.timers,
+                w.timers_at(),
+                "agent {i}'s timers moved unseen"
+            );
+            return;
         }
         let at = w.timers_at();
         if at != seen.timers {

@@ -30,7 +30,7 @@ use crate::calendar::{Schedule, secs};
 use hal_emu::TraceEvent;
 use nalgebra::{Point2, Vector2};
 use protocol::direction::Opposite;
-use protocol::three_phase::{SimEvent, SimMessage, ThreePhaseAgent};
+use protocol::three_phase::{Sent, SimEvent, SimMessage, ThreePhaseAgent};
 use protocol::{Instant, ParamError, Params, Sector, WaveState};
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
@@ -253,10 +253,8 @@ pub struct Sim<'a, R: Reading = f32> {
     proto_rng: Pcg64Mcg,
     noise_rng: Pcg64Mcg,
     due: Vec<u32>,
-    /// This second's transmissions, sender and message: the first `tx_len` entries (the
-    /// others are buffers kept for reuse; messages are copied in place, not moved).
-    tx: Vec<(u32, SimMessage<32, R>)>,
-    tx_len: usize,
+    /// This second's transmissions: the sender and its message (the sender keeps it).
+    tx: Vec<(u32, Sent)>,
     calls: u64,
     /// The fields' means at every agent's position (agent-major, `R::QUANTITIES` per agent):
     /// positions change only when the swarm moves, so the fields are evaluated once per agent
@@ -351,7 +349,6 @@ impl<'a, R: Reading> Sim<'a, R> {
             noise_rng,
             due: Vec::new(),
             tx: Vec::new(),
-            tx_len: 0,
             calls: 0,
             means: Vec::with_capacity(n * R::QUANTITIES),
             trace: None,
@@ -360,7 +357,7 @@ impl<'a, R: Reading> Sim<'a, R> {
         };
         sim.place_means();
         for i in 0..n {
-            sim.reschedule(i);
+            sim.schedule.start(i, sim.agents[i].wave());
         }
         Ok(sim)
     }
@@ -508,10 +505,10 @@ impl<'a, R: Reading> Sim<'a, R> {
         }
     }
 
-    /// Takes note of what agent `i` has due after a call to it.
+    /// Takes note of what agent `i` has due after a call to it at `now`.
     #[inline]
-    fn reschedule(&mut self, i: usize) {
-        self.schedule.track(i, self.agents[i].wave());
+    fn reschedule(&mut self, i: usize, now: Instant) {
+        self.schedule.track(i, self.agents[i].wave(), now);
     }
 
     /// Evaluates the field at every agent's position (after the swarm moved).
@@ -592,16 +589,8 @@ impl<'a, R: Reading> Sim<'a, R> {
             self.agents[i].handle_timeout(now, &mut self.proto_rng);
             self.states[i] = self.agents[i].state();
             self.calls += 1;
-            loop {
-                if self.tx_len == self.tx.len() {
-                    self.tx.push((0, SimMessage::Opinion(None)));
-                }
-                let (sender, m) = &mut self.tx[self.tx_len];
-                if !self.agents[i].poll_transmit_into(m) {
-                    break;
-                }
-                *sender = i as u32;
-                self.tx_len += 1;
+            while let Some(b) = self.agents[i].poll_transmit_sent() {
+                self.tx.push((i as u32, b));
                 if let Some(rec) = self.trace.as_mut() {
                     rec.events.push(TraceEvent::Sent {
                         t_ms: t * 1000,
@@ -612,18 +601,20 @@ impl<'a, R: Reading> Sim<'a, R> {
                 }
             }
             self.drain_events(i, t);
-            self.reschedule(i);
+            self.reschedule(i, now);
         }
         due.clear();
         self.due = due;
     }
 
     /// Delivers what was transmitted at second `t` (`tx`, senders by increasing index) to
-    /// every neighbour within range.
+    /// every neighbour within range. The messages are read where their senders keep them
+    /// ([`ThreePhaseAgent::sent`]): a sender is refractory now, so no delivery calls it.
     fn deliver(&mut self, t: u64, now: Instant) {
-        let tx = std::mem::take(&mut self.tx);
-        for (s, m) in &tx[..self.tx_len] {
-            for l in self.swarm.neighbours(*s as usize) {
+        let mut tx = std::mem::take(&mut self.tx);
+        for &(s, b) in &tx {
+            let s = s as usize;
+            for l in self.swarm.neighbours(s) {
                 let r = l.agent as usize;
                 if self.states[r] != WaveState::Inactive {
                     // An active or refractory agent ignores every message (the wave rule; most
@@ -633,23 +624,28 @@ impl<'a, R: Reading> Sim<'a, R> {
                     debug_assert!(!self.agents[r].clone().handle_message(
                         now,
                         l.bearing,
-                        m,
+                        self.agents[s].sent(b),
                         &mut self.proto_rng.clone()
                     ));
                     continue;
                 }
                 let own = self.sample(r);
-                let accepted =
-                    self.agents[r].handle_message(now, l.bearing, m, &mut self.proto_rng);
-                self.states[r] = self.agents[r].state();
+                // The sender and the receiver: two agents (no agent is its own neighbour).
+                let Ok([from, to]) = self.agents.get_disjoint_mut([s, r]) else {
+                    debug_assert!(false, "agent {s} is its own neighbour");
+                    continue;
+                };
+                let m = from.sent(b);
+                let accepted = to.handle_message(now, l.bearing, m, &mut self.proto_rng);
+                self.states[r] = to.state();
                 self.calls += 1;
-                debug_assert!(self.agents[r].poll_transmit().is_none());
+                debug_assert!(to.poll_transmit().is_none());
                 if !accepted {
                     // Every agent due at `t` was served above, so a refused message changed
                     // nothing but a counter: no event, the same timeout (most deliveries reach
                     // an agent that is already active or refractory).
-                    debug_assert!(self.agents[r].poll_event().is_none());
-                    debug_assert!(secs(self.agents[r].poll_timeout()) > t);
+                    debug_assert!(to.poll_event().is_none());
+                    debug_assert!(secs(to.poll_timeout()) > t);
                     continue;
                 }
                 if let (Some(tap), SimMessage::Readings(rs)) = (self.tap.as_mut(), m) {
@@ -657,11 +653,11 @@ impl<'a, R: Reading> Sim<'a, R> {
                     tap.add(rs.iter().map(R::first).chain(own));
                 }
                 self.drain_events(r, t);
-                self.reschedule(r);
+                self.reschedule(r, now);
             }
         }
+        tx.clear();
         self.tx = tx;
-        self.tx_len = 0;
     }
 
     /// Runs one negotiation period, then moves the swarm along the decided direction.

@@ -29,6 +29,8 @@ pub(crate) struct Schedule {
     rests: Fifo,
     /// The second the wheel returned from the last [`Schedule::next_due`], if it did.
     wheel_due: Option<u64>,
+    /// Whether rests are queued ([`Schedule::serve_rests`]).
+    rests_on: bool,
 }
 
 impl Schedule {
@@ -47,7 +49,14 @@ impl Schedule {
             relays: Fifo::default(),
             rests: Fifo::default(),
             wheel_due: None,
+            rests_on: false,
         }
+    }
+
+    /// Queues the ends of the agents' refractory times too (they are not unless asked): call
+    /// it before any agent is tracked as refractory.
+    pub(crate) fn serve_rests(&mut self) {
+        self.rests_on = true;
     }
 
     /// Takes note of agent `i`'s first timers and whatever it has due as it starts (its wave
@@ -74,7 +83,8 @@ impl Schedule {
             seen.relay = at;
             self.relays.push(secs(at), i as u32);
         }
-        if let Some(at) = w.rest_due()
+        if self.rests_on
+            && let Some(at) = w.rest_due()
             && at != seen.rest
         {
             seen.rest = at;

@@ -383,9 +383,11 @@ mod tests {
             // The paper's 10 % diffusion turns many decisions more than 10° off the axes.
             assert!(off > 20 * 61 / 4, "{}: {off}", f.name());
         }
-        // The mean of a line's preferences (0 or π, 61 of them) is exactly its axis.
+        // The mean of a line's preferences (0 or π, 61 of them) is its axis, up to the f32
+        // rounding of π (8.7e-8 rad): at most 61 of those over a lead of one preference.
         for d in runs(&LINE, 20) {
-            assert!(off_axis(d.preferred_mean().unwrap(), 2) < 1e-6);
+            let off = off_axis(d.preferred_mean().unwrap(), 2);
+            assert!(off < 61.0 * 8.8e-8, "{off}");
         }
         // A cross's mean is not: up and right average to a diagonal in some runs.
         let cross = runs(&CROSS, 40);

@@ -31,7 +31,7 @@ use hal_emu::TraceEvent;
 use nalgebra::{Point2, Vector2};
 use protocol::direction::Opposite;
 use protocol::three_phase::{Sent, SimEvent, SimMessage, ThreePhaseAgent};
-use protocol::{Instant, ParamError, Params, Sector, WaveState};
+use protocol::{Instant, ParamError, Params, Sector, WaveNode, WaveState};
 use rand::SeedableRng;
 use rand_pcg::Pcg64Mcg;
 use serde::{Deserialize, Serialize};
@@ -247,9 +247,12 @@ pub struct Sim<'a, R: Reading = f32> {
     periods: u32,
     /// When each agent has something due.
     schedule: Schedule,
-    /// Per agent, its wave state as of its last call (the state changes only in calls): read
-    /// at every delivery, so kept apart from the agents, which are large.
-    states: Vec<WaveState>,
+    /// Per agent, the first second at which it hears a message, as of its last call: 0 while
+    /// inactive, the end of its refractory time while refractory, `u64::MAX` while active.
+    /// Read at every delivery, so kept apart from the agents, which are large. Rests are not
+    /// served unless the states are kept current ([`Sim::keep_states`]): an agent whose
+    /// refractory time is over rests in its next call.
+    hears: Vec<u64>,
     proto_rng: Pcg64Mcg,
     noise_rng: Pcg64Mcg,
     due: Vec<u32>,
@@ -266,6 +269,15 @@ pub struct Sim<'a, R: Reading = f32> {
     tap: Option<Tap>,
     /// Each agent's reading of the current period ([`Sensor::PerPeriod`]; empty otherwise).
     held: Vec<R>,
+}
+
+/// The first second at which an agent with wave node `w` hears a message ([`Sim`]'s `hears`).
+fn hears_from(w: &WaveNode) -> u64 {
+    match w.state() {
+        WaveState::Inactive => 0,
+        WaveState::Active => u64::MAX,
+        WaveState::Refractory => w.rest_due().map_or(u64::MAX, secs),
+    }
 }
 
 /// What [`Sim::record`] keeps: the events, and each agent's scores per sector before its
@@ -335,7 +347,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             agent.set_events(false);
             agents.push(agent);
         }
-        let states = agents.iter().map(|a| a.state()).collect();
+        let hears = agents.iter().map(|a| hears_from(a.wave())).collect();
         let mut sim = Sim {
             swarm,
             fields,
@@ -344,7 +356,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             centre,
             periods: 0,
             schedule: Schedule::new(n),
-            states,
+            hears,
             proto_rng,
             noise_rng,
             due: Vec::new(),
@@ -387,11 +399,20 @@ impl<'a, R: Reading> Sim<'a, R> {
         &self.cfg
     }
 
+    /// Serves every agent at the end of its refractory time, so that each agent's state
+    /// ([`Sim::agents`]) is current at every second; otherwise an agent whose refractory time
+    /// is over rests in its next call, and the run is the same. Call it before the run starts.
+    pub fn keep_states(&mut self) {
+        self.schedule.serve_rests();
+    }
+
     /// Records the run's events from now on for the replay viewer ([`take_trace`](Self::take_trace)):
     /// wave states, transmissions (each of length 1: a hop takes a second), each
     /// agent's preferred and decided bearing binned into [`TRACE_SECTORS`] sectors, and the
     /// moves. Costs memory; a run without it records nothing.
     pub fn record(&mut self) {
+        // Every state change at its second.
+        self.keep_states();
         let n = self.agents.len();
         for a in &mut self.agents {
             a.set_events(true);
@@ -582,12 +603,15 @@ impl<'a, R: Reading> Sim<'a, R> {
             if !due_now {
                 continue;
             }
-            if self.states[i] != WaveState::Active {
+            // A reading for the agent's own wave: it initiates only at one of its timers, and
+            // only if it is not active (a rest or a relay uses none: the relay carries the
+            // reading drawn as the agent heard the message).
+            if self.hears[i] != u64::MAX && self.agents[i].wave().timers_at() <= now {
                 self.sample(i);
             }
             self.note_scores(i);
             self.agents[i].handle_timeout(now, &mut self.proto_rng);
-            self.states[i] = self.agents[i].state();
+            self.hears[i] = hears_from(self.agents[i].wave());
             self.calls += 1;
             while let Some(b) = self.agents[i].poll_transmit_sent() {
                 self.tx.push((i as u32, b));
@@ -616,7 +640,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             let s = s as usize;
             for l in self.swarm.neighbours(s) {
                 let r = l.agent as usize;
-                if self.states[r] != WaveState::Inactive {
+                if t < self.hears[r] {
                     // An active or refractory agent ignores every message (the wave rule; most
                     // deliveries are such: a wave comes back to the agents it came from). Not
                     // calling it changes nothing but its `ignored`/`wrong_phase` counters,
@@ -637,7 +661,7 @@ impl<'a, R: Reading> Sim<'a, R> {
                 };
                 let m = from.sent(b);
                 let accepted = to.handle_message(now, l.bearing, m, &mut self.proto_rng);
-                self.states[r] = to.state();
+                self.hears[r] = hears_from(to.wave());
                 self.calls += 1;
                 debug_assert!(to.poll_transmit().is_none());
                 if !accepted {
@@ -764,6 +788,39 @@ mod tests {
         assert_eq!(fresh, run(Sensor::default()));
         assert_ne!(fresh, held);
         assert_eq!(held, run(Sensor::PerPeriod));
+    }
+
+    /// Rests left to the agents' next calls give the run that serving every rest at its
+    /// second gives (the state the recorder and the wave figure read), bit for bit.
+    #[test]
+    fn a_run_is_the_same_whether_rests_are_served_or_left_to_the_next_call() {
+        let field = crate::scenario::Scenario::builtin("sharp").unwrap().field;
+        for seed in 0..12u64 {
+            let mut rng = Pcg64Mcg::seed_from_u64(seed);
+            let swarm = Swarm::place(61, Shape::Disk { diameter: 6.0 }, 1.0, &mut rng).unwrap();
+            let sensor = [Sensor::PerActivation, Sensor::PerPeriod][seed as usize % 2];
+            let run = |served: bool| {
+                let cfg = RunConfig { sensor, ..cfg() };
+                let start = Point2::new(-1.0 + 0.2 * seed as f64, 0.5);
+                let mut sim = Sim::new(&swarm, &field, cfg, start, seed).unwrap();
+                if served {
+                    sim.keep_states();
+                }
+                sim.tap();
+                let periods: Vec<Period> = (0..3).map(|_| sim.run_period().unwrap()).collect();
+                let agents: Vec<_> = sim
+                    .agents()
+                    .iter()
+                    .map(|a| (a.decision(), a.preferred(), *a.stats(), a.diversity()))
+                    .collect();
+                let taps = sim.take_tap();
+                (periods, agents, taps)
+            };
+            let (served, lazy) = (run(true), run(false));
+            assert_eq!(served.0, lazy.0, "seed {seed}: periods");
+            assert_eq!(served.1, lazy.1, "seed {seed}: agents");
+            assert_eq!(served.2, lazy.2, "seed {seed}: observer");
+        }
     }
 
     #[test]

@@ -320,6 +320,8 @@ fn transmissions(a: &crate::sim::Agent) -> u32 {
 fn follow(spec: &WaveSpec, swarm: &Swarm, seed: u64) -> Result<Option<Wave>, Error> {
     let field = Field::default();
     let mut sim = Sim::new(swarm, &field, spec.config(), Point2::origin(), seed)?;
+    // The states are read every second.
+    sim.keep_states();
     let n = swarm.len();
     // Before anything happens each agent's next timeout is its first initiation.
     let first: Vec<u64> = sim

@@ -86,19 +86,24 @@ pub fn run_tapped(
     Ok((out, taps))
 }
 
-/// [`run`] of one period without the observer's diversity (0; nothing else changes): for
-/// the direction maps, radial profiles and headings, which read only the move.
-pub(crate) fn run_undiverse(
+/// [`run`] without the observer's diversity (every [`Period::diversity`] is 0; the run is
+/// otherwise the same, draw for draw): for runs read only for where the swarm went.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_moves(
     scn: &Scenario,
     cfg: RunConfig,
     start: Point2<f64>,
+    periods: u32,
     seed: u64,
+    stop_on_success: bool,
 ) -> Result<RunOutput, Error> {
     let observe = Observe {
         no_diversity: true,
         ..Observe::default()
     };
-    Ok(run_inner(scn, cfg, start, 1, seed, false, observe)?.0)
+    Ok(run_inner(scn, cfg, start, periods, seed, stop_on_success, observe)?.0)
 }
 
 /// What a run records besides its periods.
@@ -464,7 +469,7 @@ pub fn direction_map(
         .par_iter()
         .enumerate()
         .map(|(k, &at)| {
-            let out = run_undiverse(scn, cfg, at, derive(seed, &[k as u64]))?;
+            let out = run_moves(scn, cfg, at, 1, derive(seed, &[k as u64]), false)?;
             progress.inc();
             let p = out.periods[0];
             Ok(Arrow {
@@ -518,7 +523,7 @@ pub fn radial_profile(
                 std::f64::consts::TAU * Pcg64Mcg::seed_from_u64(derive(s, &[4])).random::<f64>();
             let d = distances[p];
             let at = centre + nalgebra::Vector2::new(d * phi.cos(), d * phi.sin());
-            let out = run_undiverse(scn, cfg, at, s)?;
+            let out = run_moves(scn, cfg, at, 1, s, false)?;
             progress.inc();
             // Direction to the centre is phi + π.
             Ok(out.periods[0]
@@ -581,6 +586,8 @@ pub fn cycle_load(
             let s = derive(seed, &[u64::from(r)]);
             let swarm = place(scn, scn.agents, s)?;
             let mut sim = AnySim::new(&swarm, scn, cfg, scn.start, s)?;
+            // Only the counters are read.
+            sim.without_diversity();
             let cycle = cfg.params.wave.cycle.as_millis() / 1000;
             sim.run_until(cycle);
             let n = swarm.len() as u64;

@@ -436,6 +436,8 @@ pub fn splits(
             let s = derive(seed, &[p as u64, r as u64]);
             let swarm = crate::experiment::place(scn, sizes[p], s)?;
             let mut sim = crate::sim::Sim::<f32>::new(&swarm, &scn.field, scn.run, start, s)?;
+            // Only the decisions are read.
+            sim.without_diversity();
             sim.run_period()?;
             let (mut left, mut right) = (0, 0);
             for b in sim.agents().iter().filter_map(|a| a.decision()) {

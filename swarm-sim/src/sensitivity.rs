@@ -169,7 +169,8 @@ pub fn heading_against_x(
         .map(|k| {
             let (p, r) = (k / runs as usize, k % runs as usize);
             let s = derive(seed, &[p as u64, r as u64]);
-            let out = crate::experiment::run_undiverse(scn, scn.run, Point2::new(xs[p], 0.0), s)?;
+            let out =
+                crate::experiment::run_moves(scn, scn.run, Point2::new(xs[p], 0.0), 1, s, false)?;
             progress.inc();
             Ok(out.periods[0].direction.map_or(0.0, f64::cos))
         })

@@ -200,6 +200,8 @@ pub fn decide(
                 }
             };
             let mut sim = Sim::new(swarm, field, cfg, Point2::origin(), s)?;
+            // Only the preferences and decisions are read.
+            sim.without_diversity();
             sim.run_until(gather_s);
             let preferred = sim.agents().iter().filter_map(|a| a.preferred()).collect();
             let p = sim.run_period()?;

@@ -78,7 +78,7 @@ pub fn case(
         .map(|r| {
             let start = Point2::new(gradient.start.x, 0.0);
             let s = derive(seed, &[u64::from(r)]);
-            let out = swarm_sim::experiment::run(&scn, scn.run, start, scn.periods, s, true)?;
+            let out = swarm_sim::experiment::run_moves(&scn, scn.run, start, scn.periods, s, true)?;
             p.inc();
             let near = out.periods.iter().find(|q| q.to.x > -NEAR).map(|q| q.index);
             Ok((out.success_at, near))

@@ -393,7 +393,10 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         if !self.wave.on_receive(now) {
             return false;
         }
-        self.next = self.wave.poll_timeout();
+        // Inactive, the node's next timeout was its timers'; now its relay is due too.
+        if let Some(relay) = self.wave.relay_due() {
+            self.next = self.next.min(relay);
+        }
         self.stats.accepted = self.stats.accepted.wrapping_add(1);
         self.push_event(SimEvent::State(WaveState::Active));
         match msg {

@@ -109,6 +109,17 @@ impl Schedule {
         }
     }
 
+    /// [`track`](Self::track) after agent `i` (wave node `w`) heard a message and became
+    /// active: only its relay is new (its timers were not due, or it was served first).
+    #[inline]
+    pub(crate) fn track_heard(&mut self, i: usize, w: &WaveNode) {
+        debug_assert!(self.seen[i].timers == w.timers_at() && w.rest_due().is_none());
+        if let Some(at) = w.relay_due() {
+            self.seen[i].relay = at;
+            self.relays.push(secs(at), i as u32);
+        }
+    }
+
     /// The first second at or before `until` at which anything is due, if any.
     pub(crate) fn next_due(&mut self, until: u64) -> Option<u64> {
         let queued = self.relays.first_second().min(self.rests.first_second());

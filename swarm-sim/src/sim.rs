@@ -247,8 +247,9 @@ pub struct Sim<'a, R: Reading = f32> {
     periods: u32,
     /// When each agent has something due.
     schedule: Schedule,
-    /// Per agent, the first second at which it hears a message, as of its last call: 0 while
-    /// inactive, the end of its refractory time while refractory, `u64::MAX` while active.
+    /// Per agent, the first instant (milliseconds) at which it hears a message, as of its last
+    /// call: 0 while inactive, the end of its refractory time while refractory, `u64::MAX`
+    /// while active.
     /// Read at every delivery, so kept apart from the agents, which are large. Rests are not
     /// served unless the states are kept current ([`Sim::keep_states`]): an agent whose
     /// refractory time is over rests in its next call.
@@ -271,12 +272,15 @@ pub struct Sim<'a, R: Reading = f32> {
     held: Vec<R>,
 }
 
-/// The first second at which an agent with wave node `w` hears a message ([`Sim`]'s `hears`).
+/// The first instant (milliseconds) at which an agent with wave node `w` hears a message
+/// ([`Sim`]'s `hears`): at second `t` it hears if `t`'s instant is not before it (a rest due
+/// during a second is over by its end, as [`secs`] counts).
+#[inline]
 fn hears_from(w: &WaveNode) -> u64 {
     match w.state() {
         WaveState::Inactive => 0,
         WaveState::Active => u64::MAX,
-        WaveState::Refractory => w.rest_due().map_or(u64::MAX, secs),
+        WaveState::Refractory => w.rest_due().map_or(u64::MAX, |at| at.as_millis()),
     }
 }
 
@@ -640,7 +644,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             let s = s as usize;
             for l in self.swarm.neighbours(s) {
                 let r = l.agent as usize;
-                if t < self.hears[r] {
+                if now.as_millis() < self.hears[r] {
                     // An active or refractory agent ignores every message (the wave rule; most
                     // deliveries are such: a wave comes back to the agents it came from). Not
                     // calling it changes nothing but its `ignored`/`wrong_phase` counters,
@@ -677,7 +681,7 @@ impl<'a, R: Reading> Sim<'a, R> {
                     tap.add(rs.iter().map(R::first).chain(own));
                 }
                 self.drain_events(r, t);
-                self.reschedule(r, now);
+                self.schedule.track_heard(r, self.agents[r].wave());
             }
         }
         tx.clear();

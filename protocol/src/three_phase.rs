@@ -448,6 +448,12 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         // is due follows in the loop.
         if self.wave.relay_if_first_due(now) {
             self.relayed();
+            // Most often nothing else is due: the loop's first `poll` would find so.
+            let next = self.wave.poll_timeout();
+            if next > now {
+                self.next = next;
+                return;
+            }
         }
         while let Some(action) = self.wave.poll(now, rng) {
             match action {

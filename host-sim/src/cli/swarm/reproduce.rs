@@ -100,17 +100,65 @@ pub fn reproduce(o: &ReproduceOptions) -> Res {
     Ok(())
 }
 
-/// Every unit of the page ([`reproduce::compute()`], unit by unit in the order of
-/// [`units()`]), then every file of it ([`reproduction::write`]) into `opts.docs`. `log`
-/// receives one line per stage.
+/// Every unit of the page ([`reproduce::compute()`]), then every file of it
+/// ([`reproduction::write`]) into `opts.docs`. `log` receives each unit's lines, unit after
+/// unit in the order of [`units()`].
+///
+/// The units run side by side on the worker threads (each also runs its own runs in
+/// parallel): a thread that has finished its share of one unit's runs takes up another unit
+/// instead of waiting for the last run. Each unit's results depend on the options alone, so
+/// the page is the same; its progress bar counts units, and a unit's log lines come when it
+/// and every unit before it are done.
 ///
 /// # Errors
 /// If a run fails or a file cannot be written.
 fn reproduce_all(opts: &Options, log: &mut dyn FnMut(&str)) -> Result<Summary, experiment::Error> {
+    use rayon::prelude::*;
     let t0 = std::time::Instant::now();
+    let all = units();
+    let runs = reproduce::Options {
+        quiet: true,
+        ..opts.runs()
+    };
+    let progress =
+        swarm_sim::progress::Progress::new(all.len() as u64, "swarm reproduce", opts.quiet);
+    let (tx, rx) = std::sync::mpsc::channel::<(usize, Vec<String>)>();
+    let (runs, progress) = (&runs, &progress);
+    let computed = std::thread::scope(|scope| {
+        // The sender goes with the worker: if a unit fails and the rest are skipped, the
+        // lines below stop when it is done.
+        let worker = scope.spawn(move || {
+            all.par_iter()
+                .enumerate()
+                .map(|(k, &unit)| {
+                    let mut lines = Vec::new();
+                    let r = reproduce::compute(unit, runs, &mut |l| lines.push(l.to_owned()));
+                    progress.inc();
+                    // The receiver is gone only if the command is: nothing left to tell.
+                    let _ = tx.send((k, lines));
+                    r
+                })
+                .collect::<Result<Vec<UnitResult>, _>>()
+        });
+        // Each unit's lines in the units' order, as soon as they can be.
+        let mut waiting = std::collections::BTreeMap::new();
+        let mut next = 0;
+        for (k, lines) in rx.iter() {
+            waiting.insert(k, lines);
+            while let Some(lines) = waiting.remove(&next) {
+                for l in &lines {
+                    log(l);
+                }
+                next += 1;
+            }
+        }
+        worker.join()
+    });
+    progress.finish();
+    let computed = computed.map_err(|_| "a unit of swarm reproduce panicked".to_string())??;
     let mut results = Results::default();
-    for &unit in units() {
-        results.insert(reproduce::compute(unit, &opts.runs(), log)?)?;
+    for r in computed {
+        results.insert(r)?;
     }
     let summary = reproduction::write(&results, opts)?;
     Ok(Summary {

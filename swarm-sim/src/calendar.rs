@@ -110,13 +110,15 @@ impl Schedule {
     }
 
     /// [`track`](Self::track) after agent `i` (wave node `w`) heard a message and became
-    /// active: only its relay is new (its timers were not due, or it was served first).
+    /// active: only its relay is new (its timers were not due, or it was served first), due
+    /// at second `s`.
     #[inline]
-    pub(crate) fn track_heard(&mut self, i: usize, w: &WaveNode) {
+    pub(crate) fn track_heard(&mut self, i: usize, w: &WaveNode, s: u64) {
         debug_assert!(self.seen[i].timers == w.timers_at() && w.rest_due().is_none());
         if let Some(at) = w.relay_due() {
+            debug_assert_eq!(secs(at), s);
             self.seen[i].relay = at;
-            self.relays.push(secs(at), i as u32);
+            self.relays.push(s, i as u32);
         }
     }
 

@@ -257,6 +257,9 @@ pub struct Sim<'a, R: Reading = f32> {
     proto_rng: Pcg64Mcg,
     noise_rng: Pcg64Mcg,
     due: Vec<u32>,
+    /// Seconds from a message heard to its relay (the relay delay, a part of a second
+    /// counting as a second, as [`secs`] counts).
+    relay_secs: u64,
     /// This second's transmissions: the sender and its message (the sender keeps it).
     tx: Vec<(u32, Sent)>,
     calls: u64,
@@ -364,6 +367,7 @@ impl<'a, R: Reading> Sim<'a, R> {
             proto_rng,
             noise_rng,
             due: Vec::new(),
+            relay_secs: cfg.params.wave.relay_delay.as_millis().div_ceil(1000),
             tx: Vec::new(),
             calls: 0,
             means: Vec::with_capacity(n * R::QUANTITIES),
@@ -657,15 +661,22 @@ impl<'a, R: Reading> Sim<'a, R> {
                     ));
                     continue;
                 }
-                let own = self.sample(r);
+                let own = match self.held.get(r) {
+                    Some(&x) => x,
+                    None => self.draw(r),
+                };
                 // The sender and the receiver: two agents (no agent is its own neighbour).
                 let Ok([from, to]) = self.agents.get_disjoint_mut([s, r]) else {
                     debug_assert!(false, "agent {s} is its own neighbour");
                     continue;
                 };
+                to.handle_reading(own);
                 let m = from.sent(b);
                 let accepted = to.handle_message(now, l.bearing, m, &mut self.proto_rng);
-                self.hears[r] = hears_from(to.wave());
+                // It was inactive or at the end of its refractory time (which the call ended):
+                // now active, or inactive if the message was of the other phase.
+                self.hears[r] = if accepted { u64::MAX } else { 0 };
+                debug_assert_eq!(self.hears[r], hears_from(to.wave()));
                 self.calls += 1;
                 debug_assert!(to.poll_transmit().is_none());
                 if !accepted {
@@ -676,12 +687,13 @@ impl<'a, R: Reading> Sim<'a, R> {
                     debug_assert!(secs(to.poll_timeout()) > t);
                     continue;
                 }
+                // Its relay: a relay delay after `now`, a whole second.
+                self.schedule.track_heard(r, to.wave(), t + self.relay_secs);
                 if let (Some(tap), SimMessage::Readings(rs)) = (self.tap.as_mut(), m) {
                     let own = std::iter::once(own.first());
                     tap.add(rs.iter().map(R::first).chain(own));
                 }
                 self.drain_events(r, t);
-                self.schedule.track_heard(r, self.agents[r].wave());
             }
         }
         tx.clear();

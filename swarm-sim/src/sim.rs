@@ -534,12 +534,6 @@ impl<'a, R: Reading> Sim<'a, R> {
         }
     }
 
-    /// Takes note of what agent `i` has due after a call to it at `now`.
-    #[inline]
-    fn reschedule(&mut self, i: usize, now: Instant) {
-        self.schedule.track(i, self.agents[i].wave(), now);
-    }
-
     /// Evaluates the field at every agent's position (after the swarm moved).
     fn place_means(&mut self) {
         let (swarm, centre) = (self.swarm, self.centre);
@@ -560,15 +554,14 @@ impl<'a, R: Reading> Sim<'a, R> {
         )
     }
 
-    /// Agent `i`'s reading as it becomes active (fresh, or the period's under
-    /// [`Sensor::PerPeriod`]), handed to it; it is also returned.
-    fn sample(&mut self, i: usize) -> R {
-        let r = match self.held.get(i) {
+    /// Agent `i`'s reading as it becomes active or may initiate: fresh, or the period's under
+    /// [`Sensor::PerPeriod`].
+    #[inline]
+    fn reading(&mut self, i: usize) -> R {
+        match self.held.get(i) {
             Some(&r) => r,
             None => self.draw(i),
-        };
-        self.agents[i].handle_reading(r);
-        r
+        }
     }
 
     /// Under [`Sensor::PerPeriod`], every agent's reading for the period about to start.
@@ -606,7 +599,10 @@ impl<'a, R: Reading> Sim<'a, R> {
             let i = i as usize;
             // Nothing is ever overdue, and an agent with nothing due now (`> now`: its second
             // is not `t`) would be a stale entry: there are none.
-            let due_now = self.agents[i].poll_timeout() <= now;
+            let Some(a) = self.agents.get(i) else {
+                continue;
+            };
+            let due_now = a.poll_timeout() <= now;
             debug_assert!(due_now, "agent {i} queued at {t} with nothing due");
             if !due_now {
                 continue;
@@ -614,14 +610,17 @@ impl<'a, R: Reading> Sim<'a, R> {
             // A reading for the agent's own wave: it initiates only at one of its timers, and
             // only if it is not active (a rest or a relay uses none: the relay carries the
             // reading drawn as the agent heard the message).
-            if self.hears[i] != u64::MAX && self.agents[i].wave().timers_at() <= now {
-                self.sample(i);
-            }
+            let own =
+                (self.hears[i] != u64::MAX && a.wave().timers_at() <= now).then(|| self.reading(i));
             self.note_scores(i);
-            self.agents[i].handle_timeout(now, &mut self.proto_rng);
-            self.hears[i] = hears_from(self.agents[i].wave());
+            let a = &mut self.agents[i];
+            if let Some(x) = own {
+                a.handle_reading(x);
+            }
+            a.handle_timeout(now, &mut self.proto_rng);
+            self.hears[i] = hears_from(a.wave());
             self.calls += 1;
-            while let Some(b) = self.agents[i].poll_transmit_sent() {
+            while let Some(b) = a.poll_transmit_sent() {
                 self.tx.push((i as u32, b));
                 if let Some(rec) = self.trace.as_mut() {
                     rec.events.push(TraceEvent::Sent {
@@ -632,8 +631,8 @@ impl<'a, R: Reading> Sim<'a, R> {
                     });
                 }
             }
+            self.schedule.track(i, a.wave(), now);
             self.drain_events(i, t);
-            self.reschedule(i, now);
         }
         due.clear();
         self.due = due;
@@ -661,10 +660,7 @@ impl<'a, R: Reading> Sim<'a, R> {
                     ));
                     continue;
                 }
-                let own = match self.held.get(r) {
-                    Some(&x) => x,
-                    None => self.draw(r),
-                };
+                let own = self.reading(r);
                 // The sender and the receiver: two agents (no agent is its own neighbour).
                 let Ok([from, to]) = self.agents.get_disjoint_mut([s, r]) else {
                     debug_assert!(false, "agent {s} is its own neighbour");

@@ -510,6 +510,7 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
 
     /// Queues the message to relay (`relay`) or a new one of the phase, with this agent's
     /// own contribution put in.
+    #[inline]
     fn send(&mut self, relay: bool) {
         if self.buffers.make_room() {
             self.stats.lost = self.stats.lost.wrapping_add(1);
@@ -528,7 +529,10 @@ impl<D: Diversity<R>, const N: usize, const S: usize, R: Copy + Default>
         };
         match &mut self.buffers.bufs[usize::from(b)] {
             SimMessage::Readings(r) => {
-                push_evicting(r, self.reading);
+                // Room left (almost always): a plain push.
+                if let Err(x) = r.push(self.reading) {
+                    push_evicting(r, x);
+                }
             }
             SimMessage::Opinion(o) => *o = self.preferred,
         }

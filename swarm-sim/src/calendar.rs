@@ -1,6 +1,6 @@
 //! The simulator's calendar of the agents' due seconds ([`Schedule`]), the engine's
 //! (`crate::sim`) event queue: the agents' timers in a timing wheel ([`Calendar`]), their
-//! relays and rests in two queues.
+//! relays, and their rests when they are served ([`Schedule::serve_rests`]), in two queues.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -14,7 +14,8 @@ pub(crate) fn secs(t: Instant) -> u64 {
 }
 
 /// Every second at which an agent has something due: its relay (while active), the end of its
-/// refractory time (while refractory) and its timers (the cycle's end, its initiation). The
+/// refractory time (while refractory, if rests are served) and its timers (the cycle's end, its
+/// initiation). The
 /// timers sit in a [`Calendar`]; relays and rests, which come a fixed delay after the call that
 /// made the agent active or refractory and are never cancelled, are queued in the order they
 /// arose, which is the order of their seconds: most calls then touch no wheel slot at all (a

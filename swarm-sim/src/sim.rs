@@ -4,8 +4,11 @@
 //! There is no second implementation of CIMAX here: this module only delivers messages, feeds
 //! readings and moves the swarm. Per simulated second `t` at which anything happens:
 //!
-//! 1. every agent whose [`ThreePhaseAgent::poll_timeout`] is due at `t` is served, by increasing
-//!    index ([`ThreePhaseAgent::handle_timeout`]); what it transmits is collected;
+//! 1. every agent with a relay or a timer (its cycle's end, its initiation) due at `t` is served,
+//!    by increasing index ([`ThreePhaseAgent::handle_timeout`]); what it transmits is collected.
+//!    The end of a refractory time alone is left to the agent's next call (the call ends it
+//!    first, with the same outcome), unless the states are kept current for the recorder and
+//!    the wave figure ([`Sim::keep_states`]);
 //! 2. each transmission (senders by increasing index) is delivered at `t` to every neighbour
 //!    within the perception range, with the bearing `atan2(sender − receiver)`
 //!    ([`ThreePhaseAgent::handle_message`]). An agent activated at `t` relays at `t + 1`, so a
@@ -16,11 +19,11 @@
 //!    exactly, the swarm stays put) and the swarm moves `step` along it.
 //!
 //! Time jumps from one due second to the next (the agents' timers in a timing wheel, one
-//! bucket per second over the next 4096 seconds and a heap beyond; their relays and rests in
-//! two queues), so the idle part of a long cycle costs little.
+//! bucket per second over the next 4096 seconds and a heap beyond; their relays, and their rests
+//! when served, in two queues), so the idle part of a long cycle costs little.
 //!
-//! **Readings.** An agent samples X once per activation: when it may initiate (served at a
-//! timeout while not active) and when a message reaches it while it is inactive. The sample is
+//! **Readings.** An agent samples X once per activation: when it may initiate (served at one of
+//! its timers while not active) and when a message reaches it while it is inactive. The sample is
 //! `field(position) + ξ`, with ξ uniform in `(−noise/2, noise/2)` drawn fresh from the run's noise
 //! generator. The same sample is scored on reception and appended when relaying.
 

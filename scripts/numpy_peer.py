@@ -39,8 +39,15 @@ apart from the timers, short ways for a lone rest and a first relay, messages sc
 slice; the same runs bit for bit): this peer 38.5 and 41.0 ms per run (two runs of 100); the
 engine 0.76 s user for 2000 runs in the real release profile (the sweep command below with
 `--runs 2000`, process start and CSV/SVG included), 0.38 ms per run: about 100 times faster
-(before that work 0.63 ms, 61 times). docs/reproduction.md's Speed line times the same work in
-the run that writes the page.
+(before that work 0.63 ms, 61 times).
+
+Measured again on 2026-11-29 (main after the second round: messages read where their senders
+keep them, rests left to the agent's next call, one reading drawn per activation or initiation
+(a new noise stream, so not the same runs as before), a heard message handled in one pass):
+this peer 38.5 ms per run (100 runs); the engine 0.57 s user for the same 2000 runs, 0.29 ms
+per run: about 135 times faster, not the 300 times aimed at. docs/reproduction.md's Speed line
+times the same work (the observer's V_k pooled, as this peer does) in the run that writes the
+page.
 
 Setup (numpy was not installed on the machine; installed from PyPI):
 

@@ -295,6 +295,9 @@ impl Outcome {
 #[derive(Clone, Debug, Default)]
 pub struct Results {
     by_unit: BTreeMap<Unit, UnitResult>,
+    /// The page's wall time when its units ran side by side in one command
+    /// ([`Results::set_wall_s`]); otherwise the units' added up.
+    wall_s: Option<f64>,
 }
 
 /// Typed access to one kind of result: `$name(unit)` is the result of `unit` if it is a
@@ -341,9 +344,17 @@ impl Results {
         self.by_unit.values()
     }
 
-    /// The sum of the units' wall times, seconds: the page's "whole page in … s".
+    /// The page's "whole page in … s": the time set by [`Results::set_wall_s`], or else the
+    /// sum of the units' wall times (a merge of shards, each run one unit after another).
     pub fn wall_s(&self) -> f64 {
-        self.by_unit.values().map(|r| r.wall_s).sum()
+        self.wall_s
+            .unwrap_or_else(|| self.by_unit.values().map(|r| r.wall_s).sum())
+    }
+
+    /// Sets the page's wall time: the units ran side by side, so their own times overlap and
+    /// their sum is not the page's.
+    pub fn set_wall_s(&mut self, s: f64) {
+        self.wall_s = Some(s);
     }
 
     /// The most threads any unit ran on.

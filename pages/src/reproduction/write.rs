@@ -32,7 +32,7 @@ pub const MODEL: &str = "reproduction-page.json";
 /// Writes every file of `swarm reproduce` into `opts.docs` (`reproduction.md`) and its
 /// `figures/` from `results`, which must hold every unit's; `opts.seed` and
 /// `opts.placement` must be those the results were computed with (the page names them).
-/// The page's wall time is the sum of the units' ([`Results::wall_s`]), its threads the most
+/// The page's wall time is [`Results::wall_s`] (its units' added up unless set), its threads the most
 /// any unit ran on.
 ///
 /// # Errors

@@ -3,13 +3,14 @@
 //! merge of its shards.
 //!
 //! The job ([`ReproduceJob`]: the seed and the placement) has one unit per entry of
-//! [`reproduce::units()`], unit `k` the `k`-th. Unsharded, the command computes them all
-//! ([`reproduce::compute()`], the crate that runs) and writes with [`reproduction::write`] (the
-//! crate that writes); `--shard I/N` computes its share, one unit after
-//! another (each is a stage that runs its own runs in parallel and times itself), into a part;
-//! `cimax merge` rebuilds the [`Results`] from the parts and writes them with the same
-//! [`reproduction::write`], so the files are the same bytes (the page's timing lines too: the
-//! units' wall times are part of their results).
+//! [`reproduce::units()`], unit `k` the `k`-th. Unsharded, the command computes them all side
+//! by side on the worker threads ([`reproduce::compute()`], the crate that runs) and writes
+//! with [`reproduction::write`] (the crate that writes), the page's time being the computing's;
+//! `--shard I/N` computes its share, one unit after another (each is a stage that runs its own
+//! runs in parallel and times itself), into a part; `cimax merge` rebuilds the [`Results`] from
+//! the parts and writes them with the same [`reproduction::write`], so the files are the same
+//! bytes but for the page's timing lines (a merge's time is the units' wall times added up:
+//! they are part of their results).
 
 use crate::cli::out::{Exit, StdoutError, outln};
 use std::path::{Path, PathBuf};

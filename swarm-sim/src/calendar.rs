@@ -15,11 +15,10 @@ pub(crate) fn secs(t: Instant) -> u64 {
 
 /// Every second at which an agent has something due: its relay (while active), the end of its
 /// refractory time (while refractory, if rests are served) and its timers (the cycle's end, its
-/// initiation). The
-/// timers sit in a [`Calendar`]; relays and rests, which come a fixed delay after the call that
-/// made the agent active or refractory and are never cancelled, are queued in the order they
-/// arose, which is the order of their seconds: most calls then touch no wheel slot at all (a
-/// relay or a rest leaves the timers as they were).
+/// initiation). The timers sit in a [`Calendar`]; relays and rests, which come a fixed delay
+/// after the call that made the agent active or refractory and are never cancelled, are queued
+/// in the order they arose, which is the order of their seconds: most calls then touch no wheel
+/// slot at all (a relay or a rest leaves the timers as they were).
 pub(crate) struct Schedule {
     timers: Calendar,
     /// Per agent, the second of its timers' entry in `timers`.

@@ -129,8 +129,8 @@ impl Schedule {
         self.wheel_due.or((queued <= until).then_some(queued))
     }
 
-    /// Appends the agents with something due at second `t` (the one [`next_due`]
-    /// (Self::next_due) returned) to `out` (empty), by increasing index, each once.
+    /// Appends the agents with something due at second `t` (the one
+    /// [`next_due`](Self::next_due) returned) to `out` (empty), by increasing index, each once.
     pub(crate) fn take(&mut self, t: u64, out: &mut Vec<u32>) {
         debug_assert!(out.is_empty());
         if self.wheel_due == Some(t) {

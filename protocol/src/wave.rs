@@ -75,9 +75,12 @@ pub struct WaveNode {
     relay_at: Instant,
     refractory_until: Instant,
     cycle_end: Instant,
-    initiate_at: Option<Instant>,
-    /// An extra initiation asked for by the variant ([`WaveNode::initiate_extra`]).
-    extra_at: Option<Instant>,
+    /// The cycle's initiation, while pending ([`Instant::MAX`]: none; "never" is never due,
+    /// so a plain instant: [`WaveNode::timers_at`], read at every call, is two `min`s).
+    initiate_at: Instant,
+    /// An extra initiation asked for by the variant ([`WaveNode::initiate_extra`];
+    /// [`Instant::MAX`]: none).
+    extra_at: Instant,
     /// Cycle initiations skipped while busy and not yet made up by an extra initiation.
     owed: u32,
     /// Whether the last initiation that went out was an extra one.
@@ -96,8 +99,8 @@ impl WaveNode {
             relay_at: Instant::MAX,
             refractory_until: Instant::MAX,
             cycle_end: now,
-            initiate_at: None,
-            extra_at: None,
+            initiate_at: Instant::MAX,
+            extra_at: Instant::MAX,
             owed: 0,
             last_extra: false,
             cycles: 0,
@@ -143,7 +146,7 @@ impl WaveNode {
         if at == Instant::MAX {
             return false;
         }
-        self.extra_at = Some(at);
+        self.extra_at = at;
         true
     }
 
@@ -178,17 +181,17 @@ impl WaveNode {
 
     /// When the pending extra initiation is due, if one is.
     pub fn extra_at(&self) -> Option<Instant> {
-        self.extra_at
+        (self.extra_at != Instant::MAX).then_some(self.extra_at)
     }
 
     /// True while an extra initiation is pending.
     pub fn extra_pending(&self) -> bool {
-        self.extra_at.is_some()
+        self.extra_at != Instant::MAX
     }
 
     /// Forgets a pending extra initiation.
     pub fn cancel_extra(&mut self) {
-        self.extra_at = None;
+        self.extra_at = Instant::MAX;
     }
 
     /// The next instant at which [`poll`](Self::poll) has something to do.
@@ -233,14 +236,7 @@ impl WaveNode {
     /// [`relay_due`](Self::relay_due) and [`rest_due`](Self::rest_due)).
     #[inline]
     pub fn timers_at(&self) -> Instant {
-        let mut t = self.cycle_end;
-        if let Some(i) = self.initiate_at {
-            t = t.min(i);
-        }
-        if let Some(i) = self.extra_at {
-            t = t.min(i);
-        }
-        t
+        self.cycle_end.min(self.initiate_at).min(self.extra_at)
     }
 
     /// If the relay is the first transition due at `now` (the node is active, its relay is
@@ -325,9 +321,9 @@ impl WaveNode {
             1,
             (self.state == WaveState::Active).then_some(self.relay_at),
         );
-        consider(2, self.initiate_at);
+        consider(2, Some(self.initiate_at));
         consider(3, Some(self.cycle_end));
-        consider(4, self.extra_at);
+        consider(4, Some(self.extra_at));
         let (which, at) = best?;
         Some(match which {
             0 => {
@@ -341,9 +337,9 @@ impl WaveNode {
             }
             2 | 4 => {
                 if which == 2 {
-                    self.initiate_at = None;
+                    self.initiate_at = Instant::MAX;
                 } else {
-                    self.extra_at = None;
+                    self.extra_at = Instant::MAX;
                 }
                 if self.state != WaveState::Inactive {
                     self.stats.skipped_initiations = self.stats.skipped_initiations.wrapping_add(1);
@@ -388,12 +384,12 @@ impl WaveNode {
         .max(1);
         let len = Duration::from_millis(len_ticks.saturating_mul(tick));
         self.cycle_end = start + len;
-        self.initiate_at = Some(match p.initiation {
+        self.initiate_at = match p.initiation {
             InitiationPoint::EndOfCycle => self.cycle_end,
             InitiationPoint::Uniform => {
                 start + Duration::from_millis(rng.random_range(1..=len_ticks).saturating_mul(tick))
             }
-        });
+        };
     }
 }
 
@@ -558,7 +554,7 @@ mod tests {
         let mut rng = Pcg32::new(5, 5);
         let p = Params::robots().wave;
         let mut n = WaveNode::new(p, Instant::ZERO, &mut rng);
-        let init = n.initiate_at.unwrap();
+        let init = n.initiate_at;
         // Heard a message 2 s before its initiation: relays 1 s before, refractory across it.
         assert!(n.on_receive(init - Duration::from_secs(2)));
         let acts = drain(&mut n, init, &mut rng);

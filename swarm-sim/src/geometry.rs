@@ -207,6 +207,7 @@ impl Swarm {
 
     /// The agents that hear agent `i`, by increasing index, each with the bearing at which it
     /// hears `i`. (Neighbourhood is symmetric: these are also the agents `i` hears.)
+    #[inline]
     pub fn neighbours(&self, i: usize) -> &[Link] {
         &self.links[self.start[i] as usize..self.start[i + 1] as usize]
     }

@@ -46,16 +46,19 @@ use crate::stats::Resultant;
 use crate::tap::Tap;
 use hal_emu::world::field::Field;
 
+/// The most readings a message carries (a full message drops its oldest).
+pub const MESSAGE_READINGS: usize = 32;
+
 /// The agent the simulator steps: the run's [`Measure`] as the diversity (the variance unless
-/// the scenario says otherwise), up to 32 readings per message, up to 16 distinct bearings per
-/// period, one quantity per reading.
+/// the scenario says otherwise), up to [`MESSAGE_READINGS`] readings per message, up to 16
+/// distinct bearings per period, one quantity per reading.
 pub type Agent = AgentOf<f32>;
 
 /// The agent of a run whose readings are `R` (one quantity or several).
-pub type AgentOf<R> = ThreePhaseAgent<<R as Reading>::Measure, 32, 16, R>;
+pub type AgentOf<R> = ThreePhaseAgent<<R as Reading>::Measure, MESSAGE_READINGS, 16, R>;
 
 /// A message between agents.
-pub type Message = SimMessage<32>;
+pub type Message = SimMessage<MESSAGE_READINGS>;
 
 /// What a run needs besides the geometry and the field.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -17,6 +17,7 @@ use reproduce::units::Unit;
 use swarm_sim::experiment::{Error, SweepPoint};
 use swarm_sim::measure::Measure;
 use swarm_sim::scenario::Scenario;
+use swarm_sim::sim::MESSAGE_READINGS;
 
 /// The section as its template (`reproduction/beyond.md.j2`) sees it.
 #[derive(Default, Serialize)]
@@ -45,7 +46,9 @@ pub(super) struct BeyondSection {
     entropy_far: String,
     variance_line: String,
     variance_far: String,
-    /// log2 of a message's most readings with the scorer's own (33): the entropy's ceiling.
+    /// A message's most readings ([`MESSAGE_READINGS`]).
+    message_readings: usize,
+    /// log2 of a message's most readings with the scorer's own: the entropy's ceiling.
     ceiling: String,
     /// The entropy at the last point is within 10 % of its value at the success line.
     entropy_flat: bool,
@@ -145,9 +148,9 @@ fn success_section(
 /// Two success rates closer than this are the same, within what the runs can tell.
 const SAME_WITHIN: f64 = 0.15;
 
-/// log2 of a message's most readings with the scorer's own (33): the entropy's ceiling.
+/// log2 of a message's most readings with the scorer's own: the entropy's ceiling.
 fn ceiling() -> f64 {
-    33f64.log2()
+    ((MESSAGE_READINGS + 1) as f64).log2()
 }
 
 /// `beyond-diversity.svg`.
@@ -216,6 +219,7 @@ fn along_fill(this: &Along, s: &mut BeyondSection) {
     s.entropy_far = fixed(e_far, 2);
     s.variance_line = fixed(v_line, 1);
     s.variance_far = fixed(v_far, 1);
+    s.message_readings = MESSAGE_READINGS;
     s.ceiling = fixed(ceiling(), 2);
     s.entropy_flat = (e_far / e_line - 1.0).abs() <= 0.1;
     s.variance_grows = v_far > 1.1 * v_line;

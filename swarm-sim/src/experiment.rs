@@ -11,6 +11,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::geometry::Swarm;
+use crate::lean::LeanSim;
 use crate::progress::Progress;
 use crate::scenario::{GridSpec, Scenario, Success};
 use crate::seeds::derive;
@@ -177,12 +178,23 @@ fn run_inner(
     let mut taps = Vec::new();
     let events;
     {
-        let mut sim = AnySim::new(&out.swarm, scn, cfg, start, seed)?;
-        if observe.trace {
-            sim.record();
-        }
-        if observe.tap {
-            sim.tap();
+        // A plain run (nothing recorded or tapped) on the lean engine if it covers it: the
+        // same run bit for bit ([`crate::lean`]).
+        let lean = match (&scn.field2, observe.trace || observe.tap) {
+            (None, false) => LeanSim::new(&out.swarm, &scn.field, cfg, start, seed)?,
+            _ => None,
+        };
+        let mut sim = match lean {
+            Some(l) => Engine::Lean(Box::new(l)),
+            None => Engine::Agents(Box::new(AnySim::new(&out.swarm, scn, cfg, start, seed)?)),
+        };
+        if let Some(s) = sim.agents() {
+            if observe.trace {
+                s.record();
+            }
+            if observe.tap {
+                s.tap();
+            }
         }
         if observe.no_diversity {
             sim.without_diversity();
@@ -190,8 +202,8 @@ fn run_inner(
         for _ in 0..periods {
             let p = sim.run_period()?;
             periods_out.push(p);
-            if observe.tap {
-                taps.push(sim.take_tap());
+            if let (true, Some(s)) = (observe.tap, sim.agents()) {
+                taps.push(s.take_tap());
             }
             if out.success_at.is_none() && met(p.to) {
                 out.success_at = Some(p.index);
@@ -211,10 +223,41 @@ fn run_inner(
                 }
             }
         }
-        events = sim.take_trace();
+        events = sim.agents().map(AnySim::take_trace).unwrap_or_default();
     }
     out.periods = periods_out;
     Ok((out, events, taps))
+}
+
+/// The engine of a run: the agents', or the lean one for a plain run.
+enum Engine<'a> {
+    /// Both boxed (one allocation per run): they differ in size.
+    Agents(Box<AnySim<'a>>),
+    Lean(Box<LeanSim<'a>>),
+}
+
+impl<'a> Engine<'a> {
+    fn run_period(&mut self) -> Result<Period, SimError> {
+        match self {
+            Engine::Agents(s) => s.run_period(),
+            Engine::Lean(s) => s.run_period(),
+        }
+    }
+
+    fn without_diversity(&mut self) {
+        match self {
+            Engine::Agents(s) => s.without_diversity(),
+            Engine::Lean(s) => s.without_diversity(),
+        }
+    }
+
+    /// The agents' engine, which records and taps (the lean one is never asked to).
+    fn agents(&mut self) -> Option<&mut AnySim<'a>> {
+        match self {
+            Engine::Agents(s) => Some(&mut **s),
+            Engine::Lean(_) => None,
+        }
+    }
 }
 
 /// The simulation of a scenario: one quantity (the paper), or two when it has a `[[field2]]`.

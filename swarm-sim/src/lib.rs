@@ -18,6 +18,7 @@ mod calendar;
 pub mod experiment;
 pub mod geometry;
 pub mod json;
+pub mod lean;
 pub mod measure;
 pub mod probe;
 pub mod progress;

@@ -49,6 +49,12 @@ per run: about 135 times faster, not the 300 times aimed at. docs/reproduction.m
 times the same work (the observer's V_k pooled, as this peer does) in the run that writes the
 page.
 
+Measured again on 2026-11-29 (later; main with the lean engine, `swarm_sim::lean`: the plain
+runs' three-phase rules written out over plain per-agent records, the same runs bit for bit):
+this peer 38.6 ms per run (100 runs); the engine 0.38 s user for the same 2000 runs (best of
+5; 0.38-0.40 s), 0.19 ms per run: about 200 times faster, still not the 300 times aimed at
+(the page's Speed line, the observer's V_k pooled: 0.21 ms, 190 times).
+
 Setup (numpy was not installed on the machine; installed from PyPI):
 
     pip install numpy          # numpy 2.4.6 with Python 3.11.7

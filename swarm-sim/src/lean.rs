@@ -86,6 +86,34 @@ struct Agent {
 }
 
 impl Agent {
+    /// An agent starting its first cycle (gathering) at 0, inactive: `WaveNode::new` and
+    /// `ThreePhaseAgent::with_diversity`, with the same draws.
+    fn new(params: &Params, rng: &mut Pcg64Mcg) -> Agent {
+        let mut a = Agent {
+            state: INACTIVE,
+            gathering: true,
+            pending: false,
+            msg_readings: false,
+            msg_len: 0,
+            phase_cycles: 0,
+            relay_at: NEVER,
+            rest_at: NEVER,
+            cycle_end: 0,
+            init_at: NEVER,
+            next: 0,
+            reading: 0.0,
+            preferred: None,
+            decision: None,
+            last_diversity: 0.0,
+            weights: DirectionWeights::default(),
+            stored: Variance.pool(),
+            msg: [0.0; MESSAGE_READINGS],
+        };
+        start_cycle(params, &mut a, 0, rng);
+        a.next = a.poll_timeout();
+        a
+    }
+
     #[inline]
     fn timers_at(&self) -> u64 {
         self.cycle_end.min(self.init_at)
@@ -180,33 +208,9 @@ impl<'a> LeanSim<'a> {
         let mut proto_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[1]));
         let noise_rng = Pcg64Mcg::seed_from_u64(crate::seeds::derive(seed, &[2]));
         let n = swarm.len();
-        let blank = Agent {
-            state: INACTIVE,
-            gathering: true,
-            pending: false,
-            msg_readings: false,
-            msg_len: 0,
-            phase_cycles: 0,
-            relay_at: NEVER,
-            rest_at: NEVER,
-            cycle_end: 0,
-            init_at: NEVER,
-            next: 0,
-            reading: 0.0,
-            preferred: None,
-            decision: None,
-            last_diversity: 0.0,
-            weights: DirectionWeights::default(),
-            stored: Variance.pool(),
-            msg: [0.0; MESSAGE_READINGS],
-        };
-        let mut agents = Vec::with_capacity(n);
-        for _ in 0..n {
-            let mut a = blank.clone();
-            start_cycle(&params, &mut a, 0, &mut proto_rng);
-            a.next = a.poll_timeout();
-            agents.push(a);
-        }
+        let agents: Vec<Agent> = (0..n)
+            .map(|_| Agent::new(&params, &mut proto_rng))
+            .collect();
         let mut keys = Vec::new();
         let mut key_start = Vec::with_capacity(n + 1);
         for i in 0..n {

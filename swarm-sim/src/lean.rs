@@ -23,7 +23,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use nalgebra::{Point2, Vector2};
+use nalgebra::Point2;
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64Mcg;
 
@@ -36,8 +36,7 @@ use protocol::weights::DirectionWeights;
 use crate::geometry::Swarm;
 use crate::measure::Measure;
 use crate::reading::Reading;
-use crate::sim::{MESSAGE_READINGS, Period, RunConfig, Sensor, SimError};
-use crate::stats::Resultant;
+use crate::sim::{MESSAGE_READINGS, Period, RunConfig, Sensor, SimError, next_period};
 
 /// "Never" (and "none" for a pending initiation).
 const NEVER: u64 = u64::MAX;
@@ -279,39 +278,21 @@ impl<'a> LeanSim<'a> {
     /// # Errors
     /// As [`Sim::run_period`](crate::sim::Sim::run_period).
     pub fn run_period(&mut self) -> Result<Period, SimError> {
-        let index = self
-            .periods
-            .checked_add(1)
-            .ok_or(SimError::TooManyPeriods)?;
-        let end = self
-            .cfg
-            .checked_period_secs()
-            .and_then(|p| p.checked_mul(u64::from(index)))
-            .ok_or(SimError::TooManyPeriods)?;
+        let (index, end) = next_period(&self.cfg, self.periods)?;
         self.advance_to(end);
         self.periods = index;
-        let diversity: f64 = self
-            .agents
-            .iter()
-            .fold(0.0, |d, a| d + f64::from(a.last_diversity));
-        let resultant = Resultant::of(self.agents.iter().filter_map(|a| a.decision).map(f64::from));
-        let n = self.agents.len().max(1) as f64;
-        let from = self.centre;
-        let direction = resultant.direction();
-        if let Some(d) = direction {
-            self.centre += self.cfg.step * Vector2::new(d.cos(), d.sin());
+        let p = Period::ending(
+            index,
+            end,
+            self.centre,
+            self.cfg.step,
+            self.agents.iter().map(|a| (a.decision, a.last_diversity)),
+        );
+        if p.direction.is_some() {
+            self.centre = p.to;
             self.place_means();
         }
-        Ok(Period {
-            index: self.periods,
-            end_s: end,
-            from,
-            to: self.centre,
-            direction,
-            consensus: resultant.length(),
-            decided: resultant.n,
-            diversity: diversity / n,
-        })
+        Ok(p)
     }
 
     fn advance_to(&mut self, until: u64) {
@@ -681,6 +662,7 @@ mod tests {
     use super::*;
     use crate::geometry::Shape;
     use crate::sim::Sim;
+    use nalgebra::Vector2;
     use protocol::direction::Opposite;
     use protocol::params::InitiationPoint;
     use protocol::time::Duration;

@@ -242,6 +242,48 @@ pub struct Period {
     pub diversity: f64,
 }
 
+/// The index and the end (second) of the period after `periods` periods of `cfg`.
+///
+/// # Errors
+/// [`SimError::TooManyPeriods`] if either does not fit.
+pub(crate) fn next_period(cfg: &RunConfig, periods: u32) -> Result<(u32, u64), SimError> {
+    let index = periods.checked_add(1).ok_or(SimError::TooManyPeriods)?;
+    let end = cfg
+        .checked_period_secs()
+        .and_then(|p| p.checked_mul(u64::from(index)))
+        .ok_or(SimError::TooManyPeriods)?;
+    Ok((index, end))
+}
+
+impl Period {
+    /// Period `index`, ended at second `end_s` with the swarm's centre at `from`, from the
+    /// agents' decided bearings and diversities (in agent order): the swarm moves `step`
+    /// along the circular mean of the decisions, if they have one. Both engines end a period
+    /// so.
+    pub(crate) fn ending(
+        index: u32,
+        end_s: u64,
+        from: Point2<f64>,
+        step: f64,
+        agents: impl Iterator<Item = (Option<f32>, f32)> + Clone,
+    ) -> Period {
+        let n = agents.clone().count().max(1) as f64;
+        let diversity: f64 = agents.clone().fold(0.0, |d, (_, v)| d + f64::from(v));
+        let resultant = Resultant::of(agents.filter_map(|(b, _)| b).map(f64::from));
+        let direction = resultant.direction();
+        Period {
+            index,
+            end_s,
+            from,
+            to: direction.map_or(from, |d| from + step * Vector2::new(d.cos(), d.sin())),
+            direction,
+            consensus: resultant.length(),
+            decided: resultant.n,
+            diversity: diversity / n,
+        }
+    }
+}
+
 /// One run of the simulation: the agents, where the swarm is and the clock.
 pub struct Sim<'a, R: Reading = f32> {
     swarm: &'a Swarm,
@@ -708,59 +750,35 @@ impl<'a, R: Reading> Sim<'a, R> {
     /// [`SimError::TooManyPeriods`] once the run has counted `u32::MAX` periods (the period's
     /// end cannot overflow: [`Sim::new`] checked the period's length).
     pub fn run_period(&mut self) -> Result<Period, SimError> {
-        let index = self
-            .periods
-            .checked_add(1)
-            .ok_or(SimError::TooManyPeriods)?;
-        let end = self
-            .cfg
-            .checked_period_secs()
-            .and_then(|p| p.checked_mul(u64::from(index)))
-            .ok_or(SimError::TooManyPeriods)?;
+        let (index, end) = next_period(&self.cfg, self.periods)?;
         self.hold_readings();
         self.advance_to(end);
         self.periods = index;
-        let diversity: f64 = self
-            .agents
-            .iter()
-            .fold(0.0, |d, a| d + f64::from(a.diversity()));
-        let resultant = Resultant::of(
-            self.agents
-                .iter()
-                .filter_map(|a| a.decision())
-                .map(f64::from),
+        let p = Period::ending(
+            index,
+            end,
+            self.centre,
+            self.cfg.step,
+            self.agents.iter().map(|a| (a.decision(), a.diversity())),
         );
-        let n = self.agents.len().max(1) as f64;
-        let from = self.centre;
-        let direction = resultant.direction();
-        let consensus = resultant.length();
         if let Some(rec) = self.trace.as_mut() {
             rec.events.push(TraceEvent::Moved {
                 t_ms: end * 1000,
-                centre: [from.x, from.y],
-                heading: direction,
-                step: if direction.is_some() {
+                centre: [p.from.x, p.from.y],
+                heading: p.direction,
+                step: if p.direction.is_some() {
                     self.cfg.step
                 } else {
                     0.0
                 },
-                consensus,
+                consensus: p.consensus,
             });
         }
-        if let Some(d) = direction {
-            self.centre += self.cfg.step * Vector2::new(d.cos(), d.sin());
+        if p.direction.is_some() {
+            self.centre = p.to;
             self.place_means();
         }
-        Ok(Period {
-            index: self.periods,
-            end_s: end,
-            from,
-            to: self.centre,
-            direction,
-            consensus,
-            decided: resultant.n,
-            diversity: diversity / n,
-        })
+        Ok(p)
     }
 
     /// Runs every due second up to and including second `t` and returns the calls made. The

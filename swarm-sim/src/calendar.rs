@@ -155,7 +155,7 @@ struct Seen {
 /// Agents queued by second, first in first out: a vector read from a cursor (cleared whenever
 /// it has been read to the end, compacted when half of it has been read).
 #[derive(Default)]
-struct Fifo {
+pub(crate) struct Fifo {
     items: Vec<(u64, u32)>,
     read: usize,
 }
@@ -163,14 +163,14 @@ struct Fifo {
 impl Fifo {
     /// The second of the first entry (`u64::MAX`: none).
     #[inline]
-    fn first_second(&self) -> u64 {
+    pub(crate) fn first_second(&self) -> u64 {
         self.items.get(self.read).map_or(u64::MAX, |&(s, _)| s)
     }
 
     /// Queues agent `i` at second `s`, behind every entry of an earlier or the same second:
     /// at the back, unless a run's delays made an earlier second arise later.
     #[inline]
-    fn push(&mut self, s: u64, i: u32) {
+    pub(crate) fn push(&mut self, s: u64, i: u32) {
         if self.items.last().is_none_or(|&(b, _)| b <= s) {
             self.items.push((s, i));
         } else {
@@ -181,7 +181,7 @@ impl Fifo {
 
     /// Appends the agents queued at second `t` to `out` and removes them.
     #[inline]
-    fn take(&mut self, t: u64, out: &mut Vec<u32>) {
+    pub(crate) fn take(&mut self, t: u64, out: &mut Vec<u32>) {
         while let Some(&(s, i)) = self.items.get(self.read) {
             if s != t {
                 debug_assert!(s > t, "a relay or rest of second {s} was missed at {t}");

@@ -33,6 +33,7 @@ use protocol::diversity::{Diversity, Moments, Pool, Variance};
 use protocol::params::{InitiationPoint, Params};
 use protocol::weights::DirectionWeights;
 
+use crate::calendar::Fifo;
 use crate::geometry::Swarm;
 use crate::measure::Measure;
 use crate::reading::Reading;
@@ -169,9 +170,8 @@ pub struct LeanSim<'a> {
     /// The agents' timer seconds, with stale entries (an entry is current if `timer_s` says so).
     timers: BinaryHeap<Reverse<(u64, u32)>>,
     timer_s: Vec<u64>,
-    /// Relays by second, in the order they arose (which is the seconds' order).
-    relays: Vec<(u64, u32)>,
-    relay_read: usize,
+    /// Relays by second, in the order they arose.
+    relays: Fifo,
     due: Vec<u32>,
     tx: Vec<u32>,
     relay_secs: u64,
@@ -238,8 +238,7 @@ impl<'a> LeanSim<'a> {
             noise_rng,
             timers,
             timer_s,
-            relays: Vec::new(),
-            relay_read: 0,
+            relays: Fifo::default(),
             due: Vec::new(),
             tx: Vec::new(),
             relay_secs: params.wave.relay_delay.as_millis().div_ceil(1000),
@@ -304,7 +303,7 @@ impl<'a> LeanSim<'a> {
                 self.timers.pop();
             }
             let h = self.timers.peek().map_or(NEVER, |r| r.0.0);
-            let q = self.relays.get(self.relay_read).map_or(NEVER, |r| r.0);
+            let q = self.relays.first_second();
             let t = h.min(q);
             if t == NEVER || t > until {
                 return;
@@ -325,17 +324,7 @@ impl<'a> LeanSim<'a> {
                 due.push(i);
             }
         }
-        while let Some(&(s, i)) = self.relays.get(self.relay_read) {
-            if s != t {
-                break;
-            }
-            due.push(i);
-            self.relay_read += 1;
-        }
-        if self.relay_read == self.relays.len() {
-            self.relays.clear();
-            self.relay_read = 0;
-        }
+        self.relays.take(t, &mut due);
         due.sort_unstable();
         due.dedup();
         for &i in &due {
@@ -538,7 +527,7 @@ impl<'a> LeanSim<'a> {
                 let accepted = self.hear(s, r, self.keys[k0 + k], now);
                 self.hears[r] = if accepted { NEVER } else { 0 };
                 if accepted {
-                    self.relays.push((t + self.relay_secs, r as u32));
+                    self.relays.push(t + self.relay_secs, r as u32);
                 }
             }
         }

@@ -2,7 +2,7 @@
 //!
 //! N agents running the `protocol` crate's three-phase CIMAX ([`protocol::ThreePhaseAgent`]),
 //! stepped in whole seconds, in a swarm that moves rigidly after every negotiation period. The
-//! engine ([`sim`]) runs over the swarm's [`geometry`] and the environment's fields
+//! engine ([`sim`]; for plain runs its [`lean`] twin, below) runs over the swarm's [`geometry`] and the environment's fields
 //! ([`hal_emu::world::field`], shared with the emulated lab), the [`scenario`]s, and the
 //! [`experiment`]s run on them (runs, sweeps, direction maps, profiles). The seed derivation
 //! ([`seeds`]), the summary statistics ([`stats`]) and the progress bar ([`progress`]) are
@@ -10,7 +10,11 @@
 //! `pages` crate.
 //!
 //! ## What it never does
-//! - implement CIMAX a second time: every decision is made by `protocol`'s state machines;
+//! - implement CIMAX a second time without holding it to the first: every run that records,
+//!   taps or reads an agent steps `protocol`'s state machines; the plain runs (most of
+//!   `docs/reproduction.md`'s time) run on [`lean`], the three-phase rules written out over
+//!   plain records for speed, which a test holds to `ThreePhaseAgent` period for period, bit for
+//!   bit, over five protocol settings (and the page must come out the same from either);
 //! - depend on the number of threads: every run has its own seed ([`seeds`]), runs are
 //!   independent, and results are collected in run order.
 

@@ -433,9 +433,15 @@ impl<D: Diversity, R: Rule> FusedNode<D, R> {
     /// cycle and period ends, and the rule's own timers.
     pub fn handle_timeout(&mut self, now: Instant, rng: &mut impl RngCore) {
         let react = self.rule.begin_timeout(&self.core, now);
+        // Only a call at which the wave has something due can add a debt or use up the
+        // deferral, so only such a call schedules one: a deferral that could not be scheduled
+        // (it fell at the end of time, `Instant::MAX`) must not be scheduled by a later call
+        // before the deadline at an earlier `now` (a clock set back), which would change what
+        // the robot does before anything is due (fuzz/README.md, finding 12).
+        let due = self.core.wave.poll_timeout() <= now;
         self.poll_wave(now, rng);
         let wave = &self.core.wave;
-        if wave.owed() > 0 && !wave.extra_pending() {
+        if due && wave.owed() > 0 && !wave.extra_pending() {
             // An initiation that fell while the robot was busy is deferred, not lost (both
             // rules): the paper's robots initiate at least once per cycle.
             let at = self.core.deferred_initiation_at(now, rng);

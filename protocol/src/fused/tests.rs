@@ -646,3 +646,46 @@ fn a_node_named_for_one_rule_refuses_params_naming_another() {
     let fixed = FusedNode::<Variance, Fixed>::with_rule(p, tag, Variance, Instant::ZERO, &mut rng);
     assert_eq!(fixed.err(), Some(ParamError::RuleMismatch));
 }
+
+/// fuzz/README.md, finding 12: an initiation skipped while busy a few seconds before the end
+/// of time owes an extra initiation that cannot be scheduled (it would fall at `Instant::MAX`,
+/// "never"). A later call before the deadline, at an earlier instant (a clock set back), must
+/// not schedule it: it would change what the robot does with nothing due.
+#[test]
+fn a_debt_at_the_end_of_time_is_not_scheduled_before_the_deadline() {
+    for decide in [DecisionRule::Fixed, DecisionRule::Adaptive] {
+        let mut rng = Pcg32::new(3, 7);
+        let mut p = Params::robots();
+        p.decide = decide;
+        p.wave.cycle = Duration::from_secs(600);
+        p.wave.cycle_spread = Duration::ZERO;
+        let start = Instant::MAX - Duration::from_secs(603);
+        let mut n = FusedNode::new(p, Tag::new(1).unwrap(), start, &mut rng).unwrap();
+        n.handle_reading(Level(9));
+        // The first initiation, at the cycle's end, 3 s before the end of time.
+        let init = Instant::MAX - Duration::from_secs(3);
+        assert_eq!(n.poll_timeout(), init, "{decide:?}");
+        // Active when it falls: skipped, and owed.
+        let m = Message::from_hops(&[hop(2, 40, None)]).unwrap();
+        let heard = init - Duration::from_millis(500);
+        assert_eq!(
+            n.handle_message(heard, Sector::LEFT, &m, &mut rng),
+            Reception::Accepted
+        );
+        n.handle_timeout(init, &mut rng);
+        assert_eq!(n.wave_stats().skipped_initiations, 1, "{decide:?}");
+        // The relay goes; the refractory time then lasts to the end of time.
+        n.handle_timeout(n.poll_timeout(), &mut rng);
+        assert!(n.poll_transmit().is_some(), "{decide:?}: relayed");
+        while n.poll_transmit().is_some() || n.poll_event().is_some() {}
+        assert_eq!(n.poll_timeout(), Instant::MAX, "{decide:?}");
+        // The clock set back: nothing is due, so nothing changes.
+        n.handle_timeout(start, &mut rng);
+        assert_eq!(
+            n.poll_timeout(),
+            Instant::MAX,
+            "{decide:?}: a deferral scheduled"
+        );
+        assert!(n.poll_transmit().is_none() && n.poll_event().is_none());
+    }
+}

@@ -87,16 +87,27 @@ impl Diversity for Variance {
     /// same order, so the same value bit for bit.
     #[inline]
     fn measure_message(&self, readings: &[f32], own: f32) -> f32 {
-        let n = readings.len() + 1;
-        if n < 2 {
-            return 0.0;
-        }
         let mut sum = 0f32;
         for &x in readings {
             sum += x;
         }
-        sum += own;
-        let mean = sum / n as f32;
+        Variance::measure_summed(readings, sum, own)
+    }
+}
+
+impl Variance {
+    /// [`measure_message`](Diversity::measure_message) of `readings` then `own`, given `sum`,
+    /// the sum of `readings` added up in order from `0.0` (as `measure_message` adds them, so
+    /// the same value bit for bit). A relay appends one reading to the message it heard, so
+    /// the 2D simulator keeps each message's sum as it grows instead of adding it up again at
+    /// every receiver.
+    #[inline]
+    pub fn measure_summed(readings: &[f32], sum: f32, own: f32) -> f32 {
+        let n = readings.len() + 1;
+        if n < 2 {
+            return 0.0;
+        }
+        let mean = (sum + own) / n as f32;
         let mut ss = 0f32;
         for &x in readings {
             ss += (x - mean) * (x - mean);

@@ -33,7 +33,6 @@ use protocol::diversity::{Diversity, Moments, Pool, Variance};
 use protocol::params::{InitiationPoint, Params};
 use protocol::weights::DirectionWeights;
 
-use crate::calendar::Fifo;
 use crate::geometry::Swarm;
 use crate::measure::Measure;
 use crate::reading::Reading;
@@ -68,6 +67,9 @@ struct Agent {
     msg_readings: bool,
     msg_len: u8,
     phase_cycles: u16,
+    /// The sum of the readings of `msg`, added up in order from `0.0` as they were appended
+    /// (what [`Variance::measure_summed`] needs: the same bits as adding them up again).
+    msg_sum: f32,
     relay_at: u64,
     rest_at: u64,
     cycle_end: u64,
@@ -96,6 +98,7 @@ impl Agent {
             msg_readings: false,
             msg_len: 0,
             phase_cycles: 0,
+            msg_sum: 0.0,
             relay_at: NEVER,
             rest_at: NEVER,
             cycle_end: 0,
@@ -159,10 +162,11 @@ pub struct LeanSim<'a> {
     agents: Vec<Agent>,
     /// Per agent, as [`crate::sim::Sim`]'s: the first instant it hears.
     hears: Vec<u64>,
-    /// Per link of [`Swarm::neighbours`] (all agents' in order), the bearing's slot key.
-    keys: Vec<u32>,
-    /// Per agent, where its links start in `keys`.
-    key_start: Vec<u32>,
+    /// Per link of [`Swarm::neighbours`] (all agents' in order), the neighbour and the slot
+    /// key of the bearing it hears from: what a delivery reads, side by side.
+    links: Vec<(u32, u32)>,
+    /// Per agent, where its links start in `links` (and, last, where they end).
+    link_start: Vec<u32>,
     centre: Point2<f64>,
     periods: u32,
     proto_rng: Pcg64Mcg,
@@ -170,13 +174,61 @@ pub struct LeanSim<'a> {
     /// The agents' timer seconds, with stale entries (an entry is current if `timer_s` says so).
     timers: BinaryHeap<Reverse<(u64, u32)>>,
     timer_s: Vec<u64>,
-    /// Relays by second, in the order they arose.
-    relays: Fifo,
+    /// Relays by second.
+    relays: Relays,
     due: Vec<u32>,
     tx: Vec<u32>,
     relay_secs: u64,
     pooling: bool,
     means: Vec<f64>,
+}
+
+/// The relays of a run by the second they are due. The relay delay is the same for every agent
+/// of a run, so the relays heard in second `t` are all due at `t + d` (`d` whole seconds, a
+/// part counting as one), and at any time the lists pending are of `d + 1` consecutive
+/// seconds at most: a ring of lists, one per second modulo a power of two `≥ d + 1`, each with
+/// the second it holds. (The order within a second does not matter: a second's due agents are
+/// served in index order.)
+struct Relays {
+    /// Per slot, its second ([`NEVER`]: empty) and its agents.
+    slots: Vec<(u64, Vec<u32>)>,
+    mask: u64,
+}
+
+impl Relays {
+    fn new(delay_secs: u64) -> Relays {
+        let len = delay_secs.saturating_add(1).next_power_of_two();
+        Relays {
+            slots: (0..len).map(|_| (NEVER, Vec::new())).collect(),
+            mask: len - 1,
+        }
+    }
+
+    /// The earliest second with a relay due ([`NEVER`]: none).
+    #[inline]
+    fn first_second(&self) -> u64 {
+        self.slots.iter().map(|s| s.0).min().unwrap_or(NEVER)
+    }
+
+    /// Agent `i` relays at second `s`.
+    #[inline]
+    fn push(&mut self, s: u64, i: u32) {
+        let slot = &mut self.slots[(s & self.mask) as usize];
+        debug_assert!(slot.0 == NEVER || slot.0 == s, "two seconds in one slot");
+        slot.0 = s;
+        slot.1.push(i);
+    }
+
+    /// Appends the agents relaying at second `t` to `out` and forgets them.
+    #[inline]
+    fn take(&mut self, t: u64, out: &mut Vec<u32>) {
+        let slot = &mut self.slots[(t & self.mask) as usize];
+        if slot.0 == t {
+            out.extend_from_slice(&slot.1);
+            slot.1.clear();
+            slot.0 = NEVER;
+        }
+    }
 }
 
 /// The slot key of a bearing, as `ThreePhaseAgent` keys it.
@@ -210,13 +262,19 @@ impl<'a> LeanSim<'a> {
         let agents: Vec<Agent> = (0..n)
             .map(|_| Agent::new(&params, &mut proto_rng))
             .collect();
-        let mut keys = Vec::new();
-        let mut key_start = Vec::with_capacity(n + 1);
+        let mut links = Vec::new();
+        let mut link_start = Vec::with_capacity(n + 1);
         for i in 0..n {
-            key_start.push(keys.len() as u32);
-            keys.extend(swarm.neighbours(i).iter().map(|l| key(l.bearing)));
+            link_start.push(links.len() as u32);
+            links.extend(
+                swarm
+                    .neighbours(i)
+                    .iter()
+                    .map(|l| (l.agent, key(l.bearing))),
+            );
         }
-        key_start.push(keys.len() as u32);
+        link_start.push(links.len() as u32);
+        let relay_secs = secs_ms(params.wave.relay_delay.as_millis());
         let timer_s: Vec<u64> = agents.iter().map(|a| secs_ms(a.timers_at())).collect();
         let timers = timer_s
             .iter()
@@ -230,18 +288,18 @@ impl<'a> LeanSim<'a> {
             params,
             hears: agents.iter().map(Agent::hears_from).collect(),
             agents,
-            keys,
-            key_start,
+            links,
+            link_start,
             centre,
             periods: 0,
             proto_rng,
             noise_rng,
             timers,
             timer_s,
-            relays: Fifo::default(),
+            relays: Relays::new(relay_secs),
             due: Vec::new(),
             tx: Vec::new(),
-            relay_secs: params.wave.relay_delay.as_millis().div_ceil(1000),
+            relay_secs,
             pooling: true,
             means: Vec::with_capacity(n),
         };
@@ -480,6 +538,7 @@ impl<'a> LeanSim<'a> {
         if !relay {
             a.msg_readings = a.gathering;
             a.msg_len = 0;
+            a.msg_sum = 0.0;
         }
         a.add_own();
         self.tx.push(i as u32);
@@ -513,24 +572,28 @@ impl<'a> LeanSim<'a> {
     /// Sim's `deliver`: this second's messages to every neighbour that hears.
     fn deliver(&mut self, t: u64, now: u64) {
         let tx = std::mem::take(&mut self.tx);
+        // Out of `self` while it is read (the calls below borrow `self` mutably).
+        let links = std::mem::take(&mut self.links);
+        let due = t + self.relay_secs;
         for &s in &tx {
             let s = s as usize;
-            let k0 = self.key_start[s] as usize;
-            for (k, l) in self.swarm.neighbours(s).iter().enumerate() {
-                let r = l.agent as usize;
+            let span = self.link_start[s] as usize..self.link_start[s + 1] as usize;
+            for &(r, key) in &links[span] {
+                let r = r as usize;
                 if now < self.hears[r] {
                     continue;
                 }
                 let own = self.draw(r);
                 self.agents[r].reading = own;
                 self.handle_timeout(r, now);
-                let accepted = self.hear(s, r, self.keys[k0 + k], now);
+                let accepted = self.hear(s, r, key, now);
                 self.hears[r] = if accepted { NEVER } else { 0 };
                 if accepted {
-                    self.relays.push(t + self.relay_secs, r as u32);
+                    self.relays.push(due, r as u32);
                 }
             }
         }
+        self.links = links;
         // A receiver's call only rests it or makes it active: it sends nothing now.
         debug_assert!(self.tx.is_empty());
         let mut tx = tx;
@@ -564,7 +627,7 @@ impl<'a> LeanSim<'a> {
         to.next = to.next.min(to.relay_at);
         if from.msg_readings {
             let rs = &from.msg[..usize::from(from.msg_len)];
-            let v = Variance.measure_message(rs, to.reading);
+            let v = Variance::measure_summed(rs, from.msg_sum, to.reading);
             let _ = to.weights.add(key, v);
             if pooling {
                 for &x in rs {
@@ -574,6 +637,7 @@ impl<'a> LeanSim<'a> {
             }
             to.msg[..rs.len()].copy_from_slice(rs);
             to.msg_len = from.msg_len;
+            to.msg_sum = from.msg_sum;
             to.msg_readings = true;
         } else {
             if let Some(o) = from.preferred_sent()
@@ -602,9 +666,14 @@ impl Agent {
             if len < MESSAGE_READINGS {
                 self.msg[len] = self.reading;
                 self.msg_len += 1;
+                self.msg_sum += self.reading;
             } else {
                 self.msg.copy_within(1.., 0);
                 self.msg[MESSAGE_READINGS - 1] = self.reading;
+                self.msg_sum = 0.0;
+                for &x in &self.msg {
+                    self.msg_sum += x;
+                }
             }
         }
     }

@@ -55,6 +55,14 @@ this peer 38.6 ms per run (100 runs); the engine 0.38 s user for the same 2000 r
 5; 0.38-0.40 s), 0.19 ms per run: about 200 times faster, still not the 300 times aimed at
 (the page's Speed line, the observer's V_k pooled: 0.21 ms, 190 times).
 
+Measured again on 2026-11-29 (session 3; messages keep their sum, links and keys side by side,
+relays in a ring: 10 % fewer instructions, the same runs bit for bit): the engine 0.37 s for
+the same 2000 runs (best of 5; 0.37-0.38 s; the build before, 0.38-0.39 s, interleaved),
+0.185 ms per run: about 210 times faster (the page's Speed line: 0.20 ms, 191 times). The time
+fell far less than the instruction count (callgrind, 200 runs: 390.9 M -> 352.8 M): what is
+left is bound by the latency of serial chains (a message's variance is a sum in order, the
+noise draw, the pooled moments' divisions), which bit-for-bit runs may not reorder.
+
 Setup (numpy was not installed on the machine; installed from PyPI):
 
     pip install numpy          # numpy 2.4.6 with Python 3.11.7

@@ -11,7 +11,7 @@ use crate::stage::Stage;
 use crate::stages::{BEYOND_PROFILE, BEYOND_SLOPES, BEYOND_SUCCESS, BEYOND_TWO};
 use swarm_sim::experiment::{SweepPoint, sweep};
 use swarm_sim::measure::Measure;
-use swarm_sim::scenario::{Scenario, Success};
+use swarm_sim::scenario::Scenario;
 use swarm_sim::sensitivity::{Knob, diversity_at};
 
 /// The entropy's bin widths tried for success; [`MAIN_BIN`] is the one of the profile.
@@ -95,10 +95,7 @@ pub fn along(st: &mut Stage<'_>, gradient: &Scenario) -> Result<Along, Error> {
         }
         prof.push(pts);
     }
-    let line_x = match &gradient.success {
-        Some(Success::BeyondX { x }) => *x,
-        _ => 2.33,
-    };
+    let line_x = crate::sensitivity::line_x(gradient);
     let mut by_slope: Vec<[f64; 2]> = Vec::new();
     for (k, &slope) in SLOPES.iter().enumerate() {
         let s = Knob::Slope(slope).apply(gradient)?;

@@ -122,11 +122,11 @@ pub fn knob(
 /// Slopes of the gradient's sensitivity to its slope, per R.
 pub const SLOPES: [f64; 6] = [1.0, 1.5, 2.0, 2.5, 3.0, 4.0];
 
-/// The gradient's success line.
+/// The gradient's success line (`x ≥ line_x`; not a number if its criterion is another kind).
 pub fn line_x(gradient: &Scenario) -> f64 {
     match &gradient.success {
         Some(swarm_sim::scenario::Success::BeyondX { x }) => *x,
-        _ => 2.33,
+        _ => f64::NAN,
     }
 }
 

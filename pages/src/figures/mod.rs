@@ -17,7 +17,7 @@ mod reliability;
 mod run;
 mod shapes;
 mod sweep;
-mod timecourse;
+pub(crate) mod timecourse;
 mod waves;
 
 pub use direction::{MapMark, MapMarks, MapShape, direction_figure};

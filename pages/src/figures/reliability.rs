@@ -47,7 +47,11 @@ pub fn rules_chart(
         .configure_mesh()
         .disable_y_mesh()
         .y_labels(0)
-        .x_desc("seconds (one cycle: 55 s)")
+        .x_desc(format!(
+            "seconds (one cycle: {} s)",
+            // The campaign's robots run the lab's parameters (`lab::campaign::config`).
+            protocol::Params::robots().wave.cycle.as_millis() / 1000
+        ))
         .draw()?;
     let colours = [RGBColor(160, 160, 160), RGBColor(67, 147, 195)];
     for (k, (name, colour)) in ["fixed", "adaptive"].iter().zip(colours).enumerate() {

@@ -12,8 +12,11 @@ use swarm_sim::scenario::Scenario;
 /// Panel (b) of [`run_figure`]: the agents' average diversity against time.
 fn diversity_panel(
     right: &DrawingArea<SVGBackend<'_>, plotters::coord::Shift>,
+    scn: &Scenario,
     out: &RunOutput,
 ) -> Result<(), PlotError> {
+    let p = &scn.run.params;
+    let cycles = u32::from(p.gather_cycles) + u32::from(p.decide_cycles);
     let div: Vec<(f64, f64)> = out
         .periods
         .iter()
@@ -29,7 +32,7 @@ fn diversity_panel(
         .build_cartesian_2d(0f64..tmax, 0f64..ymax)?;
     chart
         .configure_mesh()
-        .x_desc("t / negotiation periods (2 cycles)")
+        .x_desc(format!("t / negotiation periods ({cycles} cycles)"))
         .y_desc("mean V_k")
         .draw()?;
     chart.draw_series(LineSeries::new(div.iter().copied(), BLACK.stroke_width(2)))?;
@@ -58,7 +61,7 @@ pub fn run_figure(path: &Path, scn: &Scenario, out: &RunOutput) -> Result<(), Pl
     )?;
     let (left, right) = root.split_horizontally(520);
     trajectory_panel(&left, scn, out)?;
-    diversity_panel(&right, out)?;
+    diversity_panel(&right, scn, out)?;
     root.present()?;
     Ok(())
 }

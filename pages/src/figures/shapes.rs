@@ -66,7 +66,8 @@ pub fn shapes_figure(
             let k = row * cols + c;
             let caption = format!("({}) {}: {what}", letter(k), s.name);
             let unit = ["of the runs", "of the agents"][row];
-            let desc = (c == 0).then(|| format!("{unit} per 10° bin"));
+            let width = 360 / bars.len().max(1);
+            let desc = (c == 0).then(|| format!("{unit} per {width}° bin"));
             histogram_panel(
                 &panels[k],
                 &caption,

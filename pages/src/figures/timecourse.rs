@@ -5,8 +5,16 @@ use std::path::Path;
 
 use plotters::prelude::*;
 
+use report::csv_files::fixed;
 use report::plot::PlotError;
 use swarm_sim::timecourse::{Spread, TimeCourse};
+
+/// The runs' spread as the page gives it: "10–90 %", the quantiles of
+/// [`swarm_sim::timecourse::BAND`] in per cent.
+pub fn band_words() -> String {
+    let [lo, hi] = swarm_sim::timecourse::BAND;
+    format!("{}–{} %", fixed(100.0 * lo, 0), fixed(100.0 * hi, 0))
+}
 
 const FONT: &str = "sans-serif";
 const COLOURS: [RGBColor; 2] = [RGBColor(70, 110, 180), RGBColor(200, 90, 40)];
@@ -67,7 +75,7 @@ fn panel(
             col.stroke_width(2),
         ))?;
         legend.push((
-            format!("{label}: mean of {} runs, band 10–90 %", c.runs),
+            format!("{label}: mean of {} runs, band {}", c.runs, band_words()),
             Glyph::Line(col),
         ));
     }

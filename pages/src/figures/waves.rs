@@ -78,10 +78,11 @@ pub fn waves_figure(path: &Path, w: &Wave, times: &[u64]) -> Result<(), PlotErro
     root.fill(&WHITE)?;
     let root = root.titled(
         &format!(
-            "One wave through N = {} agents (swarm of {} R, R = 1): t_ref = {} s, relay delay 1 s; x, y in R",
+            "One wave through N = {} agents (swarm of {} R, R = 1): t_ref = {} s, relay delay {} s; x, y in R",
             w.len(),
             w.spec.diameter,
-            w.spec.refractory_s
+            w.spec.refractory_s,
+            w.spec.config().params.wave.relay_delay.as_millis() as f64 / 1000.0
         ),
         (FONT, 18),
     )?;

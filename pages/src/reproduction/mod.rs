@@ -213,3 +213,5 @@ fn paper_course(k: usize) -> PaperCourse {
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod typed_code;

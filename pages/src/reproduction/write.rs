@@ -169,13 +169,18 @@ fn sweep_figures(
     other_sweeps: &[Vec<SweepPoint>],
 ) -> Result<(), Error> {
     let [sharp, gradient] = scns;
-    for (k, (scn, crit, paper)) in [
-        (sharp, "|x| < 0.33 R", marks::sweep_for("sharp")),
-        (gradient, "x ≥ 2.33", marks::sweep_for("gradient")),
+    for (k, (scn, paper)) in [
+        (sharp, marks::sweep_for("sharp")),
+        (gradient, marks::sweep_for("gradient")),
     ]
     .into_iter()
     .enumerate()
     {
+        // The scenario's own criterion, as `swarm sweep` prints it.
+        let crit = scn
+            .success
+            .as_ref()
+            .map_or_else(|| "no criterion".into(), |c| format!("{c} R"));
         figures::sweep_figure(
             &figs.join(format!("{}-sweep.svg", scn.name)),
             &format!(

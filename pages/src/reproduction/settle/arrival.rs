@@ -109,10 +109,10 @@ pub(super) fn write(
         })
         .collect();
     figure(figs, scns, &profiles)?;
-    let rows = rows(&profiles[1]);
+    let rows = rows(&profiles[1], scns[1].run.step);
     let mut csv_rows = Vec::new();
     for (scn, p) in scns.iter().zip(&profiles) {
-        for r in self::rows(p) {
+        for r in self::rows(p, scn.run.step) {
             csv_rows.push(std::iter::once(scn.name.clone()).chain(r).collect());
         }
     }
@@ -181,7 +181,8 @@ fn drift(cos: f64, step: f64) -> Option<f64> {
     (cos > MIN_HEADING).then(|| STEP / (step * cos))
 }
 
-fn rows(p: &Profile) -> Vec<Vec<String>> {
+/// The table's rows: `step` is the scenario's move per period.
+fn rows(p: &Profile, step: f64) -> Vec<Vec<String>> {
     p.heading
         .iter()
         .zip(&p.spent)
@@ -189,7 +190,7 @@ fn rows(p: &Profile) -> Vec<Vec<String>> {
             vec![
                 fixed(x, 2),
                 pm(m, se, 2),
-                drift(m, 0.33).map_or("—".into(), |d| fixed(d, 1)),
+                drift(m, step).map_or("—".into(), |d| fixed(d, 1)),
                 fixed(spent, 1),
             ]
         })
@@ -306,7 +307,7 @@ fn figure(figs: &Path, scns: [&Scenario; 2], profiles: &[Profile]) -> Result<(),
         &figs.join("settle-arrival-periods.svg"),
         "the way to the border: where the periods go (the averaged courses' runs)",
         "x of the swarm's centre at the period's start / R",
-        "periods per 0.25 R",
+        &format!("periods per {STEP} R"),
         &periods,
         (0.0, (top * 1.1).ceil()),
         &[(0.0, "x = 0: the border, the ramp's start")],

@@ -92,7 +92,7 @@ pub(super) fn write(
     )?;
     plot::xy_figure(
         &figs.join("settle-caption.svg"),
-        "caption's cloud: heading for its border (radius 5) against the distance",
+        &format!("caption's cloud: heading for its border (radius {edge}) against the distance"),
         "distance of the swarm's centre from the cloud's centre / R",
         "mean alignment toward the border",
         &[Line {

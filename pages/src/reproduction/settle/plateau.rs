@@ -245,7 +245,10 @@ fn figure(figs: &Path, rows: &[Row], main: Placement) -> Result<(), Error> {
             (p.pooled.mean, p.pooled.se)
         }),
         Line {
-            label: format!("paper: plateau ≈ {paper} (Fig. 5b)"),
+            label: format!(
+                "paper: plateau ≈ {paper} ({}b)",
+                crate::paper::Fig::SharpRun
+            ),
             points: CYCLES.iter().map(|&c| (c as f64, paper, 0.0)).collect(),
         },
     ];

@@ -116,7 +116,10 @@ fn write_files(
     )?;
     plot::xy_figure(
         &figs.join("settle-refractory.svg"),
-        &format!("one initiation in the {agents} agents of Fig. 2: transmissions per second"),
+        &format!(
+            "one initiation in the {agents} agents of {}: transmissions per second",
+            crate::paper::Fig::Waves
+        ),
         "t / s since the initiation",
         "agents transmitting",
         lines,

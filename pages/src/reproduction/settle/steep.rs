@@ -45,6 +45,10 @@ pub(in super::super) struct Steepness {
     pub(in super::super) success: (f64, f64),
     pub(in super::super) to_line: (f64, f64),
     pub(in super::super) to_criterion: (f64, f64),
+    /// The common line (within this of x = 0, [`NEAR`]) and the ramp's success line
+    /// (`x ≥ line_x`), R.
+    pub(in super::super) near: f64,
+    pub(in super::super) line_x: f64,
 }
 
 /// The part of the section the template sees.
@@ -95,10 +99,11 @@ pub(super) fn write(
             })
             .collect()
     };
+    let line_x = reproduce::sensitivity::line_x(gradient);
     let cases = cases_of(Side::Main)?;
-    let steep = steepness(&cases);
-    let other = steepness(&cases_of(Side::Other)?);
-    figure(figs, &cases)?;
+    let steep = steepness(&cases, line_x);
+    let other = steepness(&cases_of(Side::Other)?, line_x);
+    figure(figs, &cases, line_x, gradient.start.x)?;
     let rows: Vec<Vec<String>> = cases.iter().map(cells).collect();
     write_csv(
         figs,
@@ -112,10 +117,6 @@ pub(super) fn write(
         ],
         &rows,
     )?;
-    let line_x = match &gradient.success {
-        Some(swarm_sim::scenario::Success::BeyondX { x }) => *x,
-        _ => f64::NAN,
-    };
     let part = SteepPart {
         runs: RUNS,
         x: gradient.start.x.to_string(),
@@ -159,7 +160,8 @@ fn cells(c: &Case) -> Vec<String> {
     ]
 }
 
-fn steepness(cases: &[Case]) -> Steepness {
+/// Steeper, faster, from the cases' runs (`line_x`: the ramp's success line).
+fn steepness(cases: &[Case], line_x: f64) -> Steepness {
     let pts: Vec<(f64, f64)> = cases
         .iter()
         .filter_map(|c| Some((c.slope?.log2(), mean_time(c, |r| r.1).0)))
@@ -189,11 +191,14 @@ fn steepness(cases: &[Case]) -> Steepness {
             .iter()
             .rfind(|c| c.slope.is_some())
             .map_or(f64::NAN, |c| mean_time(c, |r| r.1).0),
+        near: NEAR,
+        line_x,
     }
 }
 
-/// Mean times against the slope (log axis), both ways; the sharp border as a level.
-fn figure(figs: &Path, cases: &[Case]) -> Result<(), Error> {
+/// Mean times against the slope (log axis), both ways; the sharp border as a level
+/// (`line_x`: the ramp's success line; `start_x`: where the runs start).
+fn figure(figs: &Path, cases: &[Case], line_x: f64, start_x: f64) -> Result<(), Error> {
     let ramps: Vec<&Case> = cases.iter().filter(|c| c.slope.is_some()).collect();
     let line = |label: &str, pick: Pick| Line {
         label: label.into(),
@@ -207,10 +212,18 @@ fn figure(figs: &Path, cases: &[Case]) -> Result<(), Error> {
         .find(|c| c.slope.is_none())
         .map_or(f64::NAN, |c| mean_time(c, |r| r.1).0);
     let lines = [
-        line("ramp: mean periods to the criterion x ≥ 2.33", |r| r.0),
-        line("ramp: mean periods to within 0.33 R of x = 0", |r| r.1),
+        line(
+            &format!("ramp: mean periods to the criterion x ≥ {line_x}"),
+            |r| r.0,
+        ),
+        line(
+            &format!("ramp: mean periods to within {NEAR} R of x = 0"),
+            |r| r.1,
+        ),
         Line {
-            label: "sharp border: mean periods to within 0.33 R of x = 0 (its criterion)".into(),
+            label: format!(
+                "sharp border: mean periods to within {NEAR} R of x = 0 (its criterion)"
+            ),
             points: SLOPES.iter().map(|&s| (s, sharp, 0.0)).collect(),
         },
     ];
@@ -221,7 +234,10 @@ fn figure(figs: &Path, cases: &[Case]) -> Result<(), Error> {
         .fold(1.0, f64::max);
     plot::xy_figure(
         &figs.join("settle-steep.svg"),
-        &format!("steeper ramps: time from x = −2.5 ({RUNS} runs per slope)"),
+        &format!(
+            "steeper ramps: time from x = {} ({RUNS} runs per slope)",
+            start_x.to_string().replace('-', "−")
+        ),
         "slope of the ramp / per R",
         "mean periods (runs that got there)",
         &lines,

@@ -10,6 +10,9 @@ use crate::verdict::{self, Verdict};
 use report::csv_files::fixed;
 use swarm_sim::experiment::SweepPoint;
 use swarm_sim::stats;
+use swarm_sim::timecourse::BAND;
+
+use crate::figures::timecourse::band_words;
 
 mod maps;
 mod outside;
@@ -379,11 +382,12 @@ fn start(r: &Report<'_>, c: &'static Claim) -> Judged {
     let across = fixed(100.0 * course.across_at_start, 0);
     let judged = Judged {
         ours: format!(
-            "{}: {} ± {} ({} runs; 10–90 %: {}–{})",
+            "{}: {} ± {} ({} runs; {}: {}–{})",
             r.main,
             fixed(m, 2),
             fixed(se, 2),
             course.runs,
+            band_words(),
             first.map_or("–".into(), |p| fixed(p.diversity.q10, 2)),
             first.map_or("–".into(), |p| fixed(p.diversity.q90, 2)),
         ),
@@ -486,27 +490,29 @@ fn arrival(r: &Report<'_>, c: &'static Claim) -> Judged {
     let m = stats::mean(&at).unwrap_or(f64::NAN);
     let se = stats::standard_error(&at).unwrap_or(f64::NAN);
     let (q10, q90) = (
-        stats::quantile(&at, 0.1).unwrap_or(f64::NAN),
-        stats::quantile(&at, 0.9).unwrap_or(f64::NAN),
+        stats::quantile(&at, BAND[0]).unwrap_or(f64::NAN),
+        stats::quantile(&at, BAND[1]).unwrap_or(f64::NAN),
     );
     let paper = c.band().map_or(f64::NAN, |b| b.0);
     let rel = c.tolerance();
     let in_spread = (q10..=q90).contains(&paper);
     let judged = Judged {
         ours: format!(
-            "{}: {} ± {} (the {} of {} runs that arrived; 10–90 %: {}–{})",
+            "{}: {} ± {} (the {} of {} runs that arrived; {}: {}–{})",
             r.main,
             fixed(m, 1),
             fixed(se, 1),
             at.len(),
             course.runs,
+            band_words(),
             fixed(q10, 0),
             fixed(q90, 0)
         ),
         verdict: verdict::level(m, se, paper, rel),
         why: format!(
-            "the paper's is one run, {} our runs' 10–90 % range; {} % of the distance our swarms walk is gained along +x (the averaged courses){}",
+            "the paper's is one run, {} our runs' {} range; {} % of the distance our swarms walk is gained along +x (the averaged courses){}",
             if in_spread { "inside" } else { "outside" },
+            band_words(),
             fixed(100.0 * course.straightness, 0),
             if k == 1 {
                 arrival_way(r)

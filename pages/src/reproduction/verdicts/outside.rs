@@ -102,7 +102,10 @@ pub(super) fn indecision(r: &Report<'_>) -> Judged {
     Judged {
         ours: format!("share of runs tied, {wm}; {wo}"),
         verdict: vm.both(vo),
-        why: "swarms of the sharp scenario's density centred on the sharp border (the lab's border in the middle), one period each: a tie is an indecision point; the rule: the share's slope against log₂ of the size has its 95 % interval below zero, and the largest swarm's share is within two binomial standard errors of zero (\"negligibly small\"), on both placements (settling section)".into(),
+        why: format!(
+            "swarms of the sharp scenario's density centred on the sharp border (the lab's border in the middle), one period each: a tie is an indecision point; the rule: the share's slope against log₂ of the size has its {} % interval below zero, and the largest swarm's share is within two binomial standard errors of zero (\"negligibly small\"), on both placements (settling section)",
+            fixed(100.0 * stats::CONFIDENCE, 0)
+        ),
     }
 }
 

@@ -18,6 +18,7 @@ pub(super) fn walk(r: &Report<'_>, c: &'static Claim) -> Judged {
 
 /// A walk claim on one placement's walk.
 fn walk_on(w: &crate::reproduction::settle::wander::Walk, c: &'static Claim) -> Judged {
+    let conf = fixed(100.0 * swarm_sim::stats::CONFIDENCE, 0);
     let dims = match c.kind {
         Kind::Walk { dims } => dims,
         _ => 1,
@@ -36,20 +37,20 @@ fn walk_on(w: &crate::reproduction::settle::wander::Walk, c: &'static Claim) -> 
         verdict: v,
         why: if dims == 1 {
             format!(
-                "the rule: the growth along the border (y) has its 95 % interval above zero and the growth across it (x) is below it, the interval of their difference above zero ({} ± {}; least squares over lags 1 to {}; the lags overlap, so the intervals are a guide)",
+                "the rule: the growth along the border (y) has its {conf} % interval above zero and the growth across it (x) is below it, the interval of their difference above zero ({} ± {}; least squares over lags 1 to {}; the lags overlap, so the intervals are a guide)",
                 fixed(w.y_slope.0 - w.x_slope.0, 4),
                 fixed(w.x_slope.1.hypot(w.y_slope.1), 4),
                 w.max_lag
             )
         } else if v == crate::verdict::Verdict::Reproduced {
             format!(
-                "the rule: both growths have their 95 % intervals above zero and the interval of their difference contains zero (a diffusion in two dimensions is the same along both): difference {} ± {}",
+                "the rule: both growths have their {conf} % intervals above zero and the interval of their difference contains zero (a diffusion in two dimensions is the same along both): difference {} ± {}",
                 fixed(w.y_slope.0 - w.x_slope.0, 4),
                 fixed(w.x_slope.1.hypot(w.y_slope.1), 4)
             )
         } else {
             format!(
-                "the rule: both growths have their 95 % intervals above zero and the interval of their difference contains zero (a diffusion in two dimensions is the same along both); along x it grows {} times slower than along y (difference {} ± {}), so by the sharp border's test this walk is one along y: below the line the pull toward +x bounds it on one side (settling section)",
+                "the rule: both growths have their {conf} % intervals above zero and the interval of their difference contains zero (a diffusion in two dimensions is the same along both); along x it grows {} times slower than along y (difference {} ± {}), so by the sharp border's test this walk is one along y: below the line the pull toward +x bounds it on one side (settling section)",
                 fixed(w.y_slope.0 / w.x_slope.0.max(1e-12), 1),
                 fixed(w.y_slope.0 - w.x_slope.0, 4),
                 fixed(w.x_slope.1.hypot(w.y_slope.1), 4)
@@ -66,18 +67,21 @@ pub(super) fn steeper(r: &Report<'_>) -> Judged {
 
 /// Steeper ramps on one placement's runs.
 fn steeper_on(s: &crate::reproduction::settle::steep::Steepness) -> Judged {
+    let conf = fixed(100.0 * swarm_sim::stats::CONFIDENCE, 0);
     let (lo, hi) = s.slopes;
     let also = s.success.1 >= s.success.0;
     Judged {
         ours: format!(
-            "from slope {lo} to {hi} per R: success {} → {}, periods to within 0.33 R of x = 0 {} → {} ({} ± {} per doubling; the sharp border {}), to x ≥ 2.33 {} → {}",
+            "from slope {lo} to {hi} per R: success {} → {}, periods to within {} R of x = 0 {} → {} ({} ± {} per doubling; the sharp border {}), to x ≥ {} {} → {}",
             fixed(s.success.0, 2),
             fixed(s.success.1, 2),
+            s.near,
             fixed(s.to_line.0, 1),
             fixed(s.to_line.1, 1),
             fixed(s.per_doubling.0, 2),
             fixed(s.per_doubling.1, 2),
             fixed(s.sharp_time, 1),
+            s.line_x,
             fixed(s.to_criterion.0, 1),
             fixed(s.to_criterion.1, 1),
         ),
@@ -90,13 +94,14 @@ fn steeper_on(s: &crate::reproduction::settle::steep::Steepness) -> Judged {
                 _ => "?".into(),
             };
             format!(
-                "the rule: the time to the same line (the border, or the ramp's start) falls with the slope (its 95 % interval against log2 of the slope below zero) and success does not; the paper's evidence, the mean success times of its sweeps ({} and {}; its single runs arrive at t = {} and t = {}, {} and {}), times two criteria 2.33 R apart",
+                "the rule: the time to the same line (the border, or the ramp's start) falls with the slope (its {conf} % interval against log2 of the slope below zero) and success does not; the paper's evidence, the mean success times of its sweeps ({} and {}; its single runs arrive at t = {} and t = {}, {} and {}), times two criteria {} R apart",
                 Fig::SharpSweep,
                 Fig::GradientSweep,
                 at(Id::SharpArrival),
                 at(Id::GradientArrival),
                 Fig::SharpRun,
                 Fig::GradientRun,
+                s.line_x,
             )
         },
     }

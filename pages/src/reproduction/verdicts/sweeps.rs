@@ -83,7 +83,11 @@ pub(super) fn gradient_time(r: &Report<'_>) -> Judged {
         ours: format!("{}: {om}; {}: {oo}", r.main, r.main.other()),
         verdict: vm.both(vo),
         why: format!(
-            "the rule, as the text words it: the mean time's slope against x from −2 to the border has its 95 % interval above zero (times rising as the distance falls), on each placement, the weaker verdict; read the other way (times falling toward the border, as in the sharp border's sweep) it is {}",
+            "the rule, as the text words it: the mean time's slope against x from {} to the border has its {} % interval above zero (times rising as the distance falls), on each placement, the weaker verdict; read the other way (times falling toward the border, as in the sharp border's sweep) it is {}",
+            claim(Id::GradientTime)
+                .over
+                .map_or("?".into(), |(lo, _)| lo.to_string().replace('-', "−")),
+            fixed(100.0 * stats::CONFIDENCE, 0),
             wm.both(wo).words()
         ),
     }

@@ -292,30 +292,10 @@ fn templates_fill_every_number_from_data() {
     }
     // The ratchet: the pieces typed in today, each to be filled from data or deleted (issue
     // 38); a new one fails, and so does a listed one that is gone (take it off the list).
-    let known: Vec<&str> = include_str!("typed_numbers.txt")
-        .lines()
-        .filter(|l| !l.starts_with("//") && !l.trim().is_empty())
-        .collect();
-    let new: Vec<&String> = typed
-        .iter()
-        .filter(|p| !known.contains(&p.as_str()))
-        .collect();
-    let gone: Vec<&&str> = known
-        .iter()
-        .filter(|k| !typed.iter().any(|p| p == *k))
-        .collect();
-    assert!(
-        new.is_empty(),
-        "{} pieces of the page keep their numbers whatever the data (typed into a template; fill them from the view model):\n{}",
-        new.len(),
-        new.iter()
-            .map(|p| p.as_str())
-            .collect::<Vec<_>>()
-            .join("\n")
-    );
-    assert!(
-        gone.is_empty(),
-        "no longer typed in, take them off pages/src/reproduction/typed_numbers.txt:\n{}",
-        gone.iter().map(|p| **p).collect::<Vec<_>>().join("\n")
+    super::typed_code::ratchet(
+        &typed,
+        include_str!("typed_numbers.txt"),
+        "typed_numbers.txt",
+        "pieces of the page keep their numbers whatever the data (typed into a template; fill them from the view model)",
     );
 }

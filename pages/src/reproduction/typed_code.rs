@@ -130,6 +130,38 @@ pub(super) fn typed(src_root: &Path, dir: &str) -> Vec<String> {
     out
 }
 
+/// A ratchet over `found` against the list `known` (the text of `pages/src/reproduction/`'s
+/// file `list`: one entry a line, `//` comments and blank lines left out): fails on an entry
+/// found and not listed (`what` says what it is), and on one listed and no longer found (take
+/// it off the list).
+pub(super) fn ratchet(found: &[String], known: &str, list: &str, what: &str) {
+    let known: Vec<&str> = known
+        .lines()
+        .filter(|l| !l.starts_with("//") && !l.trim().is_empty())
+        .collect();
+    let new: Vec<&str> = found
+        .iter()
+        .map(String::as_str)
+        .filter(|f| !known.contains(f))
+        .collect();
+    let gone: Vec<&str> = known
+        .iter()
+        .copied()
+        .filter(|k| !found.iter().any(|f| f == k))
+        .collect();
+    assert!(
+        new.is_empty(),
+        "{} {what} (pages/src/reproduction/{list}):\n{}",
+        new.len(),
+        new.join("\n")
+    );
+    assert!(
+        gone.is_empty(),
+        "no longer found, take them off pages/src/reproduction/{list}:\n{}",
+        gone.join("\n")
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -162,30 +194,11 @@ mod tests { const T: &str = "7"; }"#;
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
         let mut found = typed(&root, "reproduction");
         found.extend(typed(&root, "figures"));
-        let known: Vec<&str> = include_str!("typed_code.txt")
-            .lines()
-            .filter(|l| !l.starts_with("//") && !l.trim().is_empty())
-            .collect();
-        let new: Vec<&String> = found
-            .iter()
-            .filter(|f| !known.contains(&f.as_str()))
-            .collect();
-        let gone: Vec<&&str> = known
-            .iter()
-            .filter(|k| !found.iter().any(|f| f == *k))
-            .collect();
-        assert!(
-            new.is_empty(),
-            "numbers typed into the page's code (fill them from data, or list them with a reason in pages/src/reproduction/typed_code.txt):\n{}",
-            new.iter()
-                .map(|s| s.as_str())
-                .collect::<Vec<_>>()
-                .join("\n")
-        );
-        assert!(
-            gone.is_empty(),
-            "no longer in the code, take them off pages/src/reproduction/typed_code.txt:\n{}",
-            gone.iter().map(|s| **s).collect::<Vec<_>>().join("\n")
+        ratchet(
+            &found,
+            include_str!("typed_code.txt"),
+            "typed_code.txt",
+            "numbers typed into the page's code (fill them from data, or list them with a reason)",
         );
     }
 }

@@ -437,7 +437,7 @@ impl<D: Diversity, R: Rule> FusedNode<D, R> {
         // deferral, so only such a call schedules one: a deferral that could not be scheduled
         // (it fell at the end of time, `Instant::MAX`) must not be scheduled by a later call
         // before the deadline at an earlier `now` (a clock set back), which would change what
-        // the robot does before anything is due (fuzz/README.md, finding 12).
+        // the robot does before anything is due (fuzz/README.md, finding 14).
         let due = self.core.wave.poll_timeout() <= now;
         self.poll_wave(now, rng);
         let wave = &self.core.wave;

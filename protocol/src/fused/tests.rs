@@ -647,7 +647,7 @@ fn a_node_named_for_one_rule_refuses_params_naming_another() {
     assert_eq!(fixed.err(), Some(ParamError::RuleMismatch));
 }
 
-/// fuzz/README.md, finding 12: an initiation skipped while busy a few seconds before the end
+/// fuzz/README.md, finding 14: an initiation skipped while busy a few seconds before the end
 /// of time owes an extra initiation that cannot be scheduled (it would fall at `Instant::MAX`,
 /// "never"). A later call before the deadline, at an earlier instant (a clock set back), must
 /// not schedule it: it would change what the robot does with nothing due.

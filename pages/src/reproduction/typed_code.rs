@@ -14,9 +14,15 @@
 use std::path::Path;
 
 /// The string literals of `src` (Rust source), as written (escapes kept), outside comments,
-/// up to its first `#[cfg(test)]`.
+/// up to its test module (`#[cfg(test)]` then `mod`; a test-only item elsewhere, such as
+/// settings.rs's list of quotes, does not end the scan).
 pub(super) fn literals(src: &str) -> Vec<String> {
-    let src = src.split("#[cfg(test)]").next().unwrap_or("");
+    let end = src
+        .match_indices("#[cfg(test)]")
+        .map(|(k, m)| k + m.len())
+        .find(|&k| src[k..].trim_start().starts_with("mod "))
+        .map_or(src.len(), |k| k - "#[cfg(test)]".len());
+    let src = &src[..end];
     let chars: Vec<char> = src.chars().collect();
     let mut out = Vec::new();
     let mut i = 0;
@@ -173,13 +179,16 @@ let c = '"'; let d = '\''; let e: &'static str = "5 R";
 let f = "one \
          two";
 #[cfg(test)]
+const U: &str = "8 s";
+#[cfg(test)]
 mod tests { const T: &str = "7"; }"#;
         assert_eq!(
             literals(src),
             vec![
                 r#"x ≥ {x} and \"2\""#.to_string(),
                 "5 R".to_string(),
-                "one two".to_string()
+                "one two".to_string(),
+                "8 s".to_string()
             ]
         );
         assert_eq!(
